@@ -1,0 +1,198 @@
+#![doc = include_str!("02_sphere.md")]
+
+use crate::{Ray, Vec3};
+
+/// A sphere: every point at distance `radius` from `center`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    center: Vec3,
+    radius: f32,
+}
+
+impl Sphere {
+    /// A sphere of the given centre and radius. A radius that is not `> 0`,
+    /// or anything non-finite, makes a sphere that no ray hits (its fields
+    /// become NaN, which fails every comparison in `intersect`).
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        if radius > 0.0 && radius.is_finite() && center.is_finite() {
+            Sphere { center, radius }
+        } else {
+            Sphere {
+                center: Vec3::NAN,
+                radius: f32::NAN,
+            }
+        }
+    }
+
+    pub fn center(&self) -> Vec3 {
+        self.center
+    }
+
+    pub fn radius(&self) -> f32 {
+        self.radius
+    }
+
+    /// Both parameters where the ray's line meets the sphere, smaller first,
+    /// or `None` when it misses (or the input is degenerate).
+    ///
+    /// With `oc = origin - center`, `|oc + t dir|^2 = r^2` is the quadratic
+    /// `a t^2 + 2 h t + c = 0` with `a = dir.dir`, `h = dir.oc`,
+    /// `c = oc.oc - r^2`. Its quarter-discriminant `h^2 - a c` is computed as
+    /// `a (r - l)(r + l)`, where `l` is the distance from the centre to the
+    /// line, and the roots as `q / a` and `c / q` with `q = -(h + sign(h) sqrt(h^2 - a c))`:
+    /// no subtraction of two large, nearly equal numbers anywhere (the lesson
+    /// derives both forms).
+    pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        let oc = ray.origin - self.center;
+        let a = ray.dir.dot(ray.dir);
+        let h = ray.dir.dot(oc);
+        let c = oc.dot(oc) - self.radius * self.radius;
+        // The foot of the perpendicular from the centre to the line is
+        // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
+        // huge compared with `r`.
+        let foot = oc - (h / a) * ray.dir;
+        let l = foot.length();
+        let quarter_discriminant = a * ((self.radius - l) * (self.radius + l));
+        // `!(x >= 0)` also rejects NaN (zero direction, NaN input).
+        if !(quarter_discriminant >= 0.0) {
+            return None;
+        }
+        let q = -(h + quarter_discriminant.sqrt().copysign(h));
+        let t0 = q / a;
+        // q = 0 only when the origin is the tangent point itself: both roots are t0.
+        let t1 = if q != 0.0 { c / q } else { t0 };
+        Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    }
+
+    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere.
+    /// From inside the sphere that is the far root; from outside, the near one.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let (near, far) = self.roots(ray)?;
+        if near > t_min && near < t_max {
+            Some(near)
+        } else if far > t_min && far < t_max {
+            Some(far)
+        } else {
+            None
+        }
+    }
+
+    /// The textbook solution, `(-b ± sqrt(b^2 - 4ac)) / 2a`, kept for
+    /// comparison: `b^2 - 4ac` subtracts two huge, nearly equal numbers when
+    /// the sphere is small and far away, and `-b + sqrt(...)` cancels
+    /// whenever one root is much smaller than the other. The lesson shows the
+    /// picture this gives; `raylab cost` measures it.
+    pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let oc = ray.origin - self.center;
+        let a = ray.dir.dot(ray.dir);
+        let b = 2.0 * ray.dir.dot(oc);
+        let c = oc.dot(oc) - self.radius * self.radius;
+        let discriminant = b * b - 4.0 * a * c;
+        if !(discriminant >= 0.0) {
+            return None;
+        }
+        let root = discriminant.sqrt();
+        let near = (-b - root) / (2.0 * a);
+        let far = (-b + root) / (2.0 * a);
+        if near > t_min && near < t_max {
+            Some(near)
+        } else if far > t_min && far < t_max {
+            Some(far)
+        } else {
+            None
+        }
+    }
+
+    /// The outward unit normal at a point on the sphere.
+    pub fn normal_at(&self, point: Vec3) -> Vec3 {
+        (point - self.center) / self.radius
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_sphere_at_z5() -> Sphere {
+        Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0)
+    }
+
+    #[test]
+    fn both_roots_of_a_central_ray() {
+        // From the origin along +z: the surface is at z = 4 and z = 6.
+        let ray = Ray::new(Vec3::ZERO, Vec3::Z);
+        assert_eq!(unit_sphere_at_z5().roots(&ray), Some((4.0, 6.0)));
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&ray, 0.0, f32::INFINITY),
+            Some(4.0)
+        );
+    }
+
+    #[test]
+    fn t_is_in_units_of_the_direction() {
+        let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0));
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&ray, 0.0, f32::INFINITY),
+            Some(2.0)
+        );
+    }
+
+    #[test]
+    fn origin_inside_takes_the_far_root() {
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::Z);
+        assert_eq!(unit_sphere_at_z5().roots(&ray), Some((-1.0, 1.0)));
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&ray, 0.0, f32::INFINITY),
+            Some(1.0)
+        );
+    }
+
+    #[test]
+    fn sphere_behind_and_beside_is_missed() {
+        let behind = Ray::new(Vec3::ZERO, -Vec3::Z);
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&behind, 0.0, f32::INFINITY),
+            None
+        );
+        let beside = Ray::new(Vec3::new(2.0, 0.0, 0.0), Vec3::Z);
+        assert_eq!(unit_sphere_at_z5().roots(&beside), None);
+    }
+
+    #[test]
+    fn tangent_ray_has_a_double_root() {
+        let ray = Ray::new(Vec3::new(1.0, 0.0, 0.0), Vec3::Z);
+        assert_eq!(unit_sphere_at_z5().roots(&ray), Some((5.0, 5.0)));
+    }
+
+    #[test]
+    fn degenerate_spheres_and_rays_never_hit() {
+        let ray = Ray::new(Vec3::ZERO, Vec3::Z);
+        for radius in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            let sphere = Sphere::new(Vec3::new(0.0, 0.0, 5.0), radius);
+            assert_eq!(
+                sphere.intersect(&ray, 0.0, f32::INFINITY),
+                None,
+                "radius {radius}"
+            );
+        }
+        let zero_dir = Ray::new(Vec3::ZERO, Vec3::ZERO);
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&zero_dir, 0.0, f32::INFINITY),
+            None
+        );
+        let nan_dir = Ray::new(Vec3::ZERO, Vec3::new(0.0, f32::NAN, 1.0));
+        assert_eq!(
+            unit_sphere_at_z5().intersect(&nan_dir, 0.0, f32::INFINITY),
+            None
+        );
+    }
+
+    #[test]
+    fn textbook_formula_agrees_on_an_easy_case() {
+        let ray = Ray::new(Vec3::ZERO, Vec3::Z);
+        assert_eq!(
+            unit_sphere_at_z5().intersect_textbook(&ray, 0.0, f32::INFINITY),
+            Some(4.0)
+        );
+    }
+}

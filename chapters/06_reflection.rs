@@ -1,0 +1,66 @@
+#![doc = include_str!("06_reflection.md")]
+
+use crate::chapters::ch04_shadows::{RayOffset, SurfacePoint};
+use crate::{Ray, Vec3};
+
+/// The mirror image of the incident direction `d` about the normal `n`.
+///
+/// `d` points toward the surface; the result points away from it and has
+/// the same length as `d`. `n` may have any length and either orientation:
+/// `r = d - 2 (d.n / n.n) n` only uses `n` through the ratio, and flipping
+/// `n` flips both factors. A zero or non-finite `n` gives NaN components
+/// (`0 / 0`, `inf / inf`), never a plausible-looking direction.
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    // Normalising first keeps n.n from underflowing (n = 1e-30) or
+    // overflowing (n = 1e30); the unit normal then needs no division.
+    match crate::unit_vector(n) {
+        Some(n) => d - 2.0 * d.dot(n) * n,
+        None => Vec3::NAN,
+    }
+}
+
+/// The ray a mirror sends on after `incoming` met it at `surface`.
+pub fn reflected_ray(surface: &SurfacePoint, incoming: Vec3, offset: RayOffset) -> Ray {
+    let dir = reflect(incoming, surface.normal);
+    Ray::new(offset.origin(surface, dir), dir)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounce_off_the_floor() {
+        let r = reflect(Vec3::new(1.0, -1.0, 0.0), Vec3::Y);
+        assert_eq!(r, Vec3::new(1.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn normal_length_and_orientation_do_not_matter() {
+        let d = Vec3::new(1.0, -2.0, 3.0);
+        let expected = Vec3::new(1.0, 2.0, 3.0);
+        assert_eq!(reflect(d, Vec3::new(0.0, 7.0, 0.0)), expected);
+        assert_eq!(reflect(d, Vec3::new(0.0, -0.25, 0.0)), expected);
+    }
+
+    #[test]
+    fn normal_incidence_sends_the_ray_back() {
+        assert_eq!(
+            reflect(Vec3::new(0.0, 0.0, -2.0), Vec3::Z),
+            Vec3::new(0.0, 0.0, 2.0)
+        );
+    }
+
+    #[test]
+    fn slanted_mirror() {
+        // A mirror at 45 degrees turns +x into +y.
+        let r = reflect(Vec3::X, Vec3::new(-1.0, 1.0, 0.0));
+        assert!((r - Vec3::Y).abs().max_element() < 1e-6);
+    }
+
+    #[test]
+    fn degenerate_normal_gives_nan() {
+        assert!(reflect(Vec3::X, Vec3::ZERO).is_nan());
+        assert!(reflect(Vec3::X, Vec3::new(f32::INFINITY, 0.0, 0.0)).is_nan());
+    }
+}

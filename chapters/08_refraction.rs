@@ -1,0 +1,129 @@
+#![doc = include_str!("08_refraction.md")]
+
+use crate::chapters::ch04_shadows::{RayOffset, SurfacePoint};
+use crate::{Ray, Vec3, unit_vector};
+
+/// The unit direction of a ray that crosses a surface, by Snell-Descartes'
+/// law `n1 sin(i) = n2 sin(t)`, or `None` under total internal reflection.
+///
+/// - `d`: incident direction, toward the surface, any non-zero length;
+/// - `n`: surface normal, any non-zero length, either orientation;
+/// - `eta = n1 / n2`: index of the medium the ray comes from over the index
+///   of the medium it enters.
+///
+/// With unit `d`, and `n` turned to face the incoming ray (`cos i = -d.n > 0`),
+/// the refracted direction is `eta d + (eta cos i - cos t) n`, where
+/// `sin^2 t = eta^2 sin^2 i` and `cos t = sqrt(1 - sin^2 t)`. When
+/// `sin^2 t > 1` no refracted ray exists: that is total internal reflection,
+/// which happens past the critical angle `asin(1 / eta)` when `eta > 1`.
+/// Degenerate input (zero or non-finite vectors, `eta` not finite and > 0)
+/// gives `None`.
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let d = unit_vector(d)?;
+    let mut n = unit_vector(n)?;
+    if !(eta > 0.0 && eta.is_finite()) {
+        return None;
+    }
+    if eta == 1.0 {
+        // Same medium on both sides: the ray goes straight on, exactly.
+        return Some(d);
+    }
+    let mut cos_incidence = -d.dot(n);
+    if cos_incidence < 0.0 {
+        n = -n;
+        cos_incidence = -cos_incidence;
+    }
+    // |d x n|^2 rather than 1 - cos^2: near normal incidence cos is close to
+    // 1 and `1 - cos^2` would keep only a few significant bits of sin^2.
+    let sin2_incidence = d.cross(n).length_squared().min(1.0);
+    let sin2_transmitted = eta * eta * sin2_incidence;
+    if sin2_transmitted > 1.0 {
+        return None;
+    }
+    let cos_transmitted = (1.0 - sin2_transmitted).sqrt();
+    unit_vector(eta * d + (eta * cos_incidence - cos_transmitted) * n)
+}
+
+/// The critical angle, in radians, for light going from index `n1` into a
+/// lower index `n2`: past it, every ray is totally reflected. `None` when
+/// `n1 <= n2` (then every ray can cross).
+pub fn critical_angle(n1: f32, n2: f32) -> Option<f32> {
+    (n1 > n2 && n2 > 0.0).then(|| libm::asinf(n2 / n1))
+}
+
+/// The ray that enters or leaves a transparent solid of index `ior`
+/// surrounded by air, or `None` under total internal reflection.
+///
+/// `surface.normal` points out of the solid, so the ray is entering when it
+/// travels against the normal: then `eta = 1 / ior`, else `eta = ior`.
+pub fn refracted_ray(
+    surface: &SurfacePoint,
+    incoming: Vec3,
+    ior: f32,
+    offset: RayOffset,
+) -> Option<Ray> {
+    let entering = incoming.dot(surface.normal) < 0.0;
+    let eta = if entering { 1.0 / ior } else { ior };
+    let dir = refract(incoming, surface.normal, eta)?;
+    Some(Ray::new(offset.origin(surface, dir), dir))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: Vec3, b: Vec3) -> bool {
+        (a - b).abs().max_element() < 1e-6
+    }
+
+    #[test]
+    fn normal_incidence_goes_straight_through() {
+        let t = refract(Vec3::new(0.0, -2.0, 0.0), Vec3::Y, 1.0 / 1.5);
+        assert_eq!(t, Some(-Vec3::Y));
+    }
+
+    #[test]
+    fn air_to_glass_at_45_degrees() {
+        // sin t = sin(45) / 1.5 = 0.471405, cos t = sqrt(1 - 0.222222) = 0.881917.
+        let d = Vec3::new(1.0, -1.0, 0.0);
+        let t = refract(d, Vec3::Y, 1.0 / 1.5).expect("refracts");
+        assert!(close(t, Vec3::new(0.471_404_5, -0.881_917_1, 0.0)), "{t}");
+        // The normal's length and orientation do not matter.
+        assert_eq!(refract(d, -3.0 * Vec3::Y, 1.0 / 1.5), Some(t));
+    }
+
+    #[test]
+    fn glass_to_air_bends_away_from_the_normal() {
+        // sin i = 0.4, sin t = 0.6, cos t = 0.8.
+        let d = Vec3::new(0.4, (1.0f32 - 0.16).sqrt(), 0.0);
+        let t = refract(d, Vec3::Y, 1.5).expect("below the critical angle");
+        assert!(close(t, Vec3::new(0.6, 0.8, 0.0)), "{t}");
+    }
+
+    #[test]
+    fn critical_angle_of_glass_and_total_internal_reflection() {
+        let critical = critical_angle(1.5, 1.0).expect("glass to air has one");
+        assert!((critical - (1.0f32 / 1.5).asin()).abs() < 1e-6);
+        assert_eq!(critical_angle(1.0, 1.5), None);
+        let at = |angle: f32| Vec3::new(angle.sin(), angle.cos(), 0.0);
+        assert!(refract(at(critical - 1e-3), Vec3::Y, 1.5).is_some());
+        assert_eq!(refract(at(critical + 1e-3), Vec3::Y, 1.5), None);
+    }
+
+    #[test]
+    fn same_medium_is_an_exact_no_op() {
+        let d = Vec3::new(0.3, -0.5, 0.8);
+        assert_eq!(refract(d, Vec3::Y, 1.0), unit_vector(d));
+    }
+
+    #[test]
+    fn degenerate_input_gives_none() {
+        let d = Vec3::new(1.0, -1.0, 0.0);
+        assert_eq!(refract(d, Vec3::ZERO, 0.7), None);
+        assert_eq!(refract(d, Vec3::new(f32::NAN, 1.0, 0.0), 0.7), None);
+        assert_eq!(refract(Vec3::ZERO, Vec3::Y, 0.7), None);
+        assert_eq!(refract(d, Vec3::Y, 0.0), None);
+        assert_eq!(refract(d, Vec3::Y, f32::INFINITY), None);
+        assert_eq!(refract(d, Vec3::Y, f32::NAN), None);
+    }
+}

@@ -1,0 +1,18 @@
+#![doc = include_str!("README.md")]
+
+#[path = "01_plane.rs"]
+pub mod ch01_plane;
+#[path = "02_sphere.rs"]
+pub mod ch02_sphere;
+#[path = "03_nearest.rs"]
+pub mod ch03_nearest;
+#[path = "04_shadows.rs"]
+pub mod ch04_shadows;
+#[path = "05_phong.rs"]
+pub mod ch05_phong;
+#[path = "06_reflection.rs"]
+pub mod ch06_reflection;
+#[path = "07_antialiasing.rs"]
+pub mod ch07_antialiasing;
+#[path = "08_refraction.rs"]
+pub mod ch08_refraction;

@@ -1,0 +1,56 @@
+//! The `raylab` command line. Each subcommand lives in its own file.
+
+use clap::{Parser, Subcommand};
+
+mod render;
+
+/// raylab: learn ray tracing one chapter at a time.
+///
+/// Start with `raylab chapters` to see the course, then
+/// `raylab render --chapter 1` and open chapter-1.png. Each chapter's lesson
+/// is in the chapters/ folder of the repository (and in `cargo doc --open`).
+#[derive(Debug, Parser)]
+#[command(name = "raylab", version, about, long_about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a chapter's stage, with its built-in scene or your own.
+    Render(render::RenderArgs),
+    /// List the chapters, each with the effects it switches on.
+    Chapters,
+    /// Print a chapter's built-in scene as TOML, ready to copy and edit.
+    Scene(render::SceneArgs),
+}
+
+/// Exit status for "the command ran, and the answer is no" (a diff over its
+/// threshold, a failed cross-check).
+pub const EXIT_FAILED_CHECK: i32 = 1;
+/// Exit status for an error: bad input, unreadable or unwritable files.
+pub const EXIT_ERROR: i32 = 2;
+
+/// Runs the command line and returns the process exit status.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => {
+            let _ = error.print();
+            return if error.use_stderr() { EXIT_ERROR } else { 0 };
+        }
+    };
+    let result = match cli.command {
+        Command::Render(args) => render::render(&args),
+        Command::Chapters => render::chapters(),
+        Command::Scene(args) => render::scene(&args),
+    };
+    match result {
+        Ok(status) => status,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            EXIT_ERROR
+        }
+    }
+}

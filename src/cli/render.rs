@@ -1,0 +1,265 @@
+//! `raylab render`, `raylab chapters`, `raylab scene`.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use crate::render::Rendered;
+use crate::stage::{CHAPTERS, Effects, LAST_CHAPTER};
+use crate::{RenderSettings, Sampling, Scene, builtin};
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Chapter whose stage to render (1 to 8): it switches on the effects of
+    /// chapters 1 to N. Without --scene, the chapter's built-in scene is used.
+    /// Without --chapter, a --scene file renders with every effect (stage 8).
+    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub chapter: Option<u8>,
+    /// A TOML scene file to render instead of the built-in one
+    /// (`raylab scene --chapter N` prints one to start from).
+    #[arg(short, long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub overrides: SettingsOverrides,
+    /// Where to write the PNG [default: chapter-N.png, or the scene's name].
+    #[arg(short, long, value_name = "OUT.png")]
+    pub output: Option<PathBuf>,
+    /// Print the effects simulated and the rays cast by kind.
+    #[arg(long)]
+    pub stats: bool,
+    /// Write the same statistics as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub stats_json: Option<PathBuf>,
+}
+
+/// Settings that override the scene's `[render]` table.
+#[derive(Debug, Clone, Default, Args)]
+pub struct SettingsOverrides {
+    /// Image width in pixels.
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel (chapter 7 on); a square for grid and jittered sampling.
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// How samples are placed in a pixel (chapter 7 on).
+    #[arg(long, value_enum)]
+    pub sampling: Option<Sampling>,
+    /// Maximum reflection/refraction bounces (chapters 6 and 8).
+    #[arg(long)]
+    pub depth: Option<u32>,
+    /// Skip secondary rays whose share of the pixel is below this (0: never skip).
+    #[arg(long, value_name = "WEIGHT")]
+    pub min_contribution: Option<f32>,
+    /// Seed of the random sample positions.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// How ray-sphere hits are solved (for comparing the two formulas).
+    #[arg(long, value_enum)]
+    pub sphere_formula: Option<crate::scene::SphereFormula>,
+    /// Where secondary rays start: scaled to the hit's rounding error, or a
+    /// fixed --epsilon along the ray (for comparison).
+    #[arg(long, value_enum)]
+    pub ray_offset: Option<crate::scene::OffsetRule>,
+    /// The distance used by --ray-offset fixed.
+    #[arg(long)]
+    pub epsilon: Option<f32>,
+    /// Worker threads [default: one per core]. The image does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+impl SettingsOverrides {
+    /// The scene's settings with these overrides applied, checked.
+    pub fn apply(&self, base: RenderSettings) -> Result<RenderSettings> {
+        let settings = RenderSettings {
+            width: self.width.unwrap_or(base.width),
+            height: self.height.unwrap_or(base.height),
+            samples: self.samples.unwrap_or(base.samples),
+            sampling: self.sampling.unwrap_or(base.sampling),
+            max_depth: self.depth.unwrap_or(base.max_depth),
+            min_contribution: self.min_contribution.unwrap_or(base.min_contribution),
+            seed: self.seed.unwrap_or(base.seed),
+            sphere_formula: self.sphere_formula.unwrap_or(base.sphere_formula),
+            ray_offset: self.ray_offset.unwrap_or(base.ray_offset),
+            fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
+        };
+        settings
+            .validate()
+            .map_err(|message| anyhow::anyhow!("invalid render settings: {message}"))?;
+        Ok(settings)
+    }
+
+    /// Runs `work` on a pool of `--threads` threads, or on the global pool.
+    pub fn in_pool<T: Send>(&self, work: impl FnOnce() -> T + Send) -> Result<T> {
+        match self.threads {
+            None => Ok(work()),
+            Some(0) => bail!("--threads must be at least 1"),
+            Some(threads) => {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .context("cannot start the worker threads")?;
+                Ok(pool.install(work))
+            }
+        }
+    }
+}
+
+/// The scene and stage that `--chapter` and `--scene` select.
+pub fn select_scene(chapter: Option<u8>, scene: Option<&Path>) -> Result<(Scene, u8)> {
+    match (chapter, scene) {
+        (_, Some(path)) => Ok((Scene::load(path)?, chapter.unwrap_or(LAST_CHAPTER))),
+        (Some(chapter), None) => Ok((builtin::scene(chapter)?, chapter)),
+        (None, None) => bail!(
+            "say what to render: --chapter N (1 to 8) for a chapter's built-in scene, \
+             --scene FILE for your own, or both"
+        ),
+    }
+}
+
+pub fn render(args: &RenderArgs) -> Result<i32> {
+    let (scene, chapter) = select_scene(args.chapter, args.scene.as_deref())?;
+    let settings = args.overrides.apply(scene.render)?;
+    let output = match (&args.output, &args.scene, args.chapter) {
+        (Some(path), _, _) => path.clone(),
+        (None, Some(scene_path), None) => {
+            let stem = scene_path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned());
+            PathBuf::from(format!("{}.png", stem.unwrap_or_else(|| "render".into())))
+        }
+        (None, _, _) => PathBuf::from(format!("chapter-{chapter}.png")),
+    };
+    let work = u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.samples);
+    let progress = (std::io::stderr().is_terminal() && work >= 1_000_000).then(|| {
+        let bar = indicatif::ProgressBar::new(u64::from(settings.height));
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} rendering [{bar:40}] {pos}/{len} rows, {eta} left",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let rendered = args
+        .overrides
+        .in_pool(|| crate::render(&scene, chapter, &settings, progress.as_ref()))?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    crate::output::write_png(&output, rendered.width, rendered.height, &rendered.rgb)?;
+    println!("{}", summary_line(chapter, &settings, &rendered, &output));
+    if args.stats {
+        print!("{}", stats_text(&rendered));
+    }
+    if let Some(path) = &args.stats_json {
+        let json = stats_json(chapter, &settings, &rendered);
+        write_text_atomic(path, &format!("{json:#}\n"))?;
+    }
+    Ok(0)
+}
+
+fn summary_line(
+    chapter: u8,
+    settings: &RenderSettings,
+    rendered: &Rendered,
+    output: &Path,
+) -> String {
+    let rays = &rendered.rays;
+    format!(
+        "chapter {chapter}: {}x{}, {} spp, {:.3} s, rays: {} primary, {} shadow, {} reflection, {} refraction -> {}",
+        rendered.width,
+        rendered.height,
+        if rendered.effects.antialiasing {
+            settings.samples
+        } else {
+            1
+        },
+        rendered.seconds,
+        rays.primary,
+        rays.shadow,
+        rays.reflection,
+        rays.refraction,
+        output.display()
+    )
+}
+
+fn stats_text(rendered: &Rendered) -> String {
+    let rays = &rendered.rays;
+    format!(
+        "effects simulated: {}\nrays cast: {} total\n  primary     {}\n  shadow      {}\n  reflection  {}\n  refraction  {}\nself-shadowing shadow rays: {}\nnon-finite samples: {}\n",
+        rendered.effects.names().join(", "),
+        rays.total(),
+        rays.primary,
+        rays.shadow,
+        rays.reflection,
+        rays.refraction,
+        rays.self_shadow_hits,
+        rays.non_finite_samples,
+    )
+}
+
+/// The statistics of a render as JSON.
+pub fn stats_json(
+    chapter: u8,
+    settings: &RenderSettings,
+    rendered: &Rendered,
+) -> serde_json::Value {
+    let rays = &rendered.rays;
+    serde_json::json!({
+        "chapter": chapter,
+        "width": rendered.width,
+        "height": rendered.height,
+        "samples_per_pixel": if rendered.effects.antialiasing { settings.samples } else { 1 },
+        "max_depth": settings.max_depth,
+        "seconds": rendered.seconds,
+        "effects": rendered.effects.names(),
+        "rays": {
+            "primary": rays.primary,
+            "shadow": rays.shadow,
+            "reflection": rays.reflection,
+            "refraction": rays.refraction,
+            "total": rays.total(),
+        },
+        "self_shadow_hits": rays.self_shadow_hits,
+        "non_finite_samples": rays.non_finite_samples,
+        "image_fnv1a64": format!("{:016x}", rendered.hash()),
+    })
+}
+
+/// Writes a text file atomically (see [`crate::output::write_atomically`]).
+pub fn write_text_atomic(path: &Path, text: &str) -> Result<()> {
+    crate::output::write_atomically(path, |file| {
+        file.write_all(text.as_bytes())
+            .with_context(|| format!("cannot write {}", path.display()))
+    })
+}
+
+pub fn chapters() -> Result<i32> {
+    for chapter in CHAPTERS {
+        let effects = Effects::for_chapter(chapter.number).names().join(", ");
+        println!(
+            "{}  {:<24} adds {:<27} effects: {effects}",
+            chapter.number, chapter.title, chapter.adds
+        );
+    }
+    Ok(0)
+}
+
+#[derive(Debug, Args)]
+pub struct SceneArgs {
+    /// The chapter whose built-in scene to print (1 to 8).
+    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub chapter: u8,
+}
+
+pub fn scene(args: &SceneArgs) -> Result<i32> {
+    let text = builtin::scene_text(args.chapter).context("no such chapter")?;
+    print!("{text}");
+    Ok(0)
+}

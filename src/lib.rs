@@ -1,0 +1,50 @@
+//! # raylab: Whitted-style ray tracing, one runnable chapter at a time
+//!
+//! Each chapter is a module of [`chapters`] whose documentation is the
+//! lesson and whose code is the idea it teaches, nothing else:
+//!
+//! | chapter | module | adds |
+//! |---|---|---|
+//! | 1 | [`chapters::ch01_plane`] | ray-plane intersection |
+//! | 2 | [`chapters::ch02_sphere`] | ray-sphere intersection |
+//! | 3 | [`chapters::ch03_nearest`] | the nearest hit among all primitives |
+//! | 4 | [`chapters::ch04_shadows`] | hard shadows, and where a secondary ray starts |
+//! | 5 | [`chapters::ch05_phong`] | Phong illumination |
+//! | 6 | [`chapters::ch06_reflection`] | recursive mirror reflection |
+//! | 7 | [`chapters::ch07_antialiasing`] | anti-aliasing by supersampling |
+//! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
+//!
+//! Render any stage with `raylab render --chapter N`. The scaffolding that
+//! is not a lesson lives beside: [`scene`] (TOML scene files),
+//! [`camera`], [`render`] (the image loop and the tracer that calls the
+//! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
+//! enables what).
+
+// `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
+// without a separate test is deliberate, and the lessons explain it.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+#[path = "../chapters/mod.rs"]
+pub mod chapters;
+
+pub mod builtin;
+pub mod camera;
+pub mod cli;
+pub mod output;
+pub mod ray;
+pub mod render;
+pub mod scene;
+pub mod stage;
+
+/// The 3-vector used everywhere: points, directions and linear RGB colours.
+pub use glam::Vec3;
+
+pub use chapters::ch01_plane::Plane;
+pub use chapters::ch02_sphere::Sphere;
+pub use chapters::ch03_nearest::{Hit, first_hit, nearest_hit};
+pub use chapters::ch06_reflection::reflect;
+pub use chapters::ch07_antialiasing::Sampling;
+pub use chapters::ch08_refraction::refract;
+pub use ray::{Ray, unit_vector};
+pub use render::{RayCounts, RayKind, RayLog, Rendered, Tracer, render};
+pub use scene::{Material, RenderSettings, Scene, SceneError, Shape};

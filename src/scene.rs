@@ -1,0 +1,620 @@
+//! Scenes: what is in the world, read from TOML files and checked before any
+//! ray is cast.
+//!
+//! A scene file has a `[camera]`, optional `[render]` settings, a
+//! `background` colour, an `ambient_light` colour, `[[lights]]` and
+//! `[[objects]]`. `raylab scene --chapter N` prints a complete, commented
+//! example. Every number is checked: the loader names the object and the
+//! value it refuses, and a syntax error comes with the line, the column and
+//! the field.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::chapters::ch07_antialiasing::Sampling;
+use crate::{Plane, Ray, Sphere, Vec3};
+
+/// Largest accepted width or height, in pixels.
+pub const MAX_SIDE: u32 = 16_384;
+/// Largest accepted image, in pixels (an 8K frame is 33 million).
+pub const MAX_PIXELS: u64 = 40_000_000;
+/// Largest accepted samples per pixel.
+pub const MAX_SAMPLES: u32 = 4_096;
+/// Largest accepted recursion depth.
+pub const MAX_DEPTH: u32 = 64;
+/// Largest accepted Phong exponent.
+pub const MAX_SHININESS: u32 = 100_000;
+
+/// A primitive the tracer can intersect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    Plane(Plane),
+    Sphere(Sphere),
+    /// A sphere intersected with the textbook quadratic formula
+    /// ([`Sphere::intersect_textbook`]): only for comparing the two, see
+    /// `RenderSettings::sphere_formula`.
+    TextbookSphere(Sphere),
+}
+
+impl Shape {
+    /// The nearest hit with `t_min < t < t_max` (chapters 1 and 2).
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        match self {
+            Shape::Plane(plane) => plane.intersect(ray, t_min, t_max),
+            Shape::Sphere(sphere) => sphere.intersect(ray, t_min, t_max),
+            Shape::TextbookSphere(sphere) => sphere.intersect_textbook(ray, t_min, t_max),
+        }
+    }
+
+    pub fn is_sphere(&self) -> bool {
+        matches!(self, Shape::Sphere(_) | Shape::TextbookSphere(_))
+    }
+
+    /// Coordinates in which a checker pattern is laid out: the plane's own 2D
+    /// coordinates, or the 3D offset from a sphere's centre.
+    fn pattern_coordinates(&self, point: Vec3) -> Vec3 {
+        match self {
+            Shape::Plane(plane) => {
+                let normal = plane.normal();
+                let helper = if normal.x.abs() > 0.9 {
+                    Vec3::Y
+                } else {
+                    Vec3::X
+                };
+                let u = normal.cross(helper).normalize();
+                let v = normal.cross(u);
+                let local = point - plane.point();
+                Vec3::new(local.dot(u), local.dot(v), 0.0)
+            }
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => point - sphere.center(),
+        }
+    }
+}
+
+impl From<Plane> for Shape {
+    fn from(plane: Plane) -> Self {
+        Shape::Plane(plane)
+    }
+}
+
+impl From<Sphere> for Shape {
+    fn from(sphere: Sphere) -> Self {
+        Shape::Sphere(sphere)
+    }
+}
+
+/// How a surface responds to light. Coefficients follow the chapters: the
+/// Phong terms (chapter 5), mirror reflection (6), transparency (8).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Material {
+    /// Linear RGB albedo, each channel in `[0, 1]`.
+    #[serde(alias = "colour")]
+    pub color: Vec3,
+    /// `k_a`: how much ambient light the surface returns.
+    pub ambient: f32,
+    /// `k_d`: how much diffuse (matte) light the surface returns.
+    pub diffuse: f32,
+    /// `k_s`: strength of the specular highlight.
+    pub specular: f32,
+    /// Phong exponent: larger is a smaller, sharper highlight.
+    pub shininess: u32,
+    /// Share of the colour that comes from the mirror direction, in `[0, 1]`.
+    pub reflectivity: f32,
+    /// Share of the colour that comes through the surface, in `[0, 1]`.
+    pub transparency: f32,
+    /// Index of refraction of the solid (glass is about 1.5, water 1.33).
+    pub ior: f32,
+    /// An optional second colour laid out in squares.
+    pub checker: Option<Checker>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            color: Vec3::splat(0.8),
+            ambient: 0.1,
+            diffuse: 0.9,
+            specular: 0.0,
+            shininess: 32,
+            reflectivity: 0.0,
+            transparency: 0.0,
+            ior: 1.5,
+            checker: None,
+        }
+    }
+}
+
+/// A checker pattern: squares of `size` alternate between the material's
+/// colour and this `color`.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Checker {
+    #[serde(alias = "colour")]
+    pub color: Vec3,
+    pub size: f32,
+}
+
+impl Material {
+    /// The material's colour at `point` on `shape`, with the checker applied.
+    pub fn albedo_at(&self, shape: &Shape, point: Vec3) -> Vec3 {
+        let Some(checker) = self.checker else {
+            return self.color;
+        };
+        let cells = (shape.pattern_coordinates(point) / checker.size).floor();
+        // Parity of the sum = xor of the parities (no overflow for far cells).
+        let odd = |cell: f32| (cell as i64) & 1 == 1;
+        if odd(cells.x) ^ odd(cells.y) ^ odd(cells.z) {
+            checker.color
+        } else {
+            self.color
+        }
+    }
+}
+
+/// A point light.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    pub position: Vec3,
+    #[serde(alias = "colour", default = "white")]
+    pub color: Vec3,
+    #[serde(default = "one")]
+    pub intensity: f32,
+}
+
+impl Light {
+    /// Colour times intensity: what the light adds at full exposure.
+    pub fn radiance(&self) -> Vec3 {
+        self.color * self.intensity
+    }
+}
+
+/// Where the camera stands and what it looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSpec {
+    pub position: Vec3,
+    pub look_at: Vec3,
+    #[serde(default = "up")]
+    pub up: Vec3,
+    /// Vertical field of view, in degrees.
+    #[serde(default = "default_fov")]
+    pub fov_degrees: f32,
+}
+
+/// Image size and quality settings; the command line can override each.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel (used from chapter 7 on).
+    pub samples: u32,
+    /// Where the samples go inside a pixel (chapter 7).
+    pub sampling: Sampling,
+    /// Maximum number of bounces for reflection and refraction (chapters 6, 8).
+    pub max_depth: u32,
+    /// A secondary ray whose weight in the pixel falls below this is not
+    /// cast (0 casts every ray up to `max_depth`).
+    pub min_contribution: f32,
+    /// Seed of the per-pixel random sample positions.
+    pub seed: u64,
+    /// How ray-sphere hits are solved: `"stable"` (chapter 2's
+    /// cancellation-free roots) or `"textbook"` (for comparison).
+    pub sphere_formula: SphereFormula,
+    /// Where secondary rays start: `"scaled"` (chapter 4's error-scaled
+    /// push) or `"fixed"` (`fixed_epsilon` along the ray, for comparison).
+    pub ray_offset: OffsetRule,
+    /// The distance used by `ray_offset = "fixed"`.
+    pub fixed_epsilon: f32,
+}
+
+/// How ray-sphere intersections are solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum SphereFormula {
+    #[default]
+    Stable,
+    Textbook,
+}
+
+/// Where secondary rays start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum OffsetRule {
+    #[default]
+    Scaled,
+    Fixed,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 320,
+            height: 240,
+            samples: 1,
+            sampling: Sampling::Jittered,
+            max_depth: 5,
+            min_contribution: 1e-3,
+            seed: 0,
+            sphere_formula: SphereFormula::Stable,
+            ray_offset: OffsetRule::Scaled,
+            fixed_epsilon: 1e-4,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// Checks the settings, whether they came from a file or the command line.
+    pub fn validate(&self) -> Result<(), String> {
+        let RenderSettings {
+            width,
+            height,
+            samples,
+            sampling,
+            max_depth,
+            min_contribution,
+            seed: _,
+            sphere_formula: _,
+            ray_offset: _,
+            fixed_epsilon,
+        } = *self;
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(format!(
+                "resolution {width}x{height}: width and height must be between 1 and {MAX_SIDE}"
+            ));
+        }
+        if u64::from(width) * u64::from(height) > MAX_PIXELS {
+            return Err(format!(
+                "resolution {width}x{height} has more than {MAX_PIXELS} pixels"
+            ));
+        }
+        if samples == 0 || samples > MAX_SAMPLES {
+            return Err(format!(
+                "samples = {samples}: samples per pixel must be between 1 and {MAX_SAMPLES}"
+            ));
+        }
+        if sampling.needs_square_count() {
+            let side = crate::chapters::ch07_antialiasing::whole_sqrt(samples);
+            if side * side != samples {
+                return Err(format!(
+                    "samples = {samples}: {sampling:?} sampling needs a square count (1, 4, 9, 16, ...); \
+                     use sampling = \"random\" for other counts"
+                ));
+            }
+        }
+        if max_depth > MAX_DEPTH {
+            return Err(format!("max_depth = {max_depth}: at most {MAX_DEPTH}"));
+        }
+        if !(min_contribution >= 0.0 && min_contribution.is_finite()) {
+            return Err(format!(
+                "min_contribution = {min_contribution}: must be a finite number >= 0"
+            ));
+        }
+        if !(fixed_epsilon >= 0.0 && fixed_epsilon.is_finite()) {
+            return Err(format!(
+                "fixed_epsilon = {fixed_epsilon}: must be a finite number >= 0"
+            ));
+        }
+        Ok(())
+    }
+
+    /// The secondary-ray offset these settings ask for.
+    pub fn offset(&self) -> crate::chapters::ch04_shadows::RayOffset {
+        use crate::chapters::ch04_shadows::RayOffset;
+        match self.ray_offset {
+            OffsetRule::Scaled => RayOffset::Scaled,
+            OffsetRule::Fixed => RayOffset::Fixed(self.fixed_epsilon),
+        }
+    }
+}
+
+fn white() -> Vec3 {
+    Vec3::ONE
+}
+fn one() -> f32 {
+    1.0
+}
+fn up() -> Vec3 {
+    Vec3::Y
+}
+fn default_fov() -> f32 {
+    45.0
+}
+fn default_background() -> Vec3 {
+    Vec3::new(0.05, 0.05, 0.08)
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    camera: CameraSpec,
+    #[serde(default)]
+    render: RenderSettings,
+    #[serde(default = "default_background", alias = "background_colour")]
+    background: Vec3,
+    #[serde(default = "white")]
+    ambient_light: Vec3,
+    #[serde(default)]
+    lights: Vec<Light>,
+    #[serde(default)]
+    objects: Vec<ObjectSpec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectSpec {
+    name: Option<String>,
+    plane: Option<PlaneSpec>,
+    sphere: Option<SphereSpec>,
+    #[serde(default)]
+    material: Material,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneSpec {
+    point: Vec3,
+    normal: Vec3,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SphereSpec {
+    center: Vec3,
+    radius: f32,
+}
+
+/// A scene that passed every check: what the renderer draws.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub camera: CameraSpec,
+    pub render: RenderSettings,
+    pub background: Vec3,
+    pub ambient_light: Vec3,
+    pub lights: Vec<Light>,
+    /// The objects' shapes, materials and names, index for index.
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub names: Vec<String>,
+}
+
+/// Why a scene could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("cannot read scene file {path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{origin}: {message}")]
+    Syntax { origin: String, message: String },
+    #[error("{origin}: {message}")]
+    Invalid { origin: String, message: String },
+}
+
+impl Scene {
+    /// Reads and checks a scene file.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Scene::parse(&text, &format!("scene file {}", path.display()))
+    }
+
+    /// Parses and checks scene text; `origin` names it in error messages.
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let deserializer = toml::Deserializer::new(text);
+        let file: SceneFile = serde_path_to_error::deserialize(deserializer).map_err(|error| {
+            let field = error.path().to_string();
+            let inner = error.into_inner();
+            let location = inner
+                .span()
+                .map(|span| line_and_column(text, span.start))
+                .map(|(line, column)| format!("line {line}, column {column}: "))
+                .unwrap_or_default();
+            let field = if field == "." || field.is_empty() {
+                String::new()
+            } else {
+                format!("in `{field}`: ")
+            };
+            SceneError::Syntax {
+                origin: origin.to_string(),
+                message: format!("{location}{field}{}", inner.message().trim_end()),
+            }
+        })?;
+        file.into_scene().map_err(|message| SceneError::Invalid {
+            origin: origin.to_string(),
+            message,
+        })
+    }
+
+    /// Number of objects.
+    pub fn len(&self) -> usize {
+        self.shapes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.shapes.is_empty()
+    }
+}
+
+fn line_and_column(text: &str, byte: usize) -> (usize, usize) {
+    let before = &text[..byte.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+fn check_finite(what: &str, value: Vec3) -> Result<(), String> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} = {value}: every component must be a finite number"
+        ))
+    }
+}
+
+fn check_color(what: &str, value: Vec3) -> Result<(), String> {
+    check_finite(what, value)?;
+    if value.min_element() < 0.0 {
+        return Err(format!("{what} = {value}: colour components must be >= 0"));
+    }
+    Ok(())
+}
+
+fn check_coefficient(what: &str, value: f32, max: f32) -> Result<(), String> {
+    if !(value >= 0.0 && value <= max) {
+        return Err(format!("{what} = {value}: must be between 0 and {max}"));
+    }
+    Ok(())
+}
+
+impl SceneFile {
+    fn into_scene(self) -> Result<Scene, String> {
+        self.render
+            .validate()
+            .map_err(|e| format!("[render] {e}"))?;
+        let camera = self.camera;
+        check_finite("camera.position", camera.position)?;
+        check_finite("camera.look_at", camera.look_at)?;
+        check_finite("camera.up", camera.up)?;
+        let view = camera.look_at - camera.position;
+        if view.length_squared() == 0.0 || !view.length_squared().is_finite() {
+            return Err("camera.look_at must differ from camera.position".into());
+        }
+        if view.cross(camera.up).length_squared()
+            <= 1e-12 * view.length_squared() * camera.up.length_squared()
+        {
+            return Err(format!(
+                "camera.up = {}: must not be zero or parallel to the viewing direction {}",
+                camera.up, view
+            ));
+        }
+        if !(camera.fov_degrees > 0.0 && camera.fov_degrees < 180.0) {
+            return Err(format!(
+                "camera.fov_degrees = {}: must be between 0 and 180 (exclusive)",
+                camera.fov_degrees
+            ));
+        }
+        check_color("background", self.background)?;
+        check_color("ambient_light", self.ambient_light)?;
+        for (index, light) in self.lights.iter().enumerate() {
+            let name = format!("light {}", index + 1);
+            check_finite(&format!("{name}: position"), light.position)?;
+            check_color(&format!("{name}: color"), light.color)?;
+            if !(light.intensity >= 0.0 && light.intensity.is_finite()) {
+                return Err(format!(
+                    "{name}: intensity = {}: must be a finite number >= 0",
+                    light.intensity
+                ));
+            }
+        }
+        let mut scene = Scene {
+            camera,
+            render: self.render,
+            background: self.background,
+            ambient_light: self.ambient_light,
+            lights: self.lights,
+            shapes: Vec::new(),
+            materials: Vec::new(),
+            names: Vec::new(),
+        };
+        for (index, object) in self.objects.into_iter().enumerate() {
+            let name = object
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("object {}", index + 1));
+            let label = match &object.name {
+                Some(given) => format!("object {} (\"{given}\")", index + 1),
+                None => format!("object {}", index + 1),
+            };
+            let shape = object.shape(&label)?;
+            check_material(&label, &object.material)?;
+            scene.shapes.push(shape);
+            scene.materials.push(object.material);
+            scene.names.push(name);
+        }
+        Ok(scene)
+    }
+}
+
+impl ObjectSpec {
+    fn shape(&self, label: &str) -> Result<Shape, String> {
+        match (&self.plane, &self.sphere) {
+            (Some(plane), None) => {
+                check_finite(&format!("{label}: plane.point"), plane.point)?;
+                check_finite(&format!("{label}: plane.normal"), plane.normal)?;
+                if plane.normal.abs().max_element() == 0.0 {
+                    return Err(format!(
+                        "{label}: plane.normal = {}: a plane's normal must not be zero",
+                        plane.normal
+                    ));
+                }
+                Ok(Plane::new(plane.point, plane.normal).into())
+            }
+            (None, Some(sphere)) => {
+                check_finite(&format!("{label}: sphere.center"), sphere.center)?;
+                if !(sphere.radius > 0.0 && sphere.radius.is_finite()) {
+                    return Err(format!(
+                        "{label}: sphere.radius = {}: must be a finite number > 0",
+                        sphere.radius
+                    ));
+                }
+                Ok(Sphere::new(sphere.center, sphere.radius).into())
+            }
+            (Some(_), Some(_)) => Err(format!(
+                "{label}: has both `plane` and `sphere`; give exactly one shape per object"
+            )),
+            (None, None) => Err(format!(
+                "{label}: has no shape; give it `plane = {{ point = [..], normal = [..] }}` \
+                 or `sphere = {{ center = [..], radius = .. }}`"
+            )),
+        }
+    }
+}
+
+fn check_material(label: &str, material: &Material) -> Result<(), String> {
+    let field = |name: &str| format!("{label}: material.{name}");
+    check_color(&field("color"), material.color)?;
+    check_coefficient(&field("ambient"), material.ambient, 1.0)?;
+    check_coefficient(&field("diffuse"), material.diffuse, 1.0)?;
+    check_coefficient(&field("specular"), material.specular, 1.0)?;
+    check_coefficient(&field("reflectivity"), material.reflectivity, 1.0)?;
+    check_coefficient(&field("transparency"), material.transparency, 1.0)?;
+    if material.reflectivity + material.transparency > 1.0 {
+        return Err(format!(
+            "{label}: material.reflectivity + material.transparency = {}: must be at most 1",
+            material.reflectivity + material.transparency
+        ));
+    }
+    if material.shininess > MAX_SHININESS {
+        return Err(format!(
+            "{} = {}: at most {MAX_SHININESS}",
+            field("shininess"),
+            material.shininess
+        ));
+    }
+    if !(material.ior > 0.0 && material.ior.is_finite()) {
+        return Err(format!(
+            "{} = {}: an index of refraction must be a finite number > 0",
+            field("ior"),
+            material.ior
+        ));
+    }
+    if let Some(checker) = material.checker {
+        check_color(&field("checker.color"), checker.color)?;
+        if !(checker.size > 0.0 && checker.size.is_finite()) {
+            return Err(format!(
+                "{} = {}: must be a finite number > 0",
+                field("checker.size"),
+                checker.size
+            ));
+        }
+    }
+    Ok(())
+}
