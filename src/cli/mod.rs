@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -24,6 +25,8 @@ pub enum Command {
     Chapters,
     /// Print a chapter's built-in scene as TOML, ready to copy and edit.
     Scene(render::SceneArgs),
+    /// Time a render several times (no image written) and print the median.
+    Bench(bench::BenchArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -45,6 +48,7 @@ pub fn main() -> i32 {
         Command::Render(args) => render::render(&args),
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
+        Command::Bench(args) => bench::bench(&args),
     };
     match result {
         Ok(status) => status,
