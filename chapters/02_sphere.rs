@@ -103,6 +103,11 @@ impl Sphere {
         }
     }
 
+    /// Whether `point` is strictly inside the sphere.
+    pub fn contains(&self, point: Vec3) -> bool {
+        (point - self.center).length_squared() < self.radius * self.radius
+    }
+
     /// The outward unit normal at a point on the sphere.
     pub fn normal_at(&self, point: Vec3) -> Vec3 {
         (point - self.center) / self.radius

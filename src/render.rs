@@ -283,12 +283,23 @@ impl<'a> Tracer<'a> {
         } else {
             -surface.normal
         };
+        // Seen from inside a sphere, a light outside it is hidden by the
+        // sphere itself: no need to cast a ray to learn that.
+        let inside_sphere = match self.shapes[object] {
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+                (surface.normal.dot(to_eye) < 0.0).then_some(sphere)
+            }
+            Shape::Plane(_) => None,
+        };
         let mut diffuse = ambient(albedo, material.ambient, self.scene.ambient_light);
         let mut specular = Vec3::ZERO;
         for light in &self.scene.lights {
             let to_light = light.position - surface.point;
             if normal.dot(to_light) <= 0.0 {
                 continue; // the light is behind this side of the surface
+            }
+            if inside_sphere.is_some_and(|sphere| !sphere.contains(light.position)) {
+                continue;
             }
             if self.effects.shadows {
                 let shadow_ray = shadow_ray_from(surface, light.position, self.offset);
