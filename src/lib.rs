@@ -16,7 +16,7 @@
 //!
 //! Render any stage with `raylab render --chapter N`. The scaffolding that
 //! is not a lesson lives beside: [`scene`] (TOML scene files),
-//! [`camera`], [`render`] (the image loop and the tracer that calls the
+//! [`camera`], [`mod@render`] (the image loop and the tracer that calls the
 //! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
 //! enables what).
 
