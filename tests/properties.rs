@@ -299,7 +299,7 @@ fn non_finite_input_never_hits() {
     let mut checked = 0;
     for &value in &bad {
         for axis in 0..3 {
-            let mut with = |v: Vec3| {
+            let with = |v: Vec3| {
                 let mut a = v.to_array();
                 a[axis] = value;
                 Vec3::from(a)
