@@ -43,16 +43,36 @@ impl Sphere {
     /// no subtraction of two large, nearly equal numbers anywhere (the lesson
     /// derives both forms).
     pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        // `a` and `c` are squares of lengths: a direction of length 1e20
+        // or an `|oc|` of 1e20 overflows `f32` (1e40), a direction of length
+        // 1e-21 underflows to a subnormal that keeps a few bits. Dividing the
+        // direction, and `oc` and `r`, by powers of two that bring their
+        // largest component near 1 is exact, so for ordinary scenes the roots
+        // are the same bits, and for extreme ones nothing overflows.
+        let dir_exponent = binary_exponent(ray.dir.abs().max_element())?;
+        let dir = scale_by_power_of_two(ray.dir, -dir_exponent);
         let oc = ray.origin - self.center;
-        let a = ray.dir.dot(ray.dir);
-        let h = ray.dir.dot(oc);
-        let c = oc.dot(oc) - self.radius * self.radius;
+        // The radius counts too: `oc` is zero when the ray starts at the centre.
+        let oc_exponent = binary_exponent(oc.abs().max_element().max(self.radius))?;
+        let oc = scale_by_power_of_two(oc, -oc_exponent);
+        let radius = libm::ldexpf(self.radius, -oc_exponent);
+        let (t0, t1) = Self::scaled_roots(dir, oc, radius)?;
+        // Back to units of the caller's direction: t scales as |oc| / |dir|.
+        let rescale = |t: f32| libm::ldexpf(t, oc_exponent - dir_exponent);
+        Some((rescale(t0), rescale(t1)))
+    }
+
+    /// `roots` for a direction and `oc` whose largest components are near 1.
+    fn scaled_roots(dir: Vec3, oc: Vec3, radius: f32) -> Option<(f32, f32)> {
+        let a = dir.dot(dir);
+        let h = dir.dot(oc);
+        let c = oc.dot(oc) - radius * radius;
         // The foot of the perpendicular from the centre to the line is
         // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
         // huge compared with `r`.
-        let foot = oc - (h / a) * ray.dir;
+        let foot = oc - (h / a) * dir;
         let l = foot.length();
-        let quarter_discriminant = a * ((self.radius - l) * (self.radius + l));
+        let quarter_discriminant = a * ((radius - l) * (radius + l));
         // `!(x >= 0)` also rejects NaN (zero direction, NaN input).
         if !(quarter_discriminant >= 0.0) {
             return None;
@@ -112,6 +132,21 @@ impl Sphere {
     pub fn normal_at(&self, point: Vec3) -> Vec3 {
         (point - self.center) / self.radius
     }
+}
+
+/// The `e` with `2^(e-1) <= x < 2^e`, or `None` when `x` is not `> 0` and finite.
+fn binary_exponent(x: f32) -> Option<i32> {
+    (x > 0.0 && x.is_finite()).then(|| libm::frexpf(x).1)
+}
+
+/// `v * 2^exponent`: only the exponents change, so nothing is rounded
+/// (unless a component leaves the range of `f32`).
+fn scale_by_power_of_two(v: Vec3, exponent: i32) -> Vec3 {
+    Vec3::new(
+        libm::ldexpf(v.x, exponent),
+        libm::ldexpf(v.y, exponent),
+        libm::ldexpf(v.z, exponent),
+    )
 }
 
 #[cfg(test)]

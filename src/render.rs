@@ -41,7 +41,9 @@ pub enum RayKind {
 pub trait RayLog {
     /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
-    /// A shadow ray hit the very primitive it left: shadow acne.
+    /// A shadow ray hit the very primitive it left where the exact segment
+    /// cannot (anything but going into a sphere): shadow acne. Only the
+    /// first blocker in scene order is examined.
     fn self_shadow(&mut self) {}
     /// A sample came out NaN or infinite (it is written as black).
     fn non_finite_sample(&mut self) {}
@@ -54,7 +56,8 @@ pub struct RayCounts {
     pub shadow: u64,
     pub reflection: u64,
     pub refraction: u64,
-    /// Shadow rays that hit the primitive they started on (acne).
+    /// Shadow rays that hit the primitive they started on, where the exact
+    /// segment does not (acne).
     pub self_shadow_hits: u64,
     /// Samples whose colour was NaN or infinite.
     pub non_finite_samples: u64,
@@ -305,7 +308,12 @@ impl<'a> Tracer<'a> {
                 let shadow_ray = shadow_ray_from(surface, light.position, self.offset);
                 log.cast(RayKind::Shadow, &shadow_ray, 0.0, 1.0);
                 if let Some(blocker) = first_hit(&self.shapes, &shadow_ray, 0.0, 1.0) {
-                    if blocker.object == object {
+                    // A shadow ray truly meets the surface it leaves only by
+                    // going into a sphere (a point on the inside of a glass
+                    // ball, lit through the ball): only the rest is acne.
+                    let into_itself =
+                        self.shapes[object].is_sphere() && to_light.dot(surface.normal) < 0.0;
+                    if blocker.object == object && !into_itself {
                         log.self_shadow();
                     }
                     continue;

@@ -1,0 +1,358 @@
+//! Property tests: random rays, spheres, planes and directions against the
+//! `f64` reference in `tests/reference/` (formulas independent of the
+//! library's), and the laws the lessons state.
+//!
+//! Tolerances follow `hard_cases.rs`: with `u = 2^-24` and `S` the largest
+//! coordinate magnitude involved (ray origin, shape, hit point), a hit
+//! parameter may be off by `K u (t + S / (|d| cos))`, `cos` being the cosine
+//! between the ray and the surface normal. Random inputs are kept away from
+//! the places where that bound is infinite: grazing hits (`cos < 1e-3`) and
+//! near-tangent misses are skipped for the hit/miss comparison, since there
+//! rounding legitimately decides.
+
+mod reference;
+
+use glam::{DVec3, Vec3};
+use proptest::prelude::*;
+use raylab::chapters::ch04_shadows::{RayOffset, surface_point};
+use raylab::chapters::ch06_reflection::reflected_ray;
+use raylab::chapters::ch08_refraction::refracted_ray;
+use raylab::{Plane, Ray, Shape, Sphere, reflect, refract};
+
+const U: f64 = f32::EPSILON as f64 / 2.0;
+/// Roundings allowed per formula (as in `hard_cases.rs`).
+const K: f64 = 16.0;
+
+fn wide(v: Vec3) -> DVec3 {
+    v.as_dvec3()
+}
+
+fn max_abs(v: DVec3) -> f64 {
+    v.abs().max_element()
+}
+
+/// A number of random sign and magnitude `10^-2 .. 10^4`.
+fn coordinate() -> impl Strategy<Value = f32> {
+    (-1.0f32..1.0, -2i32..=4).prop_map(|(m, e)| m * 10f32.powi(e))
+}
+
+fn point() -> impl Strategy<Value = Vec3> {
+    (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A direction of random orientation and length `10^-3 .. 10^3`.
+fn direction() -> impl Strategy<Value = Vec3> {
+    (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0, -3i32..=3)
+        .prop_filter("not too short to orient", |(x, y, z, _)| {
+            x * x + y * y + z * z > 0.01
+        })
+        .prop_map(|(x, y, z, e)| Vec3::new(x, y, z) * 10f32.powi(e))
+}
+
+fn radius() -> impl Strategy<Value = f32> {
+    (0.1f32..10.0, -2i32..=3).prop_map(|(m, e)| m * 10f32.powi(e))
+}
+
+/// A ray aimed at `target` plus a random miss distance `spread`, so that
+/// hits, misses and near misses all occur.
+fn aimed_ray(target: Vec3, size: f32) -> impl Strategy<Value = Ray> {
+    (point(), point(), -1.5f32..1.5).prop_map(move |(origin, wobble, spread)| {
+        let aim = target + wobble.normalize_or_zero() * (spread * size);
+        let dir = aim - origin;
+        Ray::new(origin, dir)
+    })
+}
+
+/// Checks a library hit against the reference: `Err` describes a failure,
+/// `Ok(false)` means the case was skipped as ill-conditioned.
+fn agree(
+    got: Option<f32>,
+    expected: Option<reference::Hit>,
+    ray: &Ray,
+    shape_scale: f64,
+    near_tangent: bool,
+) -> Result<bool, String> {
+    let (o, d) = (wide(ray.origin), wide(ray.dir));
+    match (got, expected) {
+        (None, None) => Ok(true),
+        (Some(t), Some(hit)) => {
+            let cos = (d.dot(hit.normal) / d.length()).abs();
+            if cos < 1e-3 {
+                return Ok(false);
+            }
+            let scale = max_abs(o) + shape_scale + max_abs(o + hit.t * d);
+            let unit = U * (hit.t + scale / (d.length() * cos));
+            let error = (t as f64 - hit.t).abs();
+            if error <= K * unit {
+                Ok(true)
+            } else {
+                Err(format!(
+                    "t = {t}, expected {} ({:.1} units of {unit:e})",
+                    hit.t,
+                    error / unit
+                ))
+            }
+        }
+        _ if near_tangent => Ok(false),
+        (got, expected) => Err(format!("got {got:?}, expected {:?}", expected.map(|h| h.t))),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn sphere_hits_match_the_reference(
+        (center, radius, ray) in (point(), radius())
+            .prop_flat_map(|(c, r)| (Just(c), Just(r), aimed_ray(c, r))),
+        t_min in prop_oneof![Just(0.0f32), 0.0f32..10.0],
+    ) {
+        let sphere = Sphere::new(center, radius);
+        let got = sphere.intersect(&ray, t_min, f32::INFINITY);
+        let (o, d) = (wide(ray.origin), wide(ray.dir));
+        let c = wide(center);
+        let r = radius as f64;
+        let expected = reference::sphere(c, r, o, d, t_min as f64, f64::INFINITY);
+        // Distance from the centre to the line, compared with the radius:
+        // within the rounding of the coordinates, hit or miss is a toss-up.
+        let oc = o - c;
+        let closest = oc - d * (d.dot(oc) / d.dot(d));
+        let scale = max_abs(o) + max_abs(c) + r;
+        let near_tangent = (closest.length() - r).abs() < 1e-3 * r + K * U * scale
+            // A root next to t_min is just as undecided.
+            || reference::sphere_roots(c, r, o, d).is_some_and(|(a, b)| {
+                let slack = 1e-3 * (a.abs() + b.abs()) + K * U * scale / d.length();
+                (a - t_min as f64).abs() < slack || (b - t_min as f64).abs() < slack
+            });
+        let result = agree(got, expected, &ray, max_abs(c) + r, near_tangent);
+        prop_assert!(result.is_ok(), "{:?} sphere {center} r {radius} ray {ray:?}", result);
+    }
+
+    #[test]
+    fn plane_hits_match_the_reference(
+        (point, normal) in (point(), direction()),
+        ray in point().prop_flat_map(|target| aimed_ray(target, 1.0)),
+    ) {
+        let plane = Plane::new(point, normal);
+        let got = plane.intersect(&ray, 0.0, f32::INFINITY);
+        let (o, d) = (wide(ray.origin), wide(ray.dir));
+        let n = wide(normal);
+        let expected = reference::plane(wide(point), n, o, d, 0.0, f64::INFINITY);
+        let cos = (d.dot(n) / (d.length() * n.length())).abs();
+        // Origins within rounding of the plane make `t ~ 0` a toss-up.
+        let height = ((o - wide(point)).dot(n) / n.length()).abs();
+        let near_tangent = cos < 1e-3 || height < K * U * (max_abs(o) + max_abs(wide(point)));
+        let result = agree(got, expected, &ray, max_abs(wide(point)), near_tangent);
+        prop_assert!(result.is_ok(), "{:?} plane {point} n {normal} ray {ray:?}", result);
+    }
+
+    /// The hit point, projected onto the surface, is on the exact surface
+    /// within the error bound `surface_point` reports.
+    #[test]
+    fn hit_points_lie_on_the_surface(
+        (center, radius, ray) in (point(), radius())
+            .prop_flat_map(|(c, r)| (Just(c), Just(r), aimed_ray(c, r * 0.9))),
+        (plane_point, plane_normal) in (point(), direction()),
+    ) {
+        let shapes: [Shape; 2] = [
+            Sphere::new(center, radius).into(),
+            Plane::new(plane_point, plane_normal).into(),
+        ];
+        for shape in &shapes {
+            let Some(t) = shape.intersect(&ray, 0.0, f32::INFINITY) else { continue };
+            let surface = surface_point(shape, &ray, t);
+            let p = wide(surface.point);
+            let off = match shape {
+                Shape::Sphere(s) => ((p - wide(s.center())).length() - s.radius() as f64).abs(),
+                _ => {
+                    let n = wide(plane_normal);
+                    ((p - wide(plane_point)).dot(n) / n.length()).abs()
+                }
+            };
+            // The bound is per coordinate; along the normal it is |n|.error.
+            let bound = wide(surface.normal).abs().dot(wide(surface.error));
+            prop_assert!(off <= bound, "{shape:?}: point {p} is {off:e} off, bound {bound:e}");
+        }
+    }
+
+    /// A secondary ray leaving a surface never meets that surface again,
+    /// unless the exact geometry says so (a ray going into a sphere meets
+    /// its far side, at the chord length).
+    #[test]
+    fn secondary_rays_do_not_hit_the_surface_they_leave(
+        (center, radius, ray) in (point(), radius())
+            .prop_flat_map(|(c, r)| (Just(c), Just(r), aimed_ray(c, r * 0.9))),
+        (plane_point, plane_normal) in (point(), direction()),
+        leaving in direction(),
+    ) {
+        let shapes: [Shape; 2] = [
+            Sphere::new(center, radius).into(),
+            Plane::new(plane_point, plane_normal).into(),
+        ];
+        for shape in &shapes {
+            let Some(t) = shape.intersect(&ray, 0.0, f32::INFINITY) else { continue };
+            let surface = surface_point(shape, &ray, t);
+            let cos = leaving.normalize().dot(surface.normal);
+            if cos.abs() < 1e-3 {
+                continue; // a ray along the surface: whether it re-enters is rounding
+            }
+            let secondary = Ray::new(RayOffset::Scaled.origin(&surface, leaving), leaving);
+            let again = shape.intersect(&secondary, 0.0, f32::INFINITY);
+            match shape {
+                Shape::Sphere(s) if cos < 0.0 => {
+                    // Into the sphere: the far side, at the chord 2 r |cos|.
+                    let chord = 2.0 * s.radius() as f64 * cos.abs() as f64;
+                    let travelled = again.map(|t| t as f64 * wide(secondary.dir).length());
+                    let scale = max_abs(wide(s.center())) + s.radius() as f64;
+                    // Chord error: the point's offset (u S) over the cosine,
+                    // and the cosine's own rounding times the radius.
+                    let slack = K * U * (scale / cos.abs() as f64 + s.radius() as f64) * 4.0;
+                    prop_assert!(
+                        travelled.is_some_and(|x| (x - chord).abs() <= slack),
+                        "into {s:?}: travelled {travelled:?}, chord {chord} (slack {slack:e})"
+                    );
+                }
+                _ => prop_assert!(again.is_none(), "{shape:?}: secondary ray {secondary:?} hit it again at {again:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn reflect_keeps_length_and_angle(d in direction(), n in direction()) {
+        let r = wide(reflect(d, n));
+        let (dw, nw) = (wide(d), wide(n).normalize());
+        let length = dw.length();
+        prop_assert!((r.length() - length).abs() <= K * U * length, "length {} vs {length}", r.length());
+        // Angle of incidence = angle of reflection: r.n = -d.n.
+        prop_assert!((r.dot(nw) + dw.dot(nw)).abs() <= K * U * length);
+        // In the plane of d and n.
+        prop_assert!(r.dot(dw.cross(nw)).abs() <= K * U * length * length);
+        // And the same vector as the reference.
+        let expected = reference::reflect(dw, wide(n));
+        prop_assert!(reference::angle(r, expected) <= K * U);
+    }
+
+    #[test]
+    fn refract_obeys_snell_and_stays_in_the_plane(
+        d in direction(),
+        n in direction(),
+        eta in prop_oneof![0.3f32..3.0, Just(1.5f32 / 1.33), Just(1.33f32 / 1.5), Just(1.5), Just(1.0 / 1.5)],
+    ) {
+        let got = refract(d, n, eta);
+        let (dw, nw) = (wide(d).normalize(), wide(n).normalize());
+        let cos_i = dw.dot(nw).abs();
+        let sin_i = dw.cross(nw).length();
+        let eta = eta as f64;
+        // Total internal reflection exactly when eta sin i > 1, except
+        // within rounding of the boundary.
+        let boundary = eta * sin_i - 1.0;
+        if boundary.abs() > 1e-5 {
+            prop_assert_eq!(got.is_none(), boundary > 0.0, "eta sin i = {}", eta * sin_i);
+        }
+        if let Some(t) = got {
+            let t = wide(t);
+            prop_assert!((t.length() - 1.0).abs() <= K * U);
+            let sin_t = t.cross(nw).length();
+            let cos_t = t.dot(nw).abs();
+            // n1 sin i = n2 sin t, i.e. eta sin i = sin t; the error of sin t
+            // is the angle error, conditioned by eta cos i / cos t.
+            let tolerance = K * U * (1.0 + eta * cos_i / cos_t.max(1e-300));
+            prop_assert!((eta * sin_i - sin_t).abs() <= tolerance.max(K * U),
+                "eta sin i = {}, sin t = {sin_t}", eta * sin_i);
+            // In the plane of incidence, and on the far side of the surface.
+            prop_assert!(t.dot(dw.cross(nw)).abs() <= K * U * (1.0 + eta * cos_i / cos_t.max(1e-300)));
+            prop_assert!(t.dot(nw) * dw.dot(nw) >= 0.0, "the ray must cross the surface");
+            if let Some(expected) = reference::refract(dw, nw, eta) {
+                prop_assert!(reference::angle(t, expected) <= tolerance.max(K * U) * 2.0);
+            }
+        }
+    }
+
+    /// Reflected and refracted rays built by the renderer's helpers leave
+    /// from the correct side: neither meets the plane it leaves.
+    #[test]
+    fn reflected_and_refracted_rays_leave_a_plane(
+        (plane_point, plane_normal) in (point(), direction()),
+        ray in point().prop_flat_map(|target| aimed_ray(target, 1.0)),
+        ior in 1.0f32..2.5,
+    ) {
+        let shape: Shape = Plane::new(plane_point, plane_normal).into();
+        let Some(t) = shape.intersect(&ray, 0.0, f32::INFINITY) else { return Ok(()) };
+        let surface = surface_point(&shape, &ray, t);
+        if ray.dir.normalize().dot(surface.normal).abs() < 1e-3 {
+            return Ok(());
+        }
+        let reflected = reflected_ray(&surface, ray.dir, RayOffset::Scaled);
+        prop_assert!(shape.intersect(&reflected, 0.0, f32::INFINITY).is_none());
+        if let Some(refracted) = refracted_ray(&surface, ray.dir, ior, RayOffset::Scaled) {
+            prop_assert!(shape.intersect(&refracted, 0.0, f32::INFINITY).is_none());
+        }
+    }
+}
+
+/// Non-finite values anywhere in a ray or a shape never give a hit.
+#[test]
+fn non_finite_input_never_hits() {
+    let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+    let good_origin = Vec3::new(0.1, 0.2, -5.0);
+    let good_dir = Vec3::new(0.01, 0.02, 1.0);
+    let mut checked = 0;
+    for &value in &bad {
+        for axis in 0..3 {
+            let with = |v: Vec3| {
+                let mut a = v.to_array();
+                a[axis] = value;
+                Vec3::from(a)
+            };
+            let rays = [
+                Ray::new(with(good_origin), good_dir),
+                Ray::new(good_origin, with(good_dir)),
+            ];
+            let shapes: [Shape; 4] = [
+                Sphere::new(with(Vec3::ZERO), 1.0).into(),
+                Sphere::new(Vec3::ZERO, value).into(),
+                Plane::new(with(Vec3::ZERO), Vec3::Z).into(),
+                Plane::new(Vec3::ZERO, with(Vec3::Z)).into(),
+            ];
+            let good_shapes: [Shape; 2] = [
+                Sphere::new(Vec3::ZERO, 1.0).into(),
+                Plane::new(Vec3::ZERO, Vec3::Z).into(),
+            ];
+            for shape in &good_shapes {
+                for ray in &rays {
+                    assert_eq!(
+                        shape.intersect(ray, 0.0, f32::INFINITY),
+                        None,
+                        "{shape:?} {ray:?}"
+                    );
+                    checked += 1;
+                }
+            }
+            for shape in &shapes {
+                let ray = Ray::new(good_origin, good_dir);
+                assert_eq!(shape.intersect(&ray, 0.0, f32::INFINITY), None, "{shape:?}");
+                if let Shape::Sphere(s) = shape {
+                    assert_eq!(
+                        s.intersect_textbook(&ray, 0.0, f32::INFINITY),
+                        None,
+                        "{s:?}"
+                    );
+                }
+                checked += 1;
+            }
+        }
+    }
+    // The good shapes do hit the good ray: the misses above are the NaNs' doing.
+    let ray = Ray::new(good_origin, good_dir);
+    assert!(
+        Shape::from(Sphere::new(Vec3::ZERO, 1.0))
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .is_some()
+    );
+    assert!(
+        Shape::from(Plane::new(Vec3::ZERO, Vec3::Z))
+            .intersect(&ray, 0.0, f32::INFINITY)
+            .is_some()
+    );
+    assert_eq!(checked, 3 * 3 * (4 + 4));
+}
