@@ -42,31 +42,47 @@ impl Sphere {
     /// line, and the roots as `q / a` and `c / q` with `q = -(h + sign(h) sqrt(h^2 - a c))`:
     /// no subtraction of two large, nearly equal numbers anywhere (the lesson
     /// derives both forms).
+    #[inline]
     pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
-        // `a` and `c` are squares of lengths: a direction of length 1e20
-        // or an `|oc|` of 1e20 overflows `f32` (1e40), a direction of length
-        // 1e-21 underflows to a subnormal that keeps a few bits. Dividing the
-        // direction, and `oc` and `r`, by powers of two that bring their
-        // largest component near 1 is exact, so for ordinary scenes the roots
-        // are the same bits, and for extreme ones nothing overflows.
-        let dir_exponent = binary_exponent(ray.dir.abs().max_element())?;
-        let dir = scale_by_power_of_two(ray.dir, -dir_exponent);
         let oc = ray.origin - self.center;
-        // The radius counts too: `oc` is zero when the ray starts at the centre.
-        let oc_exponent = binary_exponent(oc.abs().max_element().max(self.radius))?;
+        let a = ray.dir.dot(ray.dir);
+        let oc_squared = oc.dot(oc);
+        let r_squared = self.radius * self.radius;
+        // `a`, `oc.oc` and `r^2` are squares of lengths, and the discriminant
+        // is a product of two of them: while each lies in [2^-60, 2^60], no
+        // intermediate comes near the limits of `f32` (2^-126, 2^128). That
+        // is every ordinary scene; the rest (and NaN) takes the slow path.
+        let safe = |x: f32| x > SAFE_SQUARE_MIN && x < SAFE_SQUARE_MAX;
+        if safe(a) && oc_squared < SAFE_SQUARE_MAX && safe(r_squared) {
+            Self::solve(ray.dir, oc, a, oc_squared - r_squared, self.radius)
+        } else {
+            Self::rescaled_roots(ray.dir, oc, self.radius)
+        }
+    }
+
+    /// `roots` for sizes outside the safe range: a direction of length 1e20
+    /// or an `|oc|` of 1e20 overflows (1e40), a direction of length 1e-21
+    /// underflows to a subnormal that keeps a few bits. Dividing the
+    /// direction, and `oc` and `r`, by powers of two that bring their largest
+    /// component near 1 is exact, so nothing else changes, and nothing
+    /// overflows.
+    #[cold]
+    fn rescaled_roots(dir: Vec3, oc: Vec3, radius: f32) -> Option<(f32, f32)> {
+        let dir_exponent = binary_exponent(dir.abs().max_element())?;
+        let dir = scale_by_power_of_two(dir, -dir_exponent);
+        let oc_exponent = binary_exponent(oc.abs().max_element().max(radius))?;
         let oc = scale_by_power_of_two(oc, -oc_exponent);
-        let radius = libm::ldexpf(self.radius, -oc_exponent);
-        let (t0, t1) = Self::scaled_roots(dir, oc, radius)?;
+        let radius = libm::ldexpf(radius, -oc_exponent);
+        let (t0, t1) = Self::solve(dir, oc, dir.dot(dir), oc.dot(oc) - radius * radius, radius)?;
         // Back to units of the caller's direction: t scales as |oc| / |dir|.
         let rescale = |t: f32| libm::ldexpf(t, oc_exponent - dir_exponent);
         Some((rescale(t0), rescale(t1)))
     }
 
-    /// `roots` for a direction and `oc` whose largest components are near 1.
-    fn scaled_roots(dir: Vec3, oc: Vec3, radius: f32) -> Option<(f32, f32)> {
-        let a = dir.dot(dir);
+    /// The roots from `a = dir.dir` and `c = oc.oc - r^2`, sizes safe.
+    #[inline(always)]
+    fn solve(dir: Vec3, oc: Vec3, a: f32, c: f32, radius: f32) -> Option<(f32, f32)> {
         let h = dir.dot(oc);
-        let c = oc.dot(oc) - radius * radius;
         // The foot of the perpendicular from the centre to the line is
         // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
         // huge compared with `r`.
@@ -133,6 +149,11 @@ impl Sphere {
         (point - self.center) / self.radius
     }
 }
+
+/// Squared lengths for which `roots` needs no rescaling: 2^-60 to 2^60, so
+/// lengths from about 1e-9 to 1e9.
+const SAFE_SQUARE_MIN: f32 = 1.0 / (1u64 << 60) as f32;
+const SAFE_SQUARE_MAX: f32 = (1u64 << 60) as f32;
 
 /// The `e` with `2^(e-1) <= x < 2^e`, or `None` when `x` is not `> 0` and finite.
 fn binary_exponent(x: f32) -> Option<i32> {

@@ -41,9 +41,9 @@ pub enum RayKind {
 pub trait RayLog {
     /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
-    /// A shadow ray hit the very primitive it left where the exact segment
-    /// cannot (anything but going into a sphere): shadow acne. Only the
-    /// first blocker in scene order is examined.
+    /// A shadow ray hit the very primitive it left, which the exact segment
+    /// cannot do: shadow acne. Only the first blocker in scene order is
+    /// examined, so this may undercount.
     fn self_shadow(&mut self) {}
     /// A sample came out NaN or infinite (it is written as black).
     fn non_finite_sample(&mut self) {}
@@ -308,12 +308,10 @@ impl<'a> Tracer<'a> {
                 let shadow_ray = shadow_ray_from(surface, light.position, self.offset);
                 log.cast(RayKind::Shadow, &shadow_ray, 0.0, 1.0);
                 if let Some(blocker) = first_hit(&self.shapes, &shadow_ray, 0.0, 1.0) {
-                    // A shadow ray truly meets the surface it leaves only by
-                    // going into a sphere (a point on the inside of a glass
-                    // ball, lit through the ball): only the rest is acne.
-                    let into_itself =
-                        self.shapes[object].is_sphere() && to_light.dot(surface.normal) < 0.0;
-                    if blocker.object == object && !into_itself {
+                    // Planes and spheres are convex, and lights outside a
+                    // sphere seen from inside were skipped above: a shadow
+                    // ray that meets its own surface is always acne.
+                    if blocker.object == object {
                         log.self_shadow();
                     }
                     continue;

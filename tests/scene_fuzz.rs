@@ -47,6 +47,10 @@ fn mutation() -> impl Strategy<Value = Mutation> {
 fn apply(text: &str, mutation: &Mutation) -> Vec<u8> {
     let mut bytes = text.as_bytes().to_vec();
     let len = bytes.len();
+    if len == 0 {
+        // Earlier mutations may have truncated the text to nothing.
+        return bytes;
+    }
     match *mutation {
         Mutation::DeleteByte(at) => {
             bytes.remove(at % len);
