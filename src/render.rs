@@ -298,7 +298,9 @@ impl<'a> Tracer<'a> {
                 let shadow_ray = shadow_ray_from(surface, light.position, self.offset);
                 log.cast(RayKind::Shadow, &shadow_ray, 0.0, 1.0);
                 if let Some(blocker) = first_hit(&self.shapes, &shadow_ray, 0.0, 1.0) {
-                    if blocker.object == object {
+                    if blocker.object == object
+                        && is_acne(&self.shapes[object], &shadow_ray, surface.point, blocker.t)
+                    {
                         log.self_shadow();
                     }
                     continue;
@@ -324,6 +326,26 @@ impl<'a> Tracer<'a> {
             }
         }
         (diffuse, specular)
+    }
+}
+
+/// Whether a shadow ray's hit at `t` on the very shape it left, at `start`,
+/// is acne (the ray finding its own starting point again) rather than real
+/// self-occlusion. A plane cannot shade itself; a sphere can, when the ray
+/// leaves it inward (lighting the inside of a glass ball) and meets it again
+/// at the far end of the chord. The ray's line meets the sphere twice, at
+/// parameters summing to `-2 (oc . d) / (d . d)`; one is the start, and the
+/// hit is acne when it is nearer the start than the other one.
+fn is_acne(shape: &Shape, ray: &Ray, start: Vec3, t: f32) -> bool {
+    match shape {
+        Shape::Plane(_) => true,
+        Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+            let squared = ray.dir.dot(ray.dir);
+            let sum = -2.0 * (ray.origin - sphere.center()).dot(ray.dir) / squared;
+            let at_start = (start - ray.origin).dot(ray.dir) / squared;
+            let other = sum - at_start;
+            (t - at_start).abs() < (t - other).abs()
+        }
     }
 }
 

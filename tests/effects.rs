@@ -198,3 +198,22 @@ fn recursion_stops_below_the_minimum_contribution() {
     assert_eq!(counts[0].reflection, counts[1].reflection);
     assert_eq!(counts[2].reflection, 0);
 }
+
+#[test]
+fn acne_is_counted_where_the_offset_fails_and_only_there() {
+    // Chapter 8's glass ball lights its own inside: those shadow rays truly
+    // meet the ball again and are not acne.
+    let scene = raylab::builtin::scene(8).expect("built-in scene");
+    let settings = small(&scene, 1);
+    let scaled = raylab::render(&scene, 8, &settings, None).rays;
+    assert_eq!(scaled.self_shadow_hits, 0);
+    assert_eq!(scaled.self_shadowed_pixels, 0);
+    let no_offset = RenderSettings {
+        ray_offset: raylab::scene::OffsetRule::Fixed,
+        fixed_epsilon: 0.0,
+        ..settings
+    };
+    let acne = raylab::render(&scene, 8, &no_offset, None).rays;
+    assert!(acne.self_shadowed_pixels > 100, "{acne:?}");
+    assert!(acne.self_shadow_hits >= acne.self_shadowed_pixels);
+}

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod cost;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -24,6 +25,9 @@ pub enum Command {
     Chapters,
     /// Print a chapter's built-in scene as TOML, ready to copy and edit.
     Scene(render::SceneArgs),
+    /// Sweep a chapter's quality knobs: time, rays and error against a
+    /// high-quality reference, as a table, a CSV and an SVG plot.
+    Cost(cost::CostArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -45,6 +49,7 @@ pub fn main() -> i32 {
         Command::Render(args) => render::render(&args),
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
+        Command::Cost(args) => cost::cost(&args),
     };
     match result {
         Ok(status) => status,
