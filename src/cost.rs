@@ -278,7 +278,12 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                         fixed_epsilon: epsilon,
                         ..base
                     };
-                    jobs.push(job(*knob, format!("fixed epsilon {epsilon:e}"), settings));
+                    let label = if epsilon == 0.0 {
+                        "no offset (epsilon 0)".to_string()
+                    } else {
+                        format!("fixed epsilon {epsilon:e}")
+                    };
+                    jobs.push(job(*knob, label, settings));
                 }
                 let settings = RenderSettings {
                     ray_offset: OffsetRule::Scaled,
@@ -380,12 +385,23 @@ pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> Co
             row
         })
         .collect();
-    for job in jobs(config) {
-        let runs: Vec<Rendered> = (0..repeats)
-            .map(|_| render(job.far_sphere, &job.settings))
-            .collect();
-        let error = ImageError::between(&runs[0].rgb, &reference_of(job.far_sphere).rgb);
-        let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, runs);
+    // Repeats go round the whole sweep rather than one setting at a time:
+    // when the machine gets busier or quieter mid-sweep, every setting's
+    // median sees the same mix of conditions.
+    let jobs = jobs(config);
+    let mut runs: Vec<Vec<Rendered>> = jobs.iter().map(|_| Vec::new()).collect();
+    for _ in 0..repeats {
+        for (job, job_runs) in jobs.iter().zip(&mut runs) {
+            let mut rendered = render(job.far_sphere, &job.settings);
+            if !job_runs.is_empty() {
+                rendered.rgb = Vec::new(); // only the first image is compared
+            }
+            job_runs.push(rendered);
+        }
+    }
+    for (job, job_runs) in jobs.into_iter().zip(runs) {
+        let error = ImageError::between(&job_runs[0].rgb, &reference_of(job.far_sphere).rgb);
+        let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
         row.error = error;
         rows.push(row);
     }
@@ -579,6 +595,18 @@ fn csv_field(text: &str) -> String {
     }
 }
 
+/// Round axis ticks between `low` and `high`: 1, 2 and 5 times powers of ten.
+/// Parsed from text so that they print as written ("0.005", not
+/// "0.005000000000000001").
+fn ticks(low: f64, high: f64) -> Vec<f64> {
+    let (first, last) = (low.log10().floor() as i32, high.log10().ceil() as i32);
+    (first..=last)
+        .flat_map(|power| [1, 2, 5].map(|m| format!("{m}e{power}").parse::<f64>()))
+        .filter_map(Result::ok)
+        .filter(|tick| (low..=high).contains(tick))
+        .collect()
+}
+
 fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
 
@@ -610,27 +638,33 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
 
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (800, 560)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (800, 580)).into_drawing_area();
         root.fill(&WHITE)?;
+        let (plot_area, note_area) = root.split_vertically(550);
         let title = format!(
             "raylab cost, chapter {}: error vs time ({}x{})",
             report.chapter, report.width, report.height
         );
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(&plot_area)
             .caption(title, ("sans-serif", 20))
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(64)
             .build_cartesian_2d(
-                (fastest / 1.5..slowest * 1.5).log_scale(),
-                (floor / 1.5..largest_error * 1.5).log_scale(),
+                (fastest / 1.5..slowest * 1.5)
+                    .log_scale()
+                    .with_key_points(ticks(fastest / 1.5, slowest * 1.5)),
+                // Headroom above the points for the legend.
+                (floor / 1.5..largest_error * 8.0)
+                    .log_scale()
+                    .with_key_points(ticks(floor / 1.5, largest_error * 8.0)),
             )?;
         chart
             .configure_mesh()
             .x_desc("wall time, seconds (median)")
             .y_desc("RMSE against the reference (sRGB8 codes)")
-            .x_label_formatter(&|s| format!("{s:.3}"))
-            .y_label_formatter(&|e| format!("{e:.2}"))
+            .x_label_formatter(&|s| format!("{s}"))
+            .y_label_formatter(&|e| format!("{e}"))
             .draw()?;
 
         let mut front: Vec<&Measurement> = rows.iter().copied().filter(|r| r.pareto).collect();
@@ -647,7 +681,6 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
                 .iter()
                 .map(|r| Circle::new((seconds_of(r), error_of(r)), 7, BLACK.stroke_width(1))),
         )?;
-
         let colours = [
             RGBColor(31, 119, 180),
             RGBColor(255, 127, 14),
@@ -677,19 +710,42 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
                 .label(label)
                 .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
         }
+        // Label the front's points, skipping any that would print over a
+        // label already placed (points with the same error cluster).
+        let mut labelled: Vec<(f64, f64)> = Vec::new();
+        let mut labels: Vec<&Measurement> = Vec::new();
+        for r in &front {
+            let at = (seconds_of(r).log10(), error_of(r).log10());
+            let crowded = labelled
+                .iter()
+                .any(|(x, y)| (x - at.0).abs() < 0.25 && (y - at.1).abs() < 0.06);
+            if !crowded {
+                labelled.push(at);
+                labels.push(r);
+            }
+        }
+        chart.draw_series(labels.iter().map(|r| {
+            Text::new(
+                r.label.clone(),
+                (seconds_of(r) * 1.06, error_of(r) * 1.06),
+                ("sans-serif", 11),
+            )
+        }))?;
+
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
             .draw()?;
-        root.draw(&Text::new(
+        note_area.draw(&Text::new(
             format!(
-                "bottom edge: identical to the reference (RMSE 0); time: median of {} runs",
+                "Pareto front: the main scene's settings that no other beats on both time and error. \
+                 Bottom edge: identical to the reference. Time: median of {} runs.",
                 report.repeats
             ),
-            (16, 540),
-            ("sans-serif", 13),
+            (16, 8),
+            ("sans-serif", 12),
         ))?;
         root.present()?;
     }

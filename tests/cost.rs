@@ -125,7 +125,7 @@ fn cost_command_writes_a_table_a_csv_and_a_plot() {
             .parse()
             .expect("a count")
     };
-    assert!(acne("fixed epsilon 0e0") > 0);
+    assert!(acne("no offset (epsilon 0)") > 0);
     assert_eq!(acne("scaled offset"), 0);
 
     let markdown = std::fs::read_to_string(folder.join("cost.md")).expect("cost.md");
