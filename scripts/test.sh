@@ -7,3 +7,4 @@ cd "$(dirname "$0")/.."
 
 cargo test --all-targets
 cargo test --release --test snapshots --test determinism
+cargo bench --no-run

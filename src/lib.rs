@@ -30,6 +30,7 @@ pub mod chapters;
 pub mod builtin;
 pub mod camera;
 pub mod cli;
+pub mod cost;
 pub mod output;
 pub mod ray;
 pub mod render;

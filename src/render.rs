@@ -59,6 +59,9 @@ pub struct RayCounts {
     /// Shadow rays that hit the primitive they started on, where the exact
     /// segment does not (acne).
     pub self_shadow_hits: u64,
+    /// Pixels with at least one such shadow ray: the acne a student sees.
+    /// Only [`render`] fills it in (a log sees rays, not pixels).
+    pub self_shadowed_pixels: u64,
     /// Samples whose colour was NaN or infinite.
     pub non_finite_samples: u64,
 }
@@ -74,6 +77,7 @@ impl RayCounts {
         self.reflection += other.reflection;
         self.refraction += other.refraction;
         self.self_shadow_hits += other.self_shadow_hits;
+        self.self_shadowed_pixels += other.self_shadowed_pixels;
         self.non_finite_samples += other.non_finite_samples;
         self
     }
@@ -360,7 +364,11 @@ pub fn render(
         .map(|(y, row)| {
             let mut counts = RayCounts::default();
             for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+                let self_shadowed_before = counts.self_shadow_hits;
                 let color = tracer.pixel(&camera, x as u32, y as u32, &mut counts);
+                if counts.self_shadow_hits > self_shadowed_before {
+                    counts.self_shadowed_pixels += 1;
+                }
                 pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
             }
             if let Some(bar) = progress {

@@ -105,18 +105,36 @@ impl Effects {
     }
 
     /// Drops the effects that `scene`, rendered with `samples` per pixel,
-    /// cannot show: shadow rays need a light, the specular term a material
-    /// with `specular > 0`, reflection rays a material that reflects,
-    /// refraction rays one that is transparent, extra samples a count above
-    /// one. What is dropped would only have cost time: the image is the same.
+    /// cannot show: shadow rays need a light, the specular term a light and
+    /// a material with `specular > 0`, refraction rays a transparent
+    /// material, reflection rays a material that reflects or (total internal
+    /// reflection) one that is transparent while refraction is on, extra
+    /// samples a count above one. What is dropped would only have cost time:
+    /// the image is the same, bit for bit, because every dropped term is a
+    /// product with a zero coefficient that the tracer no longer computes.
+    ///
+    /// Extra samples are never skipped pixel by pixel. The only pixels where
+    /// more samples provably cannot change the result are those whose whole
+    /// square sees one constant colour, and in a Whitted scene that can only
+    /// be the background (lit surfaces vary across every pixel). Proving
+    /// that no ray through a pixel's square hits any shape needs a
+    /// conservative pyramid-versus-shape test that accounts for the rounding
+    /// of every camera ray; checking a few samples instead (adaptive
+    /// sampling) is a guess, since a thin object can pass between them.
+    /// raylab does neither: with `samples = N`, every pixel takes N samples.
     pub fn needed_by(self, scene: &Scene, samples: u32) -> Effects {
-        let any = |test: fn(&crate::Material) -> bool| scene.materials.iter().any(test);
+        let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials.iter().any(test);
         let lit = !scene.lights.is_empty();
+        let refraction = self.refraction && any(&|m| m.transparency > 0.0);
         Effects {
             shadows: self.shadows && lit,
-            specular: self.specular && lit && any(|m| m.specular > 0.0),
-            reflection: self.reflection && any(|m| m.reflectivity > 0.0),
-            refraction: self.refraction && any(|m| m.transparency > 0.0),
+            specular: self.specular && lit && any(&|m| m.specular > 0.0),
+            // A refracted ray that meets the surface past the critical angle
+            // is reflected instead: glass casts reflection rays even when
+            // its `reflectivity` is 0.
+            reflection: self.reflection
+                && any(&|m| m.reflectivity > 0.0 || (refraction && m.transparency > 0.0)),
+            refraction,
             antialiasing: self.antialiasing && samples > 1,
             ..self
         }

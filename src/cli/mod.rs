@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod cost;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -27,6 +28,9 @@ pub enum Command {
     Scene(render::SceneArgs),
     /// Time a render several times (no image written) and print the median.
     Bench(bench::BenchArgs),
+    /// Sweep a chapter's quality knobs: time, rays and error against a
+    /// high-quality reference, as a table, a CSV and an SVG plot.
+    Cost(cost::CostArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -49,6 +53,7 @@ pub fn main() -> i32 {
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
         Command::Bench(args) => bench::bench(&args),
+        Command::Cost(args) => cost::cost(&args),
     };
     match result {
         Ok(status) => status,

@@ -192,14 +192,16 @@ fn summary_line(
 fn stats_text(rendered: &Rendered) -> String {
     let rays = &rendered.rays;
     format!(
-        "effects simulated: {}\nrays cast: {} total\n  primary     {}\n  shadow      {}\n  reflection  {}\n  refraction  {}\nself-shadowing shadow rays: {}\nnon-finite samples: {}\n",
+        "effects simulated: {}\ntime: {:.3} s\nrays cast: {} total\n  primary     {}\n  shadow      {}\n  reflection  {}\n  refraction  {}\nself-shadowing shadow rays: {} (in {} pixels)\nnon-finite samples: {}\n",
         rendered.effects.names().join(", "),
+        rendered.seconds,
         rays.total(),
         rays.primary,
         rays.shadow,
         rays.reflection,
         rays.refraction,
         rays.self_shadow_hits,
+        rays.self_shadowed_pixels,
         rays.non_finite_samples,
     )
 }
@@ -227,6 +229,7 @@ pub fn stats_json(
             "total": rays.total(),
         },
         "self_shadow_hits": rays.self_shadow_hits,
+        "self_shadowed_pixels": rays.self_shadowed_pixels,
         "non_finite_samples": rays.non_finite_samples,
         "image_fnv1a64": format!("{:016x}", rendered.hash()),
     })

@@ -1,0 +1,135 @@
+//! `raylab cost`: what accuracy costs in time, knob by knob.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use super::render::{select_scene, write_text_atomic};
+use crate::cost::{CostConfig, Knob};
+
+/// The default size: small enough that a sweep takes seconds in release.
+const DEFAULT_WIDTH: u32 = 160;
+const DEFAULT_HEIGHT: u32 = 120;
+
+#[derive(Debug, Args)]
+pub struct CostArgs {
+    /// Chapter whose knobs to sweep (2 to 8): 2 adds the sphere formula, 4
+    /// the secondary-ray offset, 6 the reflection depth, 7 the samples.
+    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub chapter: u8,
+    /// A TOML scene to sweep instead of the chapter's built-in one.
+    #[arg(short, long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = DEFAULT_WIDTH)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = DEFAULT_HEIGHT)]
+    pub height: u32,
+    /// Renders per setting; the time reported is their median.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: u32,
+    /// Sweep only this knob (repeat for several) [default: all the chapter has].
+    #[arg(long, value_enum)]
+    pub knob: Vec<Knob>,
+    /// Folder for cost.csv, cost.md and cost.svg [default: cost-chapter-N].
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Worker threads [default: one per core].
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+pub fn cost(args: &CostArgs) -> Result<i32> {
+    let chapter = args.chapter;
+    let available = Knob::of_chapter(chapter);
+    let knobs = if args.knob.is_empty() {
+        available.clone()
+    } else {
+        let mut knobs = args.knob.clone();
+        knobs.sort();
+        knobs.dedup();
+        if let Some(knob) = knobs.iter().find(|k| !available.contains(k)) {
+            bail!(
+                "chapter {chapter} has no {} knob: it comes with chapter {}",
+                knob.name(),
+                knob.chapter()
+            );
+        }
+        knobs
+    };
+    if knobs.is_empty() {
+        bail!(
+            "chapter {chapter} has no accuracy knob to sweep: the sphere formula comes with \
+             chapter 2, the ray offset with 4, depth with 6, samples with 7"
+        );
+    }
+    if !(1..=100).contains(&args.repeats) {
+        bail!("--repeats {}: must be between 1 and 100", args.repeats);
+    }
+    let (scene, _) = select_scene(Some(chapter), args.scene.as_deref())?;
+    let overrides = super::render::SettingsOverrides {
+        width: Some(args.width),
+        height: Some(args.height),
+        threads: args.threads,
+        ..Default::default()
+    };
+    let base = overrides.apply(scene.render)?;
+    // The reference supersamples: check that its settings are valid too.
+    crate::cost::reference_settings(&base)
+        .validate()
+        .map_err(|message| anyhow::anyhow!("invalid render settings: {message}"))?;
+
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("cost-chapter-{chapter}")));
+    // Fail before the sweep, not after minutes of rendering.
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("cannot create the output folder {}", out.display()))?;
+    if !out.is_dir() {
+        bail!("--out {}: not a folder", out.display());
+    }
+
+    let scene_name = match &args.scene {
+        Some(path) => path.display().to_string(),
+        None => "built-in scene".to_string(),
+    };
+    let config = CostConfig {
+        chapter,
+        scene,
+        scene_name,
+        base,
+        knobs: knobs.clone(),
+        repeats: args.repeats,
+    };
+    let progress = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(crate::cost::render_count(&config));
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} sweeping [{bar:40}] {pos}/{len} renders, {eta} left",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let report = overrides.in_pool(|| crate::cost::run(&config, progress.as_ref()))?;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+
+    let command = report.command(&knobs, args.out.as_ref().and_then(|p| p.to_str()));
+    let markdown = format!("{}\nReproduce with `{command}`.\n", report.markdown());
+    let svg = report.svg()?;
+    write_text_atomic(&out.join("cost.csv"), &report.csv())?;
+    write_text_atomic(&out.join("cost.md"), &markdown)?;
+    write_text_atomic(&out.join("cost.svg"), &svg)?;
+    print!("{markdown}");
+    println!(
+        "wrote {0}/cost.csv, {0}/cost.md, {0}/cost.svg",
+        out.display()
+    );
+    Ok(0)
+}

@@ -1,0 +1,802 @@
+//! What accuracy costs: each quality knob of a chapter, swept and measured
+//! against one high-quality reference render of the same scene.
+//!
+//! For every setting, [`run`] renders the scene `repeats` times and records
+//! the median wall time, the rays cast and the error of the image against the
+//! reference. Errors are measured on the 8-bit sRGB pixels, the numbers a
+//! student's PNG holds, in code values (0 to 255):
+//!
+//! - RMSE: the root mean square of the channel differences;
+//! - PSNR: `20 log10(255 / RMSE)` decibels (infinite for identical images);
+//! - the share of pixels with a channel off by more than one code (1/255).
+//!
+//! The reference is the same chapter's stage at the same size with every
+//! knob at its most accurate setting (see [`reference_settings`]). A chapter
+//! before 7 takes one sample at each pixel centre, so its reference does too:
+//! aliasing is not a knob that chapter has.
+
+use std::fmt::Write as _;
+
+use anyhow::Result;
+
+use crate::render::Rendered;
+use crate::scene::{OffsetRule, SphereFormula};
+use crate::stage::Effects;
+use crate::{RenderSettings, Sampling, Scene};
+
+/// A quality knob the sweep can turn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, clap::ValueEnum)]
+pub enum Knob {
+    /// Samples per pixel, 1 to 64, for grid, jittered and random sampling (chapter 7).
+    Samples,
+    /// Reflection and refraction depth, 0 to 8 (chapter 6).
+    Depth,
+    /// Where secondary rays start: global epsilons against the scaled offset (chapter 4).
+    Offset,
+    /// The textbook against the stable ray-sphere formula, on a far small sphere (chapter 2).
+    SphereFormula,
+}
+
+impl Knob {
+    pub const ALL: [Knob; 4] = [
+        Knob::Samples,
+        Knob::Depth,
+        Knob::Offset,
+        Knob::SphereFormula,
+    ];
+
+    /// The chapter that introduces this knob.
+    pub fn chapter(self) -> u8 {
+        match self {
+            Knob::SphereFormula => 2,
+            Knob::Offset => 4,
+            Knob::Depth => 6,
+            Knob::Samples => 7,
+        }
+    }
+
+    /// The name used in tables, files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Knob::Samples => "samples",
+            Knob::Depth => "depth",
+            Knob::Offset => "offset",
+            Knob::SphereFormula => "sphere-formula",
+        }
+    }
+
+    /// The knobs chapter `chapter` has, in sweep order.
+    pub fn of_chapter(chapter: u8) -> Vec<Knob> {
+        Knob::ALL
+            .into_iter()
+            .filter(|knob| knob.chapter() <= chapter)
+            .collect()
+    }
+}
+
+/// Sample counts swept by [`Knob::Samples`]: squares, so grid and jittered
+/// sampling can use them too.
+pub const SAMPLE_COUNTS: [u32; 4] = [1, 4, 16, 64];
+/// Depths swept by [`Knob::Depth`].
+pub const DEPTHS: std::ops::RangeInclusive<u32> = 0..=8;
+/// Global epsilons swept by [`Knob::Offset`], beside the scaled offset. Zero
+/// is no offset at all; 1e-4 is the common textbook value.
+pub const EPSILONS: [f32; 5] = [0.0, 1e-6, 1e-4, 1e-2, 1e-1];
+/// Samples per pixel of the reference, for stages that supersample.
+pub const REFERENCE_SAMPLES: u32 = 256;
+/// Bounces of the reference.
+pub const REFERENCE_DEPTH: u32 = 16;
+
+/// The reference: `base` with every knob at its most accurate setting.
+/// `256` jittered samples per pixel (ignored before chapter 7), depth 16, no
+/// minimum contribution, the scaled offset and the stable sphere formula.
+pub fn reference_settings(base: &RenderSettings) -> RenderSettings {
+    RenderSettings {
+        samples: REFERENCE_SAMPLES,
+        sampling: Sampling::Jittered,
+        max_depth: REFERENCE_DEPTH,
+        min_contribution: 0.0,
+        ray_offset: OffsetRule::Scaled,
+        sphere_formula: SphereFormula::Stable,
+        ..*base
+    }
+}
+
+/// The scene of the [`Knob::SphereFormula`] sweep: a ball of radius 1 seen
+/// from 1000 units away through a narrow lens, in front of a wall that
+/// catches its shadow. With the camera that far, `b^2` and `4ac` in the
+/// textbook formula are about `4e6` and differ by at most 4: the rounding of
+/// either (a few tenths) is a visible share of the difference.
+pub const FAR_SPHERE_SCENE: &str = r#"# The far small sphere of `raylab cost`: a ball of radius 1, 1000 units
+# from the camera, in front of a wall 1.5 units behind it.
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+
+[camera]
+position = [0.0, 0.0, -1000.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fov_degrees = 0.2
+
+[render]
+width = 160
+height = 120
+
+[[lights]]
+position = [-600.0, 800.0, -1000.0]
+intensity = 1.0
+
+[[objects]]
+name = "far ball"
+sphere = { center = [0.0, 0.0, 0.0], radius = 1.0 }
+material = { color = [0.8, 0.2, 0.1], ambient = 0.1, diffuse = 0.8, specular = 0.5, shininess = 32 }
+
+[[objects]]
+name = "wall"
+plane = { point = [0.0, 0.0, 1.5], normal = [0.0, 0.0, -1.0] }
+material = { color = [0.9, 0.9, 0.85], ambient = 0.1, diffuse = 0.8, checker = { color = [0.5, 0.5, 0.55], size = 0.5 } }
+"#;
+
+/// The far-sphere scene, parsed.
+pub fn far_sphere_scene() -> Scene {
+    Scene::parse(FAR_SPHERE_SCENE, "the far-sphere scene of raylab cost")
+        .expect("the built-in far-sphere scene is valid")
+}
+
+/// What to sweep.
+#[derive(Debug, Clone)]
+pub struct CostConfig {
+    pub chapter: u8,
+    /// The scene every knob but the sphere formula is swept on.
+    pub scene: Scene,
+    /// How the scene is named in the report (a path, or "built-in scene").
+    pub scene_name: String,
+    /// The settings each sweep starts from (the scene's, at the sweep's size).
+    pub base: RenderSettings,
+    pub knobs: Vec<Knob>,
+    /// Renders per setting; the report gives the median time.
+    pub repeats: u32,
+}
+
+/// One measured setting.
+#[derive(Debug, Clone)]
+pub struct Measurement {
+    /// `None` for the reference itself.
+    pub knob: Option<Knob>,
+    /// The setting, as a student would type it ("jittered 16 spp", "depth 3").
+    pub label: String,
+    pub settings: RenderSettings,
+    /// Whether it rendered the far-sphere scene rather than the main one.
+    pub far_sphere: bool,
+    /// Median wall time of the repeats, in seconds.
+    pub seconds: f64,
+    /// How many renders the median is of.
+    pub runs: u32,
+    pub rays: crate::RayCounts,
+    pub error: ImageError,
+    /// On the Pareto front of the main scene: no other setting is both
+    /// faster and more accurate.
+    pub pareto: bool,
+}
+
+/// How far an image is from the reference, in 8-bit sRGB codes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ImageError {
+    pub rmse: f64,
+    /// `f64::INFINITY` for identical images.
+    pub psnr_db: f64,
+    /// Share (0 to 1) of pixels with a channel more than 1 code off.
+    pub share_off: f64,
+}
+
+impl ImageError {
+    /// The error of `image` against `reference` (same size, RGB8).
+    pub fn between(image: &[u8], reference: &[u8]) -> ImageError {
+        assert_eq!(image.len(), reference.len(), "images of different sizes");
+        let mut squares = 0.0f64;
+        let mut pixels_off = 0usize;
+        for (a, b) in image.chunks_exact(3).zip(reference.chunks_exact(3)) {
+            let mut worst = 0u8;
+            for (x, y) in a.iter().zip(b) {
+                let difference = x.abs_diff(*y);
+                squares += f64::from(difference) * f64::from(difference);
+                worst = worst.max(difference);
+            }
+            if worst > 1 {
+                pixels_off += 1;
+            }
+        }
+        let pixels = (image.len() / 3).max(1);
+        let rmse = (squares / image.len().max(1) as f64).sqrt();
+        ImageError {
+            rmse,
+            psnr_db: if rmse > 0.0 {
+                20.0 * (255.0 / rmse).log10()
+            } else {
+                f64::INFINITY
+            },
+            share_off: pixels_off as f64 / pixels as f64,
+        }
+    }
+}
+
+/// A finished sweep.
+#[derive(Debug, Clone)]
+pub struct CostReport {
+    pub chapter: u8,
+    pub scene_name: String,
+    pub width: u32,
+    pub height: u32,
+    pub repeats: u32,
+    /// The references first (main scene, then far sphere if swept), then
+    /// every setting, knob by knob.
+    pub rows: Vec<Measurement>,
+}
+
+/// One render to make.
+struct Job {
+    knob: Option<Knob>,
+    label: String,
+    settings: RenderSettings,
+    far_sphere: bool,
+}
+
+fn jobs(config: &CostConfig) -> Vec<Job> {
+    let base = config.base;
+    let job = |knob, label: String, settings| Job {
+        knob: Some(knob),
+        label,
+        settings,
+        far_sphere: false,
+    };
+    let mut jobs = Vec::new();
+    for knob in &config.knobs {
+        match knob {
+            Knob::Samples => {
+                for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
+                    for samples in SAMPLE_COUNTS {
+                        let name = format!("{sampling:?}").to_lowercase();
+                        let settings = RenderSettings {
+                            samples,
+                            sampling,
+                            ..base
+                        };
+                        jobs.push(job(*knob, format!("{name} {samples} spp"), settings));
+                    }
+                }
+            }
+            Knob::Depth => {
+                for max_depth in DEPTHS {
+                    let settings = RenderSettings { max_depth, ..base };
+                    jobs.push(job(*knob, format!("depth {max_depth}"), settings));
+                }
+            }
+            Knob::Offset => {
+                for epsilon in EPSILONS {
+                    let settings = RenderSettings {
+                        ray_offset: OffsetRule::Fixed,
+                        fixed_epsilon: epsilon,
+                        ..base
+                    };
+                    let label = if epsilon == 0.0 {
+                        "no offset (epsilon 0)".to_string()
+                    } else {
+                        format!("fixed epsilon {epsilon:e}")
+                    };
+                    jobs.push(job(*knob, label, settings));
+                }
+                let settings = RenderSettings {
+                    ray_offset: OffsetRule::Scaled,
+                    ..base
+                };
+                jobs.push(job(*knob, "scaled offset".into(), settings));
+            }
+            Knob::SphereFormula => {
+                for (formula, name) in [
+                    (SphereFormula::Textbook, "textbook"),
+                    (SphereFormula::Stable, "stable"),
+                ] {
+                    let settings = RenderSettings {
+                        sphere_formula: formula,
+                        ..base
+                    };
+                    jobs.push(Job {
+                        knob: Some(*knob),
+                        label: format!("{name} formula, far sphere"),
+                        settings,
+                        far_sphere: true,
+                    });
+                }
+            }
+        }
+    }
+    jobs
+}
+
+/// How many renders [`run`] makes: for a progress bar.
+pub fn render_count(config: &CostConfig) -> u64 {
+    let references = 1 + u64::from(config.knobs.contains(&Knob::SphereFormula));
+    references + jobs(config).len() as u64 * u64::from(config.repeats.max(1))
+}
+
+/// Runs the sweep on the current rayon pool; `progress` advances by one per
+/// render.
+pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> CostReport {
+    let far_scene = far_sphere_scene();
+    let chapter = config.chapter;
+    let repeats = config.repeats.max(1);
+    let render = |far_sphere: bool, settings: &RenderSettings| {
+        let scene = if far_sphere {
+            &far_scene
+        } else {
+            &config.scene
+        };
+        let rendered = crate::render(scene, chapter, settings, None);
+        if let Some(bar) = progress {
+            bar.inc(1);
+        }
+        rendered
+    };
+    let reference_settings = reference_settings(&config.base);
+    let measured = |knob, label: String, settings, far_sphere, runs: Vec<Rendered>| {
+        let mut seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
+        let last = runs.into_iter().last().expect("at least one run");
+        Measurement {
+            knob,
+            label,
+            settings,
+            far_sphere,
+            seconds: median(&mut seconds),
+            runs: seconds.len() as u32,
+            rays: last.rays,
+            error: ImageError::default(),
+            pareto: false,
+        }
+    };
+    // The references are rendered once: they are the slow part, and their
+    // time is context, not a result.
+    let mut references = vec![(false, render(false, &reference_settings))];
+    if config.knobs.contains(&Knob::SphereFormula) {
+        references.push((true, render(true, &reference_settings)));
+    }
+    let reference_of = |far_sphere: bool| {
+        &references
+            .iter()
+            .find(|(far, _)| *far == far_sphere)
+            .expect("a reference for each scene swept")
+            .1
+    };
+    let mut rows: Vec<Measurement> = references
+        .iter()
+        .map(|(far_sphere, rendered)| {
+            let label = if *far_sphere {
+                "reference, far sphere"
+            } else {
+                "reference"
+            };
+            let mut row = measured(
+                None,
+                label.into(),
+                reference_settings,
+                *far_sphere,
+                vec![rendered.clone()],
+            );
+            row.error = ImageError::between(&rendered.rgb, &rendered.rgb);
+            row
+        })
+        .collect();
+    // Repeats go round the whole sweep rather than one setting at a time:
+    // when the machine gets busier or quieter mid-sweep, every setting's
+    // median sees the same mix of conditions.
+    let jobs = jobs(config);
+    let mut runs: Vec<Vec<Rendered>> = jobs.iter().map(|_| Vec::new()).collect();
+    for _ in 0..repeats {
+        for (job, job_runs) in jobs.iter().zip(&mut runs) {
+            let mut rendered = render(job.far_sphere, &job.settings);
+            if !job_runs.is_empty() {
+                rendered.rgb = Vec::new(); // only the first image is compared
+            }
+            job_runs.push(rendered);
+        }
+    }
+    for (job, job_runs) in jobs.into_iter().zip(runs) {
+        let error = ImageError::between(&job_runs[0].rgb, &reference_of(job.far_sphere).rgb);
+        let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
+        row.error = error;
+        rows.push(row);
+    }
+    mark_pareto_front(&mut rows);
+    CostReport {
+        chapter,
+        scene_name: config.scene_name.clone(),
+        width: config.base.width,
+        height: config.base.height,
+        repeats,
+        rows,
+    }
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+/// Marks the settings of the main scene that no other one beats on both
+/// time and error (the reference is not a candidate: its error is zero by
+/// definition).
+fn mark_pareto_front(rows: &mut [Measurement]) {
+    let candidates: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i].knob.is_some() && !rows[i].far_sphere)
+        .collect();
+    for &i in &candidates {
+        let dominated = candidates.iter().any(|&j| {
+            let (a, b) = (&rows[j], &rows[i]);
+            a.seconds <= b.seconds
+                && a.error.rmse <= b.error.rmse
+                && (a.seconds < b.seconds || a.error.rmse < b.error.rmse)
+        });
+        rows[i].pareto = !dominated;
+    }
+}
+
+impl Measurement {
+    /// Samples per pixel actually taken at `chapter`'s stage.
+    fn samples_at(&self, chapter: u8) -> u32 {
+        if Effects::for_chapter(chapter).antialiasing {
+            self.settings.samples
+        } else {
+            1
+        }
+    }
+
+    fn knob_name(&self) -> &'static str {
+        self.knob.map_or("reference", Knob::name)
+    }
+}
+
+fn format_psnr(psnr: f64) -> String {
+    if psnr.is_finite() {
+        format!("{psnr:.1}")
+    } else {
+        "inf".into()
+    }
+}
+
+impl CostReport {
+    /// The command line that reproduces this report.
+    pub fn command(&self, knobs: &[Knob], out: Option<&str>) -> String {
+        let mut command = format!("raylab cost --chapter {}", self.chapter);
+        if self.scene_name != "built-in scene" {
+            let _ = write!(command, " --scene {}", self.scene_name);
+        }
+        let _ = write!(command, " --width {} --height {}", self.width, self.height);
+        let _ = write!(command, " --repeats {}", self.repeats);
+        if knobs != Knob::of_chapter(self.chapter).as_slice() {
+            for knob in knobs {
+                let _ = write!(command, " --knob {}", knob.name());
+            }
+        }
+        if let Some(out) = out {
+            let _ = write!(command, " --out {out}");
+        }
+        command
+    }
+
+    /// The report as a Markdown table with a short header.
+    pub fn markdown(&self) -> String {
+        let mut text = String::new();
+        let reference = self.rows.first().map(|r| r.settings);
+        let _ = writeln!(
+            text,
+            "Chapter {} stage, {} ({}x{}); time: median of {} runs; error against the reference in 8-bit sRGB codes.",
+            self.chapter, self.scene_name, self.width, self.height, self.repeats
+        );
+        if let Some(reference) = reference {
+            let samples = if Effects::for_chapter(self.chapter).antialiasing {
+                format!("{} jittered spp", reference.samples)
+            } else {
+                "1 spp (this stage does not supersample)".into()
+            };
+            let _ = writeln!(
+                text,
+                "Reference: {samples}, depth {}, min_contribution 0, scaled offset, stable sphere formula (1 run).",
+                reference.max_depth
+            );
+        }
+        text.push('\n');
+        text.push_str(
+            "| knob | setting | time (ms) | rays | RMSE | PSNR (dB) | pixels off > 1/255 | acne pixels | Pareto |\n",
+        );
+        text.push_str("|---|---|---:|---:|---:|---:|---:|---:|:-:|\n");
+        for row in &self.rows {
+            let _ = writeln!(
+                text,
+                "| {} | {} | {:.1} | {} | {:.3} | {} | {:.2}% | {} | {} |",
+                row.knob_name(),
+                row.label,
+                row.seconds * 1e3,
+                row.rays.total(),
+                row.error.rmse,
+                format_psnr(row.error.psnr_db),
+                row.error.share_off * 100.0,
+                row.rays.self_shadowed_pixels,
+                if row.pareto { "yes" } else { "" },
+            );
+        }
+        text
+    }
+
+    /// The report as CSV, one row per setting.
+    pub fn csv(&self) -> String {
+        let mut text = String::from(
+            "chapter,scene,knob,setting,samples,sampling,max_depth,min_contribution,ray_offset,fixed_epsilon,sphere_formula,\
+             runs,seconds_median,rays_total,rays_primary,rays_shadow,rays_reflection,rays_refraction,\
+             rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n",
+        );
+        for row in &self.rows {
+            let s = &row.settings;
+            let scene = if row.far_sphere {
+                "far sphere"
+            } else {
+                &self.scene_name
+            };
+            let _ = writeln!(
+                text,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{:.6},{},{:.6},{},{}",
+                self.chapter,
+                csv_field(scene),
+                row.knob_name(),
+                csv_field(&row.label),
+                row.samples_at(self.chapter),
+                format!("{:?}", s.sampling).to_lowercase(),
+                s.max_depth,
+                s.min_contribution,
+                format!("{:?}", s.ray_offset).to_lowercase(),
+                s.fixed_epsilon,
+                format!("{:?}", s.sphere_formula).to_lowercase(),
+                row.runs,
+                row.seconds,
+                row.rays.total(),
+                row.rays.primary,
+                row.rays.shadow,
+                row.rays.reflection,
+                row.rays.refraction,
+                row.error.rmse,
+                if row.error.psnr_db.is_finite() {
+                    format!("{:.3}", row.error.psnr_db)
+                } else {
+                    "inf".into()
+                },
+                row.error.share_off,
+                row.rays.self_shadowed_pixels,
+                row.pareto,
+            );
+        }
+        text
+    }
+
+    /// Error against time, both on log scales, one colour per knob, the
+    /// Pareto front of the main scene joined by a line, as SVG. Settings
+    /// identical to the reference (RMSE 0) sit on the bottom edge.
+    pub fn svg(&self) -> Result<String> {
+        plot_svg(self).map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))
+    }
+}
+
+fn csv_field(text: &str) -> String {
+    if text.contains([',', '"', '\n']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text.to_string()
+    }
+}
+
+/// Round axis ticks between `low` and `high`: 1, 2 and 5 times powers of ten.
+/// Parsed from text so that they print as written ("0.005", not
+/// "0.005000000000000001").
+fn ticks(low: f64, high: f64) -> Vec<f64> {
+    let (first, last) = (low.log10().floor() as i32, high.log10().ceil() as i32);
+    (first..=last)
+        .flat_map(|power| [1, 2, 5].map(|m| format!("{m}e{power}").parse::<f64>()))
+        .filter_map(Result::ok)
+        .filter(|tick| (low..=high).contains(tick))
+        .collect()
+}
+
+fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+
+    let rows: Vec<&Measurement> = report.rows.iter().filter(|r| r.knob.is_some()).collect();
+    let smallest_error = rows
+        .iter()
+        .map(|r| r.error.rmse)
+        .filter(|e| *e > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let floor = if smallest_error.is_finite() {
+        smallest_error / 2.0
+    } else {
+        0.01
+    };
+    let largest_error = rows
+        .iter()
+        .map(|r| r.error.rmse)
+        .fold(floor * 4.0, f64::max);
+    let positive_seconds = rows.iter().map(|r| r.seconds).filter(|s| *s > 0.0);
+    let fastest = positive_seconds.clone().fold(f64::INFINITY, f64::min);
+    let slowest = positive_seconds.fold(0.0, f64::max);
+    let (fastest, slowest) = if fastest.is_finite() && slowest > 0.0 {
+        (fastest, slowest)
+    } else {
+        (1e-4, 1.0)
+    };
+    let error_of = |row: &Measurement| row.error.rmse.max(floor);
+    let seconds_of = |row: &Measurement| row.seconds.max(fastest);
+
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (800, 580)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let (plot_area, note_area) = root.split_vertically(550);
+        let title = format!(
+            "raylab cost, chapter {}: error vs time ({}x{})",
+            report.chapter, report.width, report.height
+        );
+        let mut chart = ChartBuilder::on(&plot_area)
+            .caption(title, ("sans-serif", 20))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(64)
+            .build_cartesian_2d(
+                (fastest / 1.5..slowest * 1.5)
+                    .log_scale()
+                    .with_key_points(ticks(fastest / 1.5, slowest * 1.5)),
+                // Headroom above the points for the legend.
+                (floor / 1.5..largest_error * 8.0)
+                    .log_scale()
+                    .with_key_points(ticks(floor / 1.5, largest_error * 8.0)),
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("wall time, seconds (median)")
+            .y_desc("RMSE against the reference (sRGB8 codes)")
+            .x_label_formatter(&|s| format!("{s}"))
+            .y_label_formatter(&|e| format!("{e}"))
+            .draw()?;
+
+        let mut front: Vec<&Measurement> = rows.iter().copied().filter(|r| r.pareto).collect();
+        front.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
+        chart
+            .draw_series(LineSeries::new(
+                front.iter().map(|r| (seconds_of(r), error_of(r))),
+                BLACK.stroke_width(2),
+            ))?
+            .label("Pareto front")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
+        chart.draw_series(
+            front
+                .iter()
+                .map(|r| Circle::new((seconds_of(r), error_of(r)), 7, BLACK.stroke_width(1))),
+        )?;
+        let colours = [
+            RGBColor(31, 119, 180),
+            RGBColor(255, 127, 14),
+            RGBColor(44, 160, 44),
+            RGBColor(214, 39, 40),
+        ];
+        for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.knob == Some(knob))
+                .map(|r| (seconds_of(r), error_of(r)))
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            let label = if knob == Knob::SphereFormula {
+                "sphere formula (far-sphere scene)"
+            } else {
+                knob.name()
+            };
+            chart
+                .draw_series(
+                    points
+                        .into_iter()
+                        .map(|point| Circle::new(point, 4, colour.filled())),
+                )?
+                .label(label)
+                .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
+        }
+        // Label the front's points, skipping any that would print over a
+        // label already placed (points with the same error cluster).
+        let mut labelled: Vec<(f64, f64)> = Vec::new();
+        let mut labels: Vec<&Measurement> = Vec::new();
+        for r in &front {
+            let at = (seconds_of(r).log10(), error_of(r).log10());
+            let crowded = labelled
+                .iter()
+                .any(|(x, y)| (x - at.0).abs() < 0.25 && (y - at.1).abs() < 0.06);
+            if !crowded {
+                labelled.push(at);
+                labels.push(r);
+            }
+        }
+        chart.draw_series(labels.iter().map(|r| {
+            Text::new(
+                r.label.clone(),
+                (seconds_of(r) * 1.06, error_of(r) * 1.06),
+                ("sans-serif", 11),
+            )
+        }))?;
+
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        note_area.draw(&Text::new(
+            format!(
+                "Pareto front: the main scene's settings that no other beats on both time and error. \
+                 Bottom edge: identical to the reference. Time: median of {} runs.",
+                report.repeats
+            ),
+            (16, 8),
+            ("sans-serif", 12),
+        ))?;
+        root.present()?;
+    }
+    Ok(svg)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_images_have_no_error() {
+        let image = [10u8, 20, 30, 40, 50, 60];
+        let error = ImageError::between(&image, &image);
+        assert_eq!(error.rmse, 0.0);
+        assert_eq!(error.psnr_db, f64::INFINITY);
+        assert_eq!(error.share_off, 0.0);
+    }
+
+    #[test]
+    fn one_code_off_is_not_counted_but_two_are() {
+        let reference = [100u8; 6];
+        let one_off = [101u8, 100, 100, 100, 100, 100];
+        assert_eq!(ImageError::between(&one_off, &reference).share_off, 0.0);
+        let two_off = [100u8, 100, 100, 100, 98, 100];
+        let error = ImageError::between(&two_off, &reference);
+        assert_eq!(error.share_off, 0.5);
+        // One channel of six off by 2: RMSE = sqrt(4 / 6).
+        assert!((error.rmse - (4.0f64 / 6.0).sqrt()).abs() < 1e-12);
+        assert!((error.psnr_db - 20.0 * (255.0 / error.rmse).log10()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn medians() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
+    }
+
+    #[test]
+    fn chapters_have_the_knobs_they_teach() {
+        assert!(Knob::of_chapter(1).is_empty());
+        assert_eq!(Knob::of_chapter(2), vec![Knob::SphereFormula]);
+        assert_eq!(
+            Knob::of_chapter(6),
+            vec![Knob::Depth, Knob::Offset, Knob::SphereFormula]
+        );
+        assert_eq!(Knob::of_chapter(8), Knob::ALL.to_vec());
+    }
+
+    #[test]
+    fn far_sphere_scene_is_valid() {
+        assert_eq!(far_sphere_scene().shapes.len(), 2);
+    }
+}
