@@ -6,5 +6,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo test --all-targets
+cargo test --doc
 cargo test --release --test snapshots --test determinism
 cargo bench --no-run
