@@ -104,13 +104,7 @@ impl Sphere {
     /// From inside the sphere that is the far root; from outside, the near one.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let (near, far) = self.roots(ray)?;
-        if near > t_min && near < t_max {
-            Some(near)
-        } else if far > t_min && far < t_max {
-            Some(far)
-        } else {
-            None
-        }
+        first_root_in(near, far, t_min, t_max)
     }
 
     /// The textbook solution, `(-b ± sqrt(b^2 - 4ac)) / 2a`, kept for
@@ -130,13 +124,7 @@ impl Sphere {
         let root = discriminant.sqrt();
         let near = (-b - root) / (2.0 * a);
         let far = (-b + root) / (2.0 * a);
-        if near > t_min && near < t_max {
-            Some(near)
-        } else if far > t_min && far < t_max {
-            Some(far)
-        } else {
-            None
-        }
+        first_root_in(near, far, t_min, t_max)
     }
 
     /// Whether `point` is strictly inside the sphere.
@@ -147,6 +135,19 @@ impl Sphere {
     /// The outward unit normal at a point on the sphere.
     pub fn normal_at(&self, point: Vec3) -> Vec3 {
         (point - self.center) / self.radius
+    }
+}
+
+/// The first of two roots, `near <= far`, inside `(t_min, t_max)`: from
+/// outside the sphere the near one, from inside the far one.
+#[inline(always)]
+fn first_root_in(near: f32, far: f32, t_min: f32, t_max: f32) -> Option<f32> {
+    if near > t_min && near < t_max {
+        Some(near)
+    } else if far > t_min && far < t_max {
+        Some(far)
+    } else {
+        None
     }
 }
 
