@@ -1,16 +1,23 @@
 #!/usr/bin/env bash
 # Regenerates the pictures the lessons show (docs/images/) and prints the
 # statistics the lessons quote. Run from anywhere; builds in release once.
+# RAYLAB=/path/to/raylab uses that binary instead of building one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet
-raylab=target/release/raylab
+if [[ -z "${RAYLAB:-}" ]]; then
+  cargo build --release --quiet
+  RAYLAB="${CARGO_TARGET_DIR:-target}/release/raylab"
+fi
+raylab="$RAYLAB"
 mkdir -p docs/images
 
-# Lesson 2: the textbook quadratic against the stable one, on a far small ball.
-for formula in textbook stable; do
-  "$raylab" render --scene docs/scenes/far-sphere.toml --chapter 5 \
-    --sphere-formula "$formula" -o "docs/images/far-sphere-$formula.png"
+# Lesson 2: the textbook quadratic against the stable one, on a small ball
+# 2000 and 10 000 units away.
+for scene in far-sphere-2000 far-sphere; do
+  for formula in textbook stable; do
+    "$raylab" render --scene "docs/scenes/$scene.toml" --chapter 5 \
+      --sphere-formula "$formula" -o "docs/images/$scene-$formula.png"
+  done
 done
 
 # Lesson 4: shadow rays started exactly on the surface (acne) against the
