@@ -30,6 +30,8 @@ pub mod chapters;
 pub mod builtin;
 pub mod camera;
 pub mod cli;
+pub mod diff;
+pub mod grade;
 pub mod output;
 pub mod ray;
 pub mod render;

@@ -2,6 +2,8 @@
 
 use clap::{Parser, Subcommand};
 
+mod diff;
+mod grade;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -24,6 +26,10 @@ pub enum Command {
     Chapters,
     /// Print a chapter's built-in scene as TOML, ready to copy and edit.
     Scene(render::SceneArgs),
+    /// Compare two PNGs: metrics, pass/fail, and a heatmap of differences.
+    Diff(diff::DiffArgs),
+    /// Grade a folder of student renders (chapter-N.png) into an HTML report.
+    Grade(grade::GradeArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -45,6 +51,8 @@ pub fn main() -> i32 {
         Command::Render(args) => render::render(&args),
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
+        Command::Diff(args) => diff::diff(&args),
+        Command::Grade(args) => grade::grade(&args),
     };
     match result {
         Ok(status) => status,
