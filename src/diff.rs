@@ -335,7 +335,7 @@ const LEGEND_ROWS: u32 = 17;
 /// Legend text and bar grow with the image so they stay legible when a
 /// large heatmap is viewed scaled down.
 fn legend_scale(width: u32) -> u32 {
-    (width / 200).clamp(1, 4)
+    (width / 120).clamp(1, 4)
 }
 
 /// Draws where two images differ. Identical pixels show the base image in
@@ -458,7 +458,9 @@ fn draw_legend(canvas: &mut Canvas, top: u32, max: u8, threshold: u8) {
     let label_top = bar_top + 8 * s;
     let white = [230, 230, 230];
     canvas.digits(bar_left, label_top, "0", s, white);
-    let max_label = max.to_string();
+    // The bar's right end is the largest difference (1 when none differ,
+    // matching the colour scale of `heatmap`).
+    let max_label = max.max(1).to_string();
     canvas.digits(
         bar_right + 1 - text_width(&max_label, s),
         label_top,

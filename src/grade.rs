@@ -226,8 +226,9 @@ impl Grade {
         );
         let _ = writeln!(
             md,
-            "Pass: at most {}% of pixels differ by more than {} levels in a channel.\n",
-            c.allowed_percent, c.threshold
+            "A pixel is over when a channel differs by more than {} levels; a chapter passes when {}.\n",
+            c.threshold,
+            allowance_text(c)
         );
         if !self.graded.is_empty() {
             md.push_str("| chapter | file | size | max | mean | RMSE | PSNR (dB) | over threshold | result | reference |\n");
@@ -321,9 +322,28 @@ impl Grade {
         );
         let _ = writeln!(
             h,
-            "<p>A pixel is <em>over</em> when one of its R, G, B values differs from the reference by more than {} levels (of 255); a chapter passes when at most {}% of its pixels are over. Heatmap: dim grey where identical, dark blue (1 level) to red (the largest difference) where not; the bar below it is the scale, the white tick the threshold.</p>",
-            c.threshold, c.allowed_percent
+            "<p>A pixel is <em>over</em> when one of its R, G, B values differs from the reference by more than {} levels (of 255); a chapter passes when {}. Heatmap: dim grey where identical, dark blue (1 level) to red (the largest difference) where not; the bar below it is the scale, the white tick the threshold.</p>",
+            c.threshold,
+            allowance_text(c)
         );
+        if !self.graded.is_empty() {
+            h.push_str("<table class=\"summary\">\n<tr><th>chapter</th><th>result</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th></tr>\n");
+            for g in &self.graded {
+                let m = &g.comparison.metrics;
+                let _ = writeln!(
+                    h,
+                    "<tr><td><a href=\"#chapter-{0}\">{0}</a></td><td class=\"{1}\">{2}</td><td>{3}</td><td>{4}</td><td>{5} ({6:.3}%)</td></tr>",
+                    g.chapter,
+                    if g.passes() { "pass" } else { "fail" },
+                    if g.passes() { "PASS" } else { "FAIL" },
+                    m.max,
+                    psnr_text(m.psnr_db),
+                    m.pixels_over,
+                    m.percent_over()
+                );
+            }
+            h.push_str("</table>\n");
+        }
         if !self.missing.is_empty() || !self.unreadable.is_empty() || !self.ignored.is_empty() {
             h.push_str("<section class=\"problems\">\n");
             if !self.missing.is_empty() {
@@ -376,8 +396,9 @@ impl Grade {
             let heatmap = g.comparison.heatmap(&g.student);
             let _ = writeln!(
                 h,
-                "<section class=\"chapter {}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
+                "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
                 if pass { "pass" } else { "fail" },
+                g.chapter,
                 g.chapter,
                 if pass { "PASS" } else { "FAIL" }
             );
@@ -429,6 +450,18 @@ impl Grade {
     }
 }
 
+/// The pass rule's allowance in words.
+fn allowance_text(criteria: &Criteria) -> String {
+    if criteria.allowed_percent == 0.0 {
+        "no pixel is over".into()
+    } else {
+        format!(
+            "at most {}% of its pixels are over",
+            criteria.allowed_percent
+        )
+    }
+}
+
 const STYLE: &str = "
 body { font-family: sans-serif; margin: 2em; color: #222; background: #fafafa; }
 h1 { font-size: 1.5em; word-break: break-all; }
@@ -446,6 +479,8 @@ figcaption { font-size: 0.85em; color: #555; word-break: break-all; }
 table { border-collapse: collapse; margin-top: 0.5em; }
 th, td { text-align: left; padding: 0.15em 1em 0.15em 0; font-weight: normal; }
 th { color: #555; } td { font-family: monospace; }
+.summary { margin-bottom: 1em; } .summary th { font-weight: bold; } .summary td.pass { color: #2a2; } .summary td.fail { color: #c22; font-weight: bold; }
+a { color: inherit; }
 ";
 
 fn file_name(path: &Path) -> String {

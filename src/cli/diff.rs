@@ -38,9 +38,10 @@ impl CriteriaArgs {
     }
 }
 
-/// Compare two PNG images: print the maximum and mean absolute difference,
-/// RMSE, PSNR and the share of pixels over the threshold, and optionally
-/// draw a heatmap of where they differ.
+/// Compare two PNGs: metrics, pass/fail, and a heatmap of differences.
+///
+/// Prints the maximum and mean absolute difference, RMSE, PSNR and the
+/// share of pixels over the threshold, and optionally draws a heatmap.
 ///
 /// Differences are in 8-bit levels (0-255) per R, G, B value. Mean and RMSE
 /// are over all 3 x width x height values; PSNR = 20 log10(255 / RMSE) dB,

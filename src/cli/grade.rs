@@ -8,7 +8,7 @@ use clap::Args;
 use crate::cli::diff::CriteriaArgs;
 use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
 
-/// Grade a folder of student renders against the reference images.
+/// Grade a folder of student renders (chapter-N.png) into an HTML report.
 ///
 /// The folder holds one PNG per chapter, named `chapter-N.png` (N from 1 to
 /// 8, lower case, no leading zero), each rendered from the chapter's

@@ -26,9 +26,8 @@ pub enum Command {
     Chapters,
     /// Print a chapter's built-in scene as TOML, ready to copy and edit.
     Scene(render::SceneArgs),
-    /// Compare two PNGs: metrics, pass/fail, and a heatmap of differences.
+    // The help of these two is the doc of their argument structs.
     Diff(diff::DiffArgs),
-    /// Grade a folder of student renders (chapter-N.png) into an HTML report.
     Grade(grade::GradeArgs),
 }
 
