@@ -18,7 +18,8 @@
 //! is not a lesson lives beside: [`scene`] (TOML scene files),
 //! [`camera`], [`mod@render`] (the image loop and the tracer that calls the
 //! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
-//! enables what).
+//! enables what). For instructors, [`diff`] and [`grade`] compare student
+//! renders with the references (`raylab diff`, `raylab grade`).
 
 // `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
 // without a separate test is deliberate, and the lessons explain it.
@@ -31,6 +32,8 @@ pub mod builtin;
 pub mod camera;
 pub mod cli;
 pub mod cost;
+pub mod diff;
+pub mod grade;
 pub mod output;
 pub mod ray;
 pub mod render;

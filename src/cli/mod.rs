@@ -4,6 +4,8 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod cost;
+mod diff;
+mod grade;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -31,6 +33,9 @@ pub enum Command {
     /// Sweep a chapter's quality knobs: time, rays and error against a
     /// high-quality reference, as a table, a CSV and an SVG plot.
     Cost(cost::CostArgs),
+    // The help of these two is the doc of their argument structs.
+    Diff(diff::DiffArgs),
+    Grade(grade::GradeArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -54,6 +59,8 @@ pub fn main() -> i32 {
         Command::Scene(args) => render::scene(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::Cost(args) => cost::cost(&args),
+        Command::Diff(args) => diff::diff(&args),
+        Command::Grade(args) => grade::grade(&args),
     };
     match result {
         Ok(status) => status,

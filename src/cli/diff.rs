@@ -1,0 +1,106 @@
+//! `raylab diff`: compare two PNGs.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
+use crate::diff::{Criteria, Image, compare};
+
+/// When two images count as the same (shared by `diff` and `grade`).
+#[derive(Debug, Clone, Args)]
+pub struct CriteriaArgs {
+    /// A pixel is "over" when any of its R, G, B values differs by more than
+    /// T levels (0-255, 8-bit sRGB units; a difference of exactly T is within).
+    #[arg(long, value_name = "T", default_value_t = Criteria::default().threshold)]
+    pub threshold: u8,
+    /// The percentage of pixels that may be over the threshold while the
+    /// images still pass (0 to 100).
+    #[arg(long, value_name = "PERCENT", default_value_t = Criteria::default().allowed_percent,
+          value_parser = parse_percent)]
+    pub allow: f64,
+}
+
+fn parse_percent(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(p) if (0.0..=100.0).contains(&p) => Ok(p),
+        _ => Err(format!("{text:?} is not a percentage from 0 to 100")),
+    }
+}
+
+impl CriteriaArgs {
+    pub fn criteria(&self) -> Criteria {
+        Criteria {
+            threshold: self.threshold,
+            allowed_percent: self.allow,
+        }
+    }
+}
+
+/// Compare two PNGs: metrics, pass/fail, and a heatmap of differences.
+///
+/// Prints the maximum and mean absolute difference, RMSE, PSNR and the
+/// share of pixels over the threshold, and optionally draws a heatmap.
+///
+/// Differences are in 8-bit levels (0-255) per R, G, B value. Mean and RMSE
+/// are over all 3 x width x height values; PSNR = 20 log10(255 / RMSE) dB,
+/// printed as `inf` for identical images. A pixel is over the threshold when
+/// its largest channel difference exceeds T. The images pass when at most
+/// --allow percent of the pixels are over (by default: none over 2 levels).
+///
+/// Exit status: 0 pass, 1 fail, 2 error (missing file, not a PNG, corrupted
+/// PNG, different sizes, unwritable output).
+#[derive(Debug, Args)]
+#[command(long_about)]
+pub struct DiffArgs {
+    /// The first image (e.g. the student's); the heatmap shows it dimmed where nothing differs.
+    #[arg(value_name = "A.png")]
+    pub a: PathBuf,
+    /// The second image (e.g. the reference).
+    #[arg(value_name = "B.png")]
+    pub b: PathBuf,
+    /// Write a false-colour heatmap: pixels that differ coloured from dark
+    /// blue (1 level) to red (the largest difference), identical pixels in
+    /// dim grey, and a legend strip below the image: the colour bar labelled
+    /// 0 and the largest difference, a white tick at the threshold.
+    #[arg(long, value_name = "OUT.png")]
+    pub heatmap: Option<PathBuf>,
+    #[command(flatten)]
+    pub criteria: CriteriaArgs,
+    /// Also write the metrics as JSON to FILE (`psnr_db` is null when the
+    /// images are identical: JSON has no infinity).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+pub fn diff(args: &DiffArgs) -> Result<i32> {
+    let a = Image::load_png(&args.a)?;
+    let b = Image::load_png(&args.b)?;
+    let names = (args.a.display().to_string(), args.b.display().to_string());
+    let comparison = compare(&a, &b, args.criteria.criteria(), (&names.0, &names.1))?;
+    if let Some(path) = &args.heatmap {
+        crate::diff::write_heatmap(&comparison.heatmap(&a), path)?;
+    }
+    if let Some(path) = &args.json {
+        let mut json = comparison.json();
+        json["a"] = names.0.clone().into();
+        json["b"] = names.1.clone().into();
+        write_text_atomic(path, &format!("{json:#}\n"))?;
+    }
+    println!("{} vs {}", names.0, names.1);
+    print!("{}", comparison.report_text());
+    if let Some(path) = &args.heatmap {
+        println!(
+            "heatmap: {} (dim grey: identical; dark blue 1 level .. red {} levels; white tick: threshold {})",
+            path.display(),
+            comparison.metrics.max.max(1),
+            comparison.criteria.threshold
+        );
+    }
+    Ok(if comparison.passes() {
+        0
+    } else {
+        EXIT_FAILED_CHECK
+    })
+}

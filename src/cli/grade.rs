@@ -1,0 +1,74 @@
+//! `raylab grade`: compare a folder of student renders with the references.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, bail};
+use clap::Args;
+
+use crate::cli::diff::CriteriaArgs;
+use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
+
+/// Grade a folder of student renders (chapter-N.png) into an HTML report.
+///
+/// The folder holds one PNG per chapter, named `chapter-N.png` (N from 1 to
+/// 8, lower case, no leading zero), each rendered from the chapter's
+/// built-in scene with default settings (`raylab render --chapter N`, any
+/// --width/--height). Each is compared with a reference of its size: the
+/// `chapter-N.png` of the --against folder when its size matches, otherwise
+/// the built-in scene rendered now at the student's width and height.
+///
+/// Writes one self-contained HTML report (images inlined) with, per chapter,
+/// the student image, the reference, a heatmap, the metrics and pass/fail,
+/// and prints a Markdown summary. Missing chapters, unreadable files and
+/// other entries of the folder are listed, not fatal. See `raylab diff
+/// --help` for the metrics and the threshold.
+///
+/// Exit status: 0 when all 8 chapters are present and pass; 1 when any
+/// fails, is missing or unreadable; 2 on an error (the folder cannot be
+/// read, the report cannot be written, --against is not a folder).
+#[derive(Debug, Args)]
+#[command(long_about)]
+pub struct GradeArgs {
+    /// The folder of student PNGs.
+    #[arg(value_name = "DIR")]
+    pub folder: PathBuf,
+    /// The folder of reference PNGs named chapter-N.png [default: snapshots/
+    /// if it exists; without it every reference is rendered].
+    #[arg(long, value_name = "FOLDER")]
+    pub against: Option<PathBuf>,
+    /// Where to write the HTML report [default: DIR/report.html].
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+    #[command(flatten)]
+    pub criteria: CriteriaArgs,
+}
+
+pub fn grade(args: &GradeArgs) -> Result<i32> {
+    if !args.folder.is_dir() {
+        bail!("{}: not a folder", args.folder.display());
+    }
+    let references: Option<&Path> = match &args.against {
+        Some(folder) if !folder.is_dir() => {
+            bail!("--against {}: not a folder", folder.display())
+        }
+        Some(folder) => Some(folder),
+        None => Some(Path::new("snapshots")).filter(|folder| folder.is_dir()),
+    };
+    let report = args
+        .report
+        .clone()
+        .unwrap_or_else(|| args.folder.join("report.html"));
+    let grade = crate::grade::grade(
+        &args.folder,
+        references,
+        args.criteria.criteria(),
+        Some(&report),
+    )?;
+    write_text_atomic(&report, &grade.html()?)?;
+    print!("{}", grade.markdown(&report));
+    Ok(if grade.all_pass() {
+        0
+    } else {
+        EXIT_FAILED_CHECK
+    })
+}

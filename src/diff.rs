@@ -1,0 +1,563 @@
+//! Comparing two renders: difference metrics, a pass/fail rule, and a
+//! false-colour heatmap of where they differ (used by `raylab diff` and
+//! `raylab grade`).
+//!
+//! All differences are in 8-bit sRGB levels (0 to 255), the units of the PNG
+//! files themselves:
+//!
+//! - *max*: the largest absolute difference of any channel of any pixel;
+//! - *mean*: the mean absolute difference over all `3 * width * height`
+//!   channel values;
+//! - *RMSE*: the root of the mean squared difference over the same values;
+//! - *PSNR*: `20 log10(255 / RMSE)` in dB, infinite for identical images;
+//! - a pixel's difference is the largest of its three channel differences,
+//!   and the pixel is *over* the threshold `T` when that exceeds `T`
+//!   (strictly: a difference of exactly `T` is within it).
+//!
+//! Two images *pass* when the share of pixels over `T` is at most the allowed
+//! percentage ([`Criteria`]; by default no pixel may be over 2 levels).
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use image::ImageEncoder;
+
+/// An 8-bit RGB image, row by row from the top.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+}
+
+/// The 8 bytes every PNG file starts with.
+const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+
+impl Image {
+    /// Reads a PNG file as 8-bit RGB. Grey, 16-bit and palette PNGs are
+    /// converted; an alpha channel is dropped (renders have none).
+    ///
+    /// Errors name the file: missing or unreadable, not a PNG at all, or a
+    /// PNG whose data is damaged.
+    pub fn load_png(path: &Path) -> Result<Image> {
+        let bytes = std::fs::read(path).map_err(|error| match error.kind() {
+            std::io::ErrorKind::NotFound => anyhow::anyhow!("{}: no such file", path.display()),
+            _ if path.is_dir() => anyhow::anyhow!("{}: is a folder, not a PNG", path.display()),
+            _ => anyhow::anyhow!("cannot read {}: {error}", path.display()),
+        })?;
+        Image::decode_png(&bytes).with_context(|| path.display().to_string())
+    }
+
+    /// Decodes PNG bytes (see [`Image::load_png`]).
+    pub fn decode_png(bytes: &[u8]) -> Result<Image> {
+        if !bytes.starts_with(&PNG_SIGNATURE) {
+            bail!("not a PNG file (it does not start with the PNG signature)");
+        }
+        let decoded = image::load_from_memory_with_format(bytes, image::ImageFormat::Png)
+            .map_err(|error| anyhow::anyhow!("corrupted PNG: {error}"))?;
+        let rgb = decoded.to_rgb8();
+        Ok(Image {
+            width: rgb.width(),
+            height: rgb.height(),
+            rgb: rgb.into_raw(),
+        })
+    }
+
+    /// The image encoded as a PNG file's bytes.
+    pub fn encode_png(&self) -> Result<Vec<u8>> {
+        let mut bytes = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut bytes)
+            .write_image(
+                &self.rgb,
+                self.width,
+                self.height,
+                image::ExtendedColorType::Rgb8,
+            )
+            .context("cannot encode a PNG")?;
+        Ok(bytes)
+    }
+
+    /// Writes the image as a PNG, atomically.
+    pub fn write_png(&self, path: &Path) -> Result<()> {
+        crate::output::write_png(path, self.width, self.height, &self.rgb)
+    }
+
+    fn size(&self) -> String {
+        format!("{}x{}", self.width, self.height)
+    }
+}
+
+impl From<crate::Rendered> for Image {
+    fn from(rendered: crate::Rendered) -> Image {
+        Image {
+            width: rendered.width,
+            height: rendered.height,
+            rgb: rendered.rgb,
+        }
+    }
+}
+
+/// When two images count as the same.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Criteria {
+    /// A pixel is over the threshold when one of its channels differs by
+    /// more than this many 8-bit levels.
+    pub threshold: u8,
+    /// The percentage (0 to 100) of pixels that may be over the threshold.
+    pub allowed_percent: f64,
+}
+
+impl Default for Criteria {
+    /// Two levels absorb last-digit rounding of the sRGB encoding; no pixel
+    /// may be over them.
+    fn default() -> Criteria {
+        Criteria {
+            threshold: 2,
+            allowed_percent: 0.0,
+        }
+    }
+}
+
+/// The numbers that summarise how two images differ (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Metrics {
+    pub width: u32,
+    pub height: u32,
+    pub max: u8,
+    /// The first pixel (in reading order) with the `max` difference, if any differs.
+    pub max_at: Option<(u32, u32)>,
+    pub mean: f64,
+    pub rmse: f64,
+    /// Infinite when the images are identical.
+    pub psnr_db: f64,
+    pub pixels_over: u64,
+    pub pixels: u64,
+}
+
+impl Metrics {
+    /// The percentage of pixels over the threshold.
+    pub fn percent_over(&self) -> f64 {
+        100.0 * self.pixels_over as f64 / self.pixels as f64
+    }
+
+    /// PSNR as text: `inf` for identical images, else dB with two decimals.
+    pub fn psnr_text(&self) -> String {
+        psnr_text(self.psnr_db)
+    }
+}
+
+/// PSNR as text: `inf` when infinite, else two decimals.
+pub fn psnr_text(psnr_db: f64) -> String {
+    if psnr_db.is_infinite() {
+        "inf".into()
+    } else {
+        format!("{psnr_db:.2}")
+    }
+}
+
+/// Two images compared: the metrics, and each pixel's difference.
+#[derive(Debug, Clone)]
+pub struct Comparison {
+    pub metrics: Metrics,
+    pub criteria: Criteria,
+    /// Each pixel's largest channel difference, row by row.
+    pub pixel_differences: Vec<u8>,
+}
+
+/// Compares two images of the same size. The error names both sizes;
+/// `names` says what to call the two images in it.
+pub fn compare(
+    a: &Image,
+    b: &Image,
+    criteria: Criteria,
+    names: (&str, &str),
+) -> Result<Comparison> {
+    if (a.width, a.height) != (b.width, b.height) {
+        bail!(
+            "{} is {} but {} is {}: only images of the same size can be compared",
+            names.0,
+            a.size(),
+            names.1,
+            b.size()
+        );
+    }
+    let pixels = u64::from(a.width) * u64::from(a.height);
+    if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
+        bail!("{} and {}: no pixels to compare", names.0, names.1);
+    }
+    let mut pixel_differences = Vec::with_capacity(pixels as usize);
+    let (mut sum, mut sum_squares) = (0u64, 0u64);
+    let (mut max, mut max_index, mut pixels_over) = (0u8, None, 0u64);
+    for (index, (pa, pb)) in a.rgb.chunks_exact(3).zip(b.rgb.chunks_exact(3)).enumerate() {
+        let mut largest = 0u8;
+        for (&ca, &cb) in pa.iter().zip(pb) {
+            let d = ca.abs_diff(cb);
+            sum += u64::from(d);
+            sum_squares += u64::from(d) * u64::from(d);
+            largest = largest.max(d);
+        }
+        if largest > max {
+            max = largest;
+            max_index = Some(index as u64);
+        }
+        if largest > criteria.threshold {
+            pixels_over += 1;
+        }
+        pixel_differences.push(largest);
+    }
+    // Integer sums are exact; only the final divisions round.
+    let values = (3 * pixels) as f64;
+    let mean = sum as f64 / values;
+    let rmse = (sum_squares as f64 / values).sqrt();
+    let psnr_db = if sum_squares == 0 {
+        f64::INFINITY
+    } else {
+        20.0 * (255.0 / rmse).log10()
+    };
+    let width = u64::from(a.width);
+    Ok(Comparison {
+        metrics: Metrics {
+            width: a.width,
+            height: a.height,
+            max,
+            max_at: max_index.map(|i| ((i % width) as u32, (i / width) as u32)),
+            mean,
+            rmse,
+            psnr_db,
+            pixels_over,
+            pixels,
+        },
+        criteria,
+        pixel_differences,
+    })
+}
+
+impl Comparison {
+    /// Whether the share of pixels over the threshold is within the allowance.
+    pub fn passes(&self) -> bool {
+        self.metrics.pixels_over as f64
+            <= self.criteria.allowed_percent / 100.0 * self.metrics.pixels as f64
+    }
+
+    /// The metrics as JSON. JSON has no infinity: `psnr_db` is `null` for
+    /// identical images.
+    pub fn json(&self) -> serde_json::Value {
+        let m = &self.metrics;
+        serde_json::json!({
+            "width": m.width,
+            "height": m.height,
+            "max_abs_difference": m.max,
+            "max_at": m.max_at.map(|(x, y)| serde_json::json!({"x": x, "y": y})),
+            "mean_abs_difference": m.mean,
+            "rmse": m.rmse,
+            "psnr_db": m.psnr_db.is_finite().then_some(m.psnr_db),
+            "threshold": self.criteria.threshold,
+            "allowed_percent": self.criteria.allowed_percent,
+            "pixels_over_threshold": m.pixels_over,
+            "pixels": m.pixels,
+            "percent_over_threshold": m.percent_over(),
+            "pass": self.passes(),
+        })
+    }
+
+    /// The metrics as the lines `raylab diff` prints.
+    pub fn report_text(&self) -> String {
+        let m = &self.metrics;
+        let at = m
+            .max_at
+            .map(|(x, y)| format!(" (first at x={x}, y={y})"))
+            .unwrap_or_default();
+        format!(
+            "size: {}x{}\n\
+             max abs difference: {}{at}\n\
+             mean abs difference: {:.6}\n\
+             RMSE: {:.6}\n\
+             PSNR: {} dB\n\
+             pixels over threshold {}: {} of {} ({:.4}%, allowed {}%)\n\
+             result: {}\n",
+            m.width,
+            m.height,
+            m.max,
+            m.mean,
+            m.rmse,
+            m.psnr_text(),
+            self.criteria.threshold,
+            m.pixels_over,
+            m.pixels,
+            m.percent_over(),
+            self.criteria.allowed_percent,
+            if self.passes() { "PASS" } else { "FAIL" },
+        )
+    }
+
+    /// The false-colour heatmap (see [`heatmap`]).
+    pub fn heatmap(&self, base: &Image) -> Image {
+        heatmap(self, base)
+    }
+}
+
+/// Colour stops of the heatmap scale, from the smallest difference to the
+/// largest. All are saturated, so none can be mistaken for the grey of
+/// identical pixels.
+const SCALE: [(f64, [u8; 3]); 5] = [
+    (0.00, [40, 20, 170]),
+    (0.25, [0, 110, 255]),
+    (0.50, [0, 200, 110]),
+    (0.75, [255, 210, 0]),
+    (1.00, [255, 0, 0]),
+];
+
+/// The scale's colour at `t` in 0..=1 (0: smallest, 1: largest difference).
+pub fn scale_colour(t: f64) -> [u8; 3] {
+    let t = t.clamp(0.0, 1.0);
+    for pair in SCALE.windows(2) {
+        let ((t0, c0), (t1, c1)) = (pair[0], pair[1]);
+        if t <= t1 {
+            let f = (t - t0) / (t1 - t0);
+            return std::array::from_fn(|i| {
+                (f64::from(c0[i]) + f * (f64::from(c1[i]) - f64::from(c0[i]))).round() as u8
+            });
+        }
+    }
+    SCALE[SCALE.len() - 1].1
+}
+
+/// The colour of the largest difference in a heatmap.
+pub const HOTTEST: [u8; 3] = SCALE[SCALE.len() - 1].1;
+
+/// The legend strip's height for an image `width` pixels wide.
+pub fn legend_height(width: u32) -> u32 {
+    LEGEND_ROWS * legend_scale(width)
+}
+
+const LEGEND_ROWS: u32 = 17;
+
+/// Legend text and bar grow with the image so they stay legible when a
+/// large heatmap is viewed scaled down.
+fn legend_scale(width: u32) -> u32 {
+    (width / 120).clamp(1, 4)
+}
+
+/// Draws where two images differ. Identical pixels show the base image in
+/// dim grey (so the scene stays recognisable); differing pixels take the
+/// colour of their difference on a scale from 1 level (dark blue) to the
+/// largest difference in the image (red, [`HOTTEST`]). Below the image, a
+/// legend strip shows the scale as a bar labelled `0` and the largest
+/// difference, with a white tick where the threshold falls.
+pub fn heatmap(comparison: &Comparison, base: &Image) -> Image {
+    let m = &comparison.metrics;
+    let (width, image_height) = (m.width, m.height);
+    let height = image_height + legend_height(width);
+    let mut canvas = Canvas {
+        width,
+        height,
+        rgb: vec![24; width as usize * height as usize * 3],
+    };
+    let top = f64::from(m.max.max(1));
+    for (index, &d) in comparison.pixel_differences.iter().enumerate() {
+        let colour = if d == 0 {
+            let p = &base.rgb[3 * index..3 * index + 3];
+            let luma =
+                (299 * u32::from(p[0]) + 587 * u32::from(p[1]) + 114 * u32::from(p[2])) / 1000;
+            [(luma / 4) as u8; 3]
+        } else {
+            scale_colour(f64::from(d) / top)
+        };
+        canvas.rgb[3 * index..3 * index + 3].copy_from_slice(&colour);
+    }
+    draw_legend(
+        &mut canvas,
+        image_height,
+        m.max,
+        comparison.criteria.threshold,
+    );
+    Image {
+        width,
+        height,
+        rgb: canvas.rgb,
+    }
+}
+
+struct Canvas {
+    width: u32,
+    height: u32,
+    rgb: Vec<u8>,
+}
+
+impl Canvas {
+    /// Sets a pixel; pixels outside the canvas are ignored (legends of very
+    /// narrow images are clipped, never out of bounds).
+    fn set(&mut self, x: i64, y: i64, colour: [u8; 3]) {
+        if x >= 0 && y >= 0 && x < i64::from(self.width) && y < i64::from(self.height) {
+            let i = 3 * (y as usize * self.width as usize + x as usize);
+            self.rgb[i..i + 3].copy_from_slice(&colour);
+        }
+    }
+
+    fn fill(&mut self, x: i64, y: i64, w: i64, h: i64, colour: [u8; 3]) {
+        for yy in y..y + h {
+            for xx in x..x + w {
+                self.set(xx, yy, colour);
+            }
+        }
+    }
+
+    /// Draws decimal digits with the 3x5 font, each dot `scale` pixels wide.
+    fn digits(&mut self, x: i64, y: i64, text: &str, scale: i64, colour: [u8; 3]) {
+        for (n, c) in text.chars().enumerate() {
+            let Some(glyph) = c.to_digit(10).map(|d| DIGITS[d as usize]) else {
+                continue;
+            };
+            let left = x + n as i64 * 4 * scale;
+            for row in 0..5 {
+                for col in 0..3 {
+                    if glyph >> (14 - (row * 3 + col)) & 1 == 1 {
+                        self.fill(left + col * scale, y + row * scale, scale, scale, colour);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Width in pixels of `text` in the 3x5 font at `scale`.
+fn text_width(text: &str, scale: i64) -> i64 {
+    (text.chars().count() as i64 * 4 - 1) * scale
+}
+
+/// A 3x5 bitmap font for 0-9: five rows of three bits, top row first.
+const DIGITS: [u16; 10] = [
+    0b111_101_101_101_111,
+    0b010_110_010_010_111,
+    0b111_001_111_100_111,
+    0b111_001_111_001_111,
+    0b101_101_111_001_001,
+    0b111_100_111_001_111,
+    0b111_100_111_101_111,
+    0b111_001_001_001_001,
+    0b111_101_111_101_111,
+    0b111_101_111_001_111,
+];
+
+fn draw_legend(canvas: &mut Canvas, top: u32, max: u8, threshold: u8) {
+    let s = i64::from(legend_scale(canvas.width));
+    let width = i64::from(canvas.width);
+    let (bar_left, bar_right) = (2 * s, width - 2 * s - 1);
+    let bar_top = i64::from(top) + 2 * s;
+    let bar_width = (bar_right - bar_left).max(1);
+    for x in bar_left..=bar_right {
+        let t = (x - bar_left) as f64 / bar_width as f64;
+        canvas.fill(x, bar_top, 1, 6 * s, scale_colour(t));
+    }
+    // The threshold's place on the bar: pixels left of the tick are within it.
+    if threshold > 0 && threshold < max {
+        let x =
+            bar_left + (f64::from(threshold) / f64::from(max) * bar_width as f64).round() as i64;
+        canvas.fill(x, bar_top - s, s, 8 * s, [255, 255, 255]);
+    }
+    let label_top = bar_top + 8 * s;
+    let white = [230, 230, 230];
+    canvas.digits(bar_left, label_top, "0", s, white);
+    // The bar's right end is the largest difference (1 when none differ,
+    // matching the colour scale of `heatmap`).
+    let max_label = max.max(1).to_string();
+    canvas.digits(
+        bar_right + 1 - text_width(&max_label, s),
+        label_top,
+        &max_label,
+        s,
+        white,
+    );
+}
+
+/// Writes `image` as a PNG at `path` atomically, with a clear error.
+pub fn write_heatmap(image: &Image, path: &Path) -> Result<()> {
+    let bytes = image.encode_png()?;
+    crate::output::write_atomically(path, |file| {
+        file.write_all(&bytes)
+            .with_context(|| format!("cannot write {}", path.display()))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(width: u32, height: u32, value: u8) -> Image {
+        Image {
+            width,
+            height,
+            rgb: vec![value; (width * height * 3) as usize],
+        }
+    }
+
+    #[test]
+    fn scale_runs_from_blue_to_red_through_its_stops() {
+        assert_eq!(scale_colour(0.0), [40, 20, 170]);
+        assert_eq!(scale_colour(0.5), [0, 200, 110]);
+        assert_eq!(scale_colour(1.0), HOTTEST);
+        assert_eq!(scale_colour(7.0), HOTTEST);
+        // Half-way between the first two stops.
+        assert_eq!(scale_colour(0.125), [20, 65, 213]);
+    }
+
+    #[test]
+    fn threshold_is_strict_and_allowance_is_a_share_of_pixels() {
+        let a = flat(10, 10, 100);
+        let mut b = a.clone();
+        b.rgb[0] = 103; // one pixel 3 levels off
+        b.rgb[4] = 102; // another exactly at the threshold of 2
+        let strict = compare(&a, &b, Criteria::default(), ("a", "b")).unwrap();
+        assert_eq!(strict.metrics.pixels_over, 1);
+        assert!(!strict.passes());
+        let one_percent = Criteria {
+            allowed_percent: 1.0,
+            ..Criteria::default()
+        };
+        assert!(compare(&a, &b, one_percent, ("a", "b")).unwrap().passes());
+        let loose = Criteria {
+            threshold: 3,
+            ..Criteria::default()
+        };
+        assert!(compare(&a, &b, loose, ("a", "b")).unwrap().passes());
+    }
+
+    #[test]
+    fn digits_are_drawn_in_bounds_even_on_tiny_images() {
+        let a = flat(3, 1, 0);
+        let mut b = a.clone();
+        b.rgb[8] = 255;
+        let comparison = compare(&a, &b, Criteria::default(), ("a", "b")).unwrap();
+        let map = heatmap(&comparison, &a);
+        assert_eq!((map.width, map.height), (3, 1 + legend_height(3)));
+        assert_eq!(&map.rgb[6..9], &HOTTEST);
+    }
+
+    #[test]
+    fn sizes_must_match() {
+        let error = compare(
+            &flat(2, 2, 0),
+            &flat(2, 3, 0),
+            Criteria::default(),
+            ("a.png", "b.png"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            error,
+            "a.png is 2x2 but b.png is 2x3: only images of the same size can be compared"
+        );
+    }
+
+    #[test]
+    fn not_a_png_and_a_truncated_png_are_told_apart() {
+        let text = Image::decode_png(b"hello").unwrap_err().to_string();
+        assert!(text.starts_with("not a PNG file"), "{text}");
+        let png = flat(4, 4, 9).encode_png().unwrap();
+        let truncated = Image::decode_png(&png[..png.len() / 2])
+            .unwrap_err()
+            .to_string();
+        assert!(truncated.starts_with("corrupted PNG"), "{truncated}");
+        assert_eq!(Image::decode_png(&png).unwrap(), flat(4, 4, 9));
+    }
+}

@@ -1,0 +1,550 @@
+//! Grading a folder of student renders against the reference images
+//! (`raylab grade`).
+//!
+//! Students hand in one PNG per chapter named `chapter-N.png` (N from 1 to
+//! 8, lower case, no leading zero), rendered from the chapter's built-in
+//! scene with its default settings, at any size. Each is compared (see
+//! [`crate::diff`]) with a reference of the same size: the committed
+//! snapshot `chapter-N.png` of the reference folder when its size matches,
+//! otherwise the built-in scene rendered here at the student's width and
+//! height. Anything else in the folder is listed as ignored, never fatal.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use base64::Engine as _;
+
+use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
+use crate::stage::LAST_CHAPTER;
+
+/// One chapter compared with its reference.
+#[derive(Debug, Clone)]
+pub struct Graded {
+    pub chapter: u8,
+    pub file: PathBuf,
+    pub student: Image,
+    pub reference: Image,
+    /// Where the reference came from, for people.
+    pub reference_source: String,
+    pub comparison: Comparison,
+}
+
+/// A chapter's file that could not be compared, and why.
+#[derive(Debug, Clone)]
+pub struct Unreadable {
+    pub chapter: u8,
+    pub file: PathBuf,
+    pub reason: String,
+}
+
+/// A folder entry that is not a chapter's PNG, and why.
+#[derive(Debug, Clone)]
+pub struct Ignored {
+    pub name: String,
+    pub reason: String,
+}
+
+/// The outcome of grading one folder.
+#[derive(Debug, Clone)]
+pub struct Grade {
+    pub folder: PathBuf,
+    pub criteria: Criteria,
+    pub graded: Vec<Graded>,
+    pub missing: Vec<u8>,
+    pub unreadable: Vec<Unreadable>,
+    pub ignored: Vec<Ignored>,
+}
+
+/// The chapter a file name stands for, or why it stands for none.
+pub fn chapter_of(name: &str) -> Result<u8, String> {
+    let Some(stem) = name.strip_suffix(".png") else {
+        return Err(if name.to_ascii_lowercase().ends_with(".png") {
+            "the extension must be .png in lower case".into()
+        } else {
+            "not a .png file".into()
+        });
+    };
+    let Some(number) = stem.strip_prefix("chapter-") else {
+        return Err("not named chapter-N.png".into());
+    };
+    if number.is_empty() || !number.bytes().all(|b| b.is_ascii_digit()) {
+        return Err("not named chapter-N.png (N must be a chapter number)".into());
+    }
+    match number.parse::<u8>() {
+        Ok(n) if (1..=LAST_CHAPTER).contains(&n) && !number.starts_with('0') => Ok(n),
+        _ => Err(format!(
+            "there is no chapter {number} (chapters are 1 to {LAST_CHAPTER}, no leading zeros)"
+        )),
+    }
+}
+
+/// Grades the PNGs in `folder` against `references` (a folder of
+/// `chapter-N.png`, typically `snapshots/`; `None`, or a chapter missing
+/// there, renders the reference). `skip` names a file not to list at all
+/// (the report itself, when it is written into the folder).
+pub fn grade(
+    folder: &Path,
+    references: Option<&Path>,
+    criteria: Criteria,
+    skip: Option<&Path>,
+) -> Result<Grade> {
+    let entries = std::fs::read_dir(folder)
+        .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+    let skip = skip.and_then(|path| path.canonicalize().ok());
+    let mut found: Vec<(u8, PathBuf)> = Vec::new();
+    let mut ignored = Vec::new();
+    for entry in entries {
+        let entry =
+            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if skip.is_some() && path.canonicalize().ok() == skip {
+            continue;
+        }
+        if path.is_dir() {
+            ignored.push(Ignored {
+                name,
+                reason: "a folder".into(),
+            });
+            continue;
+        }
+        match chapter_of(&name) {
+            Ok(chapter) => found.push((chapter, path)),
+            Err(reason) => ignored.push(Ignored { name, reason }),
+        }
+    }
+    found.sort();
+    ignored.sort_by(|a, b| a.name.cmp(&b.name));
+    let mut grade = Grade {
+        folder: folder.to_path_buf(),
+        criteria,
+        graded: Vec::new(),
+        missing: Vec::new(),
+        unreadable: Vec::new(),
+        ignored,
+    };
+    for chapter in 1..=LAST_CHAPTER {
+        let Some((_, file)) = found.iter().find(|(c, _)| *c == chapter) else {
+            grade.missing.push(chapter);
+            continue;
+        };
+        match grade_chapter(chapter, file, references, criteria) {
+            Ok(graded) => grade.graded.push(graded),
+            Err(error) => grade.unreadable.push(Unreadable {
+                chapter,
+                file: file.clone(),
+                reason: format!("{error:#}"),
+            }),
+        }
+    }
+    Ok(grade)
+}
+
+fn grade_chapter(
+    chapter: u8,
+    file: &Path,
+    references: Option<&Path>,
+    criteria: Criteria,
+) -> Result<Graded> {
+    let student = Image::decode_png(
+        &std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?,
+    )?;
+    let (reference, reference_source) = reference_for(chapter, &student, references)?;
+    let comparison = compare(&student, &reference, criteria, ("student", "reference"))?;
+    Ok(Graded {
+        chapter,
+        file: file.to_path_buf(),
+        student,
+        reference,
+        reference_source,
+        comparison,
+    })
+}
+
+/// The committed reference when it has the student's size, else a fresh
+/// render of the built-in scene at that size.
+fn reference_for(
+    chapter: u8,
+    student: &Image,
+    references: Option<&Path>,
+) -> Result<(Image, String)> {
+    let size = format!("{}x{}", student.width, student.height);
+    let why_render = match references.map(|folder| folder.join(format!("chapter-{chapter}.png"))) {
+        None => "no reference folder".to_string(),
+        Some(path) if !path.exists() => format!("no {}", path.display()),
+        Some(path) => match Image::load_png(&path) {
+            Ok(image) if (image.width, image.height) == (student.width, student.height) => {
+                return Ok((image, path.display().to_string()));
+            }
+            Ok(image) => format!("{} is {}x{}", path.display(), image.width, image.height),
+            Err(error) => format!("{error:#}"),
+        },
+    };
+    let scene = crate::builtin::scene(chapter)?;
+    let settings = crate::RenderSettings {
+        width: student.width,
+        height: student.height,
+        ..scene.render
+    };
+    settings
+        .validate()
+        .map_err(|message| anyhow::anyhow!("cannot render a reference at {size}: {message}"))?;
+    let rendered = crate::render(&scene, chapter, &settings, None);
+    Ok((
+        rendered.into(),
+        format!("built-in scene rendered at {size} ({why_render})"),
+    ))
+}
+
+impl Graded {
+    pub fn passes(&self) -> bool {
+        self.comparison.passes()
+    }
+}
+
+impl Grade {
+    /// Every chapter handed in, readable, and within the criteria.
+    pub fn all_pass(&self) -> bool {
+        self.missing.is_empty()
+            && self.unreadable.is_empty()
+            && self.graded.iter().all(Graded::passes)
+    }
+
+    pub fn passed(&self) -> usize {
+        self.graded.iter().filter(|g| g.passes()).count()
+    }
+
+    /// The Markdown summary printed by `raylab grade`.
+    pub fn markdown(&self, report: &Path) -> String {
+        let mut md = String::new();
+        let c = &self.criteria;
+        let _ = writeln!(
+            md,
+            "# raylab grade: {}\n",
+            markdown_escape(&self.folder.display().to_string())
+        );
+        let _ = writeln!(
+            md,
+            "A pixel is over when a channel differs by more than {} levels; a chapter passes when {}.\n",
+            c.threshold,
+            allowance_text(c)
+        );
+        if !self.graded.is_empty() {
+            md.push_str("| chapter | file | size | max | mean | RMSE | PSNR (dB) | over threshold | result | reference |\n");
+            md.push_str("|---:|---|---|---:|---:|---:|---:|---:|---|---|\n");
+            for g in &self.graded {
+                let m = &g.comparison.metrics;
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {}x{} | {} | {:.4} | {:.4} | {} | {} ({:.3}%) | {} | {} |",
+                    g.chapter,
+                    markdown_escape(&file_name(&g.file)),
+                    m.width,
+                    m.height,
+                    m.max,
+                    m.mean,
+                    m.rmse,
+                    psnr_text(m.psnr_db),
+                    m.pixels_over,
+                    m.percent_over(),
+                    if g.passes() { "PASS" } else { "**FAIL**" },
+                    markdown_escape(&g.reference_source),
+                );
+            }
+            md.push('\n');
+        }
+        if !self.missing.is_empty() {
+            let list: Vec<String> = self
+                .missing
+                .iter()
+                .map(|c| format!("chapter-{c}.png"))
+                .collect();
+            let _ = writeln!(md, "Missing: {}\n", list.join(", "));
+        }
+        if !self.unreadable.is_empty() {
+            md.push_str("Unreadable:\n");
+            for u in &self.unreadable {
+                let _ = writeln!(
+                    md,
+                    "- {}: {}",
+                    markdown_escape(&file_name(&u.file)),
+                    markdown_escape(&u.reason)
+                );
+            }
+            md.push('\n');
+        }
+        if !self.ignored.is_empty() {
+            md.push_str("Ignored:\n");
+            for i in &self.ignored {
+                let _ = writeln!(
+                    md,
+                    "- {}: {}",
+                    markdown_escape(&i.name),
+                    markdown_escape(&i.reason)
+                );
+            }
+            md.push('\n');
+        }
+        let _ = writeln!(
+            md,
+            "**{} of {} chapters pass** ({} compared, {} missing, {} unreadable). Report: {}",
+            self.passed(),
+            LAST_CHAPTER,
+            self.graded.len(),
+            self.missing.len(),
+            self.unreadable.len(),
+            report.display()
+        );
+        md
+    }
+
+    /// The self-contained HTML report: every image inlined as a base64 PNG.
+    pub fn html(&self) -> Result<String> {
+        let mut h = String::new();
+        let c = &self.criteria;
+        let title = format!("raylab grade: {}", self.folder.display());
+        let _ = write!(
+            h,
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+            html_escape(&title),
+            html_escape(&title)
+        );
+        let _ = writeln!(
+            h,
+            "<p class=\"verdict {}\"><strong>{} of {} chapters pass</strong>: {} compared, {} missing, {} unreadable.</p>",
+            if self.all_pass() { "pass" } else { "fail" },
+            self.passed(),
+            LAST_CHAPTER,
+            self.graded.len(),
+            self.missing.len(),
+            self.unreadable.len()
+        );
+        let _ = writeln!(
+            h,
+            "<p>A pixel is <em>over</em> when one of its R, G, B values differs from the reference by more than {} levels (of 255); a chapter passes when {}. Heatmap: dim grey where identical, dark blue (1 level) to red (the largest difference) where not; the bar below it is the scale, the white tick the threshold.</p>",
+            c.threshold,
+            allowance_text(c)
+        );
+        if !self.graded.is_empty() {
+            h.push_str("<table class=\"summary\">\n<tr><th>chapter</th><th>result</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th></tr>\n");
+            for g in &self.graded {
+                let m = &g.comparison.metrics;
+                let _ = writeln!(
+                    h,
+                    "<tr><td><a href=\"#chapter-{0}\">{0}</a></td><td class=\"{1}\">{2}</td><td>{3}</td><td>{4}</td><td>{5} ({6:.3}%)</td></tr>",
+                    g.chapter,
+                    if g.passes() { "pass" } else { "fail" },
+                    if g.passes() { "PASS" } else { "FAIL" },
+                    m.max,
+                    psnr_text(m.psnr_db),
+                    m.pixels_over,
+                    m.percent_over()
+                );
+            }
+            h.push_str("</table>\n");
+        }
+        if !self.missing.is_empty() || !self.unreadable.is_empty() || !self.ignored.is_empty() {
+            h.push_str("<section class=\"problems\">\n");
+            if !self.missing.is_empty() {
+                let list: Vec<String> = self
+                    .missing
+                    .iter()
+                    .map(|c| format!("chapter-{c}.png"))
+                    .collect();
+                let _ = writeln!(
+                    h,
+                    "<p><strong>Missing:</strong> {}</p>",
+                    html_escape(&list.join(", "))
+                );
+            }
+            for (heading, rows) in [
+                (
+                    "Unreadable",
+                    self.unreadable
+                        .iter()
+                        .map(|u| (file_name(&u.file), u.reason.clone()))
+                        .collect::<Vec<_>>(),
+                ),
+                (
+                    "Ignored",
+                    self.ignored
+                        .iter()
+                        .map(|i| (i.name.clone(), i.reason.clone()))
+                        .collect(),
+                ),
+            ] {
+                if rows.is_empty() {
+                    continue;
+                }
+                let _ = writeln!(h, "<p><strong>{heading}:</strong></p>\n<ul>");
+                for (name, reason) in rows {
+                    let _ = writeln!(
+                        h,
+                        "<li><code>{}</code>: {}</li>",
+                        html_escape(&name),
+                        html_escape(&reason)
+                    );
+                }
+                h.push_str("</ul>\n");
+            }
+            h.push_str("</section>\n");
+        }
+        for g in &self.graded {
+            let m = &g.comparison.metrics;
+            let pass = g.passes();
+            let heatmap = g.comparison.heatmap(&g.student);
+            let _ = writeln!(
+                h,
+                "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
+                if pass { "pass" } else { "fail" },
+                g.chapter,
+                g.chapter,
+                if pass { "PASS" } else { "FAIL" }
+            );
+            h.push_str("<div class=\"images\">\n");
+            for (caption, image) in [
+                (format!("student: {}", file_name(&g.file)), &g.student),
+                (format!("reference: {}", g.reference_source), &g.reference),
+                ("heatmap".to_string(), &heatmap),
+            ] {
+                let _ = writeln!(
+                    h,
+                    "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
+                    html_escape(&caption),
+                    base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
+                    html_escape(&caption)
+                );
+            }
+            h.push_str("</div>\n<table>\n");
+            let at = m
+                .max_at
+                .map(|(x, y)| format!(" at x={x}, y={y}"))
+                .unwrap_or_default();
+            for (name, value) in [
+                ("size", format!("{}x{}", m.width, m.height)),
+                ("max abs difference", format!("{}{at}", m.max)),
+                ("mean abs difference", format!("{:.6}", m.mean)),
+                ("RMSE", format!("{:.6}", m.rmse)),
+                ("PSNR", format!("{} dB", psnr_text(m.psnr_db))),
+                (
+                    "pixels over threshold",
+                    format!(
+                        "{} of {} ({:.3}%)",
+                        m.pixels_over,
+                        m.pixels,
+                        m.percent_over()
+                    ),
+                ),
+            ] {
+                let _ = writeln!(
+                    h,
+                    "<tr><th>{name}</th><td>{}</td></tr>",
+                    html_escape(&value)
+                );
+            }
+            h.push_str("</table>\n</section>\n");
+        }
+        h.push_str("</body>\n</html>\n");
+        Ok(h)
+    }
+}
+
+/// The pass rule's allowance in words.
+fn allowance_text(criteria: &Criteria) -> String {
+    if criteria.allowed_percent == 0.0 {
+        "no pixel is over".into()
+    } else {
+        format!(
+            "at most {}% of its pixels are over",
+            criteria.allowed_percent
+        )
+    }
+}
+
+const STYLE: &str = "
+body { font-family: sans-serif; margin: 2em; color: #222; background: #fafafa; }
+h1 { font-size: 1.5em; word-break: break-all; }
+.verdict { font-size: 1.2em; padding: 0.5em 1em; border-radius: 4px; }
+.verdict.pass { background: #d8f5d8; } .verdict.fail { background: #fbdcdc; }
+.problems { background: #fff6d6; padding: 0.5em 1em; border-radius: 4px; }
+.chapter { background: #fff; border: 1px solid #ddd; border-left: 8px solid #999; margin: 1.5em 0; padding: 0.5em 1em; }
+.chapter.pass { border-left-color: #2a2; } .chapter.fail { border-left-color: #c22; }
+.badge { font-size: 0.8em; color: #fff; padding: 0.1em 0.5em; border-radius: 4px; }
+.pass .badge { background: #2a2; } .fail .badge { background: #c22; }
+.images { display: flex; flex-wrap: wrap; gap: 1em; }
+figure { margin: 0; flex: 1 1 0; min-width: 200px; max-width: 480px; }
+figure img { width: 100%; image-rendering: pixelated; border: 1px solid #ccc; }
+figcaption { font-size: 0.85em; color: #555; word-break: break-all; }
+table { border-collapse: collapse; margin-top: 0.5em; }
+th, td { text-align: left; padding: 0.15em 1em 0.15em 0; font-weight: normal; }
+th { color: #555; } td { font-family: monospace; }
+.summary { margin-bottom: 1em; } .summary th { font-weight: bold; } .summary td.pass { color: #2a2; } .summary td.fail { color: #c22; font-weight: bold; }
+a { color: inherit; }
+";
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+fn html_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// Keeps a cell's text from breaking the Markdown table or list.
+fn markdown_escape(text: &str) -> String {
+    text.replace('\\', "\\\\")
+        .replace('|', "\\|")
+        .replace(['\n', '\r'], " ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chapter_names() {
+        assert_eq!(chapter_of("chapter-3.png"), Ok(3));
+        assert_eq!(chapter_of("chapter-8.png"), Ok(8));
+        for bad in [
+            "chapter-9.png",
+            "chapter-0.png",
+            "chapter-03.png",
+            "chapter-x.png",
+            "chapter-.png",
+            "chapter-3.PNG",
+            "Chapter-3.png",
+            "notes.txt",
+            "chapter-300.png",
+        ] {
+            assert!(chapter_of(bad).is_err(), "{bad}");
+        }
+        assert!(
+            chapter_of("chapter-9.png")
+                .unwrap_err()
+                .contains("no chapter 9")
+        );
+    }
+
+    #[test]
+    fn escaping() {
+        assert_eq!(
+            html_escape("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+        assert_eq!(markdown_escape("a|b\nc"), "a\\|b c");
+    }
+}

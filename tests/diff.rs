@@ -1,0 +1,376 @@
+//! `raylab diff` on real renders: the metrics it prints are checked against
+//! values computed here independently, from the two images' bytes.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const WIDTH: u32 = 64;
+const HEIGHT: u32 = 48;
+
+fn raylab(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run raylab")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// Renders a chapter's built-in scene at the test size with `tweak` applied.
+fn render(chapter: u8, tweak: impl FnOnce(&mut raylab::RenderSettings)) -> raylab::Rendered {
+    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+    let mut settings = raylab::RenderSettings {
+        width: WIDTH,
+        height: HEIGHT,
+        ..scene.render
+    };
+    tweak(&mut settings);
+    raylab::render(&scene, chapter, &settings, None)
+}
+
+fn save(dir: &Path, name: &str, rgb: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    raylab::output::write_png(&path, WIDTH, HEIGHT, rgb).expect("write PNG");
+    path
+}
+
+fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("JSON written")).expect("JSON")
+}
+
+/// The metrics of the module docs, computed the plain way.
+struct Expected {
+    max: u8,
+    mean: f64,
+    rmse: f64,
+    pixels_over: u64,
+}
+
+fn expected(a: &[u8], b: &[u8], threshold: u8) -> Expected {
+    let diffs: Vec<f64> = a
+        .iter()
+        .zip(b)
+        .map(|(&x, &y)| (f64::from(x) - f64::from(y)).abs())
+        .collect();
+    let n = diffs.len() as f64;
+    let pixels_over = diffs
+        .chunks(3)
+        .filter(|p| p.iter().any(|&d| d > f64::from(threshold)))
+        .count() as u64;
+    Expected {
+        max: diffs.iter().fold(0.0f64, |m, &d| m.max(d)) as u8,
+        mean: diffs.iter().sum::<f64>() / n,
+        rmse: (diffs.iter().map(|d| d * d).sum::<f64>() / n).sqrt(),
+        pixels_over,
+    }
+}
+
+fn assert_close(actual: &serde_json::Value, expected: f64, what: &str) {
+    let actual = actual
+        .as_f64()
+        .unwrap_or_else(|| panic!("{what} is a number"));
+    assert!(
+        (actual - expected).abs() <= 1e-9 * expected.abs().max(1.0),
+        "{what}: {actual} != {expected}"
+    );
+}
+
+fn check_against(json: &serde_json::Value, e: &Expected) {
+    assert_eq!(json["max_abs_difference"], u64::from(e.max));
+    assert_close(&json["mean_abs_difference"], e.mean, "mean");
+    assert_close(&json["rmse"], e.rmse, "rmse");
+    assert_close(&json["psnr_db"], 20.0 * (255.0 / e.rmse).log10(), "psnr_db");
+    assert_eq!(json["pixels_over_threshold"], e.pixels_over);
+    assert_eq!(json["pixels"], u64::from(WIDTH * HEIGHT));
+}
+
+#[test]
+fn identical_renders_pass_with_zero_difference() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = render(6, |_| {});
+    save(dir.path(), "a.png", &image.rgb);
+    save(dir.path(), "b.png", &render(6, |_| {}).rgb);
+    let out = raylab(
+        &[
+            "diff",
+            "a.png",
+            "b.png",
+            "--heatmap",
+            "heat.png",
+            "--json",
+            "m.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    for line in [
+        "max abs difference: 0\n",
+        "mean abs difference: 0.000000\n",
+        "RMSE: 0.000000\n",
+        "PSNR: inf dB\n",
+        "pixels over threshold 2: 0 of 3072",
+        "result: PASS\n",
+    ] {
+        assert!(text.contains(line), "{line:?} not in:\n{text}");
+    }
+    let json = read_json(&dir.path().join("m.json"));
+    assert_eq!(json["max_abs_difference"], 0);
+    assert_eq!(json["mean_abs_difference"], 0.0);
+    assert_eq!(json["rmse"], 0.0);
+    assert!(json["psnr_db"].is_null(), "infinite PSNR is null in JSON");
+    assert_eq!(json["max_at"], serde_json::Value::Null);
+    assert_eq!(json["pass"], true);
+    // Nothing differs: the picture part of the heatmap is all grey.
+    let heat = image::open(dir.path().join("heat.png"))
+        .expect("heatmap")
+        .to_rgb8();
+    assert_eq!(heat.width(), WIDTH);
+    assert!(heat.height() > HEIGHT, "a legend strip below the image");
+    for y in 0..HEIGHT {
+        for x in 0..WIDTH {
+            let [r, g, b] = heat.get_pixel(x, y).0;
+            assert!(r == g && g == b, "pixel ({x}, {y}) is coloured");
+        }
+    }
+}
+
+#[test]
+fn one_changed_pixel_is_measured_and_located() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let original = render(5, |_| {});
+    let (x, y) = (41u32, 17u32);
+    let mut changed = original.rgb.clone();
+    let green = 3 * (y * WIDTH + x) as usize + 1;
+    // Move the green value 10 levels, away from whichever end is nearer.
+    changed[green] = if changed[green] >= 128 {
+        changed[green] - 10
+    } else {
+        changed[green] + 10
+    };
+    save(dir.path(), "student.png", &changed);
+    save(dir.path(), "reference.png", &original.rgb);
+    let out = raylab(
+        &[
+            "diff",
+            "student.png",
+            "reference.png",
+            "--heatmap",
+            "heat.png",
+            "--json",
+            "m.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    // Derived by hand: one value of 3 W H differs, by 10.
+    let values = f64::from(3 * WIDTH * HEIGHT);
+    let json = read_json(&dir.path().join("m.json"));
+    assert_eq!(json["max_abs_difference"], 10);
+    assert_close(&json["mean_abs_difference"], 10.0 / values, "mean");
+    assert_close(&json["rmse"], (100.0 / values).sqrt(), "rmse");
+    assert_close(
+        &json["psnr_db"],
+        20.0 * (255.0 / (100.0 / values).sqrt()).log10(),
+        "psnr_db",
+    );
+    assert_eq!(json["max_at"], serde_json::json!({"x": x, "y": y}));
+    assert_eq!(json["pixels_over_threshold"], 1);
+    assert_eq!(json["pass"], false);
+    let text = stdout(&out);
+    assert!(
+        text.contains("max abs difference: 10 (first at x=41, y=17)"),
+        "{text}"
+    );
+    assert!(text.contains("result: FAIL"), "{text}");
+
+    // The heatmap's one hot pixel is the changed one; all others are grey.
+    let heat = image::open(dir.path().join("heat.png"))
+        .expect("heatmap")
+        .to_rgb8();
+    let coloured: Vec<(u32, u32, [u8; 3])> = (0..HEIGHT)
+        .flat_map(|py| (0..WIDTH).map(move |px| (px, py)))
+        .map(|(px, py)| (px, py, heat.get_pixel(px, py).0))
+        .filter(|(_, _, [r, g, b])| !(r == g && g == b))
+        .collect();
+    assert_eq!(coloured, vec![(x, y, raylab::diff::HOTTEST)]);
+
+    // A difference of exactly the threshold is within it.
+    let at_threshold = raylab(
+        &["diff", "student.png", "reference.png", "--threshold", "10"],
+        dir.path(),
+    );
+    assert_eq!(
+        at_threshold.status.code(),
+        Some(0),
+        "{}",
+        stdout(&at_threshold)
+    );
+    // So is one pixel of 3072 when 0.05% may be over.
+    let allowed = raylab(
+        &["diff", "student.png", "reference.png", "--allow", "0.05"],
+        dir.path(),
+    );
+    assert_eq!(allowed.status.code(), Some(0), "{}", stdout(&allowed));
+}
+
+#[test]
+fn another_depth_fails_with_the_expected_metrics() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let reference = render(6, |_| {});
+    let shallow = render(6, |s| s.max_depth = 1);
+    save(dir.path(), "shallow.png", &shallow.rgb);
+    save(dir.path(), "reference.png", &reference.rgb);
+    let out = raylab(
+        &["diff", "shallow.png", "reference.png", "--json", "m.json"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let e = expected(&shallow.rgb, &reference.rgb, 2);
+    assert!(
+        e.pixels_over > 0,
+        "depth 1 must change the mirror reflections"
+    );
+    let json = read_json(&dir.path().join("m.json"));
+    check_against(&json, &e);
+    assert_eq!(json["pass"], false);
+}
+
+#[test]
+fn another_sample_count_fails_with_the_expected_metrics() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let reference = render(7, |_| {});
+    let aliased = render(7, |s| s.samples = 1);
+    save(dir.path(), "aliased.png", &aliased.rgb);
+    save(dir.path(), "reference.png", &reference.rgb);
+    let out = raylab(
+        &[
+            "diff",
+            "aliased.png",
+            "reference.png",
+            "--threshold",
+            "5",
+            "--json",
+            "m.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let e = expected(&aliased.rgb, &reference.rgb, 5);
+    assert!(e.pixels_over > 0, "1 sample per pixel must alias the edges");
+    let json = read_json(&dir.path().join("m.json"));
+    check_against(&json, &e);
+    // And the printed figures agree with the JSON.
+    let text = stdout(&out);
+    assert!(text.contains(&format!("RMSE: {:.6}\n", e.rmse)), "{text}");
+    assert!(
+        text.contains(&format!(
+            "PSNR: {:.2} dB\n",
+            20.0 * (255.0 / e.rmse).log10()
+        )),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "pixels over threshold 5: {} of 3072",
+            e.pixels_over
+        )),
+        "{text}"
+    );
+}
+
+/// Bad input: exit 2, an `error:` naming the file, and no heatmap written.
+fn assert_clean_error(dir: &Path, args: &[&str], expected_message: &str) {
+    let out = raylab(args, dir);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stdout(&out));
+    let message = stderr(&out);
+    assert!(message.starts_with("error: "), "{message}");
+    assert!(
+        message.contains(expected_message),
+        "{expected_message:?} not in {message:?}"
+    );
+    assert!(!message.contains("panicked"), "{message}");
+    assert!(!dir.join("heat.png").exists(), "no heatmap after an error");
+}
+
+#[test]
+fn bad_inputs_give_clean_errors() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = render(2, |_| {});
+    let good = save(dir.path(), "good.png", &image.rgb);
+    // A real render cut in half: the signature is right, the data is not.
+    let bytes = std::fs::read(&good).expect("read");
+    std::fs::write(dir.path().join("cut.png"), &bytes[..bytes.len() / 2]).expect("write");
+    // A real render with a damaged byte inside its image data (CRC fails).
+    let mut flipped = bytes.clone();
+    let middle = flipped.len() / 2;
+    flipped[middle] ^= 0xff;
+    std::fs::write(dir.path().join("flipped.png"), &flipped).expect("write");
+    std::fs::write(dir.path().join("notes.png"), "not an image").expect("write");
+    let small = render(2, |s| {
+        s.width = 32;
+        s.height = 24;
+    });
+    raylab::output::write_png(&dir.path().join("small.png"), 32, 24, &small.rgb).expect("write");
+    std::fs::create_dir(dir.path().join("folder.png")).expect("mkdir");
+
+    let heat = ["--heatmap", "heat.png"];
+    let with = |a: &'static str, b: &'static str| -> Vec<&'static str> {
+        let mut args = vec!["diff", a, b];
+        args.extend(heat);
+        args
+    };
+    assert_clean_error(
+        dir.path(),
+        &with("good.png", "gone.png"),
+        "gone.png: no such file",
+    );
+    assert_clean_error(
+        dir.path(),
+        &with("cut.png", "good.png"),
+        "cut.png: corrupted PNG",
+    );
+    assert_clean_error(
+        dir.path(),
+        &with("good.png", "flipped.png"),
+        "flipped.png: corrupted PNG",
+    );
+    assert_clean_error(
+        dir.path(),
+        &with("notes.png", "good.png"),
+        "notes.png: not a PNG file",
+    );
+    assert_clean_error(
+        dir.path(),
+        &with("folder.png", "good.png"),
+        "folder.png: is a folder",
+    );
+    assert_clean_error(
+        dir.path(),
+        &with("good.png", "small.png"),
+        "good.png is 64x48 but small.png is 32x24",
+    );
+    assert_clean_error(
+        dir.path(),
+        &[
+            "diff",
+            "good.png",
+            "good.png",
+            "--heatmap",
+            "no/such/folder/heat.png",
+        ],
+        "cannot write no/such/folder/heat.png",
+    );
+    assert_clean_error(
+        dir.path(),
+        &["diff", "good.png", "good.png", "--allow", "150"],
+        "not a percentage",
+    );
+}

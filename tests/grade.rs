@@ -1,0 +1,272 @@
+//! `raylab grade` on a folder of real renders: one matching the committed
+//! snapshot, one at another size (its reference is rendered), one at another
+//! depth (fails), one corrupted, the rest missing, and odd files beside.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use base64::Engine as _;
+
+fn raylab(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run raylab")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn snapshots() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("snapshots")
+}
+
+fn render(
+    chapter: u8,
+    width: u32,
+    height: u32,
+    tweak: impl FnOnce(&mut raylab::RenderSettings),
+) -> raylab::Rendered {
+    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+    let mut settings = raylab::RenderSettings {
+        width,
+        height,
+        ..scene.render
+    };
+    tweak(&mut settings);
+    raylab::render(&scene, chapter, &settings, None)
+}
+
+fn save(path: &Path, image: &raylab::Rendered) {
+    raylab::output::write_png(path, image.width, image.height, &image.rgb).expect("write PNG");
+}
+
+/// Every `data:image/png;base64,` image in the report, decoded.
+fn inlined_images(html: &str) -> Vec<image::RgbImage> {
+    html.split("src=\"data:image/png;base64,")
+        .skip(1)
+        .map(|rest| {
+            let data = &rest[..rest.find('"').expect("closing quote")];
+            let bytes = base64::engine::general_purpose::STANDARD
+                .decode(data)
+                .expect("valid base64");
+            image::load_from_memory(&bytes).expect("a PNG").to_rgb8()
+        })
+        .collect()
+}
+
+#[test]
+fn a_mixed_folder_is_graded_and_reported() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let students = dir.path().join("class");
+    std::fs::create_dir(&students).expect("mkdir");
+    // Chapter 1 at the snapshot's size: compared with the committed PNG.
+    save(
+        &students.join("chapter-1.png"),
+        &render(1, 160, 120, |_| {}),
+    );
+    // Chapter 2 at another size: the reference is rendered at 64x48.
+    let chapter_2 = render(2, 64, 48, |_| {});
+    save(&students.join("chapter-2.png"), &chapter_2);
+    // Chapter 6 with one bounce instead of five: fails.
+    let shallow = render(6, 64, 48, |s| s.max_depth = 1);
+    save(&students.join("chapter-6.png"), &shallow);
+    // Chapter 4 cut short.
+    save(&students.join("chapter-4.png"), &render(4, 64, 48, |_| {}));
+    let bytes = std::fs::read(students.join("chapter-4.png")).expect("read");
+    std::fs::write(students.join("chapter-4.png"), &bytes[..bytes.len() / 3]).expect("write");
+    // Things that are not a chapter's render.
+    std::fs::write(students.join("notes.txt"), "hello").expect("write");
+    std::fs::create_dir(students.join("drafts")).expect("mkdir");
+    std::fs::write(students.join("chapter-9.png"), &bytes).expect("write");
+    std::fs::write(students.join("chapter-x.png"), &bytes).expect("write");
+    std::fs::write(students.join("chapter-3.PNG"), &bytes).expect("write");
+
+    let against = snapshots();
+    let against = against.to_str().expect("UTF-8 path");
+    let out = raylab(&["grade", "class", "--against", against], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    let row = |chapter: u8| -> String {
+        md.lines()
+            .find(|line| line.starts_with(&format!("| {chapter} |")))
+            .unwrap_or_else(|| panic!("no row for chapter {chapter} in:\n{md}"))
+            .to_string()
+    };
+    let row_1 = row(1);
+    assert!(
+        row_1.contains("| 160x120 | 0 | 0.0000 | 0.0000 | inf |"),
+        "{row_1}"
+    );
+    assert!(row_1.contains("| PASS |"), "{row_1}");
+    assert!(row_1.ends_with("snapshots/chapter-1.png |"), "{row_1}");
+    let row_2 = row(2);
+    assert!(row_2.contains("| 64x48 | 0 |"), "{row_2}");
+    assert!(row_2.contains("| PASS |"), "{row_2}");
+    assert!(
+        row_2.contains("built-in scene rendered at 64x48") && row_2.contains("is 160x120"),
+        "{row_2}"
+    );
+    // Chapter 6's figures, computed here from the two renders.
+    let reference_6 = render(6, 64, 48, |_| {});
+    let diffs: Vec<u8> = shallow
+        .rgb
+        .iter()
+        .zip(&reference_6.rgb)
+        .map(|(a, b)| a.abs_diff(*b))
+        .collect();
+    let max = *diffs.iter().max().expect("pixels");
+    let over = diffs.chunks(3).filter(|p| p.iter().any(|&d| d > 2)).count();
+    let row_6 = row(6);
+    assert!(
+        row_6.contains(&format!("| 64x48 | {max} |")),
+        "{row_6} (max {max})"
+    );
+    assert!(
+        row_6.contains(&format!("| {over} (")),
+        "{row_6} (over {over})"
+    );
+    assert!(row_6.contains("| **FAIL** |"), "{row_6}");
+    assert!(
+        md.contains("Missing: chapter-3.png, chapter-5.png, chapter-7.png, chapter-8.png"),
+        "{md}"
+    );
+    assert!(md.contains("- chapter-4.png: corrupted PNG"), "{md}");
+    for ignored in [
+        "- chapter-3.PNG: the extension must be .png in lower case",
+        "- chapter-9.png: there is no chapter 9",
+        "- chapter-x.png: not named chapter-N.png",
+        "- drafts: a folder",
+        "- notes.txt: not a .png file",
+    ] {
+        assert!(md.contains(ignored), "{ignored:?} not in:\n{md}");
+    }
+    assert!(
+        md.contains("**2 of 8 chapters pass** (3 compared, 4 missing, 1 unreadable)"),
+        "{md}"
+    );
+
+    // The report is self-contained: every image is inlined, nothing is linked.
+    let report = students.join("report.html");
+    let html = std::fs::read_to_string(&report).expect("report written");
+    assert!(
+        !html.contains("http")
+            && html.matches("src=\"").count() == html.matches("src=\"data:").count(),
+        "no external resources"
+    );
+    let images = inlined_images(&html);
+    assert_eq!(
+        images.len(),
+        9,
+        "student, reference and heatmap for 3 chapters"
+    );
+    assert_eq!(
+        images[3].as_raw(),
+        &chapter_2.rgb,
+        "chapter 2's student image"
+    );
+    assert_eq!(
+        images[4].as_raw(),
+        &chapter_2.rgb,
+        "chapter 2's rendered reference"
+    );
+    assert_eq!(
+        images[7].as_raw(),
+        &reference_6.rgb,
+        "chapter 6's rendered reference"
+    );
+    let heatmap_6 = &images[8];
+    assert_eq!(heatmap_6.width(), 64);
+    assert!(heatmap_6.height() > 48, "the heatmap carries its legend");
+    for needle in [
+        "Chapter 6 <span class=\"badge\">FAIL</span>",
+        "Chapter 1 <span class=\"badge\">PASS</span>",
+        "<td>inf dB</td>",
+        "<code>chapter-4.png</code>: corrupted PNG",
+        "<code>notes.txt</code>: not a .png file",
+        "chapter-7.png",
+    ] {
+        assert!(html.contains(needle), "{needle:?} not in the report");
+    }
+
+    // Grading again does not list the report itself among the ignored files.
+    let again = raylab(&["grade", "class", "--against", against], dir.path());
+    assert_eq!(stdout(&again), md);
+}
+
+#[test]
+fn a_complete_correct_folder_passes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::create_dir(dir.path().join("class")).expect("mkdir");
+    for chapter in 1..=8 {
+        save(
+            &dir.path().join(format!("class/chapter-{chapter}.png")),
+            &render(chapter, 48, 36, |_| {}),
+        );
+    }
+    let report = dir.path().join("out").join("grade.html");
+    std::fs::create_dir(dir.path().join("out")).expect("mkdir");
+    let out = raylab(
+        &[
+            "grade",
+            "class",
+            "--against",
+            snapshots().to_str().expect("UTF-8"),
+            "--report",
+            report.to_str().expect("UTF-8"),
+        ],
+        dir.path(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}{}",
+        stdout(&out),
+        stderr(&out)
+    );
+    let md = stdout(&out);
+    assert!(
+        md.contains("**8 of 8 chapters pass** (8 compared, 0 missing, 0 unreadable)"),
+        "{md}"
+    );
+    assert!(!md.contains("Ignored"), "{md}");
+    let html = std::fs::read_to_string(&report).expect("report");
+    assert_eq!(inlined_images(&html).len(), 24);
+    assert!(!dir.path().join("class/report.html").exists());
+}
+
+#[test]
+fn errors_exit_2_and_write_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::create_dir(dir.path().join("class")).expect("mkdir");
+    save(
+        &dir.path().join("class/chapter-1.png"),
+        &render(1, 32, 24, |_| {}),
+    );
+    for (args, message) in [
+        (vec!["grade", "absent"], "absent: not a folder"),
+        (
+            vec!["grade", "class", "--against", "nowhere"],
+            "--against nowhere: not a folder",
+        ),
+        (
+            vec!["grade", "class", "--report", "no/such/folder/r.html"],
+            "cannot write no/such/folder/r.html",
+        ),
+    ] {
+        let out = raylab(&args, dir.path());
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stdout(&out));
+        let text = stderr(&out);
+        assert!(
+            text.starts_with("error: ") && text.contains(message),
+            "{text}"
+        );
+    }
+    assert!(!dir.path().join("class/report.html").exists());
+}
