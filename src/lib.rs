@@ -18,7 +18,8 @@
 //! is not a lesson lives beside: [`scene`] (TOML scene files),
 //! [`camera`], [`render`] (the image loop and the tracer that calls the
 //! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
-//! enables what).
+//! enables what). With the `embree` feature, [`crosscheck`] compares our
+//! intersections with Embree's on every ray a render casts (docs/embree.md).
 
 // `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
 // without a separate test is deliberate, and the lessons explain it.
@@ -30,6 +31,9 @@ pub mod chapters;
 pub mod builtin;
 pub mod camera;
 pub mod cli;
+pub mod crosscheck;
+#[cfg(feature = "embree")]
+pub mod embree;
 pub mod output;
 pub mod ray;
 pub mod render;
@@ -46,5 +50,7 @@ pub use chapters::ch06_reflection::reflect;
 pub use chapters::ch07_antialiasing::Sampling;
 pub use chapters::ch08_refraction::refract;
 pub use ray::{Ray, unit_vector};
-pub use render::{RayCounts, RayKind, RayLog, Rendered, Tracer, render};
+pub use render::{
+    CastRay, RayCounts, RayKind, RayLog, RayRecorder, Rendered, Tracer, record_rays, render,
+};
 pub use scene::{Material, RenderSettings, Scene, SceneError, Shape};

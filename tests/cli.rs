@@ -301,7 +301,12 @@ fn chapter_out_of_range_is_refused_by_the_parser() {
 
 #[test]
 fn bench_prints_every_run_and_the_median() {
-    let out = raylab(&["bench", "-c", "6", "--width", "16", "--height", "12", "--runs", "3"], Path::new("."));
+    let out = raylab(
+        &[
+            "bench", "-c", "6", "--width", "16", "--height", "12", "--runs", "3",
+        ],
+        Path::new("."),
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     let text = stdout(&out);
     assert!(text.starts_with("chapter 6: 16x12, 1 spp"), "{text}");

@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod crosscheck;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -27,6 +28,11 @@ pub enum Command {
     Scene(render::SceneArgs),
     /// Time a render several times (no image written) and print the median.
     Bench(bench::BenchArgs),
+    /// Trace every ray of a render with our code and with Embree, and compare
+    /// (needs the `embree` feature).
+    Crosscheck(crosscheck::CrosscheckArgs),
+    /// Show what one ray hits: each shape, our nearest hit, and Embree's.
+    Probe(crosscheck::ProbeArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -49,6 +55,8 @@ pub fn main() -> i32 {
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
         Command::Bench(args) => bench::bench(&args),
+        Command::Crosscheck(args) => crosscheck::crosscheck(&args),
+        Command::Probe(args) => crosscheck::probe(&args),
     };
     match result {
         Ok(status) => status,
