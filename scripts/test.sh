@@ -9,4 +9,6 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup-embree.sh
 cargo test --all-targets --features embree
+# The default build needs no Embree, and says how to get it.
+cargo test --test cli
 cargo test --release --test snapshots --test determinism

@@ -15,7 +15,10 @@
 //!   a large quad ([`plane_quad`]); our hits at or past its edge have no
 //!   counterpart;
 //! - **tie**: two surfaces meet along the ray (a ball resting on the floor),
-//!   so either may be the nearest.
+//!   so either may be the nearest;
+//! - **at the ray's end**: one backend's hit lies within the tolerance of
+//!   the ray's `t_min` or `t_max`, where our open interval and Embree's
+//!   closed one, or a quad a rounding away from its plane, decide.
 //!
 //! Anything else beyond the tolerance ([`TOLERANCE_EPSILONS`]) is a
 //! disagreement, and `raylab crosscheck` exits with status 1.
@@ -75,6 +78,12 @@ pub struct PlaneQuad {
     /// to `f32`, so a quad that is not axis-aligned is a slightly different
     /// plane. Zero when the plane is axis-aligned.
     pub corner_offset: f32,
+    /// Whether the normal is along an axis. Then the corners lie exactly in
+    /// the plane, Embree's triangle normal is exact, and so are the
+    /// products with it: the quad adds no error. Otherwise Embree's `t`
+    /// comes from `(corner - origin) · normal`, rounded at the scale of the
+    /// corners' distance, far larger than the scene.
+    pub axis_aligned: bool,
 }
 
 /// The size of the scene: the largest side of the box holding the camera,
@@ -137,6 +146,7 @@ pub fn plane_quad(plane: &Plane, eye: Vec3, half_side: f32) -> PlaneQuad {
         half_side,
         corners,
         corner_offset,
+        axis_aligned: normal.cmpeq(Vec3::ZERO).bitmask().count_ones() == 2,
     }
 }
 
@@ -203,14 +213,16 @@ pub enum Boundary {
     Grazing,
     BeyondQuad,
     Tie,
+    RayEnd,
 }
 
 impl Boundary {
-    pub const ALL: [Boundary; 4] = [
+    pub const ALL: [Boundary; 5] = [
         Boundary::Silhouette,
         Boundary::Grazing,
         Boundary::BeyondQuad,
         Boundary::Tie,
+        Boundary::RayEnd,
     ];
 
     pub fn describe(self) -> &'static str {
@@ -219,6 +231,7 @@ impl Boundary {
             Boundary::Grazing => "grazing (within a few ulps of parallel to a plane)",
             Boundary::BeyondQuad => "beyond the quad (our plane hit is outside Embree's quad)",
             Boundary::Tie => "tie (two surfaces at the same t)",
+            Boundary::RayEnd => "at the ray's end (a hit within the tolerance of t_min or t_max)",
         }
     }
 }
@@ -276,14 +289,14 @@ impl Reference<'_> {
             }
             // One backend saw a surface first that the other missed: is that
             // surface at a boundary?
-            (Some(a), None) => self.disputed(a, ray),
-            (None, Some(b)) => self.disputed(b, ray),
+            (Some(a), None) => self.disputed(a, cast),
+            (None, Some(b)) => self.disputed(b, cast),
             (Some(a), Some(b)) => {
                 let (first, second) = if a.t <= b.t { (a, b) } else { (b, a) };
                 if (second.t - first.t).abs() <= self.tolerance(first.object, ray, first.t) {
                     Verdict::Boundary(Boundary::Tie)
                 } else {
-                    self.disputed(first, ray)
+                    self.disputed(first, cast)
                 }
             }
         };
@@ -297,9 +310,18 @@ impl Reference<'_> {
         }
     }
 
-    fn disputed(&self, hit: Answer, ray: &Ray) -> Verdict {
-        self.boundary_of(hit.object, ray, hit.t)
-            .map_or(Verdict::Disagree, Verdict::Boundary)
+    /// The verdict on a hit that only one backend reported (first).
+    fn disputed(&self, hit: Answer, cast: &CastRay) -> Verdict {
+        let ray = &cast.ray;
+        if let Some(boundary) = self.boundary_of(hit.object, ray, hit.t) {
+            return Verdict::Boundary(boundary);
+        }
+        let tolerance = self.tolerance(hit.object, ray, hit.t);
+        if hit.t - cast.t_min <= tolerance || cast.t_max - hit.t <= tolerance {
+            Verdict::Boundary(Boundary::RayEnd)
+        } else {
+            Verdict::Disagree
+        }
     }
 
     /// How far `t` on `object` may differ between the backends.
@@ -307,13 +329,19 @@ impl Reference<'_> {
         let rounding =
             TOLERANCE_EPSILONS * f32::EPSILON * error_scale(&self.shapes[object], ray, t);
         let quad = self.quads.get(object).copied().flatten();
-        let plane_shift = match (quad, self.shapes[object]) {
-            (Some(quad), Shape::Plane(plane)) => {
-                quad.corner_offset / plane.normal().dot(ray.dir).abs()
+        let quad_error = match (quad, self.shapes[object]) {
+            (Some(quad), Shape::Plane(plane)) if !quad.axis_aligned => {
+                let reach = quad
+                    .corners
+                    .iter()
+                    .map(|&corner| (corner - ray.origin).length())
+                    .fold(0.0, f32::max);
+                let distance = quad.corner_offset + TOLERANCE_EPSILONS * f32::EPSILON * reach;
+                distance / plane.normal().dot(ray.dir).abs()
             }
             _ => 0.0,
         };
-        rounding + plane_shift
+        rounding + quad_error
     }
 
     /// The boundary case the ray is at on `object`, if any (`t` is the hit
@@ -403,7 +431,7 @@ pub struct Tally {
     /// Same object, `t` within tolerance.
     pub same_hit: u64,
     /// Boundary cases, by [`Boundary::ALL`].
-    pub boundary: [u64; 4],
+    pub boundary: [u64; 5],
     pub disagreements: u64,
     /// Relative differences of `t` where both hit the same object, outside
     /// the boundary cases.
@@ -576,6 +604,7 @@ mod tests {
         let floor = Plane::new(Vec3::new(0.0, -1.25, 0.0), Vec3::Y);
         let quad = plane_quad(&floor, Vec3::new(0.3, 1.7, -6.1), 8192.0);
         assert_eq!(quad.corner_offset, 0.0);
+        assert!(quad.axis_aligned);
         assert!(quad.corners.iter().all(|corner| corner.y == -1.25));
         assert_eq!(quad.center.x, 0.3);
     }
@@ -586,6 +615,7 @@ mod tests {
         let quad = plane_quad(&tilted, Vec3::new(5.0, 5.0, 5.0), 4096.0);
         // Corners 4096 away are rounded to about 4096 * 2^-24.
         assert!(quad.corner_offset > 0.0 && quad.corner_offset < 4096.0 * 4.0 * f32::EPSILON);
+        assert!(!quad.axis_aligned);
     }
 
     #[test]
