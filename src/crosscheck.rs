@@ -382,8 +382,14 @@ pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
         Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
             let (to_center, closest) = closest_approach(sphere, ray);
             let radius = f64::from(sphere.radius());
+            // Inside the silhouette band the ray is a boundary case anyway;
+            // the half-chord at the band's inner edge caps the amplification
+            // (and keeps it finite for a line that misses).
+            let band = silhouette_band(to_center, radius);
+            let inner = (radius - band).max(0.0);
+            let smallest = (radius * radius - inner * inner).sqrt();
             let half_chord = (radius * radius - closest * closest).max(0.0).sqrt();
-            to_center * (1.0 + radius / half_chord) + radius
+            to_center * (1.0 + radius / half_chord.max(smallest)) + radius
         }
         Shape::Plane(plane) => {
             let to_point = (plane.point() - ray.origin).as_dvec3().length();
@@ -413,8 +419,12 @@ fn cosine_to_normal(plane: &Plane, ray: &Ray) -> f64 {
 pub fn on_silhouette(sphere: &Sphere, ray: &Ray) -> bool {
     let (to_center, closest) = closest_approach(sphere, ray);
     let radius = f64::from(sphere.radius());
-    let band = f64::from(SILHOUETTE_EPSILONS * f32::EPSILON) * (to_center + radius);
-    (closest - radius).abs() <= band
+    (closest - radius).abs() <= silhouette_band(to_center, radius)
+}
+
+/// The half-width of the silhouette band, as a distance from the centre.
+fn silhouette_band(to_center: f64, radius: f64) -> f64 {
+    f64::from(SILHOUETTE_EPSILONS * f32::EPSILON) * (to_center + radius)
 }
 
 /// Whether the ray is within [`GRAZING_EPSILONS`] of parallel to the plane.

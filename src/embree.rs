@@ -43,7 +43,7 @@ pub struct EmbreeHit {
 /// `embree4-sys` 0.0.10 was generated from the Embree 4.2 headers, where
 /// `RTCRayHit` is 80 bytes. The library we load (4.4, built with instance
 /// arrays) has one more field, `RTCHit::instPrimID[1]`: its `RTCRayHit` is
-/// 96 bytes and it writes all 96 on every call. The fields we read come first
+/// 96 bytes, and it writes past our 80 on every call. The fields we read come first
 /// and are laid out the same, so padding after the struct is enough to keep
 /// that write inside memory we own. 32 bytes leaves room for one more field
 /// of future versions; alignment 16 is what Embree asks of `RTCRayHit`.
