@@ -19,7 +19,9 @@
 //! [`camera`], [`mod@render`] (the image loop and the tracer that calls the
 //! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
 //! enables what). For instructors, [`diff`] and [`grade`] compare student
-//! renders with the references (`raylab diff`, `raylab grade`).
+//! renders with the references (`raylab diff`, `raylab grade`). With the
+//! `embree` feature, [`crosscheck`] compares our
+//! intersections with Embree's on every ray a render casts (docs/embree.md).
 
 // `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
 // without a separate test is deliberate, and the lessons explain it.
@@ -32,7 +34,10 @@ pub mod builtin;
 pub mod camera;
 pub mod cli;
 pub mod cost;
+pub mod crosscheck;
 pub mod diff;
+#[cfg(feature = "embree")]
+pub mod embree;
 pub mod grade;
 pub mod output;
 pub mod ray;
@@ -50,5 +55,7 @@ pub use chapters::ch06_reflection::reflect;
 pub use chapters::ch07_antialiasing::Sampling;
 pub use chapters::ch08_refraction::refract;
 pub use ray::{Ray, unit_vector};
-pub use render::{RayCounts, RayKind, RayLog, Rendered, Tracer, render};
+pub use render::{
+    CastRay, RayCounts, RayKind, RayLog, RayRecorder, Rendered, Tracer, record_rays, render,
+};
 pub use scene::{Material, RenderSettings, Scene, SceneError, Shape};

@@ -100,6 +100,53 @@ impl RayLog for RayCounts {
     }
 }
 
+/// One ray as the tracer cast it: what [`RayRecorder`] keeps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CastRay {
+    pub kind: RayKind,
+    pub ray: Ray,
+    /// The tracer looked for hits with `t_min < t < t_max`.
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+/// A [`RayLog`] that keeps every ray cast, in order (for `raylab crosscheck`).
+#[derive(Debug, Clone, Default)]
+pub struct RayRecorder {
+    pub rays: Vec<CastRay>,
+}
+
+impl RayLog for RayRecorder {
+    fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
+        self.rays.push(CastRay {
+            kind,
+            ray: *ray,
+            t_min,
+            t_max,
+        });
+    }
+}
+
+/// Every ray that rendering the whole image with `tracer` casts, in a fixed
+/// order: row by row from the top, pixel by pixel, and within a pixel in the
+/// order the tracer casts them. Rows are traced in parallel, each into its
+/// own log, and the logs are joined in row order, so the list does not depend
+/// on the number of threads.
+pub fn record_rays(tracer: &Tracer, camera: &Camera) -> Vec<CastRay> {
+    let (width, height) = (tracer.settings.width, tracer.settings.height);
+    let rows: Vec<Vec<CastRay>> = (0..height)
+        .into_par_iter()
+        .map(|y| {
+            let mut recorder = RayRecorder::default();
+            for x in 0..width {
+                tracer.pixel(camera, x, y, &mut recorder);
+            }
+            recorder.rays
+        })
+        .collect();
+    rows.concat()
+}
+
 /// A finished render.
 #[derive(Debug, Clone)]
 pub struct Rendered {
@@ -127,6 +174,8 @@ pub struct Tracer<'a> {
     /// their materials, index for index.
     shapes: Vec<Shape>,
     materials: Vec<Material>,
+    /// For each of `shapes`, its index in the scene (for its name).
+    scene_indices: Vec<usize>,
     offset: RayOffset,
     pub effects: Effects,
     pub settings: RenderSettings,
@@ -143,17 +192,18 @@ impl<'a> Tracer<'a> {
             1
         };
         let effects = stage.needed_by(scene, samples);
-        let (shapes, materials) = scene
-            .shapes
-            .iter()
-            .zip(&scene.materials)
-            .filter(|(shape, _)| {
-                if shape.is_sphere() {
+        let scene_indices: Vec<usize> = (0..scene.shapes.len())
+            .filter(|&index| {
+                if scene.shapes[index].is_sphere() {
                     effects.spheres
                 } else {
                     effects.planes
                 }
             })
+            .collect();
+        let (shapes, materials) = scene_indices
+            .iter()
+            .map(|&index| (&scene.shapes[index], &scene.materials[index]))
             .map(|(shape, material)| match (shape, settings.sphere_formula) {
                 (Shape::Sphere(sphere), SphereFormula::Textbook) => {
                     (Shape::TextbookSphere(*sphere), *material)
@@ -165,6 +215,7 @@ impl<'a> Tracer<'a> {
             scene,
             shapes,
             materials,
+            scene_indices,
             offset: settings.offset(),
             effects,
             settings,
@@ -183,6 +234,11 @@ impl<'a> Tracer<'a> {
     /// The shapes this stage intersects.
     pub fn shapes(&self) -> &[Shape] {
         &self.shapes
+    }
+
+    /// The name of `object` (an index into [`Tracer::shapes`]) in the scene.
+    pub fn name(&self, object: usize) -> &str {
+        &self.scene.names[self.scene_indices[object]]
     }
 
     /// The colour of pixel `(x, y)`, in linear light: the mean of its samples,

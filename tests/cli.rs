@@ -314,3 +314,48 @@ fn bench_prints_every_run_and_the_median() {
     assert_eq!(times.split_whitespace().count(), 2 + 3, "{times}");
     assert!(text.contains("median: "), "{text}");
 }
+
+#[test]
+fn probe_prints_each_shape_and_our_nearest_hit() {
+    let out = raylab(
+        &["probe", "--chapter", "8", "--ray", "0,1.5,-6,-0.1,-0.13,1"],
+        Path::new("."),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("glass ball       sphere, roots t = "),
+        "{text}"
+    );
+    assert!(text.contains("floor            plane, t = "), "{text}");
+    assert!(
+        text.contains("ours:   \"glass ball\" (object 1) at t = 4.83"),
+        "{text}"
+    );
+    assert!(text.contains("embree: "), "{text}");
+}
+
+#[test]
+fn probe_refuses_a_malformed_ray() {
+    for bad in ["1,2,3", "0,0,0,0,0,0", "0,0,0,1,nan,0", "a,b,c,d,e,f"] {
+        let out = raylab(&["probe", "--ray", bad], Path::new("."));
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(stderr(&out).contains("--ray"), "{bad}: {}", stderr(&out));
+    }
+}
+
+/// Without the `embree` feature, `crosscheck` explains how to get it
+/// (scripts/test.sh runs this file once without the feature).
+#[cfg(not(feature = "embree"))]
+#[test]
+fn crosscheck_without_embree_says_how_to_enable_it() {
+    let out = raylab(&["crosscheck", "--chapter", "1"], Path::new("."));
+    assert_eq!(out.status.code(), Some(2));
+    let message = stderr(&out);
+    assert!(message.contains("scripts/setup-embree.sh"), "{message}");
+    assert!(message.contains("--features embree"), "{message}");
+    assert!(message.contains("docs/embree.md"), "{message}");
+    let probe = raylab(&["probe", "--ray", "0,1,-5,0,0,1"], Path::new("."));
+    assert!(probe.status.success(), "{}", stderr(&probe));
+    assert!(stdout(&probe).contains("embree: not built in"));
+}

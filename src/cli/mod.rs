@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 
 mod bench;
 mod cost;
+mod crosscheck;
 mod diff;
 mod grade;
 mod render;
@@ -36,6 +37,11 @@ pub enum Command {
     // The help of these two is the doc of their argument structs.
     Diff(diff::DiffArgs),
     Grade(grade::GradeArgs),
+    /// Trace every ray of a render with our code and with Embree, and compare
+    /// (needs the `embree` feature).
+    Crosscheck(crosscheck::CrosscheckArgs),
+    /// Show what one ray hits: each shape, our nearest hit, and Embree's.
+    Probe(crosscheck::ProbeArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -61,6 +67,8 @@ pub fn main() -> i32 {
         Command::Cost(args) => cost::cost(&args),
         Command::Diff(args) => diff::diff(&args),
         Command::Grade(args) => grade::grade(&args),
+        Command::Crosscheck(args) => crosscheck::crosscheck(&args),
+        Command::Probe(args) => crosscheck::probe(&args),
     };
     match result {
         Ok(status) => status,

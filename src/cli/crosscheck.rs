@@ -1,0 +1,372 @@
+//! `raylab crosscheck` (our hits against Embree's on every ray of a render)
+//! and `raylab probe` (what one ray hits).
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::render::{SettingsOverrides, select_scene};
+use crate::chapters::ch04_shadows::surface_point;
+use crate::crosscheck::{self, Answer};
+use crate::{Ray, Scene, Shape, Tracer, Vec3};
+
+/// How to get the Embree backend, for messages.
+#[cfg(not(feature = "embree"))]
+const ENABLE_EMBREE: &str = "this raylab was built without Embree. To enable it, run \
+     `scripts/setup-embree.sh` once (it installs libclang and Embree 4), then build with \
+     the `embree` feature, e.g. `cargo run --release --features embree -- crosscheck \
+     --chapter 8`. See docs/embree.md.";
+
+#[derive(Debug, Args)]
+pub struct CrosscheckArgs {
+    /// Chapter whose render to record (1 to 8) [default: 8].
+    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub chapter: Option<u8>,
+    /// A TOML scene file instead of the chapter's built-in scene.
+    #[arg(short, long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub overrides: SettingsOverrides,
+    /// How many times each backend is timed over all the rays (the median is printed).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub timing_runs: u32,
+}
+
+#[derive(Debug, Args)]
+pub struct ProbeArgs {
+    /// The ray: origin and direction, `ox,oy,oz,dx,dy,dz`.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_ray)]
+    pub ray: Ray,
+    /// Chapter whose shapes to use (1 to 8) [default: 8].
+    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub chapter: Option<u8>,
+    /// A TOML scene file instead of the chapter's built-in scene.
+    #[arg(short, long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+}
+
+fn parse_ray(text: &str) -> Result<Ray, String> {
+    let numbers = text
+        .split(',')
+        .map(|part| {
+            let part = part.trim();
+            part.parse::<f32>()
+                .ok()
+                .filter(|number| number.is_finite())
+                .ok_or_else(|| format!("`{part}` is not a finite number"))
+        })
+        .collect::<Result<Vec<f32>, String>>()?;
+    let [ox, oy, oz, dx, dy, dz] = numbers[..] else {
+        return Err(format!(
+            "expected six numbers `ox,oy,oz,dx,dy,dz`, got {}",
+            numbers.len()
+        ));
+    };
+    let dir = Vec3::new(dx, dy, dz);
+    if dir == Vec3::ZERO {
+        return Err("the direction must not be zero".into());
+    }
+    Ok(Ray::new(Vec3::new(ox, oy, oz), dir))
+}
+
+/// The scene and chapter, defaulting to chapter 8.
+fn chosen_scene(chapter: Option<u8>, scene: Option<&std::path::Path>) -> Result<(Scene, u8)> {
+    select_scene(chapter.or(scene.is_none().then_some(8)), scene)
+}
+
+pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
+    #[cfg(feature = "embree")]
+    {
+        with_embree::crosscheck(args)
+    }
+    #[cfg(not(feature = "embree"))]
+    {
+        let _ = args;
+        anyhow::bail!("`raylab crosscheck` needs Embree: {ENABLE_EMBREE}")
+    }
+}
+
+pub fn probe(args: &ProbeArgs) -> Result<i32> {
+    let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
+    let tracer = Tracer::new(&scene, chapter, scene.render);
+    let ray = args.ray;
+    let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
+    println!(
+        "ray: origin {}, direction {}, hits with 0 < t < inf (t in units of the direction)",
+        show(ray.origin),
+        show(ray.dir)
+    );
+    println!("chapter {chapter}'s shapes, each on its own:");
+    for (object, shape) in tracer.shapes().iter().enumerate() {
+        let name = tracer.name(object);
+        let answer = match shape {
+            Shape::Plane(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
+                Some(t) => format!("plane, t = {t}"),
+                None => "plane, no hit ahead".into(),
+            },
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => match sphere.roots(&ray) {
+                Some((near, far)) => format!("sphere, roots t = {near} and {far}"),
+                None => "sphere, no root (the line misses it)".into(),
+            },
+        };
+        println!("  {object}: {name:<16} {answer}");
+    }
+    let ours = crosscheck::ours(tracer.shapes(), &primary_cast(ray));
+    match ours {
+        Some(hit) => {
+            let surface = surface_point(&tracer.shapes()[hit.object], &ray, hit.t);
+            println!(
+                "ours:   {:?} (object {}) at t = {}, point {}, normal {}",
+                tracer.name(hit.object),
+                hit.object,
+                hit.t,
+                show(surface.point),
+                show(surface.normal)
+            );
+        }
+        None => println!("ours:   no hit"),
+    }
+    probe_embree(&tracer, &scene, &ray, ours.map(Answer::from))?;
+    Ok(0)
+}
+
+/// `ray` as a primary ray looking for any hit ahead.
+fn primary_cast(ray: Ray) -> crate::CastRay {
+    crate::CastRay {
+        kind: crate::RayKind::Primary,
+        ray,
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    }
+}
+
+#[cfg(not(feature = "embree"))]
+fn probe_embree(_: &Tracer, _: &Scene, _: &Ray, _: Option<Answer>) -> Result<()> {
+    println!("embree: not built in ({ENABLE_EMBREE})");
+    Ok(())
+}
+
+#[cfg(feature = "embree")]
+fn probe_embree(tracer: &Tracer, scene: &Scene, ray: &Ray, ours: Option<Answer>) -> Result<()> {
+    let (embree, quads) = with_embree::build(tracer, scene)?;
+    let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
+    let theirs = embree.intersect(ray, 0.0, f32::INFINITY);
+    match theirs {
+        Some(hit) => {
+            let agreement = match ours {
+                Some(ours) if ours.object == hit.object => format!(
+                    ", relative difference of t {:.3e} = {:.1} x f32 epsilon",
+                    (hit.t - ours.t).abs() / ours.t,
+                    (hit.t - ours.t).abs() / ours.t / f32::EPSILON
+                ),
+                _ => ", NOT the object we hit".into(),
+            };
+            println!(
+                "embree: {:?} (object {}) at t = {}, point {}, normal {}{agreement}",
+                tracer.name(hit.object),
+                hit.object,
+                hit.t,
+                show(ray.at(hit.t)),
+                show(hit.normal.normalize_or_zero()),
+            );
+        }
+        None if ours.is_some() => println!("embree: no hit, NOT what we found"),
+        None => println!("embree: no hit"),
+    }
+    let reference = crosscheck::Reference {
+        shapes: tracer.shapes(),
+        quads: &quads,
+    };
+    let cast = primary_cast(*ray);
+    let compared = reference.compare(
+        &cast,
+        theirs.map(|hit| Answer {
+            object: hit.object,
+            t: hit.t,
+        }),
+    );
+    let verdict = match compared.verdict {
+        crosscheck::Verdict::Agree => "agree (within the tolerance)".to_string(),
+        crosscheck::Verdict::Boundary(reason) => format!("boundary case: {}", reason.describe()),
+        crosscheck::Verdict::Disagree => "DISAGREE beyond the tolerance".to_string(),
+    };
+    println!("cross-check: {verdict}");
+    Ok(())
+}
+
+#[cfg(feature = "embree")]
+mod with_embree {
+    use super::*;
+    use crate::cli::EXIT_FAILED_CHECK;
+    use crate::crosscheck::{
+        Boundary, Compared, GRAZING_EPSILONS, PlaneQuad, Reference, SILHOUETTE_EPSILONS,
+        TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
+    };
+    use crate::embree::EmbreeScene;
+    use crate::{CastRay, RayKind, camera::Camera, record_rays};
+    use anyhow::Context;
+
+    /// Embree's copy of the tracer's shapes, and the quads for the planes.
+    pub fn build(tracer: &Tracer, scene: &Scene) -> Result<(EmbreeScene, Vec<Option<PlaneQuad>>)> {
+        let (primitives, quads) = crosscheck::primitives(tracer.shapes(), scene);
+        let embree = EmbreeScene::new(&primitives).context("cannot build the Embree scene")?;
+        Ok((embree, quads))
+    }
+
+    pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
+        let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
+        let settings = args.overrides.apply(scene.render)?;
+        let tracer = Tracer::new(&scene, chapter, settings);
+        let camera = Camera::new(&scene.camera, settings.width, settings.height);
+        let rays = args.overrides.in_pool(|| record_rays(&tracer, &camera))?;
+        let (embree, quads) = build(&tracer, &scene)?;
+        let reference = Reference {
+            shapes: tracer.shapes(),
+            quads: &quads,
+        };
+        let theirs = |cast: &CastRay| {
+            embree
+                .intersect(&cast.ray, cast.t_min, cast.t_max)
+                .map(|hit| Answer {
+                    object: hit.object,
+                    t: hit.t,
+                })
+        };
+        let tally = args
+            .overrides
+            .in_pool(|| cross_check(&reference, &rays, theirs))?;
+
+        let version = embree.version();
+        let quad_side = quads
+            .iter()
+            .flatten()
+            .map(|quad| 2.0 * quad.half_side)
+            .next();
+        println!(
+            "cross-check of chapter {chapter}: {}x{}, {} spp; ours against Embree {}.{}.{} \
+             (robust scene, native spheres{})",
+            settings.width,
+            settings.height,
+            tracer.samples(),
+            version / 10000,
+            version / 100 % 100,
+            version % 100,
+            quad_side.map_or(String::new(), |side| format!(
+                ", planes as quads of side {side}"
+            )),
+        );
+        print_tally(&tally, &tracer);
+
+        // Speed: the same rays, in the same order, on this thread only.
+        let mut ours_rates = Vec::new();
+        let mut embree_rates = Vec::new();
+        for _ in 0..args.timing_runs {
+            ours_rates.push(rays_per_second(&rays, |cast| {
+                crosscheck::ours(tracer.shapes(), cast)
+            }));
+            embree_rates.push(rays_per_second(&rays, |cast| {
+                embree.intersect(&cast.ray, cast.t_min, cast.t_max)
+            }));
+        }
+        let ours_rate = super::super::bench::median(&ours_rates);
+        let embree_rate = super::super::bench::median(&embree_rates);
+        println!(
+            "speed (1 thread, the same {} rays in the same order, median of {}): \
+             ours {:.2} M rays/s, Embree {:.2} M rays/s, ratio ours/Embree {:.3}",
+            rays.len(),
+            args.timing_runs,
+            ours_rate / 1e6,
+            embree_rate / 1e6,
+            ours_rate / embree_rate
+        );
+        if tally.clean() {
+            println!(
+                "result: agree (no difference beyond the tolerance outside the boundary cases)"
+            );
+            Ok(0)
+        } else {
+            println!(
+                "result: {} DISAGREEMENT(S) beyond the tolerance outside the boundary cases",
+                tally.disagreements
+            );
+            Ok(EXIT_FAILED_CHECK)
+        }
+    }
+
+    fn print_tally(tally: &Tally, tracer: &Tracer) {
+        let [primary, shadow, reflection, refraction] = tally.by_kind;
+        println!(
+            "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
+             {refraction} refraction)",
+            tally.total()
+        );
+        let boundary: u64 = tally.boundary.iter().sum();
+        println!(
+            "hit/miss: {} same object, {} both miss, {boundary} boundary cases, {} disagreements",
+            tally.same_hit, tally.both_miss, tally.disagreements
+        );
+        for (reason, count) in Boundary::ALL.iter().zip(tally.boundary) {
+            if count > 0 {
+                println!("  {count:>8} {}", reason.describe());
+            }
+        }
+        match tally.median_and_max() {
+            Some((median, max)) => println!(
+                "relative difference of t, same object ({} rays, boundary cases aside): \
+                 median {median:.3e} ({:.2} eps), max {max:.3e} ({:.1} eps); \
+                 largest in a boundary case {:.3e}",
+                tally.relative_differences.len(),
+                median / f32::EPSILON,
+                max / f32::EPSILON,
+                tally.boundary_max_relative_difference,
+            ),
+            None => println!("relative difference of t: no ray hit the same object in both"),
+        }
+        println!(
+            "tolerance: {TOLERANCE_EPSILONS} eps x each hit's error scale; silhouette band \
+             {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps (docs/embree.md)"
+        );
+        if tally.worst.is_empty() {
+            return;
+        }
+        println!("worst rays (difference / tolerance):");
+        for (rank, compared) in tally.worst.iter().enumerate() {
+            println!("{:>3}. {}", rank + 1, describe(compared, tracer));
+        }
+    }
+
+    fn describe(compared: &Compared, tracer: &Tracer) -> String {
+        let cast = &compared.cast;
+        let kind = match cast.kind {
+            RayKind::Primary => "primary",
+            RayKind::Shadow => "shadow",
+            RayKind::Reflection => "reflection",
+            RayKind::Refraction => "refraction",
+        };
+        let answer = |answer: Option<Answer>| match answer {
+            Some(hit) => format!("{:?} t={:e}", tracer.name(hit.object), hit.t),
+            None => "miss".into(),
+        };
+        let verdict = match compared.verdict {
+            Verdict::Agree => "agree".to_string(),
+            Verdict::Boundary(reason) => format!("boundary: {reason:?}"),
+            Verdict::Disagree => "DISAGREE".to_string(),
+        };
+        format!(
+            "{kind}: ours {}, Embree {}; difference/tolerance {:.2}; {verdict}\n       \
+             --ray {},{},{},{},{},{} with {} < t < {}",
+            answer(compared.ours),
+            answer(compared.theirs),
+            compared.severity,
+            cast.ray.origin.x,
+            cast.ray.origin.y,
+            cast.ray.origin.z,
+            cast.ray.dir.x,
+            cast.ray.dir.y,
+            cast.ray.dir.z,
+            cast.t_min,
+            cast.t_max,
+        )
+    }
+}

@@ -1,0 +1,716 @@
+//! Cross-checking our intersections against a second, independent
+//! intersector (Embree 4, see [`crate::embree`] and docs/embree.md).
+//!
+//! Every ray a render casts is traced twice: by [`nearest_hit`] over the
+//! tracer's shapes, and by the other backend. The two answers are compared:
+//! the same object (or both a miss) and the same `t` up to rounding is
+//! agreement. Rounding makes some rays legitimately differ; these are
+//! *boundary cases*, counted but not failures:
+//!
+//! - **silhouette**: the ray passes within a few ulps of a sphere's
+//!   outline, where hit or miss (and `t`, whose error grows without bound at
+//!   tangency) depends on rounding;
+//! - **grazing**: the ray is within a few ulps of parallel to a plane;
+//! - **beyond the quad**: Embree has no infinite planes, so each plane is
+//!   a large quad ([`plane_quad`]); our hits at or past its edge have no
+//!   counterpart;
+//! - **tie**: two surfaces meet along the ray (a ball resting on the floor),
+//!   so either may be the nearest;
+//! - **at the ray's end**: one backend's hit lies within the tolerance of
+//!   the ray's `t_min` or `t_max`, where our open interval and Embree's
+//!   closed one, or a quad a rounding away from its plane, decide.
+//!
+//! Anything else beyond the tolerance ([`TOLERANCE_EPSILONS`]) is a
+//! disagreement, and `raylab crosscheck` exits with status 1.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::render::CastRay;
+use crate::{Hit, Plane, Ray, RayKind, Scene, Shape, Sphere, Vec3, nearest_hit};
+
+/// How far two answers for `t` may differ, in units of `f32::EPSILON` times
+/// the hit's error scale ([`error_scale`]). Each backend's `t` is off by a
+/// few roundings of the quantities in the scale; 16 leaves room for both
+/// backends' errors, which add, and for Embree's different formulas.
+pub const TOLERANCE_EPSILONS: f32 = 16.0;
+
+/// A ray is on a sphere's silhouette when its distance to the centre is
+/// within this many `f32::EPSILON` of `|origin - centre| + radius` from the
+/// radius: both backends compute that distance with an error of a few
+/// roundings of `|origin - centre|`, so hit or miss there is up to rounding.
+pub const SILHOUETTE_EPSILONS: f32 = 8.0;
+
+/// A ray grazes a plane when the cosine between its direction and the plane
+/// is at most this many `f32::EPSILON` (chapter 1 refuses hits below 4).
+pub const GRAZING_EPSILONS: f32 = 16.0;
+
+/// Each plane becomes a square quad whose half-side is at least this many
+/// times the scene's size (rounded up to a power of two).
+pub const QUAD_SCALE: f32 = 1024.0;
+
+/// Hits of ours within this fraction of the quad's half-side from its edge,
+/// or past it, are "beyond the quad".
+pub const QUAD_EDGE_MARGIN: f32 = 1.0 / 1024.0;
+
+/// A primitive as the other backend receives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Primitive {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    /// Four corners in order around the edge: triangles (0, 1, 2), (0, 2, 3).
+    Quad([Vec3; 4]),
+}
+
+/// The quad standing in for one of our planes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneQuad {
+    pub center: Vec3,
+    /// Unit vectors along the quad's sides, in the plane.
+    pub u: Vec3,
+    pub v: Vec3,
+    pub half_side: f32,
+    pub corners: [Vec3; 4],
+    /// The largest distance of a corner from our plane: corners are rounded
+    /// to `f32`, so a quad that is not axis-aligned is a slightly different
+    /// plane. Zero when the plane is axis-aligned.
+    pub corner_offset: f32,
+    /// Whether the normal is along an axis. Then the corners lie exactly in
+    /// the plane, Embree's triangle normal is exact, and so are the
+    /// products with it: the quad adds no error. Otherwise Embree's `t`
+    /// comes from `(corner - origin) · normal`, rounded at the scale of the
+    /// corners' distance, far larger than the scene.
+    pub axis_aligned: bool,
+}
+
+/// The size of the scene: the largest side of the box holding the camera,
+/// the lights, the spheres and the planes' points (at least 1).
+pub fn scene_size(scene: &Scene) -> f32 {
+    let mut low = scene.camera.position;
+    let mut high = scene.camera.position;
+    let mut include = |point: Vec3, reach: f32| {
+        low = low.min(point - reach);
+        high = high.max(point + reach);
+    };
+    for light in &scene.lights {
+        include(light.position, 0.0);
+    }
+    for shape in &scene.shapes {
+        match shape {
+            Shape::Plane(plane) => include(plane.point(), 0.0),
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+                include(sphere.center(), sphere.radius())
+            }
+        }
+    }
+    (high - low).max_element().max(1.0)
+}
+
+/// The quad standing in for `plane`: a square of half-side `half_side`
+/// centred where the camera at `eye` stands over the plane, so it covers
+/// everything the camera sees except hits near the horizon.
+///
+/// The centre is the plane's point moved along the quad's sides only, so
+/// for an axis-aligned plane the coordinate along the normal is copied, not
+/// computed, and the quad lies exactly in the plane.
+pub fn plane_quad(plane: &Plane, eye: Vec3, half_side: f32) -> PlaneQuad {
+    let normal = plane.normal();
+    let helper = if normal.x.abs() > 0.9 {
+        Vec3::Y
+    } else {
+        Vec3::X
+    };
+    let u = normal.cross(helper).normalize();
+    let v = normal.cross(u).normalize();
+    let point = plane.point();
+    let to_eye = eye - point;
+    let center = point + to_eye.dot(u) * u + to_eye.dot(v) * v;
+    let (a, b) = (half_side * u, half_side * v);
+    let corners = [
+        center - a - b,
+        center + a - b,
+        center + a + b,
+        center - a + b,
+    ];
+    let corner_offset = corners
+        .iter()
+        .map(|&corner| distance_to_plane(plane, corner))
+        .fold(0.0, f64::max) as f32;
+    PlaneQuad {
+        center,
+        u,
+        v,
+        half_side,
+        corners,
+        corner_offset,
+        axis_aligned: normal.cmpeq(Vec3::ZERO).bitmask().count_ones() == 2,
+    }
+}
+
+/// `|(point - plane point) . normal|`, in double precision.
+fn distance_to_plane(plane: &Plane, point: Vec3) -> f64 {
+    let offset = point.as_dvec3() - plane.point().as_dvec3();
+    offset.dot(plane.normal().as_dvec3()).abs()
+}
+
+/// What the other backend is given for `shapes`: one primitive per shape,
+/// index for index, and the quads that stand in for the planes.
+pub fn primitives(shapes: &[Shape], scene: &Scene) -> (Vec<Primitive>, Vec<Option<PlaneQuad>>) {
+    let half_side = (QUAD_SCALE * scene_size(scene)).next_power_of_two_f32();
+    shapes
+        .iter()
+        .map(|shape| match shape {
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => (
+                Primitive::Sphere {
+                    center: sphere.center(),
+                    radius: sphere.radius(),
+                },
+                None,
+            ),
+            Shape::Plane(plane) => {
+                let quad = plane_quad(plane, scene.camera.position, half_side);
+                (Primitive::Quad(quad.corners), Some(quad))
+            }
+        })
+        .unzip()
+}
+
+trait PowerOfTwo {
+    fn next_power_of_two_f32(self) -> f32;
+}
+
+impl PowerOfTwo for f32 {
+    /// The smallest power of two at least `self` (for positive finite input):
+    /// corners at `center ± 2^k` round like `center` does, no worse.
+    fn next_power_of_two_f32(self) -> f32 {
+        2f32.powi(self.log2().ceil() as i32)
+    }
+}
+
+/// One backend's answer for one ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Answer {
+    pub object: usize,
+    pub t: f32,
+}
+
+impl From<Hit> for Answer {
+    fn from(hit: Hit) -> Self {
+        Answer {
+            object: hit.object,
+            t: hit.t,
+        }
+    }
+}
+
+/// Why a difference is not counted as a disagreement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Boundary {
+    Silhouette,
+    Grazing,
+    BeyondQuad,
+    Tie,
+    RayEnd,
+}
+
+impl Boundary {
+    pub const ALL: [Boundary; 5] = [
+        Boundary::Silhouette,
+        Boundary::Grazing,
+        Boundary::BeyondQuad,
+        Boundary::Tie,
+        Boundary::RayEnd,
+    ];
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            Boundary::Silhouette => "silhouette (within a few ulps of a sphere's outline)",
+            Boundary::Grazing => "grazing (within a few ulps of parallel to a plane)",
+            Boundary::BeyondQuad => "beyond the quad (our plane hit is outside Embree's quad)",
+            Boundary::Tie => "tie (two surfaces at the same t)",
+            Boundary::RayEnd => "at the ray's end (a hit within the tolerance of t_min or t_max)",
+        }
+    }
+}
+
+/// The verdict on one ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    Agree,
+    Boundary(Boundary),
+    Disagree,
+}
+
+/// One ray with both answers and the verdict.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Compared {
+    pub cast: CastRay,
+    pub ours: Option<Answer>,
+    pub theirs: Option<Answer>,
+    pub verdict: Verdict,
+    /// `|t_theirs - t_ours| / t_ours` when both hit the same object.
+    pub relative_difference: Option<f32>,
+    /// The difference over its tolerance (above 1 is out of tolerance);
+    /// infinite when the answers name different objects.
+    pub severity: f32,
+}
+
+/// The geometry both backends are compared on.
+pub struct Reference<'a> {
+    pub shapes: &'a [Shape],
+    /// The quad standing in for each plane, index for index with `shapes`.
+    pub quads: &'a [Option<PlaneQuad>],
+}
+
+impl Reference<'_> {
+    /// Compares our answer on `cast` with `theirs`.
+    pub fn compare(&self, cast: &CastRay, theirs: Option<Answer>) -> Compared {
+        let ray = &cast.ray;
+        let ours = nearest_hit(self.shapes, ray, cast.t_min, cast.t_max).map(Answer::from);
+        let mut relative_difference = None;
+        let mut severity = f32::INFINITY;
+        let verdict = match (ours, theirs) {
+            (None, None) => {
+                severity = 0.0;
+                Verdict::Agree
+            }
+            (Some(a), Some(b)) if a.object == b.object => {
+                relative_difference = Some((b.t - a.t).abs() / a.t.abs());
+                severity = (b.t - a.t).abs() / self.tolerance(a.object, ray, a.t);
+                if severity <= 1.0 {
+                    Verdict::Agree
+                } else {
+                    self.boundary_of(a.object, ray, a.t)
+                        .map_or(Verdict::Disagree, Verdict::Boundary)
+                }
+            }
+            // One backend saw a surface first that the other missed: is that
+            // surface at a boundary?
+            (Some(a), None) => self.disputed(a, cast),
+            (None, Some(b)) => self.disputed(b, cast),
+            (Some(a), Some(b)) => {
+                let (first, second) = if a.t <= b.t { (a, b) } else { (b, a) };
+                if (second.t - first.t).abs() <= self.tolerance(first.object, ray, first.t) {
+                    Verdict::Boundary(Boundary::Tie)
+                } else {
+                    self.disputed(first, cast)
+                }
+            }
+        };
+        Compared {
+            cast: *cast,
+            ours,
+            theirs,
+            verdict,
+            relative_difference,
+            severity,
+        }
+    }
+
+    /// The verdict on a hit that only one backend reported (first).
+    fn disputed(&self, hit: Answer, cast: &CastRay) -> Verdict {
+        let ray = &cast.ray;
+        if let Some(boundary) = self.boundary_of(hit.object, ray, hit.t) {
+            return Verdict::Boundary(boundary);
+        }
+        let tolerance = self.tolerance(hit.object, ray, hit.t);
+        if hit.t - cast.t_min <= tolerance || cast.t_max - hit.t <= tolerance {
+            Verdict::Boundary(Boundary::RayEnd)
+        } else {
+            Verdict::Disagree
+        }
+    }
+
+    /// How far `t` on `object` may differ between the backends.
+    pub fn tolerance(&self, object: usize, ray: &Ray, t: f32) -> f32 {
+        let rounding =
+            TOLERANCE_EPSILONS * f32::EPSILON * error_scale(&self.shapes[object], ray, t);
+        let quad = self.quads.get(object).copied().flatten();
+        let quad_error = match (quad, self.shapes[object]) {
+            (Some(quad), Shape::Plane(plane)) if !quad.axis_aligned => {
+                let reach = quad
+                    .corners
+                    .iter()
+                    .map(|&corner| (corner - ray.origin).length())
+                    .fold(0.0, f32::max);
+                let distance = quad.corner_offset + TOLERANCE_EPSILONS * f32::EPSILON * reach;
+                distance / plane.normal().dot(ray.dir).abs()
+            }
+            _ => 0.0,
+        };
+        rounding + quad_error
+    }
+
+    /// The boundary case the ray is at on `object`, if any (`t` is the hit
+    /// one backend reported there).
+    pub fn boundary_of(&self, object: usize, ray: &Ray, t: f32) -> Option<Boundary> {
+        match self.shapes[object] {
+            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+                on_silhouette(&sphere, ray).then_some(Boundary::Silhouette)
+            }
+            Shape::Plane(plane) => {
+                if grazes(&plane, ray) {
+                    return Some(Boundary::Grazing);
+                }
+                let quad = self.quads.get(object).copied().flatten()?;
+                let local = ray.at(t) - quad.center;
+                let reach = local.dot(quad.u).abs().max(local.dot(quad.v).abs());
+                (reach >= quad.half_side * (1.0 - QUAD_EDGE_MARGIN) || !reach.is_finite())
+                    .then_some(Boundary::BeyondQuad)
+            }
+        }
+    }
+}
+
+/// The length scale of the rounding error of `t` on `shape` (divided by
+/// `|dir|`, so in units of `t`): to first order each backend's `t` is off by
+/// a few `f32::EPSILON` times this.
+///
+/// - Sphere: the distance along the ray is `projection ∓ half_chord`. The
+///   projection is off by roundings of `|o - c|`; the half-chord
+///   `sqrt(r² - l²)` amplifies the error of the closest-approach distance
+///   `l` (itself roundings of `|o - c|`) by `r / half_chord`, which grows
+///   without bound at tangency (see [`SILHOUETTE_EPSILONS`]).
+/// - Plane: `t = ((p - o)·n) / (d·n)`: roundings of `|p - o|` and of the
+///   distance itself, both divided by the cosine of the angle of incidence.
+pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
+    let length = ray.dir.as_dvec3().length();
+    let scale = match shape {
+        Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+            let (to_center, closest) = closest_approach(sphere, ray);
+            let radius = f64::from(sphere.radius());
+            // Inside the silhouette band the ray is a boundary case anyway;
+            // the half-chord at the band's inner edge caps the amplification
+            // (and keeps it finite for a line that misses).
+            let band = silhouette_band(to_center, radius);
+            let inner = (radius - band).max(0.0);
+            let smallest = (radius * radius - inner * inner).sqrt();
+            let half_chord = (radius * radius - closest * closest).max(0.0).sqrt();
+            to_center * (1.0 + radius / half_chord.max(smallest)) + radius
+        }
+        Shape::Plane(plane) => {
+            let to_point = (plane.point() - ray.origin).as_dvec3().length();
+            let distance = f64::from(t) * length;
+            let cosine = cosine_to_normal(plane, ray);
+            (to_point + distance) / cosine
+        }
+    };
+    (scale / length) as f32
+}
+
+/// `|o - c|` and the distance from the centre to the ray's line, in double
+/// precision.
+fn closest_approach(sphere: &Sphere, ray: &Ray) -> (f64, f64) {
+    let oc = (ray.origin - sphere.center()).as_dvec3();
+    let dir = ray.dir.as_dvec3();
+    let foot = oc - (oc.dot(dir) / dir.dot(dir)) * dir;
+    (oc.length(), foot.length())
+}
+
+fn cosine_to_normal(plane: &Plane, ray: &Ray) -> f64 {
+    let dir = ray.dir.as_dvec3();
+    (dir.dot(plane.normal().as_dvec3()) / dir.length()).abs()
+}
+
+/// Whether the ray passes within [`SILHOUETTE_EPSILONS`] of the sphere's outline.
+pub fn on_silhouette(sphere: &Sphere, ray: &Ray) -> bool {
+    let (to_center, closest) = closest_approach(sphere, ray);
+    let radius = f64::from(sphere.radius());
+    (closest - radius).abs() <= silhouette_band(to_center, radius)
+}
+
+/// The half-width of the silhouette band, as a distance from the centre.
+fn silhouette_band(to_center: f64, radius: f64) -> f64 {
+    f64::from(SILHOUETTE_EPSILONS * f32::EPSILON) * (to_center + radius)
+}
+
+/// Whether the ray is within [`GRAZING_EPSILONS`] of parallel to the plane.
+pub fn grazes(plane: &Plane, ray: &Ray) -> bool {
+    cosine_to_normal(plane, ray) <= f64::from(GRAZING_EPSILONS * f32::EPSILON)
+}
+
+/// The summary of a cross-check.
+#[derive(Debug, Clone, Default)]
+pub struct Tally {
+    /// Rays compared, by kind: primary, shadow, reflection, refraction.
+    pub by_kind: [u64; 4],
+    pub both_miss: u64,
+    /// Same object, `t` within tolerance.
+    pub same_hit: u64,
+    /// Boundary cases, by [`Boundary::ALL`].
+    pub boundary: [u64; 5],
+    pub disagreements: u64,
+    /// Relative differences of `t` where both hit the same object, outside
+    /// the boundary cases.
+    pub relative_differences: Vec<f32>,
+    /// The largest relative difference of `t` in a boundary case where both
+    /// hit the same object.
+    pub boundary_max_relative_difference: f32,
+    /// The worst rays, worst first (at most [`WORST_KEPT`]).
+    pub worst: Vec<Compared>,
+}
+
+/// How many of the worst rays a [`Tally`] keeps.
+pub const WORST_KEPT: usize = 10;
+
+impl Tally {
+    pub fn total(&self) -> u64 {
+        self.by_kind.iter().sum()
+    }
+
+    fn add(&mut self, compared: Compared) {
+        let kind = match compared.cast.kind {
+            RayKind::Primary => 0,
+            RayKind::Shadow => 1,
+            RayKind::Reflection => 2,
+            RayKind::Refraction => 3,
+        };
+        self.by_kind[kind] += 1;
+        match compared.verdict {
+            Verdict::Agree if compared.ours.is_none() => self.both_miss += 1,
+            Verdict::Agree => self.same_hit += 1,
+            Verdict::Boundary(reason) => self.boundary[reason as usize] += 1,
+            Verdict::Disagree => self.disagreements += 1,
+        }
+        if let Some(difference) = compared.relative_difference {
+            if let Verdict::Boundary(_) = compared.verdict {
+                self.boundary_max_relative_difference =
+                    self.boundary_max_relative_difference.max(difference);
+            } else {
+                self.relative_differences.push(difference);
+            }
+        }
+        if compared.severity > 0.0 {
+            self.worst.push(compared);
+            if self.worst.len() > 4 * WORST_KEPT {
+                self.keep_worst();
+            }
+        }
+    }
+
+    fn keep_worst(&mut self) {
+        // Stable: among equals, the earlier ray stays first.
+        self.worst.sort_by(|a, b| rank(b).total_cmp(&rank(a)));
+        self.worst.truncate(WORST_KEPT);
+    }
+
+    fn merge(mut self, other: Tally) -> Tally {
+        for (mine, theirs) in self.by_kind.iter_mut().zip(other.by_kind) {
+            *mine += theirs;
+        }
+        for (mine, theirs) in self.boundary.iter_mut().zip(other.boundary) {
+            *mine += theirs;
+        }
+        self.both_miss += other.both_miss;
+        self.same_hit += other.same_hit;
+        self.disagreements += other.disagreements;
+        self.relative_differences.extend(other.relative_differences);
+        self.boundary_max_relative_difference = self
+            .boundary_max_relative_difference
+            .max(other.boundary_max_relative_difference);
+        self.worst.extend(other.worst);
+        self.keep_worst();
+        self
+    }
+
+    /// The median and the largest relative difference of `t` outside the
+    /// boundary cases, if any hit was shared.
+    pub fn median_and_max(&self) -> Option<(f32, f32)> {
+        let mut sorted = self.relative_differences.clone();
+        if sorted.is_empty() {
+            return None;
+        }
+        sorted.sort_by(f32::total_cmp);
+        let middle = sorted.len() / 2;
+        let median = if sorted.len() % 2 == 1 {
+            sorted[middle]
+        } else {
+            (sorted[middle - 1] + sorted[middle]) / 2.0
+        };
+        Some((median, sorted[sorted.len() - 1]))
+    }
+
+    pub fn clean(&self) -> bool {
+        self.disagreements == 0
+    }
+}
+
+/// Worst first: disagreements, then boundary cases of rounding, then
+/// agreements, each by severity. Hits beyond the quad come last: they are
+/// where our set-up cannot compare, not a sign of rounding trouble.
+fn rank(compared: &Compared) -> f64 {
+    let class = match compared.verdict {
+        Verdict::Disagree => 3.0,
+        Verdict::Boundary(Boundary::BeyondQuad) => 0.0,
+        Verdict::Boundary(_) => 2.0,
+        Verdict::Agree => 1.0,
+    };
+    // Severity in [0, inf] maps into [0, 1) inside its class (written out
+    // for infinity: inf / inf would be NaN).
+    let severity = f64::from(compared.severity);
+    let within = if severity.is_finite() {
+        severity / (1.0 + severity)
+    } else {
+        1.0
+    };
+    class + within * 0.999
+}
+
+/// Compares every ray in `rays` with `theirs`, in parallel; the result does
+/// not depend on the number of threads.
+pub fn cross_check(
+    reference: &Reference,
+    rays: &[CastRay],
+    theirs: impl Fn(&CastRay) -> Option<Answer> + Sync,
+) -> Tally {
+    rays.par_chunks(4096)
+        .map(|chunk| {
+            let mut tally = Tally::default();
+            for cast in chunk {
+                tally.add(reference.compare(cast, theirs(cast)));
+            }
+            tally.keep_worst();
+            tally
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .fold(Tally::default(), Tally::merge)
+}
+
+/// Traces every ray with `trace` on this thread, in order, and returns the
+/// rays per second.
+pub fn rays_per_second<T>(rays: &[CastRay], trace: impl Fn(&CastRay) -> T) -> f64 {
+    let start = Instant::now();
+    for cast in rays {
+        std::hint::black_box(trace(std::hint::black_box(cast)));
+    }
+    rays.len() as f64 / start.elapsed().as_secs_f64().max(1e-9)
+}
+
+/// Our side of the comparison, as [`rays_per_second`] times it.
+pub fn ours(shapes: &[Shape], cast: &CastRay) -> Option<Hit> {
+    nearest_hit(shapes, &cast.ray, cast.t_min, cast.t_max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Sphere;
+
+    fn cast(origin: Vec3, dir: Vec3) -> CastRay {
+        CastRay {
+            kind: RayKind::Primary,
+            ray: Ray::new(origin, dir),
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        }
+    }
+
+    #[test]
+    fn axis_aligned_quad_lies_exactly_in_its_plane() {
+        let floor = Plane::new(Vec3::new(0.0, -1.25, 0.0), Vec3::Y);
+        let quad = plane_quad(&floor, Vec3::new(0.3, 1.7, -6.1), 8192.0);
+        assert_eq!(quad.corner_offset, 0.0);
+        assert!(quad.axis_aligned);
+        assert!(quad.corners.iter().all(|corner| corner.y == -1.25));
+        assert_eq!(quad.center.x, 0.3);
+    }
+
+    #[test]
+    fn tilted_quad_reports_its_rounding() {
+        let tilted = Plane::new(Vec3::new(0.1, 0.2, 0.3), Vec3::new(1.0, 2.0, 3.0));
+        let quad = plane_quad(&tilted, Vec3::new(5.0, 5.0, 5.0), 4096.0);
+        // Corners 4096 away are rounded to about 4096 * 2^-24.
+        assert!(quad.corner_offset > 0.0 && quad.corner_offset < 4096.0 * 4.0 * f32::EPSILON);
+        assert!(!quad.axis_aligned);
+    }
+
+    #[test]
+    fn scene_size_is_a_power_of_two_quad() {
+        assert_eq!(1000.0f32.next_power_of_two_f32(), 1024.0);
+        assert_eq!(1024.0f32.next_power_of_two_f32(), 1024.0);
+    }
+
+    fn sphere_reference() -> (Vec<Shape>, Vec<Option<PlaneQuad>>) {
+        (
+            vec![Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0).into()],
+            vec![None],
+        )
+    }
+
+    #[test]
+    fn equal_answers_agree_and_far_ones_disagree() {
+        let (shapes, quads) = sphere_reference();
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        let ray = cast(Vec3::ZERO, Vec3::Z);
+        let same = reference.compare(&ray, Some(Answer { object: 0, t: 4.0 }));
+        assert_eq!(same.verdict, Verdict::Agree);
+        assert_eq!(same.relative_difference, Some(0.0));
+        let off = reference.compare(&ray, Some(Answer { object: 0, t: 4.01 }));
+        assert_eq!(off.verdict, Verdict::Disagree);
+        let missed = reference.compare(&ray, None);
+        assert_eq!(missed.verdict, Verdict::Disagree);
+    }
+
+    #[test]
+    fn a_grazing_miss_is_a_silhouette_case() {
+        let (shapes, quads) = sphere_reference();
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        let tangent = cast(Vec3::new(1.0, 0.0, 0.0), Vec3::Z);
+        let compared = reference.compare(&tangent, None);
+        assert_eq!(compared.verdict, Verdict::Boundary(Boundary::Silhouette));
+        let clear_miss = cast(Vec3::new(1.01, 0.0, 0.0), Vec3::Z);
+        let compared = reference.compare(&clear_miss, Some(Answer { object: 0, t: 5.0 }));
+        assert_eq!(compared.verdict, Verdict::Disagree);
+    }
+
+    #[test]
+    fn plane_hits_past_the_quad_are_boundary_cases() {
+        let floor = Plane::new(Vec3::ZERO, Vec3::Y);
+        let quad = plane_quad(&floor, Vec3::new(0.0, 1.0, 0.0), 16.0);
+        let shapes = vec![Shape::Plane(floor)];
+        let quads = vec![Some(quad)];
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        // Down at a shallow slope: hits the floor at x = 100, past the quad.
+        let far = cast(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, -0.01, 0.0));
+        let compared = reference.compare(&far, None);
+        assert_eq!(compared.verdict, Verdict::Boundary(Boundary::BeyondQuad));
+        let near = cast(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0));
+        assert_eq!(reference.compare(&near, None).verdict, Verdict::Disagree);
+    }
+
+    #[test]
+    fn tally_counts_and_ranks() {
+        let (shapes, quads) = sphere_reference();
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        let rays = [
+            cast(Vec3::ZERO, Vec3::Z),
+            cast(Vec3::new(3.0, 0.0, 0.0), Vec3::Z),
+            cast(Vec3::new(0.5, 0.0, 0.0), Vec3::Z),
+        ];
+        // A fake backend that misses everything: the first and last rays
+        // disagree, the middle one agrees (both miss).
+        let tally = cross_check(&reference, &rays, |_| None);
+        assert_eq!(tally.total(), 3);
+        assert_eq!(tally.both_miss, 1);
+        assert_eq!(tally.disagreements, 2);
+        assert!(!tally.clean());
+        assert_eq!(tally.worst.len(), 2);
+        assert_eq!(tally.worst[0].verdict, Verdict::Disagree);
+    }
+}
