@@ -68,17 +68,23 @@ pub fn write_atomically(
     if path.is_dir() {
         anyhow::bail!("cannot write {}: it is a folder", path.display());
     }
-    let mut temporary = tempfile::Builder::new()
-        .prefix(".raylab-")
-        .suffix(".tmp")
-        .tempfile_in(folder)
-        .with_context(|| {
-            format!(
-                "cannot write {}: cannot create a file in {}",
-                path.display(),
-                folder.display()
-            )
-        })?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".raylab-").suffix(".tmp");
+    // A temporary file is private (0600) by default; the image it becomes is
+    // an ordinary output, readable like any file the user creates (0666 less
+    // the umask), e.g. by a web server showing a class's renders.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut temporary = builder.tempfile_in(folder).with_context(|| {
+        format!(
+            "cannot write {}: cannot create a file in {}",
+            path.display(),
+            folder.display()
+        )
+    })?;
     {
         let mut buffered = std::io::BufWriter::new(temporary.as_file_mut());
         write(&mut buffered)?;

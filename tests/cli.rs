@@ -359,3 +359,50 @@ fn crosscheck_without_embree_says_how_to_enable_it() {
     assert!(probe.status.success(), "{}", stderr(&probe));
     assert!(stdout(&probe).contains("embree: not built in"));
 }
+
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_stops_quietly_without_a_panic() {
+    // `raylab scene --chapter 8 | head -0`: the reader has gone before
+    // raylab writes. Close the pipe's read end before the child starts, so
+    // its first write surely meets a closed pipe.
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut ends = [0; 2];
+    // SAFETY: `pipe` fills the two descriptors, which we then own.
+    assert_eq!(unsafe { libc::pipe(ends.as_mut_ptr()) }, 0, "pipe");
+    let (read_end, write_end) =
+        unsafe { (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1])) };
+    drop(read_end);
+    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args(["scene", "--chapter", "8"])
+        .stdout(std::process::Stdio::from(write_end))
+        .output()
+        .expect("run raylab");
+    let message = stderr(&out);
+    assert!(!message.contains("panicked"), "{message}");
+    // Killed by SIGPIPE, as `cat` or `ls` would be: no exit code.
+    use std::os::unix::process::ExitStatusExt;
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{message}");
+}
+
+#[cfg(unix)]
+#[test]
+fn images_get_the_permissions_of_any_new_file() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = raylab(
+        &["render", "--chapter", "1", "--width", "8", "--height", "6"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let ordinary = dir.path().join("ordinary");
+    std::fs::File::create(&ordinary).expect("create a file");
+    let mode = |path: &Path| {
+        std::fs::metadata(path)
+            .expect("metadata")
+            .permissions()
+            .mode()
+            & 0o777
+    };
+    assert_eq!(mode(&dir.path().join("chapter-1.png")), mode(&ordinary));
+}
