@@ -1,24 +1,11 @@
 //! The `raylab` command as a student meets it: renders, listings, and clear
 //! errors with a non-zero exit and no output file for every kind of bad input.
 
+mod common;
+use common::{raylab, stderr, stdout};
+
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn raylab(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run raylab")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
+use std::process::Command;
 
 fn only_files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)

@@ -2,22 +2,10 @@
 //! times (machines are noisy); they check what the sweep rendered and how
 //! far each setting is from the reference.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
+use common::{raylab, stderr};
 
 use raylab::cost::{CostConfig, Knob};
-
-fn raylab(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run raylab")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 #[test]
 fn error_falls_as_samples_rise() {

@@ -1,27 +1,13 @@
 //! `raylab diff` on real renders: the metrics it prints are checked against
 //! values computed here independently, from the two images' bytes.
 
+mod common;
+use common::{raylab, stderr, stdout};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
-
-fn raylab(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run raylab")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// Renders a chapter's built-in scene at the test size with `tweak` applied.
 fn render(chapter: u8, tweak: impl FnOnce(&mut raylab::RenderSettings)) -> raylab::Rendered {
