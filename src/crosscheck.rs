@@ -117,14 +117,8 @@ pub fn scene_size(scene: &Scene) -> f32 {
 /// for an axis-aligned plane the coordinate along the normal is copied, not
 /// computed, and the quad lies exactly in the plane.
 pub fn plane_quad(plane: &Plane, eye: Vec3, half_side: f32) -> PlaneQuad {
-    let normal = plane.normal();
-    let helper = if normal.x.abs() > 0.9 {
-        Vec3::Y
-    } else {
-        Vec3::X
-    };
-    let u = normal.cross(helper).normalize();
-    let v = normal.cross(u).normalize();
+    let (u, v) = crate::scene::plane_axes(plane);
+    let v = v.normalize();
     let point = plane.point();
     let to_eye = eye - point;
     let center = point + to_eye.dot(u) * u + to_eye.dot(v) * v;
@@ -146,7 +140,7 @@ pub fn plane_quad(plane: &Plane, eye: Vec3, half_side: f32) -> PlaneQuad {
         half_side,
         corners,
         corner_offset,
-        axis_aligned: normal.cmpeq(Vec3::ZERO).bitmask().count_ones() == 2,
+        axis_aligned: plane.normal().cmpeq(Vec3::ZERO).bitmask().count_ones() == 2,
     }
 }
 

@@ -56,20 +56,27 @@ impl Shape {
     fn pattern_coordinates(&self, point: Vec3) -> Vec3 {
         match self {
             Shape::Plane(plane) => {
-                let normal = plane.normal();
-                let helper = if normal.x.abs() > 0.9 {
-                    Vec3::Y
-                } else {
-                    Vec3::X
-                };
-                let u = normal.cross(helper).normalize();
-                let v = normal.cross(u);
+                let (u, v) = plane_axes(plane);
                 let local = point - plane.point();
                 Vec3::new(local.dot(u), local.dot(v), 0.0)
             }
             Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => point - sphere.center(),
         }
     }
+}
+
+/// Two axes lying in `plane`, perpendicular to each other and to its normal:
+/// where a checker pattern is laid out, and how a plane becomes a quad for
+/// Embree. The helper axis is any one not close to the normal.
+pub fn plane_axes(plane: &Plane) -> (Vec3, Vec3) {
+    let normal = plane.normal();
+    let helper = if normal.x.abs() > 0.9 {
+        Vec3::Y
+    } else {
+        Vec3::X
+    };
+    let u = normal.cross(helper).normalize();
+    (u, normal.cross(u))
 }
 
 impl From<Plane> for Shape {
