@@ -117,11 +117,24 @@ want="${WHEEL_SHA256[$ARCH]}"
 
 if [[ ! -f "$wheel" ]] || [[ "$(sha256sum "$wheel" | cut -d' ' -f1)" != "$want" ]]; then
     rm -rf "$CACHE/wheel"; mkdir -p "$CACHE/wheel"
-    log "pip download embreex==$EMBREEX_VERSION (${WHEEL_PLATFORM[$ARCH]})"
-    python3 -m pip download --quiet --disable-pip-version-check --no-deps \
-        --only-binary=:all: --python-version 3.11 --platform "${WHEEL_PLATFORM[$ARCH]}" \
-        --dest "$CACHE/wheel" "embreex==$EMBREEX_VERSION" >&2 \
-        || die "pip download of embreex==$EMBREEX_VERSION failed"
+    command -v python3 >/dev/null || { apt_update_once; apt_install python3; }
+    if python3 -m pip --version >/dev/null 2>&1; then
+        log "pip download embreex==$EMBREEX_VERSION (${WHEEL_PLATFORM[$ARCH]})"
+        python3 -m pip download --quiet --disable-pip-version-check --no-deps \
+            --only-binary=:all: --python-version 3.11 --platform "${WHEEL_PLATFORM[$ARCH]}" \
+            --dest "$CACHE/wheel" "embreex==$EMBREEX_VERSION" >&2 \
+            || die "pip download of embreex==$EMBREEX_VERSION failed"
+    else
+        # No pip (a fresh Debian has none): find the file in PyPI's simple
+        # index, as pip would, and fetch it; the hash check below still applies.
+        command -v curl >/dev/null || { apt_update_once; apt_install curl ca-certificates; }
+        url="$(curl -fsSL "https://pypi.org/simple/embreex/" \
+            | grep -o "href=\"[^\"]*/${WHEEL_FILE[$ARCH]}[#\"]" | head -n 1 \
+            | sed -e 's/^href="//' -e 's/[#"]$//')" || true
+        [[ -n "$url" ]] || die "cannot find ${WHEEL_FILE[$ARCH]} in PyPI's index"
+        log "curl $url"
+        curl -fsSL -o "$wheel" "$url" || die "download of $url failed"
+    fi
     [[ -f "$wheel" ]] || die "expected $wheel, got: $(ls "$CACHE/wheel")"
 fi
 got="$(sha256sum "$wheel" | cut -d' ' -f1)"
