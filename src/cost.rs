@@ -190,32 +190,20 @@ pub struct ImageError {
 }
 
 impl ImageError {
-    /// The error of `image` against `reference` (same size, RGB8).
+    /// The error of `image` against `reference` (same size, RGB8), with the
+    /// metrics of `raylab diff` at a threshold of 1 code.
     pub fn between(image: &[u8], reference: &[u8]) -> ImageError {
         assert_eq!(image.len(), reference.len(), "images of different sizes");
-        let mut squares = 0.0f64;
-        let mut pixels_off = 0usize;
-        for (a, b) in image.chunks_exact(3).zip(reference.chunks_exact(3)) {
-            let mut worst = 0u8;
-            for (x, y) in a.iter().zip(b) {
-                let difference = x.abs_diff(*y);
-                squares += f64::from(difference) * f64::from(difference);
-                worst = worst.max(difference);
-            }
-            if worst > 1 {
-                pixels_off += 1;
-            }
-        }
-        let pixels = (image.len() / 3).max(1);
-        let rmse = (squares / image.len().max(1) as f64).sqrt();
+        let one_code = crate::diff::Criteria {
+            threshold: 1,
+            allowed_percent: 0.0,
+        };
+        let width = (image.len() / 3) as u32;
+        let metrics = crate::diff::compare_pixels(image, reference, width, one_code).metrics;
         ImageError {
-            rmse,
-            psnr_db: if rmse > 0.0 {
-                20.0 * (255.0 / rmse).log10()
-            } else {
-                f64::INFINITY
-            },
-            share_off: pixels_off as f64 / pixels as f64,
+            rmse: metrics.rmse,
+            psnr_db: metrics.psnr_db,
+            share_off: metrics.pixels_over as f64 / metrics.pixels.max(1) as f64,
         }
     }
 }

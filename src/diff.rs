@@ -185,10 +185,17 @@ pub fn compare(
     if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
         bail!("{} and {}: no pixels to compare", names.0, names.1);
     }
+    Ok(compare_pixels(&a.rgb, &b.rgb, a.width, criteria))
+}
+
+/// Compares two RGB8 buffers of the same length, `width` pixels a row (the
+/// caller checks the sizes). `raylab cost` measures its errors with this too.
+pub fn compare_pixels(a: &[u8], b: &[u8], width: u32, criteria: Criteria) -> Comparison {
+    let pixels = (a.len().min(b.len()) / 3) as u64;
     let mut pixel_differences = Vec::with_capacity(pixels as usize);
     let (mut sum, mut sum_squares) = (0u64, 0u64);
     let (mut max, mut max_index, mut pixels_over) = (0u8, None, 0u64);
-    for (index, (pa, pb)) in a.rgb.chunks_exact(3).zip(b.rgb.chunks_exact(3)).enumerate() {
+    for (index, (pa, pb)) in a.chunks_exact(3).zip(b.chunks_exact(3)).enumerate() {
         let mut largest = 0u8;
         for (&ca, &cb) in pa.iter().zip(pb) {
             let d = ca.abs_diff(cb);
@@ -206,7 +213,7 @@ pub fn compare(
         pixel_differences.push(largest);
     }
     // Integer sums are exact; only the final divisions round.
-    let values = (3 * pixels) as f64;
+    let values = (3 * pixels).max(1) as f64;
     let mean = sum as f64 / values;
     let rmse = (sum_squares as f64 / values).sqrt();
     let psnr_db = if sum_squares == 0 {
@@ -214,13 +221,13 @@ pub fn compare(
     } else {
         20.0 * (255.0 / rmse).log10()
     };
-    let width = u64::from(a.width);
-    Ok(Comparison {
+    let row = u64::from(width.max(1));
+    Comparison {
         metrics: Metrics {
-            width: a.width,
-            height: a.height,
+            width,
+            height: (pixels / row) as u32,
             max,
-            max_at: max_index.map(|i| ((i % width) as u32, (i / width) as u32)),
+            max_at: max_index.map(|i| ((i % row) as u32, (i / row) as u32)),
             mean,
             rmse,
             psnr_db,
@@ -229,7 +236,7 @@ pub fn compare(
         },
         criteria,
         pixel_differences,
-    })
+    }
 }
 
 impl Comparison {
