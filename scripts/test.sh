@@ -12,5 +12,7 @@ cargo test --all-targets --features embree
 # The default build needs no Embree, and says how to get it.
 cargo test --test cli
 cargo test --doc
+# The lessons are the crate docs: they must build with no broken link.
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 cargo test --release --test snapshots --test determinism
 cargo bench --no-run

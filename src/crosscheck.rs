@@ -1,5 +1,6 @@
 //! Cross-checking our intersections against a second, independent
-//! intersector (Embree 4, see [`crate::embree`] and docs/embree.md).
+//! intersector (Embree 4: the `embree` module, built with the feature of that
+//! name, and docs/embree.md).
 //!
 //! Every ray a render casts is traced twice: by [`nearest_hit`] over the
 //! tracer's shapes, and by the other backend. The two answers are compared:
