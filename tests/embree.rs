@@ -287,3 +287,25 @@ fn probe_shows_both_answers_and_the_verdict() {
     assert!(text.contains("embree: no hit"), "{text}");
     assert!(text.contains("boundary case: beyond the quad"), "{text}");
 }
+
+#[test]
+fn crosscheck_refuses_more_rays_than_memory_holds() {
+    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
+        .args([
+            "crosscheck",
+            "--chapter",
+            "8",
+            "--width",
+            "4000",
+            "--height",
+            "3000",
+        ])
+        .output()
+        .expect("run raylab");
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{message}");
+    assert!(
+        message.contains("4000x3000 at 4 samples per pixel") && message.contains("--samples"),
+        "{message}"
+    );
+}
