@@ -13,10 +13,17 @@ use crate::{Ray, Vec3};
 pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     // Normalising first keeps n.n from underflowing (n = 1e-30) or
     // overflowing (n = 1e30); the unit normal then needs no division.
-    match crate::unit_vector(n) {
-        Some(n) => d - 2.0 * d.dot(n) * n,
-        None => Vec3::NAN,
+    let Some(n) = crate::unit_vector(n) else {
+        return Vec3::NAN;
+    };
+    // A huge d (components near f32::MAX = 2^128) would overflow 2 (d.n)
+    // although the mirrored vector, as long as d, fits. Scaling by a power of
+    // two is exact, so reflect d / 2^64 and scale the answer back.
+    const HUGE: f32 = (1u64 << 63) as f32 * 2.0; // 2^64
+    if d.abs().max_element() > HUGE {
+        return reflect(d / HUGE, n) * HUGE;
     }
+    d - 2.0 * d.dot(n) * n
 }
 
 /// The ray a mirror sends on after `incoming` met it at `surface`.
@@ -41,6 +48,16 @@ mod tests {
         let expected = Vec3::new(1.0, 2.0, 3.0);
         assert_eq!(reflect(d, Vec3::new(0.0, 7.0, 0.0)), expected);
         assert_eq!(reflect(d, Vec3::new(0.0, -0.25, 0.0)), expected);
+    }
+
+    #[test]
+    fn huge_directions_do_not_overflow() {
+        // 2 (d.n) = -6e38 is beyond f32::MAX, the answer is not.
+        let r = reflect(Vec3::new(3e38, -3e38, 0.0), Vec3::Y);
+        assert_eq!(r, Vec3::new(3e38, 3e38, 0.0));
+        // d parallel to n, with |d| itself beyond f32::MAX: d comes back.
+        let d = Vec3::splat(3e38);
+        assert_eq!(reflect(d, Vec3::ONE), -d);
     }
 
     #[test]

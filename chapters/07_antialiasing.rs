@@ -44,7 +44,17 @@ pub fn sample_offset(
     let random = |dimension: u32| unit_random(seed, pixel, index, dimension);
     match sampling {
         Sampling::Grid => ((column + 0.5) * cell, (row + 0.5) * cell),
-        Sampling::Jittered => ((column + random(0)) * cell, (row + random(1)) * cell),
+        Sampling::Jittered => {
+            // (column + r) can round up to the next cell: with two cells,
+            // 1 + (1 - 2^-24) is not an f32 and rounds to 2, which would put
+            // the sample at 1.0, on the next pixel's edge. Clamping to the
+            // largest f32 below 1 keeps every sample inside its own pixel.
+            let inside = |x: f32| x.min(1.0 - f32::EPSILON / 2.0);
+            (
+                inside((column + random(0)) * cell),
+                inside((row + random(1)) * cell),
+            )
+        }
         Sampling::Random => (random(0), random(1)),
     }
 }
@@ -105,6 +115,19 @@ mod tests {
             let (column, row) = ((index % 4) as f32, (index / 4) as f32);
             assert!(x >= column / 4.0 && x < (column + 1.0) / 4.0, "x = {x}");
             assert!(y >= row / 4.0 && y < (row + 1.0) / 4.0, "y = {y}");
+        }
+    }
+
+    #[test]
+    fn a_jittered_sample_never_reaches_the_next_pixel() {
+        // Here 1 + r rounds to 2 in f32: without the clamp, dx would be 1.0.
+        let (dx, _) = sample_offset(Sampling::Jittered, 4, 1, (109_417, 17), 0);
+        assert_eq!(dx, 1.0 - f32::EPSILON / 2.0);
+        for x in 0..20_000 {
+            for index in 0..4 {
+                let (dx, dy) = sample_offset(Sampling::Jittered, 4, index, (x, 3), 0);
+                assert!((0.0..1.0).contains(&dx) && (0.0..1.0).contains(&dy));
+            }
         }
     }
 

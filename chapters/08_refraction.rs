@@ -18,15 +18,19 @@ use crate::{Ray, Vec3, unit_vector};
 /// which happens past the critical angle `asin(1 / eta)` when `eta > 1`.
 /// Degenerate input (zero or non-finite vectors, `eta` not finite and > 0)
 /// gives `None`.
-pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
-    let d = unit_vector(d)?;
+pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let d = unit_vector(incident)?;
     let mut n = unit_vector(n)?;
     if !(eta > 0.0 && eta.is_finite()) {
         return None;
     }
     if eta == 1.0 {
-        // Same medium on both sides: the ray goes straight on, exactly.
-        return Some(d);
+        // Same medium on both sides: the ray goes straight on, exactly. A
+        // direction that is already unit (its squared length within a few
+        // rounding errors of 1) comes back bit for bit: normalising it again
+        // could move its last bits, and a no-op must not.
+        let already_unit = (incident.length_squared() - 1.0).abs() <= 4.0 * f32::EPSILON;
+        return Some(if already_unit { incident } else { d });
     }
     let mut cos_incidence = -d.dot(n);
     if cos_incidence < 0.0 {
@@ -112,8 +116,19 @@ mod tests {
 
     #[test]
     fn same_medium_is_an_exact_no_op() {
-        let d = Vec3::new(0.3, -0.5, 0.8);
-        assert_eq!(refract(d, Vec3::Y, 1.0), unit_vector(d));
+        // A unit direction comes back bit for bit, whatever its last bits.
+        for d in [
+            Vec3::new(0.6, -0.8, 0.0),
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+            Vec3::new(-1e-3, -1.0, 2e-4).normalize(),
+        ] {
+            assert_eq!(refract(d, Vec3::Y, 1.0), Some(d));
+        }
+        // A longer one comes back unit: (0, -2, 0) -> (0, -1, 0) exactly.
+        assert_eq!(
+            refract(Vec3::new(0.0, -2.0, 0.0), Vec3::X, 1.0),
+            Some(-Vec3::Y)
+        );
     }
 
     #[test]

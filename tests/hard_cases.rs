@@ -1554,9 +1554,14 @@ fn refraction() {
     assert!(cases.len() >= 15);
     let failures = run_directions("refract", &cases);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    // eta = 1 must return the unit input, bit for bit.
-    let d = v(0.3, -0.5, 0.8);
-    assert_eq!(refract(d, Vec3::Y, 1.0), raylab::unit_vector(d));
+    // eta = 1 must return a unit input bit for bit (glam's normalize and
+    // ours round differently, so this is not a tautology), and a longer one
+    // scaled to unit length: (0, 0, 8) -> (0, 0, 1) exactly.
+    for d in [v(0.3, -0.5, 0.8), v(1.0, 1e-4, -1.0), v(-2.0, 3.0, 7.0)] {
+        let unit = d.normalize();
+        assert_eq!(refract(unit, Vec3::Y, 1.0), Some(unit), "{unit}");
+    }
+    assert_eq!(refract(v(0.0, 0.0, 8.0), Vec3::Y, 1.0), Some(Vec3::Z));
 }
 
 #[test]
