@@ -54,6 +54,94 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()>
     })
 }
 
+/// Checks, before any work is done, that every output can be written and
+/// none would overwrite an input or another output.
+///
+/// A render or a comparison can take minutes; finding out only at the end
+/// that `--stats-json` points into a missing folder wastes them, and
+/// writing the image first would leave half the results behind. Each
+/// output's folder must exist and accept a new file (a temporary file is
+/// created there and removed), the output must not be a folder, and no two
+/// paths may name the same file (`-o` equal to the scene file, a heatmap
+/// written over the image it came from, a report over a student's PNG).
+/// `outputs` pairs each path with the option that names it, for the message.
+pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)]) -> Result<()> {
+    for (index, &(option, path)) in outputs.iter().enumerate() {
+        if path.is_dir() {
+            anyhow::bail!("{option} {}: it is a folder", path.display());
+        }
+        let folder = folder_of(path);
+        if !folder.is_dir() {
+            anyhow::bail!(
+                "{option} {}: the folder {} does not exist",
+                path.display(),
+                folder.display()
+            );
+        }
+        tempfile::Builder::new()
+            .prefix(".raylab-")
+            .suffix(".tmp")
+            .tempfile_in(folder)
+            .with_context(|| {
+                format!(
+                    "{option} {}: cannot create a file in {}",
+                    path.display(),
+                    folder.display()
+                )
+            })?;
+        let identity = file_identity(path);
+        if let Some(input) = inputs.iter().find(|input| file_identity(input) == identity) {
+            anyhow::bail!(
+                "{option} {}: that is an input ({}); writing it would destroy it",
+                path.display(),
+                input.display()
+            );
+        }
+        if let Some((other, _)) = outputs[..index]
+            .iter()
+            .find(|(_, other)| file_identity(other) == identity)
+        {
+            anyhow::bail!(
+                "{option} {} and {other} name the same file: one would overwrite the other",
+                path.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an image name that does not end in `.png`: raylab writes PNG
+/// only, and PNG bytes under `render.jpg` would mislead every viewer.
+pub fn check_png_name(option: &str, path: &Path) -> Result<()> {
+    let is_png = path
+        .extension()
+        .is_some_and(|extension| extension.eq_ignore_ascii_case("png"));
+    if !is_png {
+        anyhow::bail!(
+            "{option} {}: raylab writes PNG images; give a name ending in .png",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// The folder a file is (or would be) written in.
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    }
+}
+
+/// A path with its folder resolved (symbolic links, `..`), so that two
+/// spellings of one file compare equal, whether or not the file exists yet.
+fn file_identity(path: &Path) -> Option<std::path::PathBuf> {
+    path.canonicalize().ok().or_else(|| {
+        let folder = folder_of(path).canonicalize().ok()?;
+        Some(folder.join(path.file_name()?))
+    })
+}
+
 /// Writes a file atomically: `write` fills a temporary file in the same
 /// folder, which is renamed over `path` only once complete. A failed or
 /// interrupted write never leaves a partial file at `path`.
@@ -61,10 +149,7 @@ pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<()>,
 ) -> Result<()> {
-    let folder = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
+    let folder = folder_of(path);
     if path.is_dir() {
         anyhow::bail!("cannot write {}: it is a folder", path.display());
     }
@@ -102,6 +187,34 @@ pub fn write_atomically(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn outputs_are_checked_before_any_work() {
+        let folder = tempfile::tempdir().expect("temporary folder");
+        let input = folder.path().join("scene.toml");
+        std::fs::write(&input, "x").expect("write input");
+        let image = folder.path().join("image.png");
+        let ok = check_outputs(&[&input], &[("-o", &image)]);
+        assert!(ok.is_ok(), "{ok:?}");
+        let message = |result: Result<()>| format!("{:#}", result.expect_err("refused"));
+        // Another spelling of the input is still the input.
+        let respelled = folder.path().join(".").join("scene.toml");
+        assert!(message(check_outputs(&[&input], &[("-o", &respelled)])).contains("input"));
+        assert!(
+            message(check_outputs(&[], &[("-o", &image), ("--json", &image)]))
+                .contains("same file")
+        );
+        let missing = folder.path().join("no-such-folder").join("x.png");
+        assert!(message(check_outputs(&[], &[("-o", &missing)])).contains("does not exist"));
+        assert!(message(check_outputs(&[], &[("-o", folder.path())])).contains("folder"));
+        // The probe file is gone again.
+        let left: Vec<_> = std::fs::read_dir(folder.path())
+            .expect("list")
+            .filter_map(|entry| entry.ok())
+            .map(|entry| entry.file_name())
+            .collect();
+        assert_eq!(left, vec![std::ffi::OsString::from("scene.toml")]);
+    }
 
     #[test]
     fn srgb_end_points_and_midpoint() {

@@ -308,6 +308,11 @@ fn bad_inputs_give_clean_errors() {
     std::fs::create_dir(dir.path().join("folder.png")).expect("mkdir");
 
     let heat = ["--heatmap", "heat.png"];
+    let with_json = |json: &'static str| -> Vec<&'static str> {
+        let mut args = vec!["diff", "good.png", "good.png", "--json", json];
+        args.extend(heat);
+        args
+    };
     let with = |a: &'static str, b: &'static str| -> Vec<&'static str> {
         let mut args = vec!["diff", a, b];
         args.extend(heat);
@@ -352,7 +357,21 @@ fn bad_inputs_give_clean_errors() {
             "--heatmap",
             "no/such/folder/heat.png",
         ],
-        "cannot write no/such/folder/heat.png",
+        "--heatmap no/such/folder/heat.png: the folder no/such/folder does not exist",
+    );
+    // A heatmap over one of its own inputs would destroy it: refused, and
+    // good.png is still the same image.
+    assert_clean_error(
+        dir.path(),
+        &["diff", "good.png", "small.png", "--heatmap", "./good.png"],
+        "that is an input",
+    );
+    assert_eq!(std::fs::read(&good).expect("read"), bytes);
+    // An unwritable JSON file is found before the heatmap is written.
+    assert_clean_error(
+        dir.path(),
+        &with_json("no/such/folder/m.json"),
+        "--json no/such/folder/m.json",
     );
     assert_clean_error(
         dir.path(),

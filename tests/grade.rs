@@ -243,7 +243,12 @@ fn errors_exit_2_and_write_nothing() {
         ),
         (
             vec!["grade", "class", "--report", "no/such/folder/r.html"],
-            "cannot write no/such/folder/r.html",
+            "--report no/such/folder/r.html: the folder no/such/folder does not exist",
+        ),
+        (
+            // The report over a hand-in would destroy it.
+            vec!["grade", "class", "--report", "class/chapter-1.png"],
+            "that is an input",
         ),
     ] {
         let out = raylab(&args, dir.path());
@@ -255,4 +260,6 @@ fn errors_exit_2_and_write_nothing() {
         );
     }
     assert!(!dir.path().join("class/report.html").exists());
+    let hand_in = image::open(dir.path().join("class/chapter-1.png")).expect("still a PNG");
+    assert_eq!((hand_in.width(), hand_in.height()), (32, 24));
 }

@@ -66,6 +66,9 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
              chapter 2, the ray offset with 4, depth with 6, samples with 7"
         );
     }
+    if args.threads == Some(0) {
+        bail!("--threads must be at least 1");
+    }
     if !(1..=100).contains(&args.repeats) {
         bail!("--repeats {}: must be between 1 and 100", args.repeats);
     }
@@ -92,6 +95,10 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
     if !out.is_dir() {
         bail!("--out {}: not a folder", out.display());
     }
+    let files = ["cost.csv", "cost.md", "cost.svg"].map(|name| out.join(name));
+    let inputs: Vec<&std::path::Path> = args.scene.as_deref().into_iter().collect();
+    let outputs = files.each_ref().map(|file| ("--out", file.as_path()));
+    crate::output::check_outputs(&inputs, &outputs)?;
 
     let scene_name = match &args.scene {
         Some(path) => path.display().to_string(),

@@ -78,6 +78,15 @@ pub fn diff(args: &DiffArgs) -> Result<i32> {
     let a = Image::load_png(&args.a)?;
     let b = Image::load_png(&args.b)?;
     let names = (args.a.display().to_string(), args.b.display().to_string());
+    let outputs: Vec<(&str, &std::path::Path)> =
+        [("--heatmap", &args.heatmap), ("--json", &args.json)]
+            .into_iter()
+            .filter_map(|(option, path)| Some((option, path.as_deref()?)))
+            .collect();
+    if let Some(path) = &args.heatmap {
+        crate::output::check_png_name("--heatmap", path)?;
+    }
+    crate::output::check_outputs(&[&args.a, &args.b], &outputs)?;
     let comparison = compare(&a, &b, args.criteria.criteria(), (&names.0, &names.1))?;
     if let Some(path) = &args.heatmap {
         crate::diff::write_heatmap(&comparison.heatmap(&a), path)?;

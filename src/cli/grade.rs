@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::cli::diff::CriteriaArgs;
@@ -58,6 +58,19 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         .report
         .clone()
         .unwrap_or_else(|| args.folder.join("report.html"));
+    // The report must not replace a hand-in (or a reference): anything in
+    // the folders but an earlier HTML report counts as an input.
+    let mut inputs = files_in(&args.folder)?;
+    inputs.retain(|path| {
+        !path
+            .extension()
+            .is_some_and(|extension| extension.eq_ignore_ascii_case("html"))
+    });
+    if let Some(folder) = references {
+        inputs.extend(files_in(folder)?);
+    }
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    crate::output::check_outputs(&inputs, &[("--report", &report)])?;
     let grade = crate::grade::grade(
         &args.folder,
         references,
@@ -71,4 +84,20 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
     } else {
         EXIT_FAILED_CHECK
     })
+}
+
+/// The files (not folders) directly in `folder`.
+fn files_in(folder: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(folder)
+        .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+    let mut files = Vec::new();
+    for entry in entries {
+        let path = entry
+            .with_context(|| format!("cannot read the folder {}", folder.display()))?
+            .path();
+        if path.is_file() {
+            files.push(path);
+        }
+    }
+    Ok(files)
 }
