@@ -241,8 +241,17 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
     for knob in &config.knobs {
         match knob {
             Knob::Samples => {
+                // One sample is the pixel's centre whatever the placement
+                // (a lone sample is not anti-aliasing), so 1 spp is one row,
+                // not three identical ones.
+                let centre = RenderSettings {
+                    samples: 1,
+                    sampling: Sampling::Grid,
+                    ..base
+                };
+                jobs.push(job(*knob, "1 spp (pixel centre)".to_string(), centre));
                 for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
-                    for samples in SAMPLE_COUNTS {
+                    for samples in SAMPLE_COUNTS.into_iter().filter(|&samples| samples > 1) {
                         let name = format!("{sampling:?}").to_lowercase();
                         let settings = RenderSettings {
                             samples,

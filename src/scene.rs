@@ -21,6 +21,11 @@ pub const MAX_SIDE: u32 = 16_384;
 pub const MAX_PIXELS: u64 = 40_000_000;
 /// Largest accepted samples per pixel.
 pub const MAX_SAMPLES: u32 = 4_096;
+/// Largest accepted work for one image: width x height x samples per pixel.
+/// Each limit above is sensible alone, but together they could ask for
+/// 1.6e11 primary rays (hours). 2^30 (about 1.07e9) still allows 4K at 64
+/// samples per pixel or 8K at 32, a few minutes on two cores.
+pub const MAX_IMAGE_SAMPLES: u64 = 1 << 30;
 /// Largest accepted recursion depth.
 pub const MAX_DEPTH: u32 = 64;
 /// Largest accepted Phong exponent.
@@ -283,6 +288,13 @@ impl RenderSettings {
                 "samples = {samples}: samples per pixel must be between 1 and {MAX_SAMPLES}"
             ));
         }
+        let total = u64::from(width) * u64::from(height) * u64::from(samples);
+        if total > MAX_IMAGE_SAMPLES {
+            return Err(format!(
+                "{width}x{height} at {samples} samples per pixel is {total} samples: at most \
+                 {MAX_IMAGE_SAMPLES} per image; lower the resolution or the samples"
+            ));
+        }
         if sampling.needs_square_count() {
             let side = crate::chapters::ch07_antialiasing::whole_sqrt(samples);
             if side * side != samples {
@@ -391,11 +403,10 @@ pub struct Scene {
 /// Why a scene could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    #[error("cannot read scene file {path}: {source}")]
-    Read {
-        path: String,
-        source: std::io::Error,
-    },
+    // `cause` rather than `source`: thiserror would make a field named
+    // `source` the error's cause, and anyhow would print it twice.
+    #[error("cannot read scene file {path}: {cause}")]
+    Read { path: String, cause: std::io::Error },
     #[error("{origin}: {message}")]
     Syntax { origin: String, message: String },
     #[error("{origin}: {message}")]
@@ -405,9 +416,9 @@ pub enum SceneError {
 impl Scene {
     /// Reads and checks a scene file.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Read {
             path: path.display().to_string(),
-            source,
+            cause,
         })?;
         Scene::parse(&text, &format!("scene file {}", path.display()))
     }
@@ -466,10 +477,32 @@ fn check_finite(what: &str, value: Vec3) -> Result<(), String> {
     }
 }
 
-fn check_color(what: &str, value: Vec3) -> Result<(), String> {
+/// The brightest light (colour component or intensity) a scene may have.
+/// Physics has no such limit, but `f32` does: a light of 1e38 times a
+/// colour overflows to infinity and the pixel turns black. A million keeps
+/// every product and sum of the shading far from `f32::MAX` (3.4e38) while
+/// leaving room for any sensible exposure.
+pub const MAX_LIGHT: f32 = 1e6;
+
+/// A colour of light (a light's colour, the background, the ambient light).
+fn check_light_color(what: &str, value: Vec3) -> Result<(), String> {
     check_finite(what, value)?;
-    if value.min_element() < 0.0 {
-        return Err(format!("{what} = {value}: colour components must be >= 0"));
+    if !(value.min_element() >= 0.0 && value.max_element() <= MAX_LIGHT) {
+        return Err(format!(
+            "{what} = {value}: colour components must be between 0 and {MAX_LIGHT:e}"
+        ));
+    }
+    Ok(())
+}
+
+/// A surface's colour: the share of light it returns, so at most 1.
+fn check_albedo(what: &str, value: Vec3) -> Result<(), String> {
+    check_finite(what, value)?;
+    if !(value.min_element() >= 0.0 && value.max_element() <= 1.0) {
+        return Err(format!(
+            "{what} = {value}: a surface returns a share of the light, so each \
+             component must be between 0 and 1"
+        ));
     }
     Ok(())
 }
@@ -508,15 +541,15 @@ impl SceneFile {
                 camera.fov_degrees
             ));
         }
-        check_color("background", self.background)?;
-        check_color("ambient_light", self.ambient_light)?;
+        check_light_color("background", self.background)?;
+        check_light_color("ambient_light", self.ambient_light)?;
         for (index, light) in self.lights.iter().enumerate() {
             let name = format!("light {}", index + 1);
             check_finite(&format!("{name}: position"), light.position)?;
-            check_color(&format!("{name}: color"), light.color)?;
-            if !(light.intensity >= 0.0 && light.intensity.is_finite()) {
+            check_light_color(&format!("{name}: color"), light.color)?;
+            if !(light.intensity >= 0.0 && light.intensity <= MAX_LIGHT) {
                 return Err(format!(
-                    "{name}: intensity = {}: must be a finite number >= 0",
+                    "{name}: intensity = {}: must be a number between 0 and {MAX_LIGHT:e}",
                     light.intensity
                 ));
             }
@@ -587,7 +620,7 @@ impl ObjectSpec {
 
 fn check_material(label: &str, material: &Material) -> Result<(), String> {
     let field = |name: &str| format!("{label}: material.{name}");
-    check_color(&field("color"), material.color)?;
+    check_albedo(&field("color"), material.color)?;
     check_coefficient(&field("ambient"), material.ambient, 1.0)?;
     check_coefficient(&field("diffuse"), material.diffuse, 1.0)?;
     check_coefficient(&field("specular"), material.specular, 1.0)?;
@@ -614,7 +647,7 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
         ));
     }
     if let Some(checker) = material.checker {
-        check_color(&field("checker.color"), checker.color)?;
+        check_albedo(&field("checker.color"), checker.color)?;
         if !(checker.size > 0.0 && checker.size.is_finite()) {
             return Err(format!(
                 "{} = {}: must be a finite number > 0",

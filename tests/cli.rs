@@ -119,9 +119,15 @@ fn printed_scene_renders_when_edited() {
 /// and that no file was left behind.
 fn assert_refused(scene: Option<&str>, extra: &[&str], expected: &[&str]) {
     let dir = tempfile::tempdir().expect("temp dir");
-    let mut args = vec!["render", "--height", "12", "-o", "out.png"];
+    let mut args = vec!["render"];
+    if !extra.contains(&"-o") {
+        args.extend(["-o", "out.png"]);
+    }
     if !extra.contains(&"--width") {
         args.extend(["--width", "16"]);
+    }
+    if !extra.contains(&"--height") {
+        args.extend(["--height", "12"]);
     }
     if let Some(text) = scene {
         std::fs::write(dir.path().join("bad.toml"), text).expect("write scene");
@@ -236,6 +242,50 @@ fn absurd_settings_are_refused() {
     assert_refused(None, &["--samples", "0"], &["samples = 0"]);
     assert_refused(None, &["--samples", "3"], &["square"]);
     assert_refused(None, &["--depth", "1000"], &["max_depth = 1000"]);
+    // Each number is allowed alone; together they are 1.5e11 samples.
+    let huge = ["--width", "6000", "--height", "6000", "--samples", "4096"];
+    assert_refused(None, &huge, &["147456000000 samples", "at most 1073741824"]);
+}
+
+#[test]
+fn lights_too_bright_for_f32_and_colours_over_one_are_refused() {
+    // 3e38 is finite, but times any colour it overflows to infinity.
+    let blinding = GOOD.replace(
+        "position = [0.0, 5.0, 0.0]",
+        "position = [0.0, 5.0, 0.0]\nintensity = 3e38",
+    );
+    assert_refused(
+        Some(&blinding),
+        &[],
+        &["light 1: intensity = 3", "between 0 and 1e6"],
+    );
+    let glowing = GOOD.replace(
+        "radius = 1.0 }",
+        "radius = 1.0 }\nmaterial = { color = [2.0, 0.5, 0.5] }",
+    );
+    assert_refused(
+        Some(&glowing),
+        &[],
+        &["ball", "material.color", "between 0 and 1"],
+    );
+}
+
+#[test]
+fn outputs_are_checked_before_rendering_and_never_overwrite_an_input() {
+    // The scene file itself as the image: refused, and the scene survives.
+    assert_refused(Some(GOOD), &["-o", "bad.toml"], &["-o bad.toml", ".png"]);
+    assert_refused(
+        Some(GOOD),
+        &["-o", "bad.png", "--stats-json", "bad.png"],
+        &["same file"],
+    );
+    // A statistics file into a missing folder: nothing rendered, no image.
+    assert_refused(
+        None,
+        &["--stats-json", "no/such/s.json"],
+        &["--stats-json", "does not exist"],
+    );
+    assert_refused(None, &["-o", "render.jpg"], &["render.jpg", "PNG"]);
 }
 
 #[test]
@@ -265,7 +315,7 @@ fn unwritable_output_is_a_clear_error() {
     );
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("cannot write no/such/dir/x.png"),
+        stderr(&out).contains("-o no/such/dir/x.png: the folder no/such/dir does not exist"),
         "{}",
         stderr(&out)
     );

@@ -46,7 +46,8 @@ pub struct SettingsOverrides {
     /// Samples per pixel (chapter 7 on); a square for grid and jittered sampling.
     #[arg(long)]
     pub samples: Option<u32>,
-    /// How samples are placed in a pixel (chapter 7 on).
+    /// How samples are placed in a pixel (chapter 7 on). One sample per
+    /// pixel is always the pixel's centre, whatever the placement.
     #[arg(long, value_enum)]
     pub sampling: Option<Sampling>,
     /// Maximum reflection/refraction bounces (chapters 6 and 8).
@@ -135,6 +136,13 @@ pub fn render(args: &RenderArgs) -> Result<i32> {
         }
         (None, _, _) => PathBuf::from(format!("chapter-{chapter}.png")),
     };
+    crate::output::check_png_name("-o", &output)?;
+    let mut outputs = vec![("-o", output.as_path())];
+    if let Some(path) = &args.stats_json {
+        outputs.push(("--stats-json", path.as_path()));
+    }
+    let inputs: Vec<&Path> = args.scene.as_deref().into_iter().collect();
+    crate::output::check_outputs(&inputs, &outputs)?;
     let work = u64::from(settings.width) * u64::from(settings.height) * u64::from(settings.samples);
     let progress = (std::io::stderr().is_terminal() && work >= 1_000_000).then(|| {
         let bar = indicatif::ProgressBar::new(u64::from(settings.height));
