@@ -141,6 +141,11 @@ pub fn grade(
     Ok(grade)
 }
 
+/// The smallest hand-in graded, per side. The reference is rendered at the
+/// student's size, so without a floor a 1x1 image (one pixel centre, easy
+/// to match) would pass any chapter.
+pub const MIN_SIDE: u32 = 16;
+
 fn grade_chapter(
     chapter: u8,
     file: &Path,
@@ -150,6 +155,14 @@ fn grade_chapter(
     let student = Image::decode_png(
         &std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?,
     )?;
+    if student.width < MIN_SIDE || student.height < MIN_SIDE {
+        anyhow::bail!(
+            "too small to grade: {}x{}; hand in at least {MIN_SIDE}x{MIN_SIDE} pixels \
+             (the references are 160x120)",
+            student.width,
+            student.height
+        );
+    }
     let (reference, reference_source) = reference_for(chapter, &student, references)?;
     let comparison = compare(&student, &reference, criteria, ("student", "reference"))?;
     Ok(Graded {

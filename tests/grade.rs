@@ -228,6 +228,21 @@ fn a_complete_correct_folder_passes() {
 }
 
 #[test]
+fn a_tiny_hand_in_is_not_graded() {
+    // At 4x3 the reference would be rendered at 4x3 too, and an image that
+    // small is easy to match: it is listed as unreadable, not passed.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    save(&class.join("chapter-7.png"), &render(7, 4, 3, |_| {}));
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    assert!(md.contains("0 compared, 7 missing, 1 unreadable"), "{md}");
+    assert!(md.contains("too small to grade: 4x3"), "{md}");
+}
+
+#[test]
 fn errors_exit_2_and_write_nothing() {
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::create_dir(dir.path().join("class")).expect("mkdir");
