@@ -44,6 +44,13 @@ impl Sphere {
     /// derives both forms).
     #[inline]
     pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        self.roots_unless_behind(ray, false)
+    }
+
+    /// [`Sphere::roots`], or `None` early when `skip_behind` is set and both
+    /// roots are certainly negative.
+    #[inline(always)]
+    fn roots_unless_behind(&self, ray: &Ray, skip_behind: bool) -> Option<(f32, f32)> {
         let oc = ray.origin - self.center;
         let a = ray.dir.dot(ray.dir);
         let oc_squared = oc.dot(oc);
@@ -54,7 +61,17 @@ impl Sphere {
         // is every ordinary scene; the rest (and NaN) takes the slow path.
         let safe = |x: f32| x > SAFE_SQUARE_MIN && x < SAFE_SQUARE_MAX;
         if safe(a) && oc_squared < SAFE_SQUARE_MAX && safe(r_squared) {
-            Self::solve(ray.dir, oc, a, oc_squared - r_squared, self.radius)
+            let c = oc_squared - r_squared;
+            let h = ray.dir.dot(oc);
+            // Origin outside (c > 0) and heading away (h > 0): then
+            // q = -(h + sqrt(..)) < 0, so both roots, q / a and c / q, are
+            // negative. A caller that wants only t >= 0 learns "miss" without
+            // a square root or a division, with exactly the answer `solve`
+            // would give: most shadow rays pass most spheres this way.
+            if skip_behind && c > 0.0 && h > 0.0 {
+                return None;
+            }
+            Self::solve(ray.dir, oc, a, h, c, self.radius)
         } else {
             Self::rescaled_roots(ray.dir, oc, self.radius)
         }
@@ -73,16 +90,17 @@ impl Sphere {
         let oc_exponent = binary_exponent(oc.abs().max_element().max(radius))?;
         let oc = scale_by_power_of_two(oc, -oc_exponent);
         let radius = libm::ldexpf(radius, -oc_exponent);
-        let (t0, t1) = Self::solve(dir, oc, dir.dot(dir), oc.dot(oc) - radius * radius, radius)?;
+        let (a, h, c) = (dir.dot(dir), dir.dot(oc), oc.dot(oc) - radius * radius);
+        let (t0, t1) = Self::solve(dir, oc, a, h, c, radius)?;
         // Back to units of the caller's direction: t scales as |oc| / |dir|.
         let rescale = |t: f32| libm::ldexpf(t, oc_exponent - dir_exponent);
         Some((rescale(t0), rescale(t1)))
     }
 
-    /// The roots from `a = dir.dir` and `c = oc.oc - r^2`, sizes safe.
+    /// The roots from `a = dir.dir`, `h = dir.oc` and `c = oc.oc - r^2`,
+    /// sizes safe.
     #[inline(always)]
-    fn solve(dir: Vec3, oc: Vec3, a: f32, c: f32, radius: f32) -> Option<(f32, f32)> {
-        let h = dir.dot(oc);
+    fn solve(dir: Vec3, oc: Vec3, a: f32, h: f32, c: f32, radius: f32) -> Option<(f32, f32)> {
         // The foot of the perpendicular from the centre to the line is
         // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
         // huge compared with `r`.
@@ -103,7 +121,7 @@ impl Sphere {
     /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere.
     /// From inside the sphere that is the far root; from outside, the near one.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let (near, far) = self.roots(ray)?;
+        let (near, far) = self.roots_unless_behind(ray, t_min >= 0.0)?;
         first_root_in(near, far, t_min, t_max)
     }
 
@@ -177,6 +195,35 @@ mod tests {
 
     fn unit_sphere_at_z5() -> Sphere {
         Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0)
+    }
+
+    #[test]
+    fn the_behind_shortcut_never_changes_an_answer() {
+        // Rays from all around a ball, many heading away from it, some
+        // starting on or inside it: intersect (with the shortcut) must give
+        // exactly what the full roots give.
+        let random = |i: u32, d: u32| {
+            crate::chapters::ch07_antialiasing::unit_random(7, (i, 0), 0, d) * 2.0 - 1.0
+        };
+        let ball = Sphere::new(Vec3::new(0.5, -0.25, 2.0), 1.5);
+        let mut shortcuts = 0;
+        for i in 0..20_000 {
+            let origin = ball.center() + 4.0 * Vec3::new(random(i, 0), random(i, 1), random(i, 2));
+            let dir = Vec3::new(random(i, 3), random(i, 4), random(i, 5));
+            let ray = Ray::new(origin, dir);
+            for (t_min, t_max) in [(0.0, f32::INFINITY), (1e-3, 2.0), (-1.0, f32::INFINITY)] {
+                let full = ball
+                    .roots(&ray)
+                    .and_then(|(near, far)| first_root_in(near, far, t_min, t_max));
+                assert_eq!(ball.intersect(&ray, t_min, t_max), full, "{ray:?}");
+            }
+            let oc = origin - ball.center();
+            shortcuts += usize::from(oc.length() > 1.5 && dir.dot(oc) > 0.0);
+        }
+        assert!(
+            shortcuts > 5_000,
+            "the shortcut was taken {shortcuts} times"
+        );
     }
 
     #[test]

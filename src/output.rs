@@ -13,7 +13,24 @@ use image::ImageEncoder;
 /// light) is code 188, not 128. The transfer function is linear near black,
 /// then a 1/2.4 power. `libm::powf` gives the same bits on every platform,
 /// which keeps the snapshot hashes portable.
+///
+/// A power per channel per pixel is a noticeable share of a render, so the
+/// codes come from a table instead: the 255 linear values where the code
+/// steps up, found once by bisection on [`linear_to_srgb8_by_formula`].
+/// The formula never decreases (a test checks every `f32` on the power
+/// segment), so the code of `v` is the number of steps at or below `v`:
+/// exactly the formula's answer, bit for bit, at a few comparisons' cost.
 pub fn linear_to_srgb8(linear: f32) -> u8 {
+    let v = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
+    srgb_steps().partition_point(|&step| step <= v) as u8
+}
+
+/// The sRGB formula itself, one power per call (see [`linear_to_srgb8`]).
+pub fn linear_to_srgb8_by_formula(linear: f32) -> u8 {
     let v = if linear.is_nan() {
         0.0
     } else {
@@ -25,6 +42,28 @@ pub fn linear_to_srgb8(linear: f32) -> u8 {
         1.055 * libm::powf(v, 1.0 / 2.4) - 0.055
     };
     (encoded * 255.0 + 0.5) as u8
+}
+
+/// `steps[k]`: the smallest `f32` in `[0, 1]` whose code is above `k`.
+fn srgb_steps() -> &'static [f32; 255] {
+    static STEPS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    STEPS.get_or_init(|| {
+        // Non-negative floats are ordered like their bit patterns, so a
+        // bisection on the bits finds each step exactly.
+        std::array::from_fn(|k| {
+            let above = |bits: u32| linear_to_srgb8_by_formula(f32::from_bits(bits)) > k as u8;
+            let (mut low, mut high) = (0u32, 1.0f32.to_bits()); // !above(low), above(high)
+            while high - low > 1 {
+                let middle = low + (high - low) / 2;
+                if above(middle) {
+                    high = middle;
+                } else {
+                    low = middle;
+                }
+            }
+            f32::from_bits(high)
+        })
+    })
 }
 
 /// FNV-1a (64-bit) of the width, height (little-endian `u32`s) and the raw
@@ -227,6 +266,44 @@ mod tests {
         assert_eq!(linear_to_srgb8(0.5), 188);
         // Linear segment: 12.92 * 0.001 * 255 = 3.29 -> 3.
         assert_eq!(linear_to_srgb8(0.001), 3);
+    }
+
+    #[test]
+    fn the_table_gives_the_formula_bit_for_bit() {
+        // The table is exact if the formula never decreases. The linear
+        // segment cannot (a product, a sum and a truncation of a growing
+        // value); the power segment is checked at every f32, 70 million.
+        let first = 0.003_130_8f32.next_up().to_bits();
+        let mut previous = linear_to_srgb8_by_formula(0.003_130_8);
+        for bits in first..=1.0f32.to_bits() {
+            let code = linear_to_srgb8_by_formula(f32::from_bits(bits));
+            assert!(
+                code >= previous,
+                "the formula decreases at {}",
+                f32::from_bits(bits)
+            );
+            previous = code;
+        }
+        // And the two agree around every step and at the edges.
+        for &step in srgb_steps() {
+            for v in [step.next_down(), step, step.next_up()] {
+                assert_eq!(linear_to_srgb8(v), linear_to_srgb8_by_formula(v), "at {v}");
+            }
+        }
+        for v in [
+            -1.0,
+            -0.0,
+            0.0,
+            1e-40,
+            0.003_130_8,
+            0.5,
+            1.0,
+            7.0,
+            f32::INFINITY,
+            f32::NAN,
+        ] {
+            assert_eq!(linear_to_srgb8(v), linear_to_srgb8_by_formula(v), "at {v}");
+        }
     }
 
     #[test]
