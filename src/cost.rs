@@ -74,9 +74,10 @@ impl Knob {
     }
 }
 
-/// Sample counts swept by [`Knob::Samples`]: squares, so grid and jittered
-/// sampling can use them too.
-pub const SAMPLE_COUNTS: [u32; 4] = [1, 4, 16, 64];
+/// Sample counts swept by [`Knob::Samples`] for each placement, after one
+/// row at 1 sample (the pixel centre, whatever the placement): squares, so
+/// grid and jittered sampling can use them too.
+pub const SAMPLE_COUNTS: [u32; 3] = [4, 16, 64];
 /// Depths swept by [`Knob::Depth`].
 pub const DEPTHS: std::ops::RangeInclusive<u32> = 0..=8;
 /// Global epsilons swept by [`Knob::Offset`], beside the scaled offset. Zero
@@ -251,7 +252,7 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                 };
                 jobs.push(job(*knob, "1 spp (pixel centre)".to_string(), centre));
                 for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
-                    for samples in SAMPLE_COUNTS.into_iter().filter(|&samples| samples > 1) {
+                    for samples in SAMPLE_COUNTS {
                         let name = format!("{sampling:?}").to_lowercase();
                         let settings = RenderSettings {
                             samples,

@@ -21,21 +21,22 @@ use image::ImageEncoder;
 /// segment), so the code of `v` is the number of steps at or below `v`:
 /// exactly the formula's answer, bit for bit, at a few comparisons' cost.
 pub fn linear_to_srgb8(linear: f32) -> u8 {
-    let v = if linear.is_nan() {
+    let v = displayable(linear);
+    srgb_steps().partition_point(|&step| step <= v) as u8
+}
+
+/// A linear value a screen can show: clamped to `[0, 1]`, NaN as black.
+fn displayable(linear: f32) -> f32 {
+    if linear.is_nan() {
         0.0
     } else {
         linear.clamp(0.0, 1.0)
-    };
-    srgb_steps().partition_point(|&step| step <= v) as u8
+    }
 }
 
 /// The sRGB formula itself, one power per call (see [`linear_to_srgb8`]).
 pub fn linear_to_srgb8_by_formula(linear: f32) -> u8 {
-    let v = if linear.is_nan() {
-        0.0
-    } else {
-        linear.clamp(0.0, 1.0)
-    };
+    let v = displayable(linear);
     let encoded = if v <= 0.003_130_8 {
         12.92 * v
     } else {
@@ -117,9 +118,7 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)]) -> Result<()> 
                 folder.display()
             );
         }
-        tempfile::Builder::new()
-            .prefix(".raylab-")
-            .suffix(".tmp")
+        temporary_file_builder()
             .tempfile_in(folder)
             .with_context(|| {
                 format!(
@@ -181,6 +180,21 @@ fn file_identity(path: &Path) -> Option<std::path::PathBuf> {
     })
 }
 
+/// How raylab names and creates its temporary files (`.raylab-*.tmp`).
+fn temporary_file_builder() -> tempfile::Builder<'static, 'static> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".raylab-").suffix(".tmp");
+    // A temporary file is private (0600) by default; the image it becomes is
+    // an ordinary output, readable like any file the user creates (0666 less
+    // the umask), e.g. by a web server showing a class's renders.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    builder
+}
+
 /// Writes a file atomically: `write` fills a temporary file in the same
 /// folder, which is renamed over `path` only once complete. A failed or
 /// interrupted write never leaves a partial file at `path`.
@@ -192,23 +206,15 @@ pub fn write_atomically(
     if path.is_dir() {
         anyhow::bail!("cannot write {}: it is a folder", path.display());
     }
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".raylab-").suffix(".tmp");
-    // A temporary file is private (0600) by default; the image it becomes is
-    // an ordinary output, readable like any file the user creates (0666 less
-    // the umask), e.g. by a web server showing a class's renders.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut temporary = builder.tempfile_in(folder).with_context(|| {
-        format!(
-            "cannot write {}: cannot create a file in {}",
-            path.display(),
-            folder.display()
-        )
-    })?;
+    let mut temporary = temporary_file_builder()
+        .tempfile_in(folder)
+        .with_context(|| {
+            format!(
+                "cannot write {}: cannot create a file in {}",
+                path.display(),
+                folder.display()
+            )
+        })?;
     {
         let mut buffered = std::io::BufWriter::new(temporary.as_file_mut());
         write(&mut buffered)?;

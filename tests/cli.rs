@@ -272,8 +272,24 @@ fn lights_too_bright_for_f32_and_colours_over_one_are_refused() {
 
 #[test]
 fn outputs_are_checked_before_rendering_and_never_overwrite_an_input() {
-    // The scene file itself as the image: refused, and the scene survives.
+    // Not a PNG name (here the scene file itself): refused.
     assert_refused(Some(GOOD), &["-o", "bad.toml"], &["-o bad.toml", ".png"]);
+    // A scene file that happens to end in .png as the image: refused by the
+    // input check, and the scene survives.
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("scene.png"), GOOD).expect("write scene");
+    let out = raylab(
+        &["render", "--scene", "scene.png", "-o", "./scene.png"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("that is an input"),
+        "{}",
+        stderr(&out)
+    );
+    let kept = std::fs::read_to_string(dir.path().join("scene.png")).expect("read scene");
+    assert_eq!(kept, GOOD);
     assert_refused(
         Some(GOOD),
         &["-o", "bad.png", "--stats-json", "bad.png"],
