@@ -16,6 +16,7 @@ fn chapters(c: &mut Criterion) {
         group.bench_function(format!("chapter {chapter}"), |b| {
             b.iter(|| {
                 raylab::render(&scene, chapter, &settings, None)
+                    .expect("renders")
                     .rays
                     .total()
             })

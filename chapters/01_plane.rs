@@ -1,6 +1,6 @@
 #![doc = include_str!("01_plane.md")]
 
-use crate::{Ray, Vec3, unit_vector};
+use raylab::{Plane, Ray};
 
 /// How close to zero `dot(dir, normal)` may be before we call a ray parallel,
 /// as a multiple of `sum |dir_i| |normal_i|`.
@@ -13,60 +13,27 @@ use crate::{Ray, Vec3, unit_vector};
 /// meaningless, huge `t`. `4 * f32::EPSILON = 8u` covers both with margin.
 pub const PARALLEL_TOLERANCE: f32 = 4.0 * f32::EPSILON;
 
-/// An infinite plane through `point` with unit normal `normal`. Two-sided: a
-/// ray hits it from either side.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plane {
-    point: Vec3,
-    normal: Vec3,
-}
-
-impl Plane {
-    /// A plane through `point`, perpendicular to `normal` (any non-zero length).
-    ///
-    /// A zero or non-finite normal, or a non-finite point, makes a plane that
-    /// no ray hits: its fields become NaN, and every comparison with NaN is
-    /// false, so `intersect` returns `None` without a special case.
-    pub fn new(point: Vec3, normal: Vec3) -> Self {
-        match unit_vector(normal) {
-            Some(normal) if point.is_finite() => Plane { point, normal },
-            _ => Plane {
-                point: Vec3::NAN,
-                normal: Vec3::NAN,
-            },
-        }
+/// The nearest `t` with `t_min < t < t_max` where `ray` meets `plane`.
+///
+/// From `dot(origin + t dir - point, normal) = 0`:
+/// `t = dot(point - origin, normal) / dot(dir, normal)`.
+pub fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    let denominator = ray.dir.dot(plane.normal());
+    let rounding_bound = PARALLEL_TOLERANCE * ray.dir.abs().dot(plane.normal().abs());
+    // Written as `!(a > b)` so that NaN (from a NaN ray or plane) also
+    // lands here: a parallel ray, or one lying in the plane, never hits.
+    if !(denominator.abs() > rounding_bound) {
+        return None;
     }
-
-    pub fn point(&self) -> Vec3 {
-        self.point
-    }
-
-    /// The unit normal (NaN for a degenerate plane).
-    pub fn normal(&self) -> Vec3 {
-        self.normal
-    }
-
-    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the plane.
-    ///
-    /// From `dot(origin + t dir - point, normal) = 0`:
-    /// `t = dot(point - origin, normal) / dot(dir, normal)`.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let denominator = ray.dir.dot(self.normal);
-        let rounding_bound = PARALLEL_TOLERANCE * ray.dir.abs().dot(self.normal.abs());
-        // Written as `!(a > b)` so that NaN (from a NaN ray or plane) also
-        // lands here: a parallel ray, or one lying in the plane, never hits.
-        if !(denominator.abs() > rounding_bound) {
-            return None;
-        }
-        let t = (self.point - ray.origin).dot(self.normal) / denominator;
-        // NaN and infinities fail one of these comparisons.
-        (t > t_min && t < t_max).then_some(t)
-    }
+    let t = (plane.point() - ray.origin).dot(plane.normal()) / denominator;
+    // NaN and infinities fail one of these comparisons.
+    (t > t_min && t < t_max).then_some(t)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use raylab::Vec3;
 
     #[test]
     fn floor_seen_from_above_is_hit_at_the_height() {

@@ -1,159 +1,123 @@
 #![doc = include_str!("02_sphere.md")]
 
-use crate::{Ray, Vec3};
+use raylab::{Ray, Sphere, Vec3};
 
-/// A sphere: every point at distance `radius` from `center`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sphere {
-    center: Vec3,
-    radius: f32,
+/// Both parameters where the ray's line meets the sphere, smaller first,
+/// or `None` when it misses (or the input is degenerate).
+///
+/// With `oc = origin - center`, `|oc + t dir|^2 = r^2` is the quadratic
+/// `a t^2 + 2 h t + c = 0` with `a = dir.dir`, `h = dir.oc`,
+/// `c = oc.oc - r^2`. Its quarter-discriminant `h^2 - a c` is computed as
+/// `a (r - l)(r + l)`, where `l` is the distance from the centre to the
+/// line, and the roots as `q / a` and `c / q` with `q = -(h + sign(h) sqrt(h^2 - a c))`:
+/// no subtraction of two large, nearly equal numbers anywhere (the lesson
+/// derives both forms).
+#[inline]
+pub fn sphere_roots(sphere: &Sphere, ray: &Ray) -> Option<(f32, f32)> {
+    roots_unless_behind(sphere, ray, false)
 }
 
-impl Sphere {
-    /// A sphere of the given centre and radius. A radius that is not `> 0`,
-    /// or anything non-finite, makes a sphere that no ray hits (its fields
-    /// become NaN, which fails every comparison in `intersect`).
-    pub fn new(center: Vec3, radius: f32) -> Self {
-        if radius > 0.0 && radius.is_finite() && center.is_finite() {
-            Sphere { center, radius }
-        } else {
-            Sphere {
-                center: Vec3::NAN,
-                radius: f32::NAN,
-            }
-        }
-    }
-
-    pub fn center(&self) -> Vec3 {
-        self.center
-    }
-
-    pub fn radius(&self) -> f32 {
-        self.radius
-    }
-
-    /// Both parameters where the ray's line meets the sphere, smaller first,
-    /// or `None` when it misses (or the input is degenerate).
-    ///
-    /// With `oc = origin - center`, `|oc + t dir|^2 = r^2` is the quadratic
-    /// `a t^2 + 2 h t + c = 0` with `a = dir.dir`, `h = dir.oc`,
-    /// `c = oc.oc - r^2`. Its quarter-discriminant `h^2 - a c` is computed as
-    /// `a (r - l)(r + l)`, where `l` is the distance from the centre to the
-    /// line, and the roots as `q / a` and `c / q` with `q = -(h + sign(h) sqrt(h^2 - a c))`:
-    /// no subtraction of two large, nearly equal numbers anywhere (the lesson
-    /// derives both forms).
-    #[inline]
-    pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
-        self.roots_unless_behind(ray, false)
-    }
-
-    /// [`Sphere::roots`], or `None` early when `skip_behind` is set and both
-    /// roots are certainly negative.
-    #[inline(always)]
-    fn roots_unless_behind(&self, ray: &Ray, skip_behind: bool) -> Option<(f32, f32)> {
-        let oc = ray.origin - self.center;
-        let a = ray.dir.dot(ray.dir);
-        let oc_squared = oc.dot(oc);
-        let r_squared = self.radius * self.radius;
-        // `a`, `oc.oc` and `r^2` are squares of lengths, and the discriminant
-        // is a product of two of them: while each lies in [2^-60, 2^60], no
-        // intermediate comes near the limits of `f32` (2^-126, 2^128). That
-        // is every ordinary scene; the rest (and NaN) takes the slow path.
-        let safe = |x: f32| x > SAFE_SQUARE_MIN && x < SAFE_SQUARE_MAX;
-        if safe(a) && oc_squared < SAFE_SQUARE_MAX && safe(r_squared) {
-            let c = oc_squared - r_squared;
-            let h = ray.dir.dot(oc);
-            // Origin outside (c > 0) and heading away (h > 0): then
-            // q = -(h + sqrt(..)) < 0, so both roots, q / a and c / q, are
-            // negative. A caller that wants only t >= 0 learns "miss" without
-            // a square root or a division, with exactly the answer `solve`
-            // would give: most shadow rays pass most spheres this way.
-            if skip_behind && c > 0.0 && h > 0.0 {
-                return None;
-            }
-            Self::solve(ray.dir, oc, a, h, c, self.radius)
-        } else {
-            Self::rescaled_roots(ray.dir, oc, self.radius)
-        }
-    }
-
-    /// `roots` for sizes outside the safe range: a direction of length 1e20
-    /// or an `|oc|` of 1e20 overflows (1e40), a direction of length 1e-21
-    /// underflows to a subnormal that keeps a few bits. Dividing the
-    /// direction, and `oc` and `r`, by powers of two that bring their largest
-    /// component near 1 is exact, so nothing else changes, and nothing
-    /// overflows.
-    #[cold]
-    fn rescaled_roots(dir: Vec3, oc: Vec3, radius: f32) -> Option<(f32, f32)> {
-        let dir_exponent = binary_exponent(dir.abs().max_element())?;
-        let dir = scale_by_power_of_two(dir, -dir_exponent);
-        let oc_exponent = binary_exponent(oc.abs().max_element().max(radius))?;
-        let oc = scale_by_power_of_two(oc, -oc_exponent);
-        let radius = libm::ldexpf(radius, -oc_exponent);
-        let (a, h, c) = (dir.dot(dir), dir.dot(oc), oc.dot(oc) - radius * radius);
-        let (t0, t1) = Self::solve(dir, oc, a, h, c, radius)?;
-        // Back to units of the caller's direction: t scales as |oc| / |dir|.
-        let rescale = |t: f32| libm::ldexpf(t, oc_exponent - dir_exponent);
-        Some((rescale(t0), rescale(t1)))
-    }
-
-    /// The roots from `a = dir.dir`, `h = dir.oc` and `c = oc.oc - r^2`,
-    /// sizes safe.
-    #[inline(always)]
-    fn solve(dir: Vec3, oc: Vec3, a: f32, h: f32, c: f32, radius: f32) -> Option<(f32, f32)> {
-        // The foot of the perpendicular from the centre to the line is
-        // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
-        // huge compared with `r`.
-        let foot = oc - (h / a) * dir;
-        let l = foot.length();
-        let quarter_discriminant = a * ((radius - l) * (radius + l));
-        // `!(x >= 0)` also rejects NaN (zero direction, NaN input).
-        if !(quarter_discriminant >= 0.0) {
+/// [`sphere_roots`], or `None` early when `skip_behind` is set and both
+/// roots are certainly negative.
+#[inline(always)]
+fn roots_unless_behind(sphere: &Sphere, ray: &Ray, skip_behind: bool) -> Option<(f32, f32)> {
+    let oc = ray.origin - sphere.center();
+    let a = ray.dir.dot(ray.dir);
+    let oc_squared = oc.dot(oc);
+    let r_squared = sphere.radius() * sphere.radius();
+    // `a`, `oc.oc` and `r^2` are squares of lengths, and the discriminant
+    // is a product of two of them: while each lies in [2^-60, 2^60], no
+    // intermediate comes near the limits of `f32` (2^-126, 2^128). That
+    // is every ordinary scene; the rest (and NaN) takes the slow path.
+    let safe = |x: f32| x > SAFE_SQUARE_MIN && x < SAFE_SQUARE_MAX;
+    if safe(a) && oc_squared < SAFE_SQUARE_MAX && safe(r_squared) {
+        let c = oc_squared - r_squared;
+        let h = ray.dir.dot(oc);
+        // Origin outside (c > 0) and heading away (h > 0): then
+        // q = -(h + sqrt(..)) < 0, so both roots, q / a and c / q, are
+        // negative. A caller that wants only t >= 0 learns "miss" without
+        // a square root or a division, with exactly the answer `solve`
+        // would give: most shadow rays pass most spheres this way.
+        if skip_behind && c > 0.0 && h > 0.0 {
             return None;
         }
-        let q = -(h + quarter_discriminant.sqrt().copysign(h));
-        let t0 = q / a;
-        // q = 0 only when the origin is the tangent point itself: both roots are t0.
-        let t1 = if q != 0.0 { c / q } else { t0 };
-        Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+        solve(ray.dir, oc, a, h, c, sphere.radius())
+    } else {
+        rescaled_roots(ray.dir, oc, sphere.radius())
     }
+}
 
-    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere.
-    /// From inside the sphere that is the far root; from outside, the near one.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let (near, far) = self.roots_unless_behind(ray, t_min >= 0.0)?;
-        first_root_in(near, far, t_min, t_max)
-    }
+/// `roots` for sizes outside the safe range: a direction of length 1e20
+/// or an `|oc|` of 1e20 overflows (1e40), a direction of length 1e-21
+/// underflows to a subnormal that keeps a few bits. Dividing the
+/// direction, and `oc` and `r`, by powers of two that bring their largest
+/// component near 1 is exact, so nothing else changes, and nothing
+/// overflows.
+#[cold]
+fn rescaled_roots(dir: Vec3, oc: Vec3, radius: f32) -> Option<(f32, f32)> {
+    let dir_exponent = binary_exponent(dir.abs().max_element())?;
+    let dir = scale_by_power_of_two(dir, -dir_exponent);
+    let oc_exponent = binary_exponent(oc.abs().max_element().max(radius))?;
+    let oc = scale_by_power_of_two(oc, -oc_exponent);
+    let radius = libm::ldexpf(radius, -oc_exponent);
+    let (a, h, c) = (dir.dot(dir), dir.dot(oc), oc.dot(oc) - radius * radius);
+    let (t0, t1) = solve(dir, oc, a, h, c, radius)?;
+    // Back to units of the caller's direction: t scales as |oc| / |dir|.
+    let rescale = |t: f32| libm::ldexpf(t, oc_exponent - dir_exponent);
+    Some((rescale(t0), rescale(t1)))
+}
 
-    /// The textbook solution, `(-b ± sqrt(b^2 - 4ac)) / 2a`, kept for
-    /// comparison: `b^2 - 4ac` subtracts two huge, nearly equal numbers when
-    /// the sphere is small and far away, and `-b + sqrt(...)` cancels
-    /// whenever one root is much smaller than the other. The lesson shows the
-    /// picture this gives; `raylab cost` measures it.
-    pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        let oc = ray.origin - self.center;
-        let a = ray.dir.dot(ray.dir);
-        let b = 2.0 * ray.dir.dot(oc);
-        let c = oc.dot(oc) - self.radius * self.radius;
-        let discriminant = b * b - 4.0 * a * c;
-        if !(discriminant >= 0.0) {
-            return None;
-        }
-        let root = discriminant.sqrt();
-        let near = (-b - root) / (2.0 * a);
-        let far = (-b + root) / (2.0 * a);
-        first_root_in(near, far, t_min, t_max)
+/// The roots from `a = dir.dir`, `h = dir.oc` and `c = oc.oc - r^2`,
+/// sizes safe.
+#[inline(always)]
+fn solve(dir: Vec3, oc: Vec3, a: f32, h: f32, c: f32, radius: f32) -> Option<(f32, f32)> {
+    // The foot of the perpendicular from the centre to the line is
+    // `oc - (h / a) dir`; its length `l` is accurate even when `|oc|` is
+    // huge compared with `r`.
+    let foot = oc - (h / a) * dir;
+    let l = foot.length();
+    let quarter_discriminant = a * ((radius - l) * (radius + l));
+    // `!(x >= 0)` also rejects NaN (zero direction, NaN input).
+    if !(quarter_discriminant >= 0.0) {
+        return None;
     }
+    let q = -(h + quarter_discriminant.sqrt().copysign(h));
+    let t0 = q / a;
+    // q = 0 only when the origin is the tangent point itself: both roots are t0.
+    let t1 = if q != 0.0 { c / q } else { t0 };
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+}
 
-    /// Whether `point` is strictly inside the sphere.
-    pub fn contains(&self, point: Vec3) -> bool {
-        (point - self.center).length_squared() < self.radius * self.radius
-    }
+/// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere.
+/// From inside the sphere that is the far root; from outside, the near one.
+pub fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    let (near, far) = roots_unless_behind(sphere, ray, t_min >= 0.0)?;
+    first_root_in(near, far, t_min, t_max)
+}
 
-    /// The outward unit normal at a point on the sphere.
-    pub fn normal_at(&self, point: Vec3) -> Vec3 {
-        (point - self.center) / self.radius
+/// The textbook solution, `(-b ± sqrt(b^2 - 4ac)) / 2a`, kept for
+/// comparison: `b^2 - 4ac` subtracts two huge, nearly equal numbers when
+/// the sphere is small and far away, and `-b + sqrt(...)` cancels
+/// whenever one root is much smaller than the other. The lesson shows the
+/// picture this gives; `raylab cost` measures it.
+pub fn intersect_sphere_textbook(
+    sphere: &Sphere,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<f32> {
+    let oc = ray.origin - sphere.center();
+    let a = ray.dir.dot(ray.dir);
+    let b = 2.0 * ray.dir.dot(oc);
+    let c = oc.dot(oc) - sphere.radius() * sphere.radius();
+    let discriminant = b * b - 4.0 * a * c;
+    if !(discriminant >= 0.0) {
+        return None;
     }
+    let root = discriminant.sqrt();
+    let near = (-b - root) / (2.0 * a);
+    let far = (-b + root) / (2.0 * a);
+    first_root_in(near, far, t_min, t_max)
 }
 
 /// The first of two roots, `near <= far`, inside `(t_min, t_max)`: from

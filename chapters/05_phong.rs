@@ -1,14 +1,8 @@
 #![doc = include_str!("05_phong.md")]
 
-use crate::{Material, Vec3};
-
-/// The three terms of Phong's model at one point, for one light (the ambient
-/// term does not depend on the light, and is added once per point).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PhongTerms {
-    pub diffuse: Vec3,
-    pub specular: Vec3,
-}
+use raylab::course::{Chapters, HitPoint, PhongTerms};
+use raylab::render::Tracer;
+use raylab::{Material, Vec3};
 
 /// The ambient term: light that arrives "from everywhere", a stand-in for
 /// all the light bounced between surfaces that a Whitted tracer does not
@@ -47,6 +41,34 @@ pub fn phong_terms(
     let cos_highlight = mirrored_light.dot(to_eye).max(0.0);
     let specular = material.specular * pow_whole(cos_highlight, material.shininess) * light;
     PhongTerms { diffuse, specular }
+}
+
+/// All the light a point sends toward the eye: the ambient term once, then
+/// for every light that reaches it (chapter 4's test) the Phong terms of
+/// that light, summed.
+pub fn shade_phong<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> PhongTerms {
+    let material = &point.material;
+    let mut sum = PhongTerms {
+        diffuse: ambient(point.albedo, material.ambient, tracer.ambient_light()),
+        specular: Vec3::ZERO,
+    };
+    for light in tracer.lights() {
+        if !point.faces(light.position) || C::in_shadow(tracer, point, light.position) {
+            continue;
+        }
+        let to_light = (light.position - point.surface.point).normalize();
+        let terms = C::phong_terms(
+            material,
+            point.albedo,
+            point.normal,
+            to_light,
+            point.to_eye,
+            light.radiance(),
+        );
+        sum.diffuse += terms.diffuse;
+        sum.specular += terms.specular;
+    }
+    sum
 }
 
 /// `x^n` by repeated squaring: about `2 log2(n)` multiplications.

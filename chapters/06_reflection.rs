@@ -1,7 +1,8 @@
 #![doc = include_str!("06_reflection.md")]
 
-use crate::chapters::ch04_shadows::{RayOffset, SurfacePoint};
-use crate::{Ray, Vec3};
+use raylab::course::{Chapters, HitPoint};
+use raylab::render::{RayKind, Tracer};
+use raylab::{Ray, Vec3};
 
 /// The mirror image of the incident direction `d` about the normal `n`.
 ///
@@ -26,10 +27,29 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     d - 2.0 * d.dot(n) * n
 }
 
-/// The ray a mirror sends on after `incoming` met it at `surface`.
-pub fn reflected_ray(surface: &SurfacePoint, incoming: Vec3, offset: RayOffset) -> Ray {
-    let dir = reflect(incoming, surface.normal);
-    Ray::new(offset.origin(surface, dir), dir)
+/// A mirror's colour: its own light (chapter 5) where it is not a mirror,
+/// plus what the mirror direction sees, traced recursively.
+///
+/// `colour = (1 - k_r) diffuse + specular + k_r colour(reflected ray)`. The
+/// specular highlight is not scaled by `1 - k_r`: it is the light source's
+/// own mirror image, which a mirror shows in full. The recursion stops after
+/// `max_depth` bounces, and skips rays whose weight in the pixel is too
+/// small to see (`min_contribution`).
+pub fn shade_mirror<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    point: &HitPoint,
+    depth: u32,
+    weight: f32,
+) -> Vec3 {
+    let local = C::shade_phong(tracer, point);
+    let k_r = point.material.reflectivity;
+    let mut color = (1.0 - k_r) * local.diffuse + local.specular;
+    if depth < tracer.max_depth() && tracer.worth_casting(weight, k_r) {
+        let dir = C::reflect(point.ray.dir, point.surface.normal);
+        let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+        color += k_r * tracer.trace(RayKind::Reflection, &reflected, depth + 1, weight * k_r);
+    }
+    color
 }
 
 #[cfg(test)]

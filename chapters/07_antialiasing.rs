@@ -1,5 +1,8 @@
 #![doc = include_str!("07_antialiasing.md")]
 
+use raylab::Vec3;
+use raylab::course::Chapters;
+use raylab::render::Tracer;
 use serde::{Deserialize, Serialize};
 
 /// Where inside a pixel the samples go.
@@ -57,6 +60,24 @@ pub fn sample_offset(
         }
         Sampling::Random => (random(0), random(1)),
     }
+}
+
+/// The colour of pixel `(x, y)`: the mean of its samples, each a camera ray
+/// through the sample's position, in linear light.
+///
+/// The mean must be taken in linear light, before the sRGB encoding of the
+/// PNG: light adds linearly, and a pixel half covered by a white edge sends
+/// half the light of a white one. Averaging encoded values instead darkens
+/// every edge. The samples are summed in index order, so the pixel is the
+/// same on any thread.
+pub fn pixel_color<C: Chapters>(tracer: &mut Tracer<C>, x: u32, y: u32) -> Vec3 {
+    let samples = tracer.samples();
+    let mut sum = Vec3::ZERO;
+    for index in 0..samples {
+        let (dx, dy) = tracer.sample_offset(index, (x, y));
+        sum += tracer.sample(x as f32 + dx, y as f32 + dy);
+    }
+    sum / samples as f32
 }
 
 /// `floor(sqrt(n))` in integers.

@@ -1,7 +1,8 @@
 #![doc = include_str!("08_refraction.md")]
 
-use crate::chapters::ch04_shadows::{RayOffset, SurfacePoint};
-use crate::{Ray, Vec3, unit_vector};
+use raylab::course::{Chapters, HitPoint};
+use raylab::render::{RayKind, Tracer};
+use raylab::{Ray, Vec3, unit_vector};
 
 /// The unit direction of a ray that crosses a surface, by Snell-Descartes'
 /// law `n1 sin(i) = n2 sin(t)`, or `None` under total internal reflection.
@@ -55,21 +56,61 @@ pub fn critical_angle(n1: f32, n2: f32) -> Option<f32> {
     (n1 > n2 && n2 > 0.0).then(|| libm::asinf(n2 / n1))
 }
 
-/// The ray that enters or leaves a transparent solid of index `ior`
-/// surrounded by air, or `None` under total internal reflection.
+/// The colour of a surface that may reflect and let light through: its own
+/// light where it is neither mirror nor glass, plus the reflected and the
+/// refracted rays, each traced recursively.
 ///
-/// `surface.normal` points out of the solid, so the ray is entering when it
-/// travels against the normal: then `eta = 1 / ior`, else `eta = ior`.
-pub fn refracted_ray(
-    surface: &SurfacePoint,
-    incoming: Vec3,
-    ior: f32,
-    offset: RayOffset,
-) -> Option<Ray> {
-    let entering = incoming.dot(surface.normal) < 0.0;
-    let eta = if entering { 1.0 / ior } else { ior };
-    let dir = refract(incoming, surface.normal, eta)?;
-    Some(Ray::new(offset.origin(surface, dir), dir))
+/// `colour = (1 - k_r - k_t) diffuse + specular + k_r reflected + k_t tint refracted`,
+/// where the refracted light is tinted by the material's colour. Every solid
+/// is taken to be surrounded by air: the ray is entering when it travels
+/// against the outward normal, and then `eta = 1 / ior`, else `eta = ior`.
+/// Under total internal reflection no light crosses, so the glass's share
+/// joins the mirror's.
+pub fn shade_glass<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    point: &HitPoint,
+    depth: u32,
+    weight: f32,
+) -> Vec3 {
+    let local = C::shade_phong(tracer, point);
+    let material = &point.material;
+    let (k_r, k_t) = (material.reflectivity, material.transparency);
+    let mut color = (1.0 - k_r - k_t) * local.diffuse + local.specular;
+    if depth >= tracer.max_depth() {
+        return color;
+    }
+    let incoming = point.ray.dir;
+    let normal = point.surface.normal;
+    let mut reflected_share = k_r;
+    if tracer.worth_casting(weight, k_t) {
+        let entering = incoming.dot(normal) < 0.0;
+        let eta = if entering {
+            1.0 / material.ior
+        } else {
+            material.ior
+        };
+        match C::refract(incoming, normal, eta) {
+            Some(dir) => {
+                let refracted = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+                let through =
+                    tracer.trace(RayKind::Refraction, &refracted, depth + 1, weight * k_t);
+                color += k_t * material.color * through;
+            }
+            None => reflected_share += k_t,
+        }
+    }
+    if tracer.worth_casting(weight, reflected_share) {
+        let dir = C::reflect(incoming, normal);
+        let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+        let seen = tracer.trace(
+            RayKind::Reflection,
+            &reflected,
+            depth + 1,
+            weight * reflected_share,
+        );
+        color += reflected_share * seen;
+    }
+    color
 }
 
 #[cfg(test)]

@@ -319,7 +319,10 @@ pub fn render_count(config: &CostConfig) -> u64 {
 
 /// Runs the sweep on the current rayon pool; `progress` advances by one per
 /// render.
-pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> CostReport {
+pub fn run(
+    config: &CostConfig,
+    progress: Option<&indicatif::ProgressBar>,
+) -> Result<CostReport, crate::RenderError> {
     let far_scene = far_sphere_scene();
     let chapter = config.chapter;
     let repeats = config.repeats.max(1);
@@ -329,11 +332,11 @@ pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> Co
         } else {
             &config.scene
         };
-        let rendered = crate::render(scene, chapter, settings, None);
+        let rendered = crate::render(scene, chapter, settings, None)?;
         if let Some(bar) = progress {
             bar.inc(1);
         }
-        rendered
+        Ok::<_, crate::RenderError>(rendered)
     };
     let reference_settings = reference_settings(&config.base);
     let measured = |knob, label: String, settings, far_sphere, runs: Vec<Rendered>| {
@@ -353,9 +356,9 @@ pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> Co
     };
     // The references are rendered once: they are the slow part, and their
     // time is context, not a result.
-    let mut references = vec![(false, render(false, &reference_settings))];
+    let mut references = vec![(false, render(false, &reference_settings)?)];
     if config.knobs.contains(&Knob::SphereFormula) {
-        references.push((true, render(true, &reference_settings)));
+        references.push((true, render(true, &reference_settings)?));
     }
     let reference_of = |far_sphere: bool| {
         &references
@@ -390,7 +393,7 @@ pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> Co
     let mut runs: Vec<Vec<Rendered>> = jobs.iter().map(|_| Vec::new()).collect();
     for _ in 0..repeats {
         for (job, job_runs) in jobs.iter().zip(&mut runs) {
-            let mut rendered = render(job.far_sphere, &job.settings);
+            let mut rendered = render(job.far_sphere, &job.settings)?;
             if !job_runs.is_empty() {
                 rendered.rgb = Vec::new(); // only the first image is compared
             }
@@ -404,14 +407,14 @@ pub fn run(config: &CostConfig, progress: Option<&indicatif::ProgressBar>) -> Co
         rows.push(row);
     }
     mark_pareto_front(&mut rows);
-    CostReport {
+    Ok(CostReport {
         chapter,
         scene_name: config.scene_name.clone(),
         width: config.base.width,
         height: config.base.height,
         repeats,
         rows,
-    }
+    })
 }
 
 fn median(values: &mut [f64]) -> f64 {

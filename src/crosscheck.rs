@@ -102,9 +102,7 @@ pub fn scene_size(scene: &Scene) -> f32 {
     for shape in &scene.shapes {
         match shape {
             Shape::Plane(plane) => include(plane.point(), 0.0),
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
-                include(sphere.center(), sphere.radius())
-            }
+            Shape::Sphere(sphere) => include(sphere.center(), sphere.radius()),
         }
     }
     (high - low).max_element().max(1.0)
@@ -158,7 +156,7 @@ pub fn primitives(shapes: &[Shape], scene: &Scene) -> (Vec<Primitive>, Vec<Optio
     shapes
         .iter()
         .map(|shape| match shape {
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => (
+            Shape::Sphere(sphere) => (
                 Primitive::Sphere {
                     center: sphere.center(),
                     radius: sphere.radius(),
@@ -343,9 +341,7 @@ impl Reference<'_> {
     /// one backend reported there).
     pub fn boundary_of(&self, object: usize, ray: &Ray, t: f32) -> Option<Boundary> {
         match self.shapes[object] {
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
-                on_silhouette(&sphere, ray).then_some(Boundary::Silhouette)
-            }
+            Shape::Sphere(sphere) => on_silhouette(&sphere, ray).then_some(Boundary::Silhouette),
             Shape::Plane(plane) => {
                 if grazes(&plane, ray) {
                     return Some(Boundary::Grazing);
@@ -374,7 +370,7 @@ impl Reference<'_> {
 pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
     let length = ray.dir.as_dvec3().length();
     let scale = match shape {
-        Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
+        Shape::Sphere(sphere) => {
             let (to_center, closest) = closest_approach(sphere, ray);
             let radius = f64::from(sphere.radius());
             // Inside the silhouette band the ray is a boundary case anyway;

@@ -203,7 +203,7 @@ fn reference_for(
     settings
         .validate()
         .map_err(|message| anyhow::anyhow!("cannot render a reference at {size}: {message}"))?;
-    let rendered = crate::render(&scene, chapter, &settings, None);
+    let rendered = crate::render(&scene, chapter, &settings, None)?;
     Ok((
         rendered.into(),
         format!("built-in scene rendered at {size} ({why_render})"),

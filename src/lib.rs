@@ -27,6 +27,10 @@
 // without a separate test is deliberate, and the lessons explain it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+// The chapter files name raylab's items as `raylab::...`, as a student
+// workspace does, so that the same text compiles in both places.
+extern crate self as raylab;
+
 #[path = "../chapters/mod.rs"]
 pub mod chapters;
 
@@ -34,6 +38,7 @@ pub mod builtin;
 pub mod camera;
 pub mod cli;
 pub mod cost;
+pub mod course;
 pub mod crosscheck;
 pub mod diff;
 #[cfg(feature = "embree")]
@@ -43,19 +48,21 @@ pub mod output;
 pub mod ray;
 pub mod render;
 pub mod scene;
+pub mod shapes;
 pub mod stage;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;
 
-pub use chapters::ch01_plane::Plane;
-pub use chapters::ch02_sphere::Sphere;
-pub use chapters::ch03_nearest::{Hit, first_hit, nearest_hit};
+pub use chapters::Reference;
 pub use chapters::ch06_reflection::reflect;
 pub use chapters::ch07_antialiasing::Sampling;
 pub use chapters::ch08_refraction::refract;
+pub use course::{Chapters, Hit, HitPoint, Objects, first_hit, nearest_hit};
 pub use ray::{Ray, unit_vector};
 pub use render::{
-    CastRay, RayCounts, RayKind, RayLog, RayRecorder, Rendered, Tracer, record_rays, render,
+    CastRay, RayCounts, RayKind, RayLog, RayRecorder, RenderError, Rendered, Stage, Tracer,
+    record_rays, render, render_with,
 };
-pub use scene::{Material, RenderSettings, Scene, SceneError, Shape};
+pub use scene::{Material, RenderSettings, Scene, SceneError};
+pub use shapes::{Plane, Shape, Sphere, SurfacePoint};

@@ -1,30 +1,33 @@
-//! The image loop and the Whitted tracer that ties the chapters together.
+//! The image loop, and the tracer the chapters drive.
 //!
-//! Each chapter's file holds one idea; this file only decides, for every
-//! ray, which of those ideas the current stage switches on, and in which
-//! order they combine:
+//! This file walks the pixels and hands each to the chapters; the chapters
+//! decide everything else. For each ray, [`Tracer::trace`] finds what it
+//! hits (chapter 3's nearest hit, or list order before it) and asks the
+//! highest chapter of the stage to colour the point:
 //!
 //! ```text
-//! colour(ray) = background                                 if nothing is hit
-//!             = (1 - kr - kt) (ambient + diffuse) + specular
-//!               + kr colour(reflected ray)                 chapter 6
-//!               + kt tint colour(refracted ray)            chapter 8
+//! stage 1-3   the material's colour
+//! stage 4     chapter 4's flat light and shadows       (shade_flat)
+//! stage 5     chapter 5's Phong sum                     (shade_phong)
+//! stage 6-7   chapter 6's mirror mix, recursive         (shade_mirror)
+//! stage 8     chapter 8's glass mix, recursive          (shade_glass)
 //! ```
+//!
+//! A pixel is one ray through its centre, or from chapter 7 on chapter 7's
+//! own sample loop ([`Chapters::pixel_color`]).
 
+use std::marker::PhantomData;
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use crate::camera::Camera;
-use crate::chapters::ch03_nearest::{first_hit, nearest_hit};
-use crate::chapters::ch04_shadows::{RayOffset, SurfacePoint, shadow_ray_from, surface_point};
-use crate::chapters::ch05_phong::{ambient, phong_terms};
-use crate::chapters::ch06_reflection::reflected_ray;
-use crate::chapters::ch07_antialiasing::sample_offset;
-use crate::chapters::ch08_refraction::refracted_ray;
+use crate::chapters::Reference;
+use crate::course::{Chapters, Hit, HitPoint, Objects};
 use crate::output::linear_to_srgb8;
-use crate::scene::{RenderSettings, SphereFormula};
-use crate::stage::{Effects, Lighting};
+use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula};
+use crate::shapes::SurfacePoint;
+use crate::stage::{Effects, LAST_CHAPTER, Lighting};
 use crate::{Material, Ray, Scene, Shape, Vec3};
 
 /// The kinds of ray a render casts.
@@ -36,17 +39,11 @@ pub enum RayKind {
     Refraction,
 }
 
-/// What the tracer reports as it works: every ray it casts, and the events
-/// worth counting. [`RayCounts`] counts; other logs can record rays.
+/// Something that wants to see every ray the tracer casts (for
+/// `raylab crosscheck`); counting is built into the tracer.
 pub trait RayLog {
     /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
-    /// A shadow ray hit the very primitive it left, which the exact segment
-    /// cannot do: shadow acne. Only the first blocker in scene order is
-    /// examined, so this may undercount.
-    fn self_shadow(&mut self) {}
-    /// A sample came out NaN or infinite (it is written as black).
-    fn non_finite_sample(&mut self) {}
 }
 
 /// How many rays of each kind a render cast, and how many went wrong.
@@ -57,12 +54,13 @@ pub struct RayCounts {
     pub reflection: u64,
     pub refraction: u64,
     /// Shadow rays that hit the primitive they started on, where the exact
-    /// segment does not (acne).
+    /// segment does not (acne). Only the first blocker in scene order is
+    /// examined, so this may undercount.
     pub self_shadow_hits: u64,
     /// Pixels with at least one such shadow ray: the acne a student sees.
-    /// Only [`render`] fills it in (a log sees rays, not pixels).
+    /// Only [`render`] fills it in (a tracer sees rays, not pixels).
     pub self_shadowed_pixels: u64,
-    /// Samples whose colour was NaN or infinite.
+    /// Samples whose colour was NaN or infinite (written as black).
     pub non_finite_samples: u64,
 }
 
@@ -81,22 +79,14 @@ impl RayCounts {
         self.non_finite_samples += other.non_finite_samples;
         self
     }
-}
 
-impl RayLog for RayCounts {
-    fn cast(&mut self, kind: RayKind, _: &Ray, _: f32, _: f32) {
+    fn count(&mut self, kind: RayKind) {
         match kind {
             RayKind::Primary => self.primary += 1,
             RayKind::Shadow => self.shadow += 1,
             RayKind::Reflection => self.reflection += 1,
             RayKind::Refraction => self.refraction += 1,
         }
-    }
-    fn self_shadow(&mut self) {
-        self.self_shadow_hits += 1;
-    }
-    fn non_finite_sample(&mut self) {
-        self.non_finite_samples += 1;
     }
 }
 
@@ -127,19 +117,350 @@ impl RayLog for RayRecorder {
     }
 }
 
-/// Every ray that rendering the whole image with `tracer` casts, in a fixed
+/// How secondary rays leave a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum RayOffset {
+    /// Chapter 4's [`Chapters::offset_origin`]: a push scaled to the point's
+    /// rounding error.
+    #[default]
+    Scaled,
+    /// The textbook fix: start `epsilon` along the new ray, whatever the
+    /// scene's size (the same as ignoring hits with `t < epsilon`). Too small
+    /// and far surfaces shadow themselves (acne); too large and shadows
+    /// detach from the objects that cast them. Kept for comparison.
+    Fixed(f32),
+}
+
+impl RayOffset {
+    /// Where a secondary ray leaving `surface` in direction `dir` starts,
+    /// with the chapters `C`'s offset when the rule is [`RayOffset::Scaled`].
+    pub fn origin_with<C: Chapters>(self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        match self {
+            RayOffset::Scaled => C::offset_origin(surface, dir),
+            RayOffset::Fixed(epsilon) => surface.point + epsilon * dir.normalize_or_zero(),
+        }
+    }
+
+    /// [`RayOffset::origin_with`] the reference chapters.
+    pub fn origin(self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        self.origin_with::<Reference>(surface, dir)
+    }
+}
+
+/// Why a render cannot start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    #[error("invalid render settings: {0}")]
+    Settings(String),
+    #[error("there is no chapter {0}; chapters are 1 to {LAST_CHAPTER}")]
+    NoSuchChapter(u8),
+}
+
+/// A scene prepared for one chapter's stage: what every thread shares.
+pub struct Stage<'a, C: Chapters = Reference> {
+    scene: &'a Scene,
+    /// The shapes this stage can intersect (chapter 1 knows no spheres), with
+    /// their materials, index for index.
+    shapes: Vec<Shape>,
+    materials: Vec<Material>,
+    /// For each of `shapes`, its index in the scene (for its name).
+    scene_indices: Vec<usize>,
+    offset: RayOffset,
+    camera: Camera,
+    pub effects: Effects,
+    pub settings: RenderSettings,
+    chapters: PhantomData<C>,
+}
+
+impl<'a> Stage<'a, Reference> {
+    /// `scene` at `chapter`'s stage with `settings`, rendered by raylab's
+    /// own chapters ([`Stage::with_chapters`]).
+    pub fn new(
+        scene: &'a Scene,
+        chapter: u8,
+        settings: RenderSettings,
+    ) -> Result<Stage<'a, Reference>, RenderError> {
+        Stage::with_chapters(scene, chapter, settings)
+    }
+}
+
+impl<'a, C: Chapters> Stage<'a, C> {
+    /// `scene` at `chapter`'s stage with `settings`, rendered by the
+    /// chapters `C`, simulating only the effects the scene can show. The
+    /// settings are checked here, so no caller can ask for an empty image or
+    /// unbounded recursion.
+    pub fn with_chapters(
+        scene: &'a Scene,
+        chapter: u8,
+        settings: RenderSettings,
+    ) -> Result<Stage<'a, C>, RenderError> {
+        if !(1..=LAST_CHAPTER).contains(&chapter) {
+            return Err(RenderError::NoSuchChapter(chapter));
+        }
+        settings.validate().map_err(RenderError::Settings)?;
+        let stage = Effects::for_chapter(chapter);
+        let samples = if stage.antialiasing {
+            settings.samples
+        } else {
+            1
+        };
+        let effects = stage.needed_by(scene, samples);
+        let scene_indices: Vec<usize> = (0..scene.shapes.len())
+            .filter(|&index| {
+                if scene.shapes[index].is_sphere() {
+                    effects.spheres
+                } else {
+                    effects.planes
+                }
+            })
+            .collect();
+        let (shapes, materials) = scene_indices
+            .iter()
+            .map(|&index| (scene.shapes[index], scene.materials[index]))
+            .unzip();
+        Ok(Stage {
+            scene,
+            shapes,
+            materials,
+            scene_indices,
+            offset: settings.offset(),
+            camera: Camera::new(&scene.camera, settings.width, settings.height),
+            effects,
+            settings,
+            chapters: PhantomData,
+        })
+    }
+
+    /// Samples per pixel actually taken (1 before chapter 7).
+    pub fn samples(&self) -> u32 {
+        if self.effects.antialiasing {
+            self.settings.samples
+        } else {
+            1
+        }
+    }
+
+    /// The shapes this stage intersects.
+    pub fn shapes(&self) -> &[Shape] {
+        &self.shapes
+    }
+
+    /// The objects this stage intersects, as the chapters `C` intersect them.
+    pub fn objects(&self) -> Objects<'_, C> {
+        Objects::new(&self.shapes)
+    }
+
+    /// The name of `object` (an index into [`Stage::shapes`]) in the scene,
+    /// or `None` when there is no such object.
+    pub fn name(&self, object: usize) -> Option<&str> {
+        let index = *self.scene_indices.get(object)?;
+        self.scene.names.get(index).map(String::as_str)
+    }
+
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// A tracer for one thread's share of the work, counting its rays and
+    /// showing each to `recorder` if there is one.
+    pub fn tracer<'s>(&'s self, recorder: Option<&'s mut dyn RayLog>) -> Tracer<'s, C> {
+        Tracer {
+            stage: self,
+            objects: self.objects(),
+            counts: RayCounts::default(),
+            recorder,
+        }
+    }
+
+    /// The colour of pixel `(x, y)` in linear light, with `tracer`.
+    pub fn pixel(&self, tracer: &mut Tracer<'_, C>, x: u32, y: u32) -> Vec3 {
+        tracer.pixel(x, y)
+    }
+}
+
+/// Past this many bounces [`Tracer::trace`] stops whatever the chapters ask,
+/// so that no chapter (a student's without its depth test, say) can recurse
+/// until the stack overflows. Chapters 6 and 8 stop at `max_depth`, which is
+/// at most this.
+pub const DEPTH_LIMIT: u32 = MAX_DEPTH;
+
+/// The renderer's handle, given to the chapters that drive others: through
+/// it they cast rays, read the scene and the settings, and reach the other
+/// chapters. One per thread; it counts the rays it casts.
+pub struct Tracer<'a, C: Chapters = Reference> {
+    stage: &'a Stage<'a, C>,
+    objects: Objects<'a, C>,
+    counts: RayCounts,
+    recorder: Option<&'a mut dyn RayLog>,
+}
+
+impl<'a, C: Chapters> Tracer<'a, C> {
+    /// The rays cast so far, by kind.
+    pub fn counts(&self) -> RayCounts {
+        self.counts
+    }
+
+    /// The objects this stage intersects.
+    pub fn objects(&self) -> Objects<'a, C> {
+        self.objects
+    }
+
+    /// The point where `ray` meets object `object` at parameter `t`, as the
+    /// shading chapters receive it.
+    pub fn hit_point(&self, object: usize, ray: &Ray, t: f32) -> HitPoint {
+        let shape = &self.stage.shapes[object];
+        HitPoint::new(object, shape, &self.stage.materials[object], ray, t)
+    }
+
+    /// The scene's point lights.
+    pub fn lights(&self) -> &'a [Light] {
+        &self.stage.scene.lights
+    }
+
+    /// The scene's ambient light (chapters 4 and 5).
+    pub fn ambient_light(&self) -> Vec3 {
+        self.stage.scene.ambient_light
+    }
+
+    /// How many bounces chapters 6 and 8 may follow.
+    pub fn max_depth(&self) -> u32 {
+        self.stage.settings.max_depth
+    }
+
+    /// Samples per pixel (chapter 7).
+    pub fn samples(&self) -> u32 {
+        self.stage.samples()
+    }
+
+    /// Whether a secondary ray that brings `share` of a point whose own
+    /// share of the pixel is `weight` is worth casting: the share must be
+    /// positive, and the ray's weight in the pixel at least the scene's
+    /// `min_contribution`. Skipping the others costs at most that much of
+    /// the pixel, and saves every ray they would have spawned.
+    pub fn worth_casting(&self, weight: f32, share: f32) -> bool {
+        share > 0.0 && weight * share >= self.stage.settings.min_contribution
+    }
+
+    /// Where a secondary ray leaving `surface` in direction `dir` starts:
+    /// chapter 4's [`Chapters::offset_origin`], or the fixed epsilon of the
+    /// comparison setting `ray_offset = "fixed"`.
+    pub fn offset_origin(&self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        self.stage.offset.origin_with::<C>(surface, dir)
+    }
+
+    /// Casts a shadow ray: whether any object lies on `ray` with
+    /// `t_min < t < t_max`. Any blocker will do, so the search stops at the
+    /// first in list order. `from` is the point the ray leaves, for the acne
+    /// counter of `--stats`.
+    pub fn blocked(&mut self, ray: &Ray, t_min: f32, t_max: f32, from: &HitPoint) -> bool {
+        self.log(RayKind::Shadow, ray, t_min, t_max);
+        match self.objects.first_hit(ray, t_min, t_max) {
+            Some(blocker) => {
+                // Planes and spheres are convex, and lights outside a sphere
+                // seen from inside it are skipped before any ray: a shadow
+                // ray that meets its own surface is always acne.
+                if blocker.object == from.object {
+                    self.counts.self_shadow_hits += 1;
+                }
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The colour seen along `ray`, a ray of `kind` (a reflection or
+    /// refraction when chapters 6 and 8 call it). `depth` counts the bounces
+    /// so far and `weight` is the ray's share of the pixel.
+    pub fn trace(&mut self, kind: RayKind, ray: &Ray, depth: u32, weight: f32) -> Vec3 {
+        if depth > DEPTH_LIMIT {
+            return Vec3::ZERO;
+        }
+        self.log(kind, ray, 0.0, f32::INFINITY);
+        let hit = if self.stage.effects.nearest_hit {
+            C::nearest_hit(&self.objects, ray, 0.0, f32::INFINITY)
+        } else {
+            self.objects.first_hit(ray, 0.0, f32::INFINITY)
+        };
+        let Some(Hit { object, t }) = hit else {
+            return self.stage.scene.background;
+        };
+        let point = self.hit_point(object, ray, t);
+        let effects = self.stage.effects;
+        if effects.refraction {
+            C::shade_glass(self, &point, depth, weight)
+        } else if effects.reflection {
+            C::shade_mirror(self, &point, depth, weight)
+        } else {
+            match effects.lighting {
+                Lighting::Unlit => point.albedo,
+                Lighting::Flat => C::shade_flat(self, &point),
+                Lighting::Phong => {
+                    let light = C::shade_phong(self, &point);
+                    light.diffuse + light.specular
+                }
+            }
+        }
+    }
+
+    /// The colour of one camera ray through the image point `(x, y)` (in
+    /// pixels from the top-left corner), in linear light. A NaN or infinite
+    /// colour is counted and becomes black.
+    pub fn sample(&mut self, x: f32, y: f32) -> Vec3 {
+        let ray = self.stage.camera.ray_through(x, y);
+        let color = self.trace(RayKind::Primary, &ray, 0, 1.0);
+        if color.is_finite() {
+            color
+        } else {
+            self.counts.non_finite_samples += 1;
+            Vec3::ZERO
+        }
+    }
+
+    /// Where sample `index` of this stage's count falls inside `pixel`, by
+    /// chapter 7's [`Chapters::sample_offset`] with the scene's settings.
+    pub fn sample_offset(&self, index: u32, pixel: (u32, u32)) -> (f32, f32) {
+        let settings = &self.stage.settings;
+        C::sample_offset(
+            settings.sampling,
+            self.samples(),
+            index,
+            pixel,
+            settings.seed,
+        )
+    }
+
+    /// The colour of pixel `(x, y)`: one ray through its centre, or chapter
+    /// 7's samples when the stage takes more than one.
+    pub fn pixel(&mut self, x: u32, y: u32) -> Vec3 {
+        if self.samples() == 1 {
+            self.sample(x as f32 + 0.5, y as f32 + 0.5)
+        } else {
+            C::pixel_color(self, x, y)
+        }
+    }
+
+    fn log(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
+        self.counts.count(kind);
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.cast(kind, ray, t_min, t_max);
+        }
+    }
+}
+
+/// Every ray that rendering the whole image at `stage` casts, in a fixed
 /// order: row by row from the top, pixel by pixel, and within a pixel in the
-/// order the tracer casts them. Rows are traced in parallel, each into its
+/// order the chapters cast them. Rows are traced in parallel, each into its
 /// own log, and the logs are joined in row order, so the list does not depend
 /// on the number of threads.
-pub fn record_rays(tracer: &Tracer, camera: &Camera) -> Vec<CastRay> {
-    let (width, height) = (tracer.settings.width, tracer.settings.height);
+pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
+    let (width, height) = (stage.settings.width, stage.settings.height);
     let rows: Vec<Vec<CastRay>> = (0..height)
         .into_par_iter()
         .map(|y| {
             let mut recorder = RayRecorder::default();
+            let mut tracer = stage.tracer(Some(&mut recorder));
             for x in 0..width {
-                tracer.pixel(camera, x, y, &mut recorder);
+                tracer.pixel(x, y);
             }
             recorder.rays
         })
@@ -167,278 +488,75 @@ impl Rendered {
     }
 }
 
-/// Everything needed to trace rays through one scene at one chapter's stage.
-pub struct Tracer<'a> {
-    scene: &'a Scene,
-    /// The shapes this stage can intersect (chapter 1 knows no spheres), with
-    /// their materials, index for index.
-    shapes: Vec<Shape>,
-    materials: Vec<Material>,
-    /// For each of `shapes`, its index in the scene (for its name).
-    scene_indices: Vec<usize>,
-    offset: RayOffset,
-    pub effects: Effects,
-    pub settings: RenderSettings,
-}
-
-impl<'a> Tracer<'a> {
-    /// A tracer for `scene` at `chapter`'s stage with `settings`, simulating
-    /// only the effects the scene can show.
-    pub fn new(scene: &'a Scene, chapter: u8, settings: RenderSettings) -> Tracer<'a> {
-        let stage = Effects::for_chapter(chapter);
-        let samples = if stage.antialiasing {
-            settings.samples
-        } else {
-            1
-        };
-        let effects = stage.needed_by(scene, samples);
-        let scene_indices: Vec<usize> = (0..scene.shapes.len())
-            .filter(|&index| {
-                if scene.shapes[index].is_sphere() {
-                    effects.spheres
-                } else {
-                    effects.planes
-                }
-            })
-            .collect();
-        let (shapes, materials) = scene_indices
-            .iter()
-            .map(|&index| (&scene.shapes[index], &scene.materials[index]))
-            .map(|(shape, material)| match (shape, settings.sphere_formula) {
-                (Shape::Sphere(sphere), SphereFormula::Textbook) => {
-                    (Shape::TextbookSphere(*sphere), *material)
-                }
-                _ => (*shape, *material),
-            })
-            .unzip();
-        Tracer {
-            scene,
-            shapes,
-            materials,
-            scene_indices,
-            offset: settings.offset(),
-            effects,
-            settings,
-        }
-    }
-
-    /// Samples per pixel actually taken (1 before chapter 7).
-    pub fn samples(&self) -> u32 {
-        if self.effects.antialiasing {
-            self.settings.samples
-        } else {
-            1
-        }
-    }
-
-    /// The shapes this stage intersects.
-    pub fn shapes(&self) -> &[Shape] {
-        &self.shapes
-    }
-
-    /// The name of `object` (an index into [`Tracer::shapes`]) in the scene.
-    pub fn name(&self, object: usize) -> &str {
-        &self.scene.names[self.scene_indices[object]]
-    }
-
-    /// The colour of pixel `(x, y)`, in linear light: the mean of its samples,
-    /// summed in sample order.
-    pub fn pixel(&self, camera: &Camera, x: u32, y: u32, log: &mut impl RayLog) -> Vec3 {
-        let samples = self.samples();
-        if samples == 1 {
-            return self.sample(camera, x as f32 + 0.5, y as f32 + 0.5, log);
-        }
-        let mut sum = Vec3::ZERO;
-        for index in 0..samples {
-            let settings = &self.settings;
-            let (dx, dy) = sample_offset(settings.sampling, samples, index, (x, y), settings.seed);
-            sum += self.sample(camera, x as f32 + dx, y as f32 + dy, log);
-        }
-        sum / samples as f32
-    }
-
-    fn sample(&self, camera: &Camera, x: f32, y: f32, log: &mut impl RayLog) -> Vec3 {
-        let ray = camera.ray_through(x, y);
-        log.cast(RayKind::Primary, &ray, 0.0, f32::INFINITY);
-        let color = self.trace(&ray, 0, 1.0, log);
-        if color.is_finite() {
-            color
-        } else {
-            log.non_finite_sample();
-            Vec3::ZERO
-        }
-    }
-
-    /// The colour seen along `ray`. `depth` counts the bounces so far and
-    /// `weight` is this ray's share of the pixel.
-    pub fn trace(&self, ray: &Ray, depth: u32, weight: f32, log: &mut impl RayLog) -> Vec3 {
-        let hit = if self.effects.nearest_hit {
-            nearest_hit(&self.shapes, ray, 0.0, f32::INFINITY)
-        } else {
-            first_hit(&self.shapes, ray, 0.0, f32::INFINITY)
-        };
-        let Some(hit) = hit else {
-            return self.scene.background;
-        };
-        let shape = &self.shapes[hit.object];
-        let material = &self.materials[hit.object];
-        let surface = surface_point(shape, ray, hit.t);
-        let albedo = material.albedo_at(shape, surface.point);
-        if self.effects.lighting == Lighting::Unlit {
-            return albedo;
-        }
-        let (diffuse, specular) =
-            self.local_light(hit.object, material, albedo, &surface, ray, log);
-        let mirror_share = if self.effects.reflection {
-            material.reflectivity
-        } else {
-            0.0
-        };
-        let glass_share = if self.effects.refraction {
-            material.transparency
-        } else {
-            0.0
-        };
-        let mut color = (1.0 - mirror_share - glass_share) * diffuse + specular;
-        if depth >= self.settings.max_depth {
-            return color;
-        }
-        let worth_casting =
-            |share: f32| share > 0.0 && weight * share >= self.settings.min_contribution;
-        // Light that cannot cross the surface (total internal reflection) is
-        // reflected instead, so it joins the mirror's share.
-        let mut reflected_share = mirror_share;
-        if worth_casting(glass_share) {
-            match refracted_ray(&surface, ray.dir, material.ior, self.offset) {
-                Some(refracted) => {
-                    log.cast(RayKind::Refraction, &refracted, 0.0, f32::INFINITY);
-                    let through = self.trace(&refracted, depth + 1, weight * glass_share, log);
-                    color += glass_share * material.color * through;
-                }
-                None => reflected_share += glass_share,
-            }
-        }
-        if worth_casting(reflected_share) {
-            let reflected = reflected_ray(&surface, ray.dir, self.offset);
-            log.cast(RayKind::Reflection, &reflected, 0.0, f32::INFINITY);
-            color +=
-                reflected_share * self.trace(&reflected, depth + 1, weight * reflected_share, log);
-        }
-        color
-    }
-
-    /// Ambient plus diffuse light, and specular light, at a surface point:
-    /// chapter 4's flat lighting or chapter 5's Phong, with a shadow ray to
-    /// each light.
-    fn local_light(
-        &self,
-        object: usize,
-        material: &Material,
-        albedo: Vec3,
-        surface: &SurfacePoint,
-        ray: &Ray,
-        log: &mut impl RayLog,
-    ) -> (Vec3, Vec3) {
-        let to_eye = -ray.dir.normalize();
-        // Light the side of the surface the ray arrived on.
-        let normal = if surface.normal.dot(to_eye) >= 0.0 {
-            surface.normal
-        } else {
-            -surface.normal
-        };
-        // Seen from inside a sphere, a light outside it is hidden by the
-        // sphere itself: no need to cast a ray to learn that.
-        let inside_sphere = match self.shapes[object] {
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => {
-                (surface.normal.dot(to_eye) < 0.0).then_some(sphere)
-            }
-            Shape::Plane(_) => None,
-        };
-        let mut diffuse = ambient(albedo, material.ambient, self.scene.ambient_light);
-        let mut specular = Vec3::ZERO;
-        for light in &self.scene.lights {
-            let to_light = light.position - surface.point;
-            if normal.dot(to_light) <= 0.0 {
-                continue; // the light is behind this side of the surface
-            }
-            if inside_sphere.is_some_and(|sphere| !sphere.contains(light.position)) {
-                continue;
-            }
-            if self.effects.shadows {
-                let shadow_ray = shadow_ray_from(surface, light.position, self.offset);
-                log.cast(RayKind::Shadow, &shadow_ray, 0.0, 1.0);
-                if let Some(blocker) = first_hit(&self.shapes, &shadow_ray, 0.0, 1.0) {
-                    // Planes and spheres are convex, and lights outside a
-                    // sphere seen from inside were skipped above: a shadow
-                    // ray that meets its own surface is always acne.
-                    if blocker.object == object {
-                        log.self_shadow();
-                    }
-                    continue;
-                }
-            }
-            match self.effects.lighting {
-                Lighting::Flat => diffuse += albedo * material.diffuse * light.radiance(),
-                Lighting::Phong => {
-                    let terms = phong_terms(
-                        material,
-                        albedo,
-                        normal,
-                        to_light.normalize(),
-                        to_eye,
-                        light.radiance(),
-                    );
-                    diffuse += terms.diffuse;
-                    if self.effects.specular {
-                        specular += terms.specular;
-                    }
-                }
-                Lighting::Unlit => {}
-            }
-        }
-        (diffuse, specular)
-    }
-}
-
-/// Renders `scene` at `chapter`'s stage with `settings` on the current rayon
-/// thread pool. Each pixel depends only on the scene, the settings and its
-/// position, so the image is the same on any number of threads.
+/// Renders `scene` at `chapter`'s stage with `settings` and raylab's own
+/// chapters, on the current rayon thread pool. Each pixel depends only on
+/// the scene, the settings and its position, so the image is the same on
+/// any number of threads.
 pub fn render(
     scene: &Scene,
     chapter: u8,
     settings: &RenderSettings,
     progress: Option<&indicatif::ProgressBar>,
-) -> Rendered {
+) -> Result<Rendered, RenderError> {
+    render_with::<Reference>(scene, chapter, settings, progress)
+}
+
+/// [`render`] with the chapters `C` (a student's, say). The comparison
+/// setting `sphere_formula = "textbook"` swaps in the textbook sphere test.
+pub fn render_with<C: Chapters>(
+    scene: &Scene,
+    chapter: u8,
+    settings: &RenderSettings,
+    progress: Option<&indicatif::ProgressBar>,
+) -> Result<Rendered, RenderError> {
+    match settings.sphere_formula {
+        SphereFormula::Stable => render_stage(
+            &Stage::<C>::with_chapters(scene, chapter, *settings)?,
+            progress,
+        ),
+        SphereFormula::Textbook => render_stage(
+            &Stage::<crate::course::TextbookSphere<C>>::with_chapters(scene, chapter, *settings)?,
+            progress,
+        ),
+    }
+}
+
+/// Renders a prepared stage.
+pub fn render_stage<C: Chapters>(
+    stage: &Stage<'_, C>,
+    progress: Option<&indicatif::ProgressBar>,
+) -> Result<Rendered, RenderError> {
     let start = Instant::now();
-    let tracer = Tracer::new(scene, chapter, *settings);
-    let (width, height) = (settings.width, settings.height);
-    let camera = Camera::new(&scene.camera, width, height);
+    let (width, height) = (stage.settings.width, stage.settings.height);
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     let rays = rgb
         .par_chunks_mut(width as usize * 3)
         .enumerate()
         .map(|(y, row)| {
-            let mut counts = RayCounts::default();
+            let mut tracer = stage.tracer(None);
+            let mut self_shadowed_pixels = 0;
             for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
-                let self_shadowed_before = counts.self_shadow_hits;
-                let color = tracer.pixel(&camera, x as u32, y as u32, &mut counts);
-                if counts.self_shadow_hits > self_shadowed_before {
-                    counts.self_shadowed_pixels += 1;
+                let self_shadowed_before = tracer.counts.self_shadow_hits;
+                let color = tracer.pixel(x as u32, y as u32);
+                if tracer.counts.self_shadow_hits > self_shadowed_before {
+                    self_shadowed_pixels += 1;
                 }
                 pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
             }
             if let Some(bar) = progress {
                 bar.inc(1);
             }
+            let mut counts = tracer.counts;
+            counts.self_shadowed_pixels = self_shadowed_pixels;
             counts
         })
         .reduce(RayCounts::default, RayCounts::add);
-    Rendered {
+    Ok(Rendered {
         width,
         height,
         rgb,
-        effects: tracer.effects,
+        effects: stage.effects,
         rays,
         seconds: start.elapsed().as_secs_f64(),
-    }
+    })
 }

@@ -13,7 +13,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::chapters::ch07_antialiasing::Sampling;
-use crate::{Plane, Ray, Sphere, Vec3};
+use crate::{Plane, Sphere, Vec3};
 
 /// Largest accepted width or height, in pixels.
 pub const MAX_SIDE: u32 = 16_384;
@@ -31,69 +31,11 @@ pub const MAX_DEPTH: u32 = 64;
 /// Largest accepted Phong exponent.
 pub const MAX_SHININESS: u32 = 100_000;
 
-/// A primitive the tracer can intersect.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Shape {
-    Plane(Plane),
-    Sphere(Sphere),
-    /// A sphere intersected with the textbook quadratic formula
-    /// ([`Sphere::intersect_textbook`]): only for comparing the two, see
-    /// `RenderSettings::sphere_formula`.
-    TextbookSphere(Sphere),
-}
+pub use crate::shapes::Shape;
 
-impl Shape {
-    /// The nearest hit with `t_min < t < t_max` (chapters 1 and 2).
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        match self {
-            Shape::Plane(plane) => plane.intersect(ray, t_min, t_max),
-            Shape::Sphere(sphere) => sphere.intersect(ray, t_min, t_max),
-            Shape::TextbookSphere(sphere) => sphere.intersect_textbook(ray, t_min, t_max),
-        }
-    }
-
-    pub fn is_sphere(&self) -> bool {
-        matches!(self, Shape::Sphere(_) | Shape::TextbookSphere(_))
-    }
-
-    /// Coordinates in which a checker pattern is laid out: the plane's own 2D
-    /// coordinates, or the 3D offset from a sphere's centre.
-    fn pattern_coordinates(&self, point: Vec3) -> Vec3 {
-        match self {
-            Shape::Plane(plane) => {
-                let (u, v) = plane_axes(plane);
-                let local = point - plane.point();
-                Vec3::new(local.dot(u), local.dot(v), 0.0)
-            }
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => point - sphere.center(),
-        }
-    }
-}
-
-/// Two axes lying in `plane`, perpendicular to each other and to its normal:
-/// where a checker pattern is laid out, and how a plane becomes a quad for
-/// Embree. The helper axis is any one not close to the normal.
+/// Two axes lying in `plane` ([`Plane::axes`]).
 pub fn plane_axes(plane: &Plane) -> (Vec3, Vec3) {
-    let normal = plane.normal();
-    let helper = if normal.x.abs() > 0.9 {
-        Vec3::Y
-    } else {
-        Vec3::X
-    };
-    let u = normal.cross(helper).normalize();
-    (u, normal.cross(u))
-}
-
-impl From<Plane> for Shape {
-    fn from(plane: Plane) -> Self {
-        Shape::Plane(plane)
-    }
-}
-
-impl From<Sphere> for Shape {
-    fn from(sphere: Sphere) -> Self {
-        Shape::Sphere(sphere)
-    }
+    plane.axes()
 }
 
 /// How a surface responds to light. Coefficients follow the chapters: the
@@ -321,8 +263,8 @@ impl RenderSettings {
     }
 
     /// The secondary-ray offset these settings ask for.
-    pub fn offset(&self) -> crate::chapters::ch04_shadows::RayOffset {
-        use crate::chapters::ch04_shadows::RayOffset;
+    pub fn offset(&self) -> crate::render::RayOffset {
+        use crate::render::RayOffset;
         match self.ray_offset {
             OffsetRule::Scaled => RayOffset::Scaled,
             OffsetRule::Fixed => RayOffset::Fixed(self.fixed_epsilon),

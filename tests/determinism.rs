@@ -19,7 +19,7 @@ fn render_on(
         .num_threads(threads)
         .build()
         .expect("thread pool");
-    pool.install(|| raylab::render(&scene, chapter, &settings, None))
+    pool.install(|| raylab::render(&scene, chapter, &settings, None).expect("renders"))
 }
 
 #[test]
@@ -48,9 +48,14 @@ fn the_seed_changes_jittered_samples_and_nothing_else_does() {
         height: 48,
         ..scene.render
     };
-    let first = raylab::render(&scene, 7, &base, None);
-    let again = raylab::render(&scene, 7, &base, None);
+    let first = raylab::render(&scene, 7, &base, None).expect("renders");
+    let again = raylab::render(&scene, 7, &base, None).expect("renders");
     assert!(first.rgb == again.rgb);
     let reseeded = raylab::RenderSettings { seed: 1, ..base };
-    assert!(first.rgb != raylab::render(&scene, 7, &reseeded, None).rgb);
+    assert!(
+        first.rgb
+            != raylab::render(&scene, 7, &reseeded, None)
+                .expect("renders")
+                .rgb
+    );
 }

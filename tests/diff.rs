@@ -18,7 +18,7 @@ fn render(chapter: u8, tweak: impl FnOnce(&mut raylab::RenderSettings)) -> rayla
         ..scene.render
     };
     tweak(&mut settings);
-    raylab::render(&scene, chapter, &settings, None)
+    raylab::render(&scene, chapter, &settings, None).expect("renders")
 }
 
 fn save(dir: &Path, name: &str, rgb: &[u8]) -> PathBuf {

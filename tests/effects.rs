@@ -1,8 +1,7 @@
 //! Effects on demand: a render simulates only what its scene can show, and
 //! what it leaves out changes no pixel.
 
-use raylab::camera::Camera;
-use raylab::{Ray, RayCounts, RayKind, RayLog, RenderSettings, Scene, Tracer, Vec3, nearest_hit};
+use raylab::{Ray, RayCounts, RayKind, RayLog, RenderSettings, Scene, Stage, Vec3, nearest_hit};
 
 fn small(scene: &Scene, samples: u32) -> RenderSettings {
     RenderSettings {
@@ -23,8 +22,8 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
     // transparency anywhere.
     let scene = raylab::builtin::scene(5).expect("built-in scene");
     let settings = small(&scene, 1);
-    let at_5 = raylab::render(&scene, 5, &settings, None);
-    let at_8 = raylab::render(&scene, 8, &settings, None);
+    let at_5 = raylab::render(&scene, 5, &settings, None).expect("renders");
+    let at_8 = raylab::render(&scene, 8, &settings, None).expect("renders");
     assert_eq!(at_8.rays.reflection, 0);
     assert_eq!(at_8.rays.refraction, 0);
     assert!(at_5.rgb == at_8.rgb, "the images differ");
@@ -36,8 +35,8 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
 
     // With several samples, chapter 8 is chapter 7 for the same reason.
     let settings = small(&scene, 4);
-    let at_7 = raylab::render(&scene, 7, &settings, None);
-    let at_8 = raylab::render(&scene, 8, &settings, None);
+    let at_7 = raylab::render(&scene, 7, &settings, None).expect("renders");
+    let at_8 = raylab::render(&scene, 8, &settings, None).expect("renders");
     assert!(at_7.rgb == at_8.rgb, "the supersampled images differ");
     assert_eq!(at_8.rays.primary, 80 * 60 * 4);
     assert_eq!(at_8.rays.reflection + at_8.rays.refraction, 0);
@@ -47,7 +46,7 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
 fn no_lights_no_shadow_rays_and_no_specular() {
     let mut scene = raylab::builtin::scene(8).expect("built-in scene");
     scene.lights.clear();
-    let rendered = raylab::render(&scene, 8, &small(&scene, 1), None);
+    let rendered = raylab::render(&scene, 8, &small(&scene, 1), None).expect("renders");
     assert_eq!(rendered.rays.shadow, 0);
     assert!(!names(&rendered).contains(&"shadows"));
     assert!(!names(&rendered).contains(&"phong-specular"));
@@ -58,7 +57,13 @@ fn no_lights_no_shadow_rays_and_no_specular() {
     // The same scene with its lights casts shadow rays: the count above is
     // zero because there is no light, not because shadows are broken.
     let lit = raylab::builtin::scene(8).expect("built-in scene");
-    assert!(raylab::render(&lit, 8, &small(&lit, 1), None).rays.shadow > 0);
+    assert!(
+        raylab::render(&lit, 8, &small(&lit, 1), None)
+            .expect("renders")
+            .rays
+            .shadow
+            > 0
+    );
 }
 
 const ONE_MIRROR: &str = r#"
@@ -100,19 +105,18 @@ impl RayLog for ReflectionOrigins {
 fn reflection_rays_start_only_from_pixels_that_see_the_mirror() {
     let scene = Scene::parse(ONE_MIRROR, "one mirror").expect("valid scene");
     let settings = scene.render;
-    let tracer = Tracer::new(&scene, 6, settings);
-    let camera = Camera::new(&scene.camera, settings.width, settings.height);
+    let tracer = Stage::new(&scene, 6, settings).expect("valid settings");
     let raylab::Shape::Sphere(mirror) = scene.shapes[0] else {
         panic!("the mirror is a sphere");
     };
     let mut mirror_pixels = 0u64;
     for y in 0..settings.height {
         for x in 0..settings.width {
-            let primary = camera.ray_through(x as f32 + 0.5, y as f32 + 0.5);
+            let primary = tracer.camera().ray_through(x as f32 + 0.5, y as f32 + 0.5);
             let sees_mirror = nearest_hit(tracer.shapes(), &primary, 0.0, f32::INFINITY)
                 .is_some_and(|hit| hit.object == 0);
             let mut log = ReflectionOrigins::default();
-            tracer.pixel(&camera, x, y, &mut log);
+            tracer.tracer(Some(&mut log)).pixel(x, y);
             // A ray leaving a convex mirror cannot come back to it, and
             // nothing else reflects: one reflection ray per mirror pixel.
             let expected = usize::from(sees_mirror);
@@ -129,7 +133,7 @@ fn reflection_rays_start_only_from_pixels_that_see_the_mirror() {
         "the mirror covers {mirror_pixels} pixels"
     );
     assert!(mirror_pixels < u64::from(settings.width * settings.height) / 2);
-    let rendered = raylab::render(&scene, 6, &settings, None);
+    let rendered = raylab::render(&scene, 6, &settings, None).expect("renders");
     assert_eq!(rendered.rays.reflection, mirror_pixels);
     assert_eq!(rendered.rays.refraction, 0);
 }
@@ -162,7 +166,7 @@ material = { checker = { color = [0.1, 0.1, 0.3], size = 1.0 } }
 fn glass_that_does_not_reflect_still_casts_total_internal_reflection_rays() {
     let scene = Scene::parse(UNDER_WATER, "under water").expect("valid scene");
     assert!(scene.materials.iter().all(|m| m.reflectivity == 0.0));
-    let rendered = raylab::render(&scene, 8, &scene.render, None);
+    let rendered = raylab::render(&scene, 8, &scene.render, None).expect("renders");
     assert!(rendered.rays.refraction > 0);
     assert!(rendered.rays.reflection > 0);
     assert!(names(&rendered).contains(&"reflection"));
@@ -177,7 +181,7 @@ fn a_glass_ball_alone_never_reflects_totally() {
         "transparency = 0.9, ior = 1.5",
     );
     let scene = Scene::parse(&glass_only, "glass ball").expect("valid scene");
-    let rendered = raylab::render(&scene, 8, &scene.render, None);
+    let rendered = raylab::render(&scene, 8, &scene.render, None).expect("renders");
     assert!(rendered.rays.refraction > 0);
     assert_eq!(rendered.rays.reflection, 0);
 }
@@ -190,7 +194,9 @@ fn recursion_stops_below_the_minimum_contribution() {
             min_contribution,
             ..scene.render
         };
-        raylab::render(&scene, 6, &settings, None).rays
+        raylab::render(&scene, 6, &settings, None)
+            .expect("renders")
+            .rays
     };
     let counts: [RayCounts; 3] = [with(0.0), with(0.8), with(0.81)];
     // The mirror's reflection rays weigh 0.8: cast at thresholds up to 0.8.
@@ -205,7 +211,9 @@ fn acne_is_counted_where_the_offset_fails_and_only_there() {
     // meet the ball again and are not acne.
     let scene = raylab::builtin::scene(8).expect("built-in scene");
     let settings = small(&scene, 1);
-    let scaled = raylab::render(&scene, 8, &settings, None).rays;
+    let scaled = raylab::render(&scene, 8, &settings, None)
+        .expect("renders")
+        .rays;
     assert_eq!(scaled.self_shadow_hits, 0);
     assert_eq!(scaled.self_shadowed_pixels, 0);
     let no_offset = RenderSettings {
@@ -213,7 +221,9 @@ fn acne_is_counted_where_the_offset_fails_and_only_there() {
         fixed_epsilon: 0.0,
         ..settings
     };
-    let acne = raylab::render(&scene, 8, &no_offset, None).rays;
+    let acne = raylab::render(&scene, 8, &no_offset, None)
+        .expect("renders")
+        .rays;
     assert!(acne.self_shadowed_pixels > 100, "{acne:?}");
     assert!(acne.self_shadow_hits >= acne.self_shadowed_pixels);
 }

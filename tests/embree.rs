@@ -7,12 +7,11 @@ use std::path::Path;
 use std::process::Command;
 
 use proptest::prelude::*;
-use raylab::camera::Camera;
 use raylab::crosscheck::{
     self, Answer, Boundary, PlaneQuad, Primitive, Reference, Verdict, cross_check, plane_quad,
 };
 use raylab::embree::EmbreeScene;
-use raylab::{CastRay, Plane, Ray, RayKind, Shape, Sphere, Tracer, Vec3, builtin, record_rays};
+use raylab::{CastRay, Plane, Ray, RayKind, Shape, Sphere, Stage, Vec3, builtin, record_rays};
 
 fn embree_answer(embree: &EmbreeScene, cast: &CastRay) -> Option<Answer> {
     embree
@@ -85,9 +84,8 @@ fn spheres_and_quads_answer_in_units_of_the_direction() {
 fn cross_check_chapter(chapter: u8, shift: f32) -> crosscheck::Tally {
     let scene = builtin::scene(chapter).expect("built-in scene");
     let settings = scene.render;
-    let tracer = Tracer::new(&scene, chapter, settings);
-    let camera = Camera::new(&scene.camera, settings.width, settings.height);
-    let rays = record_rays(&tracer, &camera);
+    let tracer = Stage::new(&scene, chapter, settings).expect("valid settings");
+    let rays = record_rays(&tracer);
     let (mut primitives, quads) = crosscheck::primitives(tracer.shapes(), &scene);
     for primitive in &mut primitives {
         if let Primitive::Sphere { radius, .. } = primitive {
@@ -141,18 +139,19 @@ fn recorded_rays_do_not_depend_on_the_thread_count() {
     let mut settings = scene.render;
     settings.width = 40;
     settings.height = 30;
-    let tracer = Tracer::new(&scene, 8, settings);
-    let camera = Camera::new(&scene.camera, settings.width, settings.height);
+    let tracer = Stage::new(&scene, 8, settings).expect("valid settings");
     let record = |threads| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .expect("pool")
-            .install(|| record_rays(&tracer, &camera))
+            .install(|| record_rays(&tracer))
     };
     let one = record(1);
     assert_eq!(one, record(3));
-    let counts = raylab::render(&scene, 8, &settings, None).rays;
+    let counts = raylab::render(&scene, 8, &settings, None)
+        .expect("renders")
+        .rays;
     assert_eq!(one.len() as u64, counts.total());
     assert_eq!(one[0].kind, RayKind::Primary);
 }

@@ -26,7 +26,7 @@ fn render(
         ..scene.render
     };
     tweak(&mut settings);
-    raylab::render(&scene, chapter, &settings, None)
+    raylab::render(&scene, chapter, &settings, None).expect("renders")
 }
 
 fn save(path: &Path, image: &raylab::Rendered) {

@@ -44,10 +44,13 @@
 //! differentiating Snell's law; it blows up at the critical angle).
 
 use glam::{DVec3, Vec3};
-use raylab::chapters::ch04_shadows::{RayOffset, shadow_ray_from, surface_point};
-use raylab::chapters::ch06_reflection::reflected_ray;
-use raylab::chapters::ch08_refraction::refracted_ray;
+use raylab::render::RayOffset;
+use raylab::shapes::{SurfacePoint, surface_point};
+
+#[path = "common/rays.rs"]
+mod rays;
 use raylab::{Plane, Ray, Shape, Sphere, nearest_hit, reflect, refract};
+use rays::{reflected_ray, refracted_ray, shadow_ray_from};
 
 /// Unit roundoff of `f32`.
 const U: f64 = f32::EPSILON as f64 / 2.0;
@@ -804,7 +807,7 @@ fn library_surface(
     eye: Vec3,
     toward: Vec3,
     hits: usize,
-) -> Result<(Ray, raylab::chapters::ch04_shadows::SurfacePoint), String> {
+) -> Result<(Ray, SurfacePoint), String> {
     let ray = Ray::new(eye, toward - eye);
     let hit = nearest_hit(shapes, &ray, 0.0, INF).ok_or("BAD CASE: the primary ray misses")?;
     if hit.object != hits {

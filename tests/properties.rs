@@ -14,10 +14,12 @@ mod reference;
 
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
-use raylab::chapters::ch04_shadows::{RayOffset, surface_point};
-use raylab::chapters::ch06_reflection::reflected_ray;
-use raylab::chapters::ch08_refraction::refracted_ray;
+use raylab::render::RayOffset;
+use raylab::shapes::surface_point;
+#[path = "common/rays.rs"]
+mod rays;
 use raylab::{Plane, Ray, Shape, Sphere, reflect, refract};
+use rays::{reflected_ray, refracted_ray};
 
 const U: f64 = f32::EPSILON as f64 / 2.0;
 /// Roundings allowed per formula (as in `hard_cases.rs`).

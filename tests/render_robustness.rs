@@ -8,9 +8,8 @@
 //! which only sees the first blocker in scene order) and by an independent
 //! log here (see [`AcneLog`]).
 
-use raylab::camera::Camera;
 use raylab::scene::OffsetRule;
-use raylab::{Ray, RayCounts, RayKind, RayLog, RenderSettings, Scene, Shape, Tracer, nearest_hit};
+use raylab::{Ray, RayCounts, RayKind, RayLog, RenderSettings, Scene, Shape, Stage, nearest_hit};
 
 const WIDTH: u32 = 160;
 const HEIGHT: u32 = 120;
@@ -70,7 +69,7 @@ sphere = { center = [1002.0, 1000.7, 999.5], radius = 0.7 }
 material = { color = [0.9, 0.9, 0.9], transparency = 0.8, ior = 1.5, specular = 0.5 }
 "#;
 
-/// Counts as `RayCounts` does, and independently finds shadow rays that hit
+/// Independently of the tracer's own count, finds shadow rays that hit
 /// the surface they start on. The tracer lights a hit right after casting
 /// the ray that found it, so every shadow ray belongs to the hit of the last
 /// non-shadow ray cast; this log finds that hit again with `nearest_hit` and
@@ -80,14 +79,12 @@ material = { color = [0.9, 0.9, 0.9], transparency = 0.8, ior = 1.5, specular = 
 /// such hit is acne.
 struct AcneLog<'a> {
     shapes: &'a [Shape],
-    counts: RayCounts,
     lit_object: Option<usize>,
     self_hits: u64,
 }
 
 impl RayLog for AcneLog<'_> {
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
-        self.counts.cast(kind, ray, t_min, t_max);
         if kind != RayKind::Shadow {
             self.lit_object = nearest_hit(self.shapes, ray, t_min, t_max).map(|hit| hit.object);
             return;
@@ -95,7 +92,7 @@ impl RayLog for AcneLog<'_> {
         let object = self.lit_object.expect("a shadow ray follows a hit");
         let shape = &self.shapes[object];
         let into_itself = match shape {
-            Shape::Sphere(s) | Shape::TextbookSphere(s) => {
+            Shape::Sphere(s) => {
                 let outward = ray.origin.as_dvec3() - s.center().as_dvec3();
                 ray.dir.as_dvec3().dot(outward) < 0.0
             }
@@ -104,12 +101,6 @@ impl RayLog for AcneLog<'_> {
         if !into_itself && shape.intersect(ray, t_min, t_max).is_some() {
             self.self_hits += 1;
         }
-    }
-    fn self_shadow(&mut self) {
-        self.counts.self_shadow();
-    }
-    fn non_finite_sample(&mut self) {
-        self.counts.non_finite_sample();
     }
 }
 
@@ -127,21 +118,21 @@ fn render(text: &str, chapter: u8, rule: OffsetRule, epsilon: f32) -> Outcome {
         fixed_epsilon: epsilon,
         ..scene.render
     };
-    let tracer = Tracer::new(&scene, chapter, settings);
-    let camera = Camera::new(&scene.camera, WIDTH, HEIGHT);
+    let stage = Stage::new(&scene, chapter, settings).expect("valid settings");
     let mut log = AcneLog {
-        shapes: tracer.shapes(),
-        counts: RayCounts::default(),
+        shapes: stage.shapes(),
         lit_object: None,
         self_hits: 0,
     };
+    let mut tracer = stage.tracer(Some(&mut log));
     for y in 0..HEIGHT {
         for x in 0..WIDTH {
-            tracer.pixel(&camera, x, y, &mut log);
+            tracer.pixel(x, y);
         }
     }
+    let counts = tracer.counts();
     Outcome {
-        counts: log.counts,
+        counts,
         independent_self_hits: log.self_hits,
     }
 }

@@ -90,7 +90,7 @@ proptest! {
             Ok(scene) => {
                 // Whatever loads must also render without NaN, at a tiny size.
                 let settings = raylab::RenderSettings { width: 4, height: 3, samples: 1, ..scene.render };
-                let rendered = raylab::render(&scene, chapter, &settings, None);
+                let rendered = raylab::render(&scene, chapter, &settings, None).expect("renders");
                 prop_assert_eq!(rendered.rays.non_finite_samples, 0);
             }
             Err(error) => prop_assert!(error.to_string().starts_with("fuzzed scene")),

@@ -24,7 +24,7 @@ fn reference_render(chapter: u8) -> raylab::Rendered {
         height: HEIGHT,
         ..scene.render
     };
-    raylab::render(&scene, chapter, &settings, None)
+    raylab::render(&scene, chapter, &settings, None).expect("renders")
 }
 
 fn check_chapter(chapter: u8) {

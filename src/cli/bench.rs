@@ -33,12 +33,12 @@ pub fn bench(args: &BenchArgs) -> Result<i32> {
         .threads
         .unwrap_or_else(rayon::current_num_threads);
     let (times, rays) = args.overrides.in_pool(|| {
-        let warm_up = crate::render(&scene, chapter, &settings, None);
-        let times: Vec<f64> = (0..args.runs)
-            .map(|_| crate::render(&scene, chapter, &settings, None).seconds)
-            .collect();
-        (times, warm_up.rays)
-    })?;
+        let warm_up = crate::render(&scene, chapter, &settings, None)?;
+        let times = (0..args.runs)
+            .map(|_| Ok(crate::render(&scene, chapter, &settings, None)?.seconds))
+            .collect::<Result<Vec<f64>, crate::RenderError>>()?;
+        Ok::<_, crate::RenderError>((times, warm_up.rays))
+    })??;
     let median = median(&times);
     let samples = if crate::stage::Effects::for_chapter(chapter).antialiasing {
         settings.samples

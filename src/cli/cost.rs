@@ -122,7 +122,7 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
         );
         bar
     });
-    let report = overrides.in_pool(|| crate::cost::run(&config, progress.as_ref()))?;
+    let report = overrides.in_pool(|| crate::cost::run(&config, progress.as_ref()))??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }

@@ -7,9 +7,8 @@ use anyhow::Result;
 use clap::Args;
 
 use super::render::{SettingsOverrides, select_scene};
-use crate::chapters::ch04_shadows::surface_point;
 use crate::crosscheck::{self, Answer};
-use crate::{Ray, Scene, Shape, Tracer, Vec3};
+use crate::{Ray, Scene, Shape, Stage, Vec3};
 
 /// How to get the Embree backend, for messages.
 #[cfg(not(feature = "embree"))]
@@ -111,7 +110,7 @@ pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
 
 pub fn probe(args: &ProbeArgs) -> Result<i32> {
     let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
-    let tracer = Tracer::new(&scene, chapter, scene.render);
+    let stage = Stage::new(&scene, chapter, scene.render)?;
     let ray = args.ray;
     let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
     println!(
@@ -120,27 +119,27 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         show(ray.dir)
     );
     println!("chapter {chapter}'s shapes, each on its own:");
-    for (object, shape) in tracer.shapes().iter().enumerate() {
-        let name = tracer.name(object);
+    for (object, shape) in stage.shapes().iter().enumerate() {
+        let name = stage.name(object).unwrap_or("?");
         let answer = match shape {
             Shape::Plane(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
                 Some(t) => format!("plane, t = {t}"),
                 None => "plane, no hit ahead".into(),
             },
-            Shape::Sphere(sphere) | Shape::TextbookSphere(sphere) => match sphere.roots(&ray) {
+            Shape::Sphere(sphere) => match sphere.roots(&ray) {
                 Some((near, far)) => format!("sphere, roots t = {near} and {far}"),
                 None => "sphere, no root (the line misses it)".into(),
             },
         };
         println!("  {object}: {name:<16} {answer}");
     }
-    let ours = crosscheck::ours(tracer.shapes(), &primary_cast(ray));
+    let ours = crosscheck::ours(stage.shapes(), &primary_cast(ray));
     match ours {
         Some(hit) => {
-            let surface = surface_point(&tracer.shapes()[hit.object], &ray, hit.t);
+            let surface = stage.shapes()[hit.object].surface_point(&ray, hit.t);
             println!(
                 "ours:   {:?} (object {}) at t = {}, point {}, normal {}",
-                tracer.name(hit.object),
+                stage.name(hit.object).unwrap_or("?"),
                 hit.object,
                 hit.t,
                 show(surface.point),
@@ -149,7 +148,7 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         }
         None => println!("ours:   no hit"),
     }
-    probe_embree(&tracer, &scene, &ray, ours.map(Answer::from))?;
+    probe_embree(&stage, &scene, &ray, ours.map(Answer::from))?;
     Ok(0)
 }
 
@@ -164,14 +163,14 @@ fn primary_cast(ray: Ray) -> crate::CastRay {
 }
 
 #[cfg(not(feature = "embree"))]
-fn probe_embree(_: &Tracer, _: &Scene, _: &Ray, _: Option<Answer>) -> Result<()> {
+fn probe_embree(_: &Stage, _: &Scene, _: &Ray, _: Option<Answer>) -> Result<()> {
     println!("embree: not built in ({ENABLE_EMBREE})");
     Ok(())
 }
 
 #[cfg(feature = "embree")]
-fn probe_embree(tracer: &Tracer, scene: &Scene, ray: &Ray, ours: Option<Answer>) -> Result<()> {
-    let (embree, quads) = with_embree::build(tracer, scene)?;
+fn probe_embree(stage: &Stage, scene: &Scene, ray: &Ray, ours: Option<Answer>) -> Result<()> {
+    let (embree, quads) = with_embree::build(stage, scene)?;
     let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
     let theirs = embree.intersect(ray, 0.0, f32::INFINITY);
     match theirs {
@@ -186,7 +185,7 @@ fn probe_embree(tracer: &Tracer, scene: &Scene, ray: &Ray, ours: Option<Answer>)
             };
             println!(
                 "embree: {:?} (object {}) at t = {}, point {}, normal {}{agreement}",
-                tracer.name(hit.object),
+                stage.name(hit.object).unwrap_or("?"),
                 hit.object,
                 hit.t,
                 show(ray.at(hit.t)),
@@ -197,7 +196,7 @@ fn probe_embree(tracer: &Tracer, scene: &Scene, ray: &Ray, ours: Option<Answer>)
         None => println!("embree: no hit"),
     }
     let reference = crosscheck::Reference {
-        shapes: tracer.shapes(),
+        shapes: stage.shapes(),
         quads: &quads,
     };
     let cast = primary_cast(*ray);
@@ -226,12 +225,12 @@ mod with_embree {
         TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
     };
     use crate::embree::EmbreeScene;
-    use crate::{CastRay, RayKind, camera::Camera, record_rays};
+    use crate::{CastRay, RayKind, record_rays};
     use anyhow::Context;
 
-    /// Embree's copy of the tracer's shapes, and the quads for the planes.
-    pub fn build(tracer: &Tracer, scene: &Scene) -> Result<(EmbreeScene, Vec<Option<PlaneQuad>>)> {
-        let (primitives, quads) = crosscheck::primitives(tracer.shapes(), scene);
+    /// Embree's copy of the stage's shapes, and the quads for the planes.
+    pub fn build(stage: &Stage, scene: &Scene) -> Result<(EmbreeScene, Vec<Option<PlaneQuad>>)> {
+        let (primitives, quads) = crosscheck::primitives(stage.shapes(), scene);
         let embree = EmbreeScene::new(&primitives).context("cannot build the Embree scene")?;
         Ok((embree, quads))
     }
@@ -240,12 +239,11 @@ mod with_embree {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
         let settings = args.overrides.apply(scene.render)?;
         check_recording_size(settings.width, settings.height, settings.samples)?;
-        let tracer = Tracer::new(&scene, chapter, settings);
-        let camera = Camera::new(&scene.camera, settings.width, settings.height);
-        let rays = args.overrides.in_pool(|| record_rays(&tracer, &camera))?;
-        let (embree, quads) = build(&tracer, &scene)?;
+        let stage = Stage::new(&scene, chapter, settings)?;
+        let rays = args.overrides.in_pool(|| record_rays(&stage))?;
+        let (embree, quads) = build(&stage, &scene)?;
         let reference = Reference {
-            shapes: tracer.shapes(),
+            shapes: stage.shapes(),
             quads: &quads,
         };
         let theirs = |cast: &CastRay| {
@@ -271,7 +269,7 @@ mod with_embree {
              (robust scene, native spheres{})",
             settings.width,
             settings.height,
-            tracer.samples(),
+            stage.samples(),
             version / 10000,
             version / 100 % 100,
             version % 100,
@@ -279,14 +277,14 @@ mod with_embree {
                 ", planes as quads of side {side}"
             )),
         );
-        print_tally(&tally, &tracer);
+        print_tally(&tally, &stage);
 
         // Speed: the same rays, in the same order, on this thread only.
         let mut ours_rates = Vec::new();
         let mut embree_rates = Vec::new();
         for _ in 0..args.timing_runs {
             ours_rates.push(rays_per_second(&rays, |cast| {
-                crosscheck::ours(tracer.shapes(), cast)
+                crosscheck::ours(stage.shapes(), cast)
             }));
             embree_rates.push(rays_per_second(&rays, |cast| {
                 embree.intersect(&cast.ray, cast.t_min, cast.t_max)
@@ -317,7 +315,7 @@ mod with_embree {
         }
     }
 
-    fn print_tally(tally: &Tally, tracer: &Tracer) {
+    fn print_tally(tally: &Tally, stage: &Stage) {
         let [primary, shadow, reflection, refraction] = tally.by_kind;
         println!(
             "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
@@ -355,11 +353,11 @@ mod with_embree {
         }
         println!("worst rays (difference / tolerance):");
         for (rank, compared) in tally.worst.iter().enumerate() {
-            println!("{:>3}. {}", rank + 1, describe(compared, tracer));
+            println!("{:>3}. {}", rank + 1, describe(compared, stage));
         }
     }
 
-    fn describe(compared: &Compared, tracer: &Tracer) -> String {
+    fn describe(compared: &Compared, stage: &Stage) -> String {
         let cast = &compared.cast;
         let kind = match cast.kind {
             RayKind::Primary => "primary",
@@ -368,7 +366,7 @@ mod with_embree {
             RayKind::Refraction => "refraction",
         };
         let answer = |answer: Option<Answer>| match answer {
-            Some(hit) => format!("{:?} t={:e}", tracer.name(hit.object), hit.t),
+            Some(hit) => format!("{:?} t={:e}", stage.name(hit.object).unwrap_or("?"), hit.t),
             None => "miss".into(),
         };
         let verdict = match compared.verdict {

@@ -156,7 +156,7 @@ pub fn render(args: &RenderArgs) -> Result<i32> {
     });
     let rendered = args
         .overrides
-        .in_pool(|| crate::render(&scene, chapter, &settings, progress.as_ref()))?;
+        .in_pool(|| crate::render(&scene, chapter, &settings, progress.as_ref()))??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }

@@ -1,0 +1,309 @@
+//! The seam between the renderer and the chapters.
+//!
+//! [`Chapters`] lists every function a student writes, chapter by chapter.
+//! The renderer is generic over it: [`crate::chapters::Reference`] is
+//! raylab's own answer, a student workspace (`raylab new`) has its own type,
+//! and the checker plants bugs in variants of the reference. Every call goes
+//! through the trait with static dispatch, so the seam costs nothing at run
+//! time.
+//!
+//! The functions that drive others (chapter 4's shadow test and light loop,
+//! chapter 5's Phong sum, the recursion of 6 and 8, the sample loop of 7)
+//! receive a [`Tracer`], the renderer's handle: through it they cast rays,
+//! reach the scene, and call the other chapters' functions as the running
+//! `Chapters` wrote them.
+
+use crate::chapters::{
+    ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
+    ch07_antialiasing, ch08_refraction,
+};
+use crate::render::Tracer;
+use crate::shapes::{Plane, Shape, Sphere, SurfacePoint};
+use crate::{Material, Ray, Sampling, Vec3};
+
+/// Which object a ray met, and where along the ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// Index of the object in the list that was searched.
+    pub object: usize,
+    /// Ray parameter of the hit, in units of the ray's direction.
+    pub t: f32,
+}
+
+/// The diffuse and specular light at one point (ambient counts as diffuse).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PhongTerms {
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+}
+
+/// Every function of the course, by chapter. A chapter's stage needs the
+/// functions of every chapter up to it.
+///
+/// Each method's default is raylab's reference solution, so a variant of the
+/// reference (a planted bug, an alternative formula) overrides one method
+/// and keeps the rest. A student workspace implements every method with the
+/// student's own functions.
+pub trait Chapters: Sized + Send + Sync + 'static {
+    /// Chapter 1: the nearest `t` with `t_min < t < t_max` where `ray` meets `plane`.
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch01_plane::intersect_plane(plane, ray, t_min, t_max)
+    }
+
+    /// Chapter 2: the nearest `t` with `t_min < t < t_max` where `ray` meets `sphere`.
+    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)
+    }
+
+    /// Chapter 3: the closest hit with `t_min < t < t_max` among `objects`.
+    fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        ch03_nearest::nearest_hit(objects, ray, t_min, t_max)
+    }
+
+    /// Chapter 4: where a secondary ray leaving `surface` in direction `dir` starts.
+    fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        ch04_shadows::offset_origin(surface, dir)
+    }
+
+    /// Chapter 4: whether something lies between `point` and a light at `light`.
+    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+        ch04_shadows::in_shadow(tracer, point, light)
+    }
+
+    /// Chapter 4: ambient light plus a constant share of each visible light.
+    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        ch04_shadows::shade_flat(tracer, point)
+    }
+
+    /// Chapter 5: diffuse and specular light that one light sends to the eye.
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        ch05_phong::phong_terms(material, albedo, normal, to_light, to_eye, light)
+    }
+
+    /// Chapter 5: ambient, and the Phong terms of every visible light, summed.
+    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+        ch05_phong::shade_phong(tracer, point)
+    }
+
+    /// Chapter 6: the mirror image of direction `d` about the normal `n`.
+    fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+        ch06_reflection::reflect(d, n)
+    }
+
+    /// Chapter 6: the local light mixed with what the mirror direction sees.
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        ch06_reflection::shade_mirror(tracer, point, depth, weight)
+    }
+
+    /// Chapter 7: where sample `index` of `count` falls inside pixel `pixel`.
+    fn sample_offset(
+        sampling: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        ch07_antialiasing::sample_offset(sampling, count, index, pixel, seed)
+    }
+
+    /// Chapter 7: the colour of pixel `(x, y)`, in linear light, from its samples.
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        ch07_antialiasing::pixel_color(tracer, x, y)
+    }
+
+    /// Chapter 8: the direction of a ray crossing a surface, or `None` under
+    /// total internal reflection.
+    fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+        ch08_refraction::refract(d, n, eta)
+    }
+
+    /// Chapter 8: local light, reflection and refraction mixed.
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        ch08_refraction::shade_glass(tracer, point, depth, weight)
+    }
+}
+
+/// The chapters `C` with chapter 2's textbook quadratic formula instead of
+/// `C`'s sphere test: the comparison setting `sphere_formula = "textbook"`.
+pub struct TextbookSphere<C>(std::marker::PhantomData<C>);
+
+impl<C: Chapters> Chapters for TextbookSphere<C> {
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        C::intersect_plane(plane, ray, t_min, t_max)
+    }
+    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch02_sphere::intersect_sphere_textbook(sphere, ray, t_min, t_max)
+    }
+    // The functions below take `Self`'s tracer, which `C`'s cannot accept:
+    // each runs the reference code with this type, so a student's textbook
+    // render uses the reference from chapter 3 on. Only the comparison of
+    // the two sphere formulas (raylab cost, the lesson of chapter 2) uses it.
+    fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        C::offset_origin(surface, dir)
+    }
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        C::phong_terms(material, albedo, normal, to_light, to_eye, light)
+    }
+    fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+        C::reflect(d, n)
+    }
+    fn sample_offset(
+        sampling: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        C::sample_offset(sampling, count, index, pixel, seed)
+    }
+    fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+        C::refract(d, n, eta)
+    }
+}
+
+/// The objects a ray can hit, as the running chapters intersect them.
+pub struct Objects<'a, C> {
+    shapes: &'a [Shape],
+    chapters: std::marker::PhantomData<C>,
+}
+
+impl<C> Clone for Objects<'_, C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<C> Copy for Objects<'_, C> {}
+
+impl<'a, C: Chapters> Objects<'a, C> {
+    pub fn new(shapes: &'a [Shape]) -> Self {
+        Objects {
+            shapes,
+            chapters: std::marker::PhantomData,
+        }
+    }
+
+    /// How many objects there are; they are numbered `0..len()`.
+    pub fn len(&self) -> usize {
+        self.shapes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.shapes.is_empty()
+    }
+
+    /// Object `object`'s own test: its nearest hit with `t_min < t < t_max`,
+    /// by the running chapters (chapter 1 for planes, 2 for spheres).
+    #[inline(always)]
+    pub fn intersect(&self, object: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.shapes[object].intersect_with::<C>(ray, t_min, t_max)
+    }
+
+    /// The shape of object `object`.
+    pub fn shape(&self, object: usize) -> &'a Shape {
+        &self.shapes[object]
+    }
+
+    /// The first object in list order that `ray` hits with
+    /// `t_min < t < t_max`, wherever it is along the ray.
+    ///
+    /// Chapters 1 and 2 draw with this, and it is wrong for drawing: a far
+    /// object listed early hides a near one listed late (chapter 3 fixes
+    /// that). It is exactly right for shadow rays, where any blocker will do
+    /// and stopping at the first saves work.
+    #[inline]
+    pub fn first_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        (0..self.len()).find_map(|object| {
+            self.intersect(object, ray, t_min, t_max)
+                .map(|t| Hit { object, t })
+        })
+    }
+}
+
+/// What a shading function knows about the point it colours.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HitPoint {
+    /// The object hit (an index into the tracer's objects).
+    pub object: usize,
+    /// The ray that arrived here.
+    pub ray: Ray,
+    /// Where, exactly, with its error bound and the geometric normal.
+    pub surface: SurfacePoint,
+    pub material: Material,
+    /// The material's colour at this point (its checker applied).
+    pub albedo: Vec3,
+    /// Unit vector from the point toward where the ray came from.
+    pub to_eye: Vec3,
+    /// The unit normal turned toward the side the ray arrived on: the side
+    /// that is lit.
+    pub normal: Vec3,
+    /// The sphere this point is on, when the ray arrived from inside it.
+    inside_sphere: Option<Sphere>,
+}
+
+impl HitPoint {
+    /// The point where `ray` met `shape` (object number `object`) at `t`.
+    pub fn new(object: usize, shape: &Shape, material: &Material, ray: &Ray, t: f32) -> HitPoint {
+        let surface = shape.surface_point(ray, t);
+        let to_eye = -ray.dir.normalize();
+        let from_outside = surface.normal.dot(to_eye) >= 0.0;
+        HitPoint {
+            object,
+            ray: *ray,
+            surface,
+            material: *material,
+            albedo: material.albedo_at(shape, surface.point),
+            to_eye,
+            normal: if from_outside {
+                surface.normal
+            } else {
+                -surface.normal
+            },
+            inside_sphere: if from_outside {
+                None
+            } else {
+                shape.as_sphere().copied()
+            },
+        }
+    }
+
+    /// Whether a light at `light` can shine on the side of the surface the
+    /// ray arrived on, before any shadow test: it must be in front of that
+    /// side, and, seen from inside a sphere, inside the same sphere (the
+    /// sphere itself hides every light outside it, no ray needed).
+    pub fn faces(&self, light: Vec3) -> bool {
+        self.normal.dot(light - self.surface.point) > 0.0
+            && self
+                .inside_sphere
+                .is_none_or(|sphere| sphere.contains(light))
+    }
+}
+
+/// The closest hit among `shapes` by raylab's reference chapters (chapter
+/// 3's [`ch03_nearest::nearest_hit`] over chapter 1 and 2's tests).
+pub fn nearest_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    ch03_nearest::nearest_hit(
+        &Objects::<crate::chapters::Reference>::new(shapes),
+        ray,
+        t_min,
+        t_max,
+    )
+}
+
+/// The first hit in list order among `shapes`, by the reference tests.
+pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max)
+}

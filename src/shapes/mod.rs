@@ -1,0 +1,141 @@
+//! The primitives a scene is made of.
+//!
+//! Each shape has its own file with its data; this file is the one place
+//! that lists them. Adding a shape is a new file and one variant here, with
+//! its arm in each `match` below: nothing else in raylab matches on shapes.
+//! How a ray meets each shape is a chapter's lesson, which is why
+//! [`Shape::intersect_with`] asks the running [`Chapters`] rather than the
+//! shape itself.
+
+mod plane;
+mod sphere;
+
+pub use plane::Plane;
+pub use sphere::Sphere;
+
+use crate::course::Chapters;
+use crate::{Ray, Vec3, unit_vector};
+
+/// A primitive the tracer can intersect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Shape {
+    Plane(Plane),
+    Sphere(Sphere),
+}
+
+/// How many `f32::EPSILON`s (each `2u`, `u = 2^-24`) of the coordinates
+/// involved we allow as error in a hit point after it is projected back onto
+/// its surface. The projection takes a handful of roundings (a difference, a
+/// normalisation, a product, a sum), each adding at most `u` of the
+/// magnitudes it touches; `4 * EPSILON = 8u` bounds them with margin.
+pub const SURFACE_ERROR_EPSILONS: f32 = 4.0;
+
+/// A point on a surface, known well enough to start a new ray from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// The hit point, projected back onto the surface.
+    pub point: Vec3,
+    /// The geometric unit normal: outward for spheres, as given for planes.
+    pub normal: Vec3,
+    /// A bound on the absolute error of each coordinate of `point`.
+    pub error: Vec3,
+}
+
+impl Shape {
+    /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max)
+    }
+
+    /// The nearest hit with `t_min < t < t_max`, by the chapters `C`: the
+    /// reference, a student's, or a variant under test.
+    #[inline(always)]
+    pub fn intersect_with<C: Chapters>(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        match self {
+            Shape::Plane(plane) => C::intersect_plane(plane, ray, t_min, t_max),
+            Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
+        }
+    }
+
+    pub fn is_sphere(&self) -> bool {
+        matches!(self, Shape::Sphere(_))
+    }
+
+    /// The sphere, when this shape is one.
+    pub fn as_sphere(&self) -> Option<&Sphere> {
+        match self {
+            Shape::Sphere(sphere) => Some(sphere),
+            Shape::Plane(_) => None,
+        }
+    }
+
+    /// Coordinates in which a checker pattern is laid out: the plane's own 2D
+    /// coordinates, or the 3D offset from a sphere's centre.
+    pub fn pattern_coordinates(&self, point: Vec3) -> Vec3 {
+        match self {
+            Shape::Plane(plane) => {
+                let (u, v) = plane.axes();
+                let local = point - plane.point();
+                Vec3::new(local.dot(u), local.dot(v), 0.0)
+            }
+            Shape::Sphere(sphere) => point - sphere.center(),
+        }
+    }
+
+    /// The surface point where `ray` meets this shape at parameter `t`.
+    ///
+    /// `ray.at(t)` carries the error of `t`, which grows with the length of
+    /// the ray: a hit 1000 units away can be off the surface by a visible
+    /// fraction of a unit. Projecting it back onto the exact surface leaves an
+    /// error that only depends on the size of the surface's own coordinates,
+    /// and that we can bound (chapter 4 starts new rays from it).
+    pub fn surface_point(&self, ray: &Ray, t: f32) -> SurfacePoint {
+        let on_ray = ray.at(t);
+        let scale = SURFACE_ERROR_EPSILONS * f32::EPSILON;
+        match self {
+            Shape::Sphere(sphere) => {
+                let center = sphere.center();
+                let radius = sphere.radius();
+                // A ray that hits a sphere exactly at its centre cannot exist
+                // (the centre is inside), so this fallback is only for NaN input.
+                let normal = unit_vector(on_ray - center).unwrap_or(Vec3::Y);
+                let point = center + radius * normal;
+                SurfacePoint {
+                    point,
+                    normal,
+                    error: scale * (center.abs() + Vec3::splat(radius)),
+                }
+            }
+            Shape::Plane(plane) => {
+                let normal = plane.normal();
+                let point = on_ray - normal * (on_ray - plane.point()).dot(normal);
+                // The projection's dot product mixes all three coordinates, so
+                // the bound uses the largest of them for every axis.
+                let magnitude = point.abs().max_element() + plane.point().abs().max_element();
+                SurfacePoint {
+                    point,
+                    normal,
+                    error: Vec3::splat(scale * magnitude),
+                }
+            }
+        }
+    }
+}
+
+/// The surface point where `ray` meets `shape` at parameter `t`
+/// ([`Shape::surface_point`]).
+pub fn surface_point(shape: &Shape, ray: &Ray, t: f32) -> SurfacePoint {
+    shape.surface_point(ray, t)
+}
+
+impl From<Plane> for Shape {
+    fn from(plane: Plane) -> Self {
+        Shape::Plane(plane)
+    }
+}
+
+impl From<Sphere> for Shape {
+    fn from(sphere: Sphere) -> Self {
+        Shape::Sphere(sphere)
+    }
+}
