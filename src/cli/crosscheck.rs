@@ -120,8 +120,10 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         show(ray.dir)
     );
     println!("chapter {chapter}'s shapes, each on its own:");
+    // Object names come from the scene file: shown escaped, never obeyed.
+    let name_of = |object: usize| crate::text::terminal_safe(tracer.name(object));
     for (object, shape) in tracer.shapes().iter().enumerate() {
-        let name = tracer.name(object);
+        let name = name_of(object);
         let answer = match shape {
             Shape::Plane(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
                 Some(t) => format!("plane, t = {t}"),
@@ -139,8 +141,8 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         Some(hit) => {
             let surface = surface_point(&tracer.shapes()[hit.object], &ray, hit.t);
             println!(
-                "ours:   {:?} (object {}) at t = {}, point {}, normal {}",
-                tracer.name(hit.object),
+                "ours:   \"{}\" (object {}) at t = {}, point {}, normal {}",
+                name_of(hit.object),
                 hit.object,
                 hit.t,
                 show(surface.point),
