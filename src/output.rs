@@ -240,7 +240,10 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)], force: bool) -
                     folder.display()
                 )
             })?;
+        // Registered like any temporary file: a signal now must not leave it.
+        let registration = crate::cleanup::register(probe.path());
         drop(probe);
+        drop(registration);
         let identity = file_identity(path);
         if let Some(input) = inputs.iter().find(|input| file_identity(input) == identity) {
             bail!(

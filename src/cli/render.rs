@@ -336,3 +336,33 @@ pub fn scene(args: &SceneArgs) -> Result<i32> {
     print!("{text}");
     Ok(0)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_progress_bar_counts_objects_not_only_samples() {
+        let settings = |width, height, samples| RenderSettings {
+            width,
+            height,
+            samples,
+            ..builtin::scene(8).expect("built-in scene").render
+        };
+        // 20,000 spheres at 320x240 took 20 s without a bar: pixels x
+        // samples (76,800) were under the old threshold of 1,000,000.
+        assert!(estimated_work(&settings(320, 240, 1), 8, 20_000) >= PROGRESS_WORK);
+        // A built-in scene at the default size stays quiet (well under a second).
+        let chapter_8 = builtin::scene(8).expect("built-in scene");
+        assert!(estimated_work(&chapter_8.render, 8, chapter_8.len()) < PROGRESS_WORK);
+        // Samples count only from chapter 7 on, where they are taken.
+        assert_eq!(
+            estimated_work(&settings(100, 100, 16), 6, 5),
+            estimated_work(&settings(100, 100, 1), 6, 5)
+        );
+        assert_eq!(
+            estimated_work(&settings(100, 100, 16), 7, 5),
+            16 * estimated_work(&settings(100, 100, 1), 7, 5)
+        );
+    }
+}
