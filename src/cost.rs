@@ -192,20 +192,28 @@ pub struct ImageError {
 
 impl ImageError {
     /// The error of `image` against `reference` (same size, RGB8), with the
-    /// metrics of `raylab diff` at a threshold of 1 code.
-    pub fn between(image: &[u8], reference: &[u8]) -> ImageError {
-        assert_eq!(image.len(), reference.len(), "images of different sizes");
+    /// metrics of `raylab diff` at a threshold of 1 code. Buffers of
+    /// different sizes are an error naming both.
+    pub fn between(image: &[u8], reference: &[u8]) -> anyhow::Result<ImageError> {
+        if image.len() != reference.len() || image.len() % 3 != 0 {
+            anyhow::bail!(
+                "cannot measure the error of an image of {} bytes of RGB against a \
+                 reference of {}: only images of the same size can be compared",
+                image.len(),
+                reference.len()
+            );
+        }
         let one_code = crate::diff::Criteria {
             threshold: 1,
             allowed_percent: 0.0,
         };
         let width = (image.len() / 3) as u32;
         let metrics = crate::diff::compare_pixels(image, reference, width, one_code).metrics;
-        ImageError {
+        Ok(ImageError {
             rmse: metrics.rmse,
             psnr_db: metrics.psnr_db,
             share_off: metrics.pixels_over as f64 / metrics.pixels.max(1) as f64,
-        }
+        })
     }
 }
 
@@ -322,7 +330,7 @@ pub fn render_count(config: &CostConfig) -> u64 {
 pub fn run(
     config: &CostConfig,
     progress: Option<&indicatif::ProgressBar>,
-) -> Result<CostReport, crate::RenderError> {
+) -> anyhow::Result<CostReport> {
     let far_scene = far_sphere_scene();
     let chapter = config.chapter;
     let repeats = config.repeats.max(1);
@@ -367,9 +375,9 @@ pub fn run(
             .expect("a reference for each scene swept")
             .1
     };
-    let mut rows: Vec<Measurement> = references
+    let mut rows = references
         .iter()
-        .map(|(far_sphere, rendered)| {
+        .map(|(far_sphere, rendered)| -> anyhow::Result<Measurement> {
             let label = if *far_sphere {
                 "reference, far sphere"
             } else {
@@ -382,10 +390,10 @@ pub fn run(
                 *far_sphere,
                 vec![rendered.clone()],
             );
-            row.error = ImageError::between(&rendered.rgb, &rendered.rgb);
-            row
+            row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
+            Ok(row)
         })
-        .collect();
+        .collect::<anyhow::Result<Vec<Measurement>>>()?;
     // Repeats go round the whole sweep rather than one setting at a time:
     // when the machine gets busier or quieter mid-sweep, every setting's
     // median sees the same mix of conditions.
@@ -401,7 +409,7 @@ pub fn run(
         }
     }
     for (job, job_runs) in jobs.into_iter().zip(runs) {
-        let error = ImageError::between(&job_runs[0].rgb, &reference_of(job.far_sphere).rgb);
+        let error = ImageError::between(&job_runs[0].rgb, &reference_of(job.far_sphere).rgb)?;
         let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
         row.error = error;
         rows.push(row);
@@ -760,7 +768,7 @@ mod tests {
     #[test]
     fn identical_images_have_no_error() {
         let image = [10u8, 20, 30, 40, 50, 60];
-        let error = ImageError::between(&image, &image);
+        let error = ImageError::between(&image, &image).unwrap();
         assert_eq!(error.rmse, 0.0);
         assert_eq!(error.psnr_db, f64::INFINITY);
         assert_eq!(error.share_off, 0.0);
@@ -770,13 +778,25 @@ mod tests {
     fn one_code_off_is_not_counted_but_two_are() {
         let reference = [100u8; 6];
         let one_off = [101u8, 100, 100, 100, 100, 100];
-        assert_eq!(ImageError::between(&one_off, &reference).share_off, 0.0);
+        assert_eq!(
+            ImageError::between(&one_off, &reference).unwrap().share_off,
+            0.0
+        );
         let two_off = [100u8, 100, 100, 100, 98, 100];
-        let error = ImageError::between(&two_off, &reference);
+        let error = ImageError::between(&two_off, &reference).unwrap();
         assert_eq!(error.share_off, 0.5);
         // One channel of six off by 2: RMSE = sqrt(4 / 6).
         assert!((error.rmse - (4.0f64 / 6.0).sqrt()).abs() < 1e-12);
         assert!((error.psnr_db - 20.0 * (255.0 / error.rmse).log10()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn images_of_different_sizes_are_an_error_not_a_panic() {
+        let message = ImageError::between(&[0; 6], &[0; 9])
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("6 bytes"), "{message}");
+        assert!(message.contains("same size"), "{message}");
     }
 
     #[test]

@@ -20,7 +20,6 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use image::ImageEncoder;
 
 /// An 8-bit RGB image, row by row from the top.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -37,25 +36,58 @@ impl Image {
     /// Reads a PNG file as 8-bit RGB. Grey, 16-bit and palette PNGs are
     /// converted; an alpha channel is dropped (renders have none).
     ///
-    /// Errors name the file: missing or unreadable, not a PNG at all, or a
-    /// PNG whose data is damaged.
+    /// Errors name the file: missing or unreadable, not a regular file (a
+    /// FIFO or a device is never read), over the size limits of
+    /// [`crate::input`], not a PNG at all, or a PNG whose data is damaged.
     pub fn load_png(path: &Path) -> Result<Image> {
-        let bytes = std::fs::read(path).map_err(|error| match error.kind() {
-            std::io::ErrorKind::NotFound => anyhow::anyhow!("{}: no such file", path.display()),
-            _ if path.is_dir() => anyhow::anyhow!("{}: is a folder, not a PNG", path.display()),
-            _ => anyhow::anyhow!("cannot read {}: {error}", path.display()),
-        })?;
+        Image::read_png(path, crate::input::Links::Follow)
+    }
+
+    /// [`Image::load_png`], saying whether `path` may be a symbolic link.
+    pub fn read_png(path: &Path, links: crate::input::Links) -> Result<Image> {
+        let bytes =
+            crate::input::read_bounded(path, crate::input::MAX_PNG_FILE_BYTES, "PNG", links)?;
         Image::decode_png(&bytes).with_context(|| path.display().to_string())
     }
 
-    /// Decodes PNG bytes (see [`Image::load_png`]).
+    /// Decodes PNG bytes (see [`Image::load_png`]). The size the PNG
+    /// declares is checked against [`crate::input::check_image_size`]
+    /// before any pixel is decoded: a small file can declare a huge image.
     pub fn decode_png(bytes: &[u8]) -> Result<Image> {
         if !bytes.starts_with(&PNG_SIGNATURE) {
             bail!("not a PNG file (it does not start with the PNG signature)");
         }
-        let decoded = image::load_from_memory_with_format(bytes, image::ImageFormat::Png)
-            .map_err(|error| anyhow::anyhow!("corrupted PNG: {error}"))?;
-        let rgb = decoded.to_rgb8();
+        let corrupted = |error: &dyn std::fmt::Display| anyhow::anyhow!("corrupted PNG: {error}");
+        let mut header = png::Decoder::new(std::io::Cursor::new(bytes));
+        let info = header
+            .read_header_info()
+            .map_err(|error| corrupted(&error))?;
+        let (width, height) = (info.width, info.height);
+        crate::input::check_image_size(width, height)?;
+        // A second guard inside the decoder; the check above is the one
+        // that speaks, so any limit hit here is worded as a limit too.
+        let limits = {
+            let mut limits = image::Limits::default();
+            limits.max_image_width = Some(crate::input::MAX_IMAGE_SIDE);
+            limits.max_image_height = Some(crate::input::MAX_IMAGE_SIDE);
+            limits.max_alloc = Some(2 * crate::input::MAX_DECODED_BYTES);
+            limits
+        };
+        let decoded =
+            image::codecs::png::PngDecoder::with_limits(std::io::Cursor::new(bytes), limits)
+                .and_then(image::DynamicImage::from_decoder)
+                .map_err(|error| match error {
+                    image::ImageError::Limits(limit) => anyhow::anyhow!(
+                        "{}x{} pixels: decoding needs more memory than raylab's image size \
+                     limit allows ({} bytes): {limit}",
+                        width,
+                        height,
+                        2 * crate::input::MAX_DECODED_BYTES
+                    ),
+                    other => corrupted(&other),
+                })?;
+        // `into_rgb8` keeps an RGB8 buffer as it is instead of copying it.
+        let rgb = decoded.into_rgb8();
         Ok(Image {
             width: rgb.width(),
             height: rgb.height(),
@@ -63,18 +95,10 @@ impl Image {
         })
     }
 
-    /// The image encoded as a PNG file's bytes.
+    /// The image encoded as a PNG file's bytes; an error, not a panic, when
+    /// the pixels do not match the size.
     pub fn encode_png(&self) -> Result<Vec<u8>> {
-        let mut bytes = Vec::new();
-        image::codecs::png::PngEncoder::new(&mut bytes)
-            .write_image(
-                &self.rgb,
-                self.width,
-                self.height,
-                image::ExtendedColorType::Rgb8,
-            )
-            .context("cannot encode a PNG")?;
-        Ok(bytes)
+        crate::output::encode_png(self.width, self.height, &self.rgb)
     }
 
     /// Writes the image as a PNG, atomically.
@@ -298,7 +322,7 @@ impl Comparison {
     }
 
     /// The false-colour heatmap (see [`heatmap`]).
-    pub fn heatmap(&self, base: &Image) -> Image {
+    pub fn heatmap(&self, base: &Image) -> Result<Image> {
         heatmap(self, base)
     }
 }
@@ -351,9 +375,28 @@ fn legend_scale(width: u32) -> u32 {
 /// largest difference in the image (red, [`HOTTEST`]). Below the image, a
 /// legend strip shows the scale as a bar labelled `0` and the largest
 /// difference, with a white tick where the threshold falls.
-pub fn heatmap(comparison: &Comparison, base: &Image) -> Image {
+///
+/// `base` must be the size the comparison measured, and that size within
+/// [`crate::input::check_image_size`]: the heatmap then takes the image's
+/// memory plus a legend of at most 68 rows (3.3 MB at the widest), never
+/// more. Anything else is an error naming the sizes.
+pub fn heatmap(comparison: &Comparison, base: &Image) -> Result<Image> {
     let m = &comparison.metrics;
     let (width, image_height) = (m.width, m.height);
+    let pixels = u64::from(width) * u64::from(image_height);
+    if (base.width, base.height) != (width, image_height)
+        || base.rgb.len() as u64 != 3 * pixels
+        || comparison.pixel_differences.len() as u64 != pixels
+    {
+        bail!(
+            "cannot draw a heatmap: the comparison is of {width}x{image_height} pixels \
+             ({} differences) but the base image is {} ({} bytes of RGB)",
+            comparison.pixel_differences.len(),
+            base.size(),
+            base.rgb.len()
+        );
+    }
+    crate::input::check_image_size(width, image_height).context("cannot draw a heatmap")?;
     let height = image_height + legend_height(width);
     let mut canvas = Canvas {
         width,
@@ -378,11 +421,11 @@ pub fn heatmap(comparison: &Comparison, base: &Image) -> Image {
         m.max,
         comparison.criteria.threshold,
     );
-    Image {
+    Ok(Image {
         width,
         height,
         rgb: canvas.rgb,
-    }
+    })
 }
 
 struct Canvas {
@@ -479,11 +522,7 @@ fn draw_legend(canvas: &mut Canvas, top: u32, max: u8, threshold: u8) {
 
 /// Writes `image` as a PNG at `path` atomically, with a clear error.
 pub fn write_heatmap(image: &Image, path: &Path) -> Result<()> {
-    let bytes = image.encode_png()?;
-    crate::output::write_atomically(path, |file| {
-        file.write_all(&bytes)
-            .with_context(|| format!("cannot write {}", path.display()))
-    })
+    image.write_png(path)
 }
 
 #[cfg(test)]
@@ -535,7 +574,7 @@ mod tests {
         let mut b = a.clone();
         b.rgb[8] = 255;
         let comparison = compare(&a, &b, Criteria::default(), ("a", "b")).unwrap();
-        let map = heatmap(&comparison, &a);
+        let map = heatmap(&comparison, &a).unwrap();
         assert_eq!((map.width, map.height), (3, 1 + legend_height(3)));
         assert_eq!(&map.rgb[6..9], &HOTTEST);
     }

@@ -92,7 +92,8 @@ pub fn grade(
     let entries = std::fs::read_dir(folder)
         .with_context(|| format!("cannot read the folder {}", folder.display()))?;
     let skip = skip.and_then(|path| path.canonicalize().ok());
-    let mut found: Vec<(u8, PathBuf)> = Vec::new();
+    // A chapter's file, and why it is refused unread, if it is.
+    let mut found: Vec<(u8, PathBuf, Option<String>)> = Vec::new();
     let mut ignored = Vec::new();
     for entry in entries {
         let entry =
@@ -102,7 +103,21 @@ pub fn grade(
         if skip.is_some() && path.canonicalize().ok() == skip {
             continue;
         }
-        if path.is_dir() {
+        // The entry itself, not what a link points to.
+        let kind = entry
+            .file_type()
+            .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        if kind.is_symlink() {
+            // A link could lead out of the folder (to another student's
+            // image, to /etc/passwd): it is never followed.
+            let reason = SYMBOLIC_LINK_REFUSED.to_string();
+            match chapter_of(&name) {
+                Ok(chapter) => found.push((chapter, path, Some(reason))),
+                Err(_) => ignored.push(Ignored { name, reason }),
+            }
+            continue;
+        }
+        if kind.is_dir() {
             ignored.push(Ignored {
                 name,
                 reason: "a folder".into(),
@@ -110,7 +125,7 @@ pub fn grade(
             continue;
         }
         match chapter_of(&name) {
-            Ok(chapter) => found.push((chapter, path)),
+            Ok(chapter) => found.push((chapter, path, None)),
             Err(reason) => ignored.push(Ignored { name, reason }),
         }
     }
@@ -125,10 +140,18 @@ pub fn grade(
         ignored,
     };
     for chapter in 1..=LAST_CHAPTER {
-        let Some((_, file)) = found.iter().find(|(c, _)| *c == chapter) else {
+        let Some((_, file, refused)) = found.iter().find(|(c, _, _)| *c == chapter) else {
             grade.missing.push(chapter);
             continue;
         };
+        if let Some(reason) = refused {
+            grade.unreadable.push(Unreadable {
+                chapter,
+                file: file.clone(),
+                reason: reason.clone(),
+            });
+            continue;
+        }
         match grade_chapter(chapter, file, references, criteria) {
             Ok(graded) => grade.graded.push(graded),
             Err(error) => grade.unreadable.push(Unreadable {
@@ -141,6 +164,10 @@ pub fn grade(
     Ok(grade)
 }
 
+/// Why a symbolic link among the hand-ins is not graded.
+const SYMBOLIC_LINK_REFUSED: &str = "refused: a symbolic link; a hand-in must be a regular \
+     file inside the folder (links are never followed)";
+
 /// The smallest hand-in graded, per side. The reference is rendered at the
 /// student's size, so without a floor a 1x1 image (one pixel centre, easy
 /// to match) would pass any chapter.
@@ -152,9 +179,15 @@ fn grade_chapter(
     references: Option<&Path>,
     criteria: Criteria,
 ) -> Result<Graded> {
-    let student = Image::decode_png(
-        &std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?,
+    // Only a regular file, not a link (even one created after the folder
+    // was listed), within the size limits of crate::input.
+    let bytes = crate::input::read_bounded(
+        file,
+        crate::input::MAX_PNG_FILE_BYTES,
+        "PNG",
+        crate::input::Links::Refuse,
     )?;
+    let student = Image::decode_png(&bytes)?;
     if student.width < MIN_SIDE || student.height < MIN_SIDE {
         anyhow::bail!(
             "too small to grade: {}x{}; hand in at least {MIN_SIDE}x{MIN_SIDE} pixels \
@@ -307,7 +340,7 @@ impl Grade {
             self.graded.len(),
             self.missing.len(),
             self.unreadable.len(),
-            report.display()
+            markdown_escape(&report.display().to_string())
         );
         md
     }
@@ -406,7 +439,7 @@ impl Grade {
         for g in &self.graded {
             let m = &g.comparison.metrics;
             let pass = g.passes();
-            let heatmap = g.comparison.heatmap(&g.student);
+            let heatmap = g.comparison.heatmap(&g.student)?;
             let _ = writeln!(
                 h,
                 "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
@@ -517,11 +550,25 @@ fn html_escape(text: &str) -> String {
     out
 }
 
-/// Keeps a cell's text from breaking the Markdown table or list.
+/// Keeps a name from breaking the Markdown table or list, or from becoming
+/// markup: a hand-in named `<img src=x onerror=alert(2)>` must show as
+/// text wherever the summary is pasted. Backslash escapes of ASCII
+/// punctuation are plain CommonMark; only the characters that can start
+/// markup (HTML, emphasis, code, links, GitHub's strikethrough and maths)
+/// are escaped, so that `chapter-1.png` stays readable.
 fn markdown_escape(text: &str) -> String {
-    text.replace('\\', "\\\\")
-        .replace('|', "\\|")
-        .replace(['\n', '\r'], " ")
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\n' | '\r' => out.push(' '),
+            '\\' | '|' | '<' | '>' | '&' | '*' | '_' | '`' | '[' | ']' | '~' | '$' => {
+                out.push('\\');
+                out.push(c);
+            }
+            _ => out.push(c),
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -559,5 +606,10 @@ mod tests {
             "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
         );
         assert_eq!(markdown_escape("a|b\nc"), "a\\|b c");
+        assert_eq!(
+            markdown_escape("<img src=x onerror=alert(2)>"),
+            "\\<img src=x onerror=alert(2)\\>"
+        );
+        assert_eq!(markdown_escape("chapter-1.png"), "chapter-1.png");
     }
 }

@@ -22,6 +22,9 @@
 //! renders with the references (`raylab diff`, `raylab grade`). With the
 //! `embree` feature, [`crosscheck`] compares our
 //! intersections with Embree's on every ray a render casts (docs/embree.md).
+//! Files a user names are read through [`input`] (regular files only, with
+//! stated size limits), names are printed through [`text`] (no terminal
+//! control characters), and [`cleanup`] removes temporary files on signals.
 
 // `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
 // without a separate test is deliberate, and the lessons explain it.
@@ -36,6 +39,7 @@ pub mod chapters;
 
 pub mod builtin;
 pub mod camera;
+pub mod cleanup;
 pub mod cli;
 pub mod cost;
 pub mod course;
@@ -44,12 +48,14 @@ pub mod diff;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod grade;
+pub mod input;
 pub mod output;
 pub mod ray;
 pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod stage;
+pub mod text;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;

@@ -8,5 +8,8 @@ fn main() {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Ctrl-C or a kill while an output is being written must not leave its
+    // temporary file behind (see raylab::cleanup).
+    raylab::cleanup::install_signal_handlers();
     std::process::exit(raylab::cli::main());
 }

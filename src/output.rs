@@ -3,8 +3,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use image::ImageEncoder;
+use anyhow::{Context, Result, bail};
 
 /// Encodes a linear light value as an 8-bit sRGB code.
 ///
@@ -85,13 +84,102 @@ pub fn fnv1a64(bytes: impl IntoIterator<Item = u8>) -> u64 {
     hash
 }
 
-/// Writes an RGB8 image as PNG at `path`, atomically (see [`write_atomically`]).
+/// Checks that `rgb` holds exactly the pixels of a `width` x `height` RGB8
+/// image, so that encoding reports a mismatch instead of panicking.
+pub fn check_rgb_size(width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    if width == 0 || height == 0 {
+        bail!("a {width}x{height} image has no pixels to encode");
+    }
+    let needed = 3 * u64::from(width) * u64::from(height);
+    if rgb.len() as u64 != needed {
+        bail!(
+            "{} bytes of RGB for a {width}x{height} image, which needs {needed}",
+            rgb.len()
+        );
+    }
+    Ok(())
+}
+
+/// The tEXt chunk every PNG raylab writes carries (`Software: raylab`):
+/// how `raylab render` tells its own earlier image, which it may replace,
+/// from a file someone made otherwise, which it keeps without `--force`.
+const MARKER_KEYWORD: &str = "Software";
+const MARKER_TEXT: &str = "raylab";
+
+/// Encodes an RGB8 image as PNG bytes, marked as raylab's (see
+/// [`is_raylab_png`]). A buffer of the wrong size is an error.
+pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>> {
+    check_rgb_size(width, height, rgb).context("cannot encode a PNG")?;
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Balanced);
+    encoder.set_filter(png::Filter::Adaptive);
+    let encoded = encoder
+        .add_text_chunk(MARKER_KEYWORD.into(), MARKER_TEXT.into())
+        .and_then(|()| encoder.write_header())
+        .and_then(|mut writer| {
+            writer.write_image_data(rgb)?;
+            writer.finish()
+        });
+    encoded.context("cannot encode a PNG")?;
+    Ok(bytes)
+}
+
+/// Writes an RGB8 image as PNG at `path`, atomically (see
+/// [`write_atomically`]); a buffer of the wrong size is an error.
 pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    write_atomically(path, |file| {
-        image::codecs::png::PngEncoder::new(file)
-            .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-            .with_context(|| format!("cannot encode {}", path.display()))
-    })
+    let bytes = encode_png(width, height, rgb)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    write_files(&[(path, &bytes)])
+}
+
+/// Whether `path` is a PNG that raylab wrote (its chunks before the image
+/// data hold raylab's tEXt marker). Only the file's first 64 KiB are read,
+/// and only if it is a regular file.
+pub fn is_raylab_png(path: &Path) -> bool {
+    use std::io::Read;
+    let Ok(file) = crate::input::open_regular(path, crate::input::Links::Follow) else {
+        return false;
+    };
+    let mut head = Vec::new();
+    if file.take(64 << 10).read_to_end(&mut head).is_err() {
+        return false;
+    }
+    let Some(mut rest) = head.strip_prefix(b"\x89PNG\r\n\x1a\n".as_slice()) else {
+        return false;
+    };
+    let marker = [MARKER_KEYWORD.as_bytes(), b"\0", MARKER_TEXT.as_bytes()].concat();
+    while rest.len() >= 8 {
+        let length = u32::from_be_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
+        let kind = &rest[4..8];
+        let Some(data) = rest.get(8..8 + length) else {
+            return false;
+        };
+        if kind == b"tEXt" && data == marker.as_slice() {
+            return true;
+        }
+        if kind == b"IDAT" {
+            return false;
+        }
+        rest = rest.get(8 + length + 4..).unwrap_or_default();
+    }
+    false
+}
+
+/// Refuses to replace an existing image raylab did not write, unless
+/// `force`: `raylab render -o` must not destroy a student's own picture
+/// (or any other file) by accident. A missing file is fine.
+pub fn check_replaceable_png(option: &str, path: &Path, force: bool) -> Result<()> {
+    if force || std::fs::symlink_metadata(path).is_err() || is_raylab_png(path) {
+        return Ok(());
+    }
+    bail!(
+        "{option} {}: the file exists and raylab did not write it; \
+         use --force to replace it, or another name",
+        path.display()
+    )
 }
 
 /// Checks, before any work is done, that every output can be written and
@@ -101,24 +189,49 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()>
 /// that `--stats-json` points into a missing folder wastes them, and
 /// writing the image first would leave half the results behind. Each
 /// output's folder must exist and accept a new file (a temporary file is
-/// created there and removed), the output must not be a folder, and no two
-/// paths may name the same file (`-o` equal to the scene file, a heatmap
-/// written over the image it came from, a report over a student's PNG).
-/// `outputs` pairs each path with the option that names it, for the message.
-pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)]) -> Result<()> {
+/// created there and removed), the output must name a file (not a folder,
+/// not a path ending in `/`), an existing output must be a regular file
+/// (never a device or a FIFO: outputs are renamed into place) and, unless
+/// `force`, not read-only, and no two paths may name the same file (`-o`
+/// equal to the scene file, a heatmap written over the image it came from,
+/// a report over a student's PNG). `outputs` pairs each path with the
+/// option that names it, for the message.
+pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)], force: bool) -> Result<()> {
     for (index, &(option, path)) in outputs.iter().enumerate() {
         if path.is_dir() {
-            anyhow::bail!("{option} {}: it is a folder", path.display());
+            bail!("{option} {}: it is a folder", path.display());
+        }
+        if ends_in_separator(path) || path.file_name().is_none() {
+            bail!(
+                "{option} {}: names a folder, not a file (remove the trailing /)",
+                path.display()
+            );
         }
         let folder = folder_of(path);
         if !folder.is_dir() {
-            anyhow::bail!(
+            bail!(
                 "{option} {}: the folder {} does not exist",
                 path.display(),
                 folder.display()
             );
         }
-        temporary_file_builder()
+        if let Ok(existing) = std::fs::metadata(path) {
+            if !existing.is_file() {
+                bail!(
+                    "{option} {}: exists and is not a regular file; raylab writes a new \
+                     file and renames it into place, which would replace it",
+                    path.display()
+                );
+            }
+            if existing.permissions().readonly() && !force {
+                bail!(
+                    "{option} {}: the file exists and is read-only; raylab does not replace \
+                     it without --force (or make it writable, or choose another name)",
+                    path.display()
+                );
+            }
+        }
+        let probe = temporary_file_builder()
             .tempfile_in(folder)
             .with_context(|| {
                 format!(
@@ -127,9 +240,13 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)]) -> Result<()> 
                     folder.display()
                 )
             })?;
+        // Registered like any temporary file: a signal now must not leave it.
+        let registration = crate::cleanup::register(probe.path());
+        drop(probe);
+        drop(registration);
         let identity = file_identity(path);
         if let Some(input) = inputs.iter().find(|input| file_identity(input) == identity) {
-            anyhow::bail!(
+            bail!(
                 "{option} {}: that is an input ({}); writing it would destroy it",
                 path.display(),
                 input.display()
@@ -139,13 +256,22 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)]) -> Result<()> 
             .iter()
             .find(|(_, other)| file_identity(other) == identity)
         {
-            anyhow::bail!(
+            bail!(
                 "{option} {} and {other} name the same file: one would overwrite the other",
                 path.display()
             );
         }
     }
     Ok(())
+}
+
+/// `out.png/`: a trailing separator, which the file-name functions of
+/// `Path` silently drop.
+fn ends_in_separator(path: &Path) -> bool {
+    let bytes = path.as_os_str().as_encoded_bytes();
+    bytes
+        .last()
+        .is_some_and(|&last| std::path::is_separator(char::from(last)))
 }
 
 /// Refuses an image name that does not end in `.png`: raylab writes PNG
@@ -197,16 +323,53 @@ fn temporary_file_builder() -> tempfile::Builder<'static, 'static> {
 
 /// Writes a file atomically: `write` fills a temporary file in the same
 /// folder, which is renamed over `path` only once complete. A failed or
-/// interrupted write never leaves a partial file at `path`.
+/// interrupted write never leaves a partial file at `path`, nor (see
+/// [`crate::cleanup`]) the temporary file. A file replaced keeps its
+/// permissions.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> Result<()>,
 ) -> Result<()> {
+    let staged = stage(path, write)?;
+    crate::cleanup::test_pause_before_rename();
+    staged.commit()
+}
+
+/// Writes several files all or nothing: every one goes to a temporary file
+/// first, and only when all are complete are they renamed into place. A
+/// failure while writing (a full disk) removes the temporary files and
+/// leaves every old file as it was. (A rename failing after another one
+/// succeeded cannot be undone; renames within a folder fail only if the
+/// folder changes under us.)
+pub fn write_files(files: &[(&Path, &[u8])]) -> Result<()> {
+    let mut staged = Vec::with_capacity(files.len());
+    for &(path, bytes) in files {
+        staged.push(stage(path, |file| {
+            file.write_all(bytes)
+                .with_context(|| format!("cannot write {}", path.display()))
+        })?);
+    }
+    crate::cleanup::test_pause_before_rename();
+    for file in staged {
+        file.commit()?;
+    }
+    Ok(())
+}
+
+/// A complete temporary file waiting to be renamed over `path`. Dropping it
+/// removes the file, then unregisters it (fields drop in this order).
+struct Staged {
+    temporary: tempfile::NamedTempFile,
+    _registration: crate::cleanup::Registered,
+    path: std::path::PathBuf,
+}
+
+fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<Staged> {
     let folder = folder_of(path);
     if path.is_dir() {
-        anyhow::bail!("cannot write {}: it is a folder", path.display());
+        bail!("cannot write {}: it is a folder", path.display());
     }
-    let mut temporary = temporary_file_builder()
+    let temporary = temporary_file_builder()
         .tempfile_in(folder)
         .with_context(|| {
             format!(
@@ -215,18 +378,46 @@ pub fn write_atomically(
                 folder.display()
             )
         })?;
+    let registration = crate::cleanup::register(temporary.path());
+    let mut staged = Staged {
+        temporary,
+        _registration: registration,
+        path: path.to_path_buf(),
+    };
     {
-        let mut buffered = std::io::BufWriter::new(temporary.as_file_mut());
+        let mut buffered = std::io::BufWriter::new(staged.temporary.as_file_mut());
         write(&mut buffered)?;
         buffered
             .flush()
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
-    temporary
-        .persist(path)
-        .map_err(|error| error.error)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+    // A file replaced keeps its mode: a read-only image replaced with
+    // --force stays read-only, a private one private.
+    if let Ok(existing) = std::fs::metadata(path)
+        && existing.is_file()
+    {
+        staged
+            .temporary
+            .as_file()
+            .set_permissions(existing.permissions())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(staged)
+}
+
+impl Staged {
+    fn commit(self) -> Result<()> {
+        let Staged {
+            temporary,
+            _registration,
+            path,
+        } = self;
+        temporary
+            .persist(&path)
+            .map_err(|error| error.error)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -239,19 +430,23 @@ mod tests {
         let input = folder.path().join("scene.toml");
         std::fs::write(&input, "x").expect("write input");
         let image = folder.path().join("image.png");
-        let ok = check_outputs(&[&input], &[("-o", &image)]);
+        let ok = check_outputs(&[&input], &[("-o", &image)], false);
         assert!(ok.is_ok(), "{ok:?}");
         let message = |result: Result<()>| format!("{:#}", result.expect_err("refused"));
         // Another spelling of the input is still the input.
         let respelled = folder.path().join(".").join("scene.toml");
-        assert!(message(check_outputs(&[&input], &[("-o", &respelled)])).contains("input"));
+        assert!(message(check_outputs(&[&input], &[("-o", &respelled)], false)).contains("input"));
         assert!(
-            message(check_outputs(&[], &[("-o", &image), ("--json", &image)]))
-                .contains("same file")
+            message(check_outputs(
+                &[],
+                &[("-o", &image), ("--json", &image)],
+                false
+            ))
+            .contains("same file")
         );
         let missing = folder.path().join("no-such-folder").join("x.png");
-        assert!(message(check_outputs(&[], &[("-o", &missing)])).contains("does not exist"));
-        assert!(message(check_outputs(&[], &[("-o", folder.path())])).contains("folder"));
+        assert!(message(check_outputs(&[], &[("-o", &missing)], false)).contains("does not exist"));
+        assert!(message(check_outputs(&[], &[("-o", folder.path())], false)).contains("folder"));
         // The probe file is gone again.
         let left: Vec<_> = std::fs::read_dir(folder.path())
             .expect("list")

@@ -28,6 +28,10 @@ pub const MAX_SAMPLES: u32 = 4_096;
 pub const MAX_IMAGE_SAMPLES: u64 = 1 << 30;
 /// Largest accepted recursion depth.
 pub const MAX_DEPTH: u32 = 64;
+/// Most objects a scene may have. Every ray tests every object (no
+/// acceleration structure: the course is about the intersections), so
+/// 100,000 objects at 640x480 are already minutes of rendering.
+pub const MAX_OBJECTS: usize = 100_000;
 /// Largest accepted Phong exponent.
 pub const MAX_SHININESS: u32 = 100_000;
 
@@ -495,6 +499,12 @@ impl SceneFile {
                     light.intensity
                 ));
             }
+        }
+        if self.objects.len() > MAX_OBJECTS {
+            return Err(format!(
+                "{} objects: a scene may have at most {MAX_OBJECTS}",
+                self.objects.len()
+            ));
         }
         let mut scene = Scene {
             camera,

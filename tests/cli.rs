@@ -459,3 +459,440 @@ fn images_get_the_permissions_of_any_new_file() {
     };
     assert_eq!(mode(&dir.path().join("chapter-1.png")), mode(&ordinary));
 }
+
+/// `--threads 100000` used to hang starting threads. Every command that
+/// takes `--threads` refuses more than 1024 through the same parser, and
+/// `--help` says so.
+#[test]
+fn thread_counts_above_the_bound_are_refused_in_every_command() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for command in ["render", "bench", "cost", "crosscheck"] {
+        for threads in ["1025", "100000", "0"] {
+            let out = raylab(
+                &[
+                    command,
+                    "--chapter",
+                    "2",
+                    "--width",
+                    "8",
+                    "--height",
+                    "6",
+                    "--threads",
+                    threads,
+                ],
+                dir.path(),
+            );
+            assert_eq!(out.status.code(), Some(2), "{command} {threads}");
+            let message = stderr(&out);
+            assert!(
+                message.contains(&format!("invalid value '{threads}' for '--threads"))
+                    && message.contains("from 1 to 1024"),
+                "{command} {threads}: {message}"
+            );
+        }
+        let help = stdout(&raylab(&[command, "--help"], dir.path()));
+        assert!(help.contains("1 to 1024"), "{command} --help: {help}");
+    }
+    assert!(only_files(dir.path()).is_empty());
+    let out = raylab(
+        &[
+            "render",
+            "-c",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--threads",
+            "1024",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+/// A FIFO as `--scene` used to block forever, `/dev/zero` to be read until
+/// memory ran out; a scene file is read only if it is a regular file of at
+/// most 16 MiB (a sparse file here: nothing of it is read).
+#[cfg(unix)]
+#[test]
+fn a_scene_must_be_a_regular_file_of_bounded_size() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    common::make_fifo(&dir.path().join("pipe.toml"));
+    let huge = std::fs::File::create(dir.path().join("huge.toml")).expect("create");
+    huge.set_len((16 << 20) + 1).expect("sparse file");
+    for (scene, message) in [
+        (
+            "pipe.toml",
+            "pipe.toml: is a FIFO (named pipe), not a regular file",
+        ),
+        (
+            "/dev/zero",
+            "/dev/zero: is a character device, not a regular file",
+        ),
+        (
+            "huge.toml",
+            "huge.toml: 16777217 bytes; raylab reads a scene file of at most 16777216 bytes",
+        ),
+    ] {
+        for command in ["render", "probe", "cost", "bench"] {
+            let mut args = vec![command, "--scene", scene, "--chapter", "6"];
+            if command == "probe" {
+                args.extend(["--ray", "0,1,-5,0,0,1"]);
+            }
+            let out = common::raylab_unblocked(&args, dir.path());
+            assert_eq!(out.status.code(), Some(2), "{args:?}");
+            assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+        }
+    }
+}
+
+/// The object count is bounded too (every ray tests every object).
+#[test]
+fn a_scene_with_too_many_objects_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut scene = String::from(GOOD);
+    let sphere = "[[objects]]\nsphere = { center = [0, 1, 9], radius = 0.1 }\n";
+    scene.push_str(&sphere.repeat(raylab::scene::MAX_OBJECTS));
+    std::fs::write(dir.path().join("crowd.toml"), scene).expect("write");
+    let out = raylab(
+        &[
+            "render",
+            "--scene",
+            "crowd.toml",
+            "--width",
+            "4",
+            "--height",
+            "3",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("100001 objects: a scene may have at most 100000"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("crowd.png").exists());
+}
+
+/// Names with terminal control characters (here `ESC [2J`, which clears
+/// the screen) are printed escaped: in errors, in the summary line, and in
+/// `probe`'s listing.
+#[test]
+fn control_characters_in_names_are_printed_escaped() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let named = GOOD.replace("name = \"ball\"", "name = \"\\u001b[2Jball\\u0007\"");
+    std::fs::write(dir.path().join("named.toml"), &named).expect("write");
+    let broken = named.replace("radius = 1.0", "radius = 0.0");
+    std::fs::write(dir.path().join("broken.toml"), &broken).expect("write");
+    let clean = |text: &str| !text.contains('\u{1b}') && !text.contains('\u{7}');
+
+    let out = raylab(&["render", "--scene", "broken.toml"], dir.path());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(clean(&stderr(&out)), "{:?}", stderr(&out));
+    assert!(
+        stderr(&out).contains("(\"\\u{1b}[2Jball\\u{7}\"): sphere.radius"),
+        "{}",
+        stderr(&out)
+    );
+
+    let out = raylab(
+        &["probe", "--scene", "named.toml", "--ray", "0,1,-5,0,0,1"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(clean(&stdout(&out)), "{:?}", stdout(&out));
+    assert!(
+        stdout(&out).contains("\\u{1b}[2Jball\\u{7}"),
+        "{}",
+        stdout(&out)
+    );
+
+    let out = raylab(
+        &[
+            "render",
+            "-c",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "-o",
+            "\u{1b}[2J.png",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(clean(&stdout(&out)), "{:?}", stdout(&out));
+    assert!(
+        stdout(&out).contains("-> \\u{1b}[2J.png"),
+        "{}",
+        stdout(&out)
+    );
+}
+
+/// `render --scene my-scene.toml --chapter 4` used to write chapter-4.png,
+/// the hand-in name, over the student's render of the built-in scene.
+#[test]
+fn a_scene_render_is_named_after_the_scene() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("my-scene.toml"), GOOD).expect("write");
+    let small = ["--width", "8", "--height", "6"];
+    let out = raylab(
+        &[&["render", "--chapter", "4"][..], &small].concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let hand_in = std::fs::read(dir.path().join("chapter-4.png")).expect("hand-in");
+    let out = raylab(
+        &[
+            &["render", "--scene", "my-scene.toml", "--chapter", "4"][..],
+            &small,
+        ]
+        .concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).ends_with("-> my-scene-ch4.png\n"),
+        "{}",
+        stdout(&out)
+    );
+    assert_eq!(
+        std::fs::read(dir.path().join("chapter-4.png")).expect("kept"),
+        hand_in
+    );
+    assert!(dir.path().join("my-scene-ch4.png").exists());
+    let out = raylab(
+        &[&["render", "--scene", "my-scene.toml"][..], &small].concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("my-scene.png").exists());
+}
+
+/// `render` replaces its own earlier image, but not a file it did not write
+/// nor a read-only one, unless --force; a file replaced keeps its mode.
+#[cfg(unix)]
+#[test]
+fn render_replaces_only_its_own_writable_images_without_force() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let render = |output: &str, force: bool| {
+        let mut args = vec![
+            "render", "-c", "2", "--width", "8", "--height", "6", "-o", output,
+        ];
+        if force {
+            args.push("--force");
+        }
+        raylab(&args, dir.path())
+    };
+    // raylab's own image: replaced freely.
+    assert!(render("mine.png", false).status.success());
+    assert!(render("mine.png", false).status.success());
+    // A PNG from elsewhere (no raylab marker), and a text file.
+    let photo = dir.path().join("photo.png");
+    image::RgbImage::from_pixel(3, 2, image::Rgb([1, 2, 3]))
+        .save(&photo)
+        .expect("save");
+    let photo_bytes = std::fs::read(&photo).expect("read");
+    std::fs::write(dir.path().join("notes.png"), "my notes").expect("write");
+    for name in ["photo.png", "notes.png"] {
+        let out = render(name, false);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            stderr(&out).contains(&format!(
+                "-o {name}: the file exists and raylab did not write it; use --force"
+            )),
+            "{}",
+            stderr(&out)
+        );
+        assert!(stdout(&out).is_empty(), "nothing rendered");
+    }
+    assert_eq!(std::fs::read(&photo).expect("kept"), photo_bytes);
+    assert!(render("photo.png", true).status.success());
+    assert_ne!(std::fs::read(&photo).expect("replaced"), photo_bytes);
+    // Read-only, even raylab's own: kept without --force, and replaced with
+    // it stays read-only.
+    let mine = dir.path().join("mine.png");
+    std::fs::set_permissions(&mine, std::fs::Permissions::from_mode(0o444)).expect("chmod");
+    let before = std::fs::read(&mine).expect("read");
+    let out = render("mine.png", false);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("-o mine.png: the file exists and is read-only"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read(&mine).expect("kept"), before);
+    let out = raylab(
+        &[
+            "render", "-c", "5", "--width", "8", "--height", "6", "-o", "mine.png", "--force",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_ne!(std::fs::read(&mine).expect("replaced"), before);
+    let mode = std::fs::metadata(&mine)
+        .expect("metadata")
+        .permissions()
+        .mode()
+        & 0o777;
+    assert_eq!(mode, 0o444);
+}
+
+/// Outputs that cannot be written are found before the render: `-o
+/// out.png/` used to render, then fail; `--stats-json` too, after writing
+/// the image and printing success.
+#[cfg(unix)]
+#[test]
+fn unwritable_outputs_fail_before_the_render() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    common::make_fifo(&dir.path().join("pipe.json"));
+    for (extra, message) in [
+        (
+            vec!["-o", "out.png/"],
+            "-o out.png/: names a folder, not a file",
+        ),
+        (
+            vec!["--stats-json", "s.json/"],
+            "--stats-json s.json/: names a folder, not a file",
+        ),
+        (
+            vec!["--stats-json", "pipe.json"],
+            "--stats-json pipe.json: exists and is not a regular file",
+        ),
+    ] {
+        let mut args = vec!["render", "-c", "8", "--width", "8", "--height", "6"];
+        args.extend(&extra);
+        let out = common::raylab_unblocked(&args, dir.path());
+        assert_eq!(out.status.code(), Some(2), "{extra:?}");
+        assert!(
+            stderr(&out).contains(message),
+            "{extra:?}: {}",
+            stderr(&out)
+        );
+        assert!(stdout(&out).is_empty(), "{extra:?}: nothing rendered");
+        assert!(!dir.path().join("chapter-8.png").exists(), "{extra:?}");
+        assert!(!dir.path().join("out.png").exists(), "{extra:?}");
+    }
+}
+
+/// On a full disk `cost` used to leave cost.csv and cost.md without
+/// cost.svg: its three files are written all or none (RLIMIT_FSIZE stands
+/// in for the full disk: the SVG is the largest).
+#[cfg(unix)]
+#[test]
+fn cost_writes_its_files_all_or_none() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let args = [
+        "cost",
+        "--chapter",
+        "6",
+        "--knob",
+        "depth",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "--repeats",
+        "1",
+        "--out",
+        "c",
+    ];
+    let out = raylab(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let size = |name: &str| {
+        std::fs::metadata(dir.path().join("c").join(name))
+            .expect("file")
+            .len()
+    };
+    let largest_text = size("cost.csv").max(size("cost.md"));
+    let svg = size("cost.svg");
+    assert!(
+        largest_text * 2 < svg,
+        "text {largest_text} bytes, SVG {svg}"
+    );
+    std::fs::remove_dir_all(dir.path().join("c")).expect("clean");
+
+    let out = common::raylab_with_file_size_limit(&args, dir.path(), largest_text * 2);
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(
+        stderr(&out).contains("cannot write c/cost.svg"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        only_files(&dir.path().join("c")).is_empty(),
+        "{:?}",
+        only_files(&dir.path().join("c"))
+    );
+}
+
+/// SIGTERM or SIGINT while an output is being written used to leave a
+/// `.raylab-XXXXXX.tmp` file; now it is removed, the old image survives,
+/// and the exit status is 128 + the signal. The test-only hook
+/// RAYLAB_TEST_PAUSE_BEFORE_RENAME stops raylab with its temporary files
+/// written, so the signal arrives at exactly that moment.
+#[cfg(unix)]
+#[test]
+fn a_signal_during_a_write_removes_the_temporary_files() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let args = [
+        "render",
+        "-c",
+        "2",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "-o",
+        "old.png",
+        "--stats-json",
+        "s.json",
+    ];
+    assert!(raylab(&args, dir.path()).status.success());
+    let old = std::fs::read(dir.path().join("old.png")).expect("old image");
+    for (signal, status) in [(libc::SIGTERM, 143), (libc::SIGINT, 130)] {
+        let mut child = common::command(
+            &[
+                "render",
+                "-c",
+                "5",
+                "--width",
+                "8",
+                "--height",
+                "6",
+                "-o",
+                "old.png",
+                "--stats-json",
+                "s.json",
+            ],
+            dir.path(),
+        )
+        .env("RAYLAB_TEST_PAUSE_BEFORE_RENAME", "1")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+        let mut stderr_lines =
+            std::io::BufReader::new(child.stderr.take().expect("stderr")).lines();
+        let line = stderr_lines.next().expect("a line").expect("text");
+        assert!(line.contains("temporary files written"), "{line}");
+        assert_eq!(
+            common::temporary_files(dir.path()).len(),
+            2,
+            "both outputs staged"
+        );
+        // SAFETY: signalling our own child.
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
+        let exit = child.wait().expect("wait");
+        assert_eq!(exit.code(), Some(status), "signal {signal}");
+        assert_eq!(common::temporary_files(dir.path()), Vec::<String>::new());
+        assert_eq!(
+            std::fs::read(dir.path().join("old.png")).expect("old image"),
+            old
+        );
+    }
+}

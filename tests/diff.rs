@@ -379,3 +379,171 @@ fn bad_inputs_give_clean_errors() {
         "not a percentage",
     );
 }
+
+/// A PNG can declare any size in a few bytes: 100,000,000 x 1 used to make
+/// `diff --heatmap` allocate 20.7 GB and abort, and a valid 16384x16384
+/// PNG was called "corrupted PNG: Memory limit exceeded". Both are refused
+/// with the limit named, before any pixel is decoded (the limit's own
+/// arithmetic is checked in src/input.rs), and nothing is written.
+#[test]
+fn a_png_over_the_size_limit_is_refused_before_decoding() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("wide.png"),
+        common::png_declaring(100_000_000, 1),
+    )
+    .expect("write");
+    // A real, complete 16384x16384 PNG, written a row at a time (black
+    // rows compress to under a megabyte).
+    let big = std::fs::File::create(dir.path().join("big.png")).expect("create");
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(big), 16_384, 16_384);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_compression(png::Compression::Fast);
+    let mut writer = encoder.write_header().expect("header");
+    let mut stream = writer.stream_writer().expect("stream");
+    let row = vec![0u8; 16_384];
+    for _ in 0..16_384 {
+        std::io::Write::write_all(&mut stream, &row).expect("row");
+    }
+    stream.finish().expect("finish");
+    for (name, size) in [("wide.png", "100000000x1"), ("big.png", "16384x16384")] {
+        let out = raylab(&["diff", name, name, "--heatmap", "heat.png"], dir.path());
+        assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+        let message = stderr(&out);
+        assert!(
+            message.contains(&format!(
+                "{name}: {size} pixels is over raylab's image size limit"
+            )),
+            "{message}"
+        );
+        assert!(message.contains("16384 pixels a side"), "{message}");
+        assert!(!message.contains("corrupted"), "{message}");
+        assert!(!message.contains("Memory limit"), "{message}");
+        assert!(!dir.path().join("heat.png").exists());
+    }
+}
+
+/// A FIFO used to block `diff` forever, `/dev/zero` (or a link to it) to be
+/// read until memory ran out: only regular files are read.
+#[cfg(unix)]
+#[test]
+fn fifos_and_devices_are_refused_without_blocking() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = render(2, |_| {});
+    save(dir.path(), "good.png", &image.rgb);
+    common::make_fifo(&dir.path().join("pipe.png"));
+    std::os::unix::fs::symlink("/dev/zero", dir.path().join("zero.png")).expect("symlink");
+    for (args, message) in [
+        (
+            ["diff", "pipe.png", "good.png"],
+            "pipe.png: is a FIFO (named pipe), not a regular file",
+        ),
+        (
+            ["diff", "good.png", "pipe.png"],
+            "pipe.png: is a FIFO (named pipe), not a regular file",
+        ),
+        (
+            ["diff", "/dev/zero", "good.png"],
+            "/dev/zero: is a character device, not a regular file",
+        ),
+        (
+            ["diff", "good.png", "zero.png"],
+            "zero.png: is a character device, not a regular file",
+        ),
+    ] {
+        let out = common::raylab_unblocked(&args, dir.path());
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+    }
+}
+
+/// On a full disk `diff` used to leave the heatmap without the JSON, and
+/// die before printing its verdict. Now the verdict comes first and the
+/// outputs are written all or none (here the JSON, the larger file, cannot
+/// be written: RLIMIT_FSIZE stands in for the full disk).
+#[cfg(unix)]
+#[test]
+fn a_failed_write_leaves_no_output_and_the_verdict_is_printed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    raylab::output::write_png(&dir.path().join("dot.png"), 1, 1, &[9, 9, 9]).expect("write");
+    let args = [
+        "diff",
+        "dot.png",
+        "dot.png",
+        "--heatmap",
+        "heat.png",
+        "--json",
+        "m.json",
+    ];
+    // Unlimited first, to learn the two sizes.
+    let out = raylab(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let size = |name: &str| {
+        std::fs::metadata(dir.path().join(name))
+            .expect("written")
+            .len()
+    };
+    let (heat, json) = (size("heat.png"), size("m.json"));
+    assert!(heat < json, "heatmap {heat} bytes, JSON {json}");
+    std::fs::remove_file(dir.path().join("heat.png")).expect("remove");
+    std::fs::remove_file(dir.path().join("m.json")).expect("remove");
+
+    let out = common::raylab_with_file_size_limit(&args, dir.path(), (heat + json) / 2);
+    assert_eq!(out.status.code(), Some(2), "{}", stdout(&out));
+    assert!(stdout(&out).contains("result: PASS"), "{}", stdout(&out));
+    assert!(
+        stderr(&out).contains("cannot write m.json"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        !dir.path().join("heat.png").exists(),
+        "a heatmap without its JSON"
+    );
+    assert!(!dir.path().join("m.json").exists());
+    assert_eq!(common::temporary_files(dir.path()), Vec::<String>::new());
+}
+
+/// Sizes that do not match are errors from the library, never panics.
+#[test]
+fn mismatched_buffers_are_errors_not_panics() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let short = raylab::output::write_png(&dir.path().join("x.png"), 4, 4, &[0; 10]);
+    let message = format!("{:#}", short.expect_err("a short buffer"));
+    assert!(
+        message.contains("10 bytes of RGB for a 4x4 image, which needs 48"),
+        "{message}"
+    );
+    assert!(!dir.path().join("x.png").exists());
+    assert!(raylab::output::encode_png(4, 4, &[0; 49]).is_err());
+    assert!(raylab::output::encode_png(0, 4, &[]).is_err());
+    let image = raylab::diff::Image {
+        width: 4,
+        height: 4,
+        rgb: vec![0; 47],
+    };
+    assert!(image.encode_png().is_err());
+
+    let a = raylab::diff::Image {
+        width: 4,
+        height: 4,
+        rgb: vec![0; 48],
+    };
+    let comparison = raylab::diff::compare(&a, &a, raylab::diff::Criteria::default(), ("a", "b"))
+        .expect("same size");
+    let wrong_base = raylab::diff::Image {
+        width: 2,
+        height: 2,
+        rgb: vec![0; 12],
+    };
+    let message = format!(
+        "{:#}",
+        comparison.heatmap(&wrong_base).expect_err("wrong base")
+    );
+    assert!(
+        message.contains("the comparison is of 4x4 pixels"),
+        "{message}"
+    );
+    assert!(message.contains("the base image is 2x2"), "{message}");
+    assert!(comparison.heatmap(&a).is_ok());
+}

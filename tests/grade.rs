@@ -278,3 +278,80 @@ fn errors_exit_2_and_write_nothing() {
     let hand_in = image::open(dir.path().join("class/chapter-1.png")).expect("still a PNG");
     assert_eq!((hand_in.width(), hand_in.height()), (32, 24));
 }
+
+/// `grade` used to follow symbolic links out of the folder (a link to
+/// someone's correct image was graded PASS and embedded in the report; a
+/// link to /etc/passwd was read) and to block on a FIFO. A link is listed
+/// as refused and never read or shown; a FIFO or a device is unreadable,
+/// without blocking; a FIFO in the --against folder falls back to a render.
+#[cfg(unix)]
+#[test]
+fn links_fifos_and_devices_among_hand_ins_are_refused_unread() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let against = dir.path().join("against");
+    std::fs::create_dir(&class).expect("mkdir");
+    std::fs::create_dir(&against).expect("mkdir");
+    // A correct image outside the folder, which would pass chapter 8.
+    let private = dir.path().join("private.png");
+    save(&private, &render(8, 32, 24, |_| {}));
+    std::os::unix::fs::symlink(&private, class.join("chapter-8.png")).expect("symlink");
+    std::os::unix::fs::symlink("/etc/passwd", class.join("chapter-7.png")).expect("symlink");
+    std::os::unix::fs::symlink("/dev/zero", class.join("notes.txt")).expect("symlink");
+    common::make_fifo(&class.join("chapter-5.png"));
+    // A real hand-in, whose reference in --against is a FIFO.
+    save(&class.join("chapter-1.png"), &render(1, 32, 24, |_| {}));
+    common::make_fifo(&against.join("chapter-1.png"));
+
+    let out = common::raylab_unblocked(&["grade", "class", "--against", "against"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    assert!(md.contains("1 compared, 4 missing, 3 unreadable"), "{md}");
+    assert!(
+        md.contains("- chapter-8.png: refused: a symbolic link; a hand-in must be a regular file inside the folder"),
+        "{md}"
+    );
+    assert!(
+        md.contains("- chapter-7.png: refused: a symbolic link"),
+        "{md}"
+    );
+    assert!(
+        md.contains("chapter-5.png: is a FIFO (named pipe), not a regular file"),
+        "{md}"
+    );
+    assert!(md.contains("- notes.txt: refused: a symbolic link"), "{md}");
+    assert!(md.contains("is a FIFO"), "{md}");
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    // Only chapter 1's three images: nothing of the linked image.
+    assert_eq!(inlined_images(&html).len(), 3);
+    assert!(!html.contains("root:"), "nothing of /etc/passwd");
+}
+
+/// Names are escaped for each output: Markdown escapes in the summary (a
+/// hand-in named `<img src=x onerror=alert(2)>` must not become markup
+/// where the summary is pasted), no terminal control characters on stdout,
+/// HTML escapes in the report.
+#[test]
+fn hostile_names_are_escaped_in_markdown_terminal_and_html() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    std::fs::write(class.join("<img src=x onerror=alert(2)>"), "x").expect("write");
+    std::fs::write(class.join("\u{1b}[2J\u{1b}]0;pwned\u{7}.png"), "x").expect("write");
+    std::fs::write(class.join("a*b_[c](d)`e`.png"), "x").expect("write");
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    assert!(!md.replace("\\<", "").contains('<'), "an unescaped <: {md}");
+    assert!(md.contains("\\<img src=x onerror=alert(2)\\>"), "{md}");
+    assert!(md.contains("a\\*b\\_\\[c\\](d)\\`e\\`.png"), "{md}");
+    assert!(!md.contains('\u{1b}') && !md.contains('\u{7}'), "{md:?}");
+    // Markdown escapes first (`[`), then the terminal's (ESC, BEL).
+    assert!(
+        md.contains("\\u{1b}\\[2J\\u{1b}\\]0;pwned\\u{7}.png"),
+        "{md}"
+    );
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    assert!(!html.contains("<img src=x"), "raw markup in the report");
+    assert!(html.contains("&lt;img src=x onerror=alert(2)&gt;"));
+}

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use super::render::{select_scene, write_text_atomic};
+use super::render::select_scene;
 use crate::cost::{CostConfig, Knob};
 
 /// The default size: small enough that a sweep takes seconds in release.
@@ -37,8 +37,8 @@ pub struct CostArgs {
     /// Folder for cost.csv, cost.md and cost.svg [default: cost-chapter-N].
     #[arg(short, long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Worker threads [default: one per core].
-    #[arg(long)]
+    /// Worker threads, 1 to 1024 [default: one per core].
+    #[arg(long, value_parser = crate::cli::parse_threads)]
     pub threads: Option<usize>,
 }
 
@@ -98,7 +98,7 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
     let files = ["cost.csv", "cost.md", "cost.svg"].map(|name| out.join(name));
     let inputs: Vec<&std::path::Path> = args.scene.as_deref().into_iter().collect();
     let outputs = files.each_ref().map(|file| ("--out", file.as_path()));
-    crate::output::check_outputs(&inputs, &outputs)?;
+    crate::output::check_outputs(&inputs, &outputs, false)?;
 
     let scene_name = match &args.scene {
         Some(path) => path.display().to_string(),
@@ -130,13 +130,18 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
     let command = report.command(&knobs, args.out.as_ref().and_then(|p| p.to_str()));
     let markdown = format!("{}\nReproduce with `{command}`.\n", report.markdown());
     let svg = report.svg()?;
-    write_text_atomic(&out.join("cost.csv"), &report.csv())?;
-    write_text_atomic(&out.join("cost.md"), &markdown)?;
-    write_text_atomic(&out.join("cost.svg"), &svg)?;
-    print!("{markdown}");
+    // All or nothing: a full disk must not leave a table without its plot.
+    let csv = report.csv();
+    crate::output::write_files(&[
+        (&files[0], csv.as_bytes()),
+        (&files[1], markdown.as_bytes()),
+        (&files[2], svg.as_bytes()),
+    ])?;
+    let safe = crate::text::terminal_safe;
+    print!("{}", safe(&markdown));
     println!(
         "wrote {0}/cost.csv, {0}/cost.md, {0}/cost.svg",
-        out.display()
+        safe(&out.display().to_string())
     );
     Ok(0)
 }

@@ -119,8 +119,10 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         show(ray.dir)
     );
     println!("chapter {chapter}'s shapes, each on its own:");
+    // Object names come from the scene file: shown escaped, never obeyed.
+    let name_of = |object: usize| crate::text::terminal_safe(stage.name(object).unwrap_or("?"));
     for (object, shape) in stage.shapes().iter().enumerate() {
-        let name = stage.name(object).unwrap_or("?");
+        let name = name_of(object);
         let answer = match shape {
             Shape::Plane(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
                 Some(t) => format!("plane, t = {t}"),
@@ -138,8 +140,8 @@ pub fn probe(args: &ProbeArgs) -> Result<i32> {
         Some(hit) => {
             let surface = stage.shapes()[hit.object].surface_point(&ray, hit.t);
             println!(
-                "ours:   {:?} (object {}) at t = {}, point {}, normal {}",
-                stage.name(hit.object).unwrap_or("?"),
+                "ours:   \"{}\" (object {}) at t = {}, point {}, normal {}",
+                name_of(hit.object),
                 hit.object,
                 hit.t,
                 show(surface.point),

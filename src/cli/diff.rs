@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
+use crate::cli::EXIT_FAILED_CHECK;
 use crate::diff::{Criteria, Image, compare};
 
 /// When two images count as the same (shared by `diff` and `grade`).
@@ -49,8 +49,13 @@ impl CriteriaArgs {
 /// its largest channel difference exceeds T. The images pass when at most
 /// --allow percent of the pixels are over (by default: none over 2 levels).
 ///
-/// Exit status: 0 pass, 1 fail, 2 error (missing file, not a PNG, corrupted
-/// PNG, different sizes, unwritable output).
+/// Exit status: 0 pass, 1 fail, 2 error (missing file, not a regular file,
+/// not a PNG, corrupted PNG, over the size limit, different sizes,
+/// unwritable output; the verdict is printed before the outputs are
+/// written, and they are written all or none).
+///
+/// Images are read up to 16384 pixels a side and 40,000,000 pixels in all
+/// (320 MB decoded); larger ones are refused before decoding.
 #[derive(Debug, Args)]
 #[command(long_about)]
 pub struct DiffArgs {
@@ -75,9 +80,6 @@ pub struct DiffArgs {
 }
 
 pub fn diff(args: &DiffArgs) -> Result<i32> {
-    let a = Image::load_png(&args.a)?;
-    let b = Image::load_png(&args.b)?;
-    let names = (args.a.display().to_string(), args.b.display().to_string());
     let outputs: Vec<(&str, &std::path::Path)> =
         [("--heatmap", &args.heatmap), ("--json", &args.json)]
             .into_iter()
@@ -86,23 +88,36 @@ pub fn diff(args: &DiffArgs) -> Result<i32> {
     if let Some(path) = &args.heatmap {
         crate::output::check_png_name("--heatmap", path)?;
     }
-    crate::output::check_outputs(&[&args.a, &args.b], &outputs)?;
+    crate::output::check_outputs(&[&args.a, &args.b], &outputs, false)?;
+    let a = Image::load_png(&args.a)?;
+    let b = Image::load_png(&args.b)?;
+    let names = (args.a.display().to_string(), args.b.display().to_string());
     let comparison = compare(&a, &b, args.criteria.criteria(), (&names.0, &names.1))?;
+    // The verdict first: an output that fails to be written (a full disk)
+    // is an error, but must not hide the answer the comparison gave.
+    let safe = crate::text::terminal_safe;
+    println!("{} vs {}", safe(&names.0), safe(&names.1));
+    print!("{}", comparison.report_text());
+    let mut files: Vec<(&std::path::Path, Vec<u8>)> = Vec::new();
     if let Some(path) = &args.heatmap {
-        crate::diff::write_heatmap(&comparison.heatmap(&a), path)?;
+        files.push((path, comparison.heatmap(&a)?.encode_png()?));
     }
     if let Some(path) = &args.json {
         let mut json = comparison.json();
         json["a"] = names.0.clone().into();
         json["b"] = names.1.clone().into();
-        write_text_atomic(path, &format!("{json:#}\n"))?;
+        files.push((path, format!("{json:#}\n").into_bytes()));
     }
-    println!("{} vs {}", names.0, names.1);
-    print!("{}", comparison.report_text());
+    // All or nothing: never a heatmap without its JSON or the other way.
+    let files: Vec<(&std::path::Path, &[u8])> = files
+        .iter()
+        .map(|(path, bytes)| (*path, bytes.as_slice()))
+        .collect();
+    crate::output::write_files(&files)?;
     if let Some(path) = &args.heatmap {
         println!(
             "heatmap: {} (dim grey: identical; dark blue 1 level .. red {} levels; white tick: threshold {})",
-            path.display(),
+            safe(&path.display().to_string()),
             comparison.metrics.max.max(1),
             comparison.criteria.threshold
         );

@@ -20,7 +20,10 @@ use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
 /// Writes one self-contained HTML report (images inlined) with, per chapter,
 /// the student image, the reference, a heatmap, the metrics and pass/fail,
 /// and prints a Markdown summary. Missing chapters, unreadable files and
-/// other entries of the folder are listed, not fatal. See `raylab diff
+/// other entries of the folder are listed, not fatal. A hand-in must be a
+/// regular file in the folder: a symbolic link is refused (never followed,
+/// read or shown), and so is a FIFO or a device. Images are read up to
+/// 16384 pixels a side and 40,000,000 pixels in all. See `raylab diff
 /// --help` for the metrics and the threshold.
 ///
 /// Exit status: 0 when all 8 chapters are present and pass; 1 when any
@@ -70,7 +73,7 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         inputs.extend(files_in(folder)?);
     }
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_outputs(&inputs, &[("--report", &report)])?;
+    crate::output::check_outputs(&inputs, &[("--report", &report)], false)?;
     let grade = crate::grade::grade(
         &args.folder,
         references,
@@ -78,7 +81,7 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         Some(&report),
     )?;
     write_text_atomic(&report, &grade.html()?)?;
-    print!("{}", grade.markdown(&report));
+    print!("{}", crate::text::terminal_safe(&grade.markdown(&report)));
     Ok(if grade.all_pass() {
         0
     } else {

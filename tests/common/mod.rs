@@ -22,3 +22,117 @@ pub fn stdout(output: &Output) -> String {
 pub fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
+
+/// Runs `command`, failing the test instead of hanging when raylab blocks
+/// (on a FIFO, say): the child is killed after two minutes, far beyond any
+/// run here, so this is a guard, not a timing assertion.
+pub fn output_or_blocked(mut command: Command) -> Output {
+    use std::process::Stdio;
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run raylab");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("raylab blocked: {command:?}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// The `raylab` command, not yet run.
+pub fn command(args: &[&str], dir: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_raylab"));
+    command.args(args).current_dir(dir);
+    command
+}
+
+/// Runs `raylab args...` with the hang guard of [`output_or_blocked`].
+pub fn raylab_unblocked(args: &[&str], dir: &Path) -> Output {
+    output_or_blocked(command(args, dir))
+}
+
+/// Runs `raylab args...` as on a nearly full disk: no file it writes may
+/// grow past `bytes` (RLIMIT_FSIZE; the write fails with EFBIG instead of
+/// the process being killed, as SIGXFSZ is ignored).
+#[cfg(unix)]
+pub fn raylab_with_file_size_limit(args: &[&str], dir: &Path, bytes: u64) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut command = command(args, dir);
+    // SAFETY: between fork and exec only async-signal-safe calls are made.
+    unsafe {
+        command.pre_exec(move || {
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            let limit = libc::rlimit {
+                rlim_cur: bytes as libc::rlim_t,
+                rlim_max: bytes as libc::rlim_t,
+            };
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    output_or_blocked(command)
+}
+
+/// Makes a FIFO (named pipe) at `path`.
+#[cfg(unix)]
+pub fn make_fifo(path: &Path) {
+    use std::os::unix::ffi::OsStrExt;
+    let name = std::ffi::CString::new(path.as_os_str().as_bytes()).expect("a path");
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o644) }, 0, "mkfifo");
+}
+
+/// The files in `dir` whose names start like raylab's temporary files.
+pub fn temporary_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("list")
+        .filter_map(|entry| entry.ok())
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with(".raylab-"))
+        .collect()
+}
+
+/// A PNG file that declares `width` x `height` pixels but holds only its
+/// header (a few dozen bytes): what a hostile file would send to make a
+/// reader allocate gigabytes.
+pub fn png_declaring(width: u32, height: u32) -> Vec<u8> {
+    let mut bytes = vec![0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+    let mut header = Vec::new();
+    header.extend(width.to_be_bytes());
+    header.extend(height.to_be_bytes());
+    header.extend([8, 2, 0, 0, 0]); // 8-bit RGB, deflate, no filter, no interlace
+    for (kind, data) in [(*b"IHDR", header.as_slice()), (*b"IEND", &[][..])] {
+        bytes.extend((data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend(data);
+        bytes.extend(&body);
+        bytes.extend(crc32(&body).to_be_bytes());
+    }
+    bytes
+}
+
+/// CRC-32 (IEEE), as PNG chunks use.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &byte in bytes {
+        crc ^= u32::from(byte);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xedb8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}

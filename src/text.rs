@@ -1,0 +1,41 @@
+//! Printing names users chose (file names, hand-in names, scene object
+//! names) without letting them drive the terminal.
+//!
+//! A file named `ESC [2J` would clear the instructor's screen when listed,
+//! `ESC ] 0 ; title BEL` would retitle the window, and a right-to-left
+//! override would show `gnp.exe` as `exe.png`. Everything raylab prints
+//! that may hold such a name goes through [`terminal_safe`].
+
+/// `text` with every control character (C0 but the line break, DEL, C1)
+/// and every bidirectional override or isolate written as a Rust-style
+/// escape (`\u{1b}`), so it prints as visible text. Line breaks are kept:
+/// multi-line messages stay readable, and a line break moves no cursor
+/// anywhere a new line would not.
+pub fn terminal_safe(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        let bidi = matches!(c, '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}');
+        if (c.is_control() && c != '\n') || bidi {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_are_shown_not_obeyed() {
+        assert_eq!(terminal_safe("a\u{1b}[2Jb"), "a\\u{1b}[2Jb");
+        assert_eq!(
+            terminal_safe("\u{9b}31m\r\t\u{7f}"),
+            "\\u{9b}31m\\u{d}\\u{9}\\u{7f}"
+        );
+        assert_eq!(terminal_safe("gnp.\u{202e}exe"), "gnp.\\u{202e}exe");
+        assert_eq!(terminal_safe("two\nlines, café ✓"), "two\nlines, café ✓");
+    }
+}
