@@ -4,26 +4,19 @@
 
 use crate::{Scene, SceneError};
 
-/// The TOML text of chapter `n`'s default scene (`n` in 1..=8).
+/// The TOML text of chapter `n`'s default scene.
 pub fn scene_text(chapter: u8) -> Option<&'static str> {
-    Some(match chapter {
-        1 => include_str!("../chapters/scenes/chapter-1.toml"),
-        2 => include_str!("../chapters/scenes/chapter-2.toml"),
-        3 => include_str!("../chapters/scenes/chapter-3.toml"),
-        4 => include_str!("../chapters/scenes/chapter-4.toml"),
-        5 => include_str!("../chapters/scenes/chapter-5.toml"),
-        6 => include_str!("../chapters/scenes/chapter-6.toml"),
-        7 => include_str!("../chapters/scenes/chapter-7.toml"),
-        8 => include_str!("../chapters/scenes/chapter-8.toml"),
-        _ => return None,
-    })
+    crate::stage::chapter(chapter).map(|info| info.scene)
 }
 
 /// Chapter `n`'s default scene, parsed.
 pub fn scene(chapter: u8) -> Result<Scene, SceneError> {
     let text = scene_text(chapter).ok_or_else(|| SceneError::Invalid {
         origin: "built-in scenes".into(),
-        message: format!("there is no chapter {chapter}; chapters are 1 to 8"),
+        message: format!(
+            "there is no chapter {chapter}; chapters are 1 to {}",
+            crate::stage::LAST_CHAPTER
+        ),
     })?;
     Scene::parse(text, &format!("built-in scene of chapter {chapter}"))
 }
@@ -32,9 +25,9 @@ pub fn scene(chapter: u8) -> Result<Scene, SceneError> {
 mod tests {
     #[test]
     fn every_built_in_scene_parses() {
-        for chapter in 1..=8 {
-            super::scene(chapter).unwrap_or_else(|e| panic!("chapter {chapter}: {e}"));
+        for info in crate::stage::CHAPTERS {
+            super::scene(info.number).unwrap_or_else(|e| panic!("chapter {}: {e}", info.number));
         }
-        assert!(super::scene(9).is_err());
+        assert!(super::scene(crate::stage::LAST_CHAPTER + 1).is_err());
     }
 }

@@ -1,4 +1,9 @@
-//! The eight chapters as stages: which effects each one switches on.
+//! The course's chapters as data, and the effects each stage switches on.
+//!
+//! [`CHAPTERS`] is the one list of chapters: the command line's ranges,
+//! `raylab chapters` and `raylab scene`, the student workspace, the checks,
+//! the snapshot tests and the docs all read it. A new chapter is one entry
+//! here plus its files.
 
 use crate::Scene;
 
@@ -9,54 +14,120 @@ pub struct ChapterInfo {
     pub title: &'static str,
     /// What this chapter adds to the renderer.
     pub adds: &'static str,
+    /// The chapter's file stem in `chapters/`: `NN_name.rs` holds its code,
+    /// `NN_name.md` its lesson, and a workspace's `src/chapters/` the same.
+    pub file: &'static str,
+    /// The functions of [`crate::course::Chapters`] a student writes in it.
+    pub functions: &'static [&'static str],
+    /// The built-in scene, as the TOML a student can print and edit.
+    pub scene: &'static str,
+    /// The reference image of the built-in scene at
+    /// [`REFERENCE_WIDTH`] x [`REFERENCE_HEIGHT`], rendered by raylab's own
+    /// chapters and pinned by the snapshot tests: what a student's render is
+    /// compared with, never rendered by the code under test.
+    pub reference_png: &'static [u8],
+}
+
+impl ChapterInfo {
+    /// The module name of the chapter's file (`ch01_plane`).
+    pub fn module(&self) -> String {
+        format!("ch{}", self.file)
+    }
+}
+
+/// Size of the reference images ([`ChapterInfo::reference_png`]).
+pub const REFERENCE_WIDTH: u32 = 160;
+pub const REFERENCE_HEIGHT: u32 = 120;
+
+macro_rules! chapter {
+    ($number:literal, $file:literal, $title:literal, $adds:literal, [$($function:literal),*]) => {
+        ChapterInfo {
+            number: $number,
+            title: $title,
+            adds: $adds,
+            file: $file,
+            functions: &[$($function),*],
+            scene: include_str!(concat!("../chapters/scenes/chapter-", $number, ".toml")),
+            reference_png: include_bytes!(concat!("../snapshots/chapter-", $number, ".png")),
+        }
+    };
 }
 
 /// The chapters, in order.
-pub const CHAPTERS: [ChapterInfo; 8] = [
-    ChapterInfo {
-        number: 1,
-        title: "Ray-plane intersection",
-        adds: "planes",
-    },
-    ChapterInfo {
-        number: 2,
-        title: "Ray-sphere intersection",
-        adds: "spheres",
-    },
-    ChapterInfo {
-        number: 3,
-        title: "Nearest hit",
-        adds: "nearest-hit",
-    },
-    ChapterInfo {
-        number: 4,
-        title: "Hard shadows",
-        adds: "lights, shadow rays",
-    },
-    ChapterInfo {
-        number: 5,
-        title: "Phong illumination",
-        adds: "ambient, diffuse, specular",
-    },
-    ChapterInfo {
-        number: 6,
-        title: "Mirror reflection",
-        adds: "reflection",
-    },
-    ChapterInfo {
-        number: 7,
-        title: "Anti-aliasing",
-        adds: "supersampling",
-    },
-    ChapterInfo {
-        number: 8,
-        title: "Refraction",
-        adds: "refraction",
-    },
+pub const CHAPTERS: &[ChapterInfo] = &[
+    chapter!(
+        1,
+        "01_plane",
+        "Ray-plane intersection",
+        "planes",
+        ["intersect_plane"]
+    ),
+    chapter!(
+        2,
+        "02_sphere",
+        "Ray-sphere intersection",
+        "spheres",
+        ["intersect_sphere"]
+    ),
+    chapter!(
+        3,
+        "03_nearest",
+        "Nearest hit",
+        "nearest-hit",
+        ["nearest_hit"]
+    ),
+    chapter!(
+        4,
+        "04_shadows",
+        "Hard shadows",
+        "lights, shadow rays",
+        ["offset_origin", "in_shadow", "shade_flat"]
+    ),
+    chapter!(
+        5,
+        "05_phong",
+        "Phong illumination",
+        "ambient, diffuse, specular",
+        ["phong_terms", "shade_phong"]
+    ),
+    chapter!(
+        6,
+        "06_reflection",
+        "Mirror reflection",
+        "reflection",
+        ["reflect", "shade_mirror"]
+    ),
+    chapter!(
+        7,
+        "07_antialiasing",
+        "Anti-aliasing",
+        "supersampling",
+        ["sample_offset", "pixel_color"]
+    ),
+    chapter!(
+        8,
+        "08_refraction",
+        "Refraction",
+        "refraction",
+        ["refract", "shade_glass"]
+    ),
 ];
 
 /// The last chapter: rendering "with everything".
-pub const LAST_CHAPTER: u8 = 8;
+pub const LAST_CHAPTER: u8 = CHAPTERS.len() as u8;
+
+/// Chapter `number`, if there is one.
+pub fn chapter(number: u8) -> Option<&'static ChapterInfo> {
+    CHAPTERS.iter().find(|info| info.number == number)
+}
+
+/// Parses a chapter number given on the command line (for clap).
+pub fn parse_chapter(text: &str) -> Result<u8, String> {
+    text.parse::<u8>()
+        .ok()
+        .filter(|&n| chapter(n).is_some())
+        .ok_or_else(|| format!("there is no chapter {text}; chapters are 1 to {LAST_CHAPTER}"))
+}
 
 /// How a hit point is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

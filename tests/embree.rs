@@ -104,7 +104,7 @@ fn cross_check_chapter(chapter: u8, shift: f32) -> crosscheck::Tally {
 
 #[test]
 fn every_chapter_cross_checks_clean() {
-    for chapter in 1..=8 {
+    for chapter in 1..=raylab::stage::LAST_CHAPTER {
         let tally = cross_check_chapter(chapter, 0.0);
         let boundary: u64 = tally.boundary.iter().sum();
         assert!(

@@ -7,8 +7,8 @@ use super::render::{SettingsOverrides, select_scene};
 
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Chapter whose stage to time (1 to 8) [default: 8, or 8 with --scene].
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    /// Chapter whose stage to time (see `raylab chapters`) [default: 8, or 8 with --scene].
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]

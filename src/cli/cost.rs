@@ -17,7 +17,7 @@ const DEFAULT_HEIGHT: u32 = 120;
 pub struct CostArgs {
     /// Chapter whose knobs to sweep (2 to 8): 2 adds the sphere formula, 4
     /// the secondary-ray offset, 6 the reflection depth, 7 the samples.
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.
     #[arg(short, long, value_name = "FILE")]

@@ -41,8 +41,8 @@ fn check_recording_size(width: u32, height: u32, samples: u32) -> Result<()> {
 
 #[derive(Debug, Args)]
 pub struct CrosscheckArgs {
-    /// Chapter whose render to record (1 to 8) [default: 8].
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    /// Chapter whose render to record (see `raylab chapters`) [default: 8].
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]
@@ -59,8 +59,8 @@ pub struct ProbeArgs {
     /// The ray: origin and direction, `ox,oy,oz,dx,dy,dz`.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_ray)]
     pub ray: Ray,
-    /// Chapter whose shapes to use (1 to 8) [default: 8].
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    /// Chapter whose shapes to use (see `raylab chapters`) [default: 8].
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]

@@ -12,10 +12,10 @@ use crate::{RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Chapter whose stage to render (1 to 8): it switches on the effects of
+    /// Chapter whose stage to render (see `raylab chapters`): it switches on the effects of
     /// chapters 1 to N. Without --scene, the chapter's built-in scene is used.
     /// Without --chapter, a --scene file renders with every effect (stage 8).
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file to render instead of the built-in one
     /// (`raylab scene --chapter N` prints one to start from).
@@ -130,7 +130,7 @@ pub fn select_scene(chapter: Option<u8>, scene: Option<&Path>) -> Result<(Scene,
         }
         (Some(chapter), None) => Ok((builtin::scene(chapter)?, chapter)),
         (None, None) => bail!(
-            "say what to render: --chapter N (1 to 8) for a chapter's built-in scene, \
+            "say what to render: --chapter N (see `raylab chapters`) for a chapter's built-in scene, \
              --scene FILE for your own, or both"
         ),
     }
@@ -326,8 +326,8 @@ pub fn chapters() -> Result<i32> {
 
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// The chapter whose built-in scene to print (1 to 8).
-    #[arg(short, long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    /// The chapter whose built-in scene to print (see `raylab chapters`).
+    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: u8,
 }
 
