@@ -327,7 +327,7 @@ pub fn render_count(config: &CostConfig) -> u64 {
 
 /// Runs the sweep on the current rayon pool; `progress` advances by one per
 /// render.
-pub fn run(
+pub fn run<C: crate::Chapters>(
     config: &CostConfig,
     progress: Option<&indicatif::ProgressBar>,
 ) -> anyhow::Result<CostReport> {
@@ -340,7 +340,7 @@ pub fn run(
         } else {
             &config.scene
         };
-        let rendered = crate::render(scene, chapter, settings, None)?;
+        let rendered = crate::render_with::<C>(scene, chapter, settings, None)?;
         if let Some(bar) = progress {
             bar.inc(1);
         }

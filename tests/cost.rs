@@ -26,7 +26,7 @@ fn error_falls_as_samples_rise() {
     // the three placements would be three identical rows), then 4, 16 and 64
     // spp for each placement.
     assert_eq!(raylab::cost::render_count(&config), 1 + 1 + 9);
-    let report = raylab::cost::run(&config, None).expect("sweep");
+    let report = raylab::cost::run::<raylab::Reference>(&config, None).expect("sweep");
     assert_eq!(report.rows.len(), 1 + 1 + 9);
     let centre = report
         .rows

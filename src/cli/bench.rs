@@ -1,5 +1,6 @@
 //! `raylab bench`: time a render several times and print the median.
 
+use crate::Chapters;
 use anyhow::Result;
 use clap::Args;
 
@@ -24,7 +25,7 @@ pub struct BenchArgs {
 /// prints every time, the median and the rays per second. Times are wall
 /// clock on whatever else the machine is doing: quote medians, and compare
 /// figures taken on the same machine.
-pub fn bench(args: &BenchArgs) -> Result<i32> {
+pub fn bench<C: Chapters>(args: &BenchArgs) -> Result<i32> {
     let chapter = args.chapter.or(args.scene.is_none().then_some(8));
     let (scene, chapter) = select_scene(chapter, args.scene.as_deref())?;
     let settings = args.overrides.apply(scene.render)?;
@@ -33,9 +34,9 @@ pub fn bench(args: &BenchArgs) -> Result<i32> {
         .threads
         .unwrap_or_else(rayon::current_num_threads);
     let (times, rays) = args.overrides.in_pool(|| {
-        let warm_up = crate::render(&scene, chapter, &settings, None)?;
+        let warm_up = crate::render_with::<C>(&scene, chapter, &settings, None)?;
         let times = (0..args.runs)
-            .map(|_| Ok(crate::render(&scene, chapter, &settings, None)?.seconds))
+            .map(|_| Ok(crate::render_with::<C>(&scene, chapter, &settings, None)?.seconds))
             .collect::<Result<Vec<f64>, crate::RenderError>>()?;
         Ok::<_, crate::RenderError>((times, warm_up.rays))
     })??;

@@ -1,5 +1,6 @@
 //! `raylab cost`: what accuracy costs in time, knob by knob.
 
+use crate::Chapters;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -42,7 +43,7 @@ pub struct CostArgs {
     pub threads: Option<usize>,
 }
 
-pub fn cost(args: &CostArgs) -> Result<i32> {
+pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     let chapter = args.chapter;
     let available = Knob::of_chapter(chapter);
     let knobs = if args.knob.is_empty() {
@@ -122,7 +123,7 @@ pub fn cost(args: &CostArgs) -> Result<i32> {
         );
         bar
     });
-    let report = overrides.in_pool(|| crate::cost::run(&config, progress.as_ref()))??;
+    let report = overrides.in_pool(|| crate::cost::run::<C>(&config, progress.as_ref()))??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }

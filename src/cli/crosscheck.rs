@@ -1,6 +1,7 @@
 //! `raylab crosscheck` (our hits against Embree's on every ray of a render)
 //! and `raylab probe` (what one ray hits).
 
+use crate::Chapters;
 use std::path::PathBuf;
 
 use anyhow::Result;
@@ -96,10 +97,10 @@ fn chosen_scene(chapter: Option<u8>, scene: Option<&std::path::Path>) -> Result<
     select_scene(chapter.or(scene.is_none().then_some(8)), scene)
 }
 
-pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
+pub fn crosscheck<C: Chapters>(args: &CrosscheckArgs) -> Result<i32> {
     #[cfg(feature = "embree")]
     {
-        with_embree::crosscheck(args)
+        with_embree::crosscheck::<C>(args)
     }
     #[cfg(not(feature = "embree"))]
     {
@@ -108,9 +109,9 @@ pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
     }
 }
 
-pub fn probe(args: &ProbeArgs) -> Result<i32> {
+pub fn probe<C: Chapters>(args: &ProbeArgs) -> Result<i32> {
     let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
-    let stage = Stage::new(&scene, chapter, scene.render)?;
+    let stage = Stage::<C>::with_chapters(&scene, chapter, scene.render)?;
     let ray = args.ray;
     let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
     println!(
@@ -165,13 +166,18 @@ fn primary_cast(ray: Ray) -> crate::CastRay {
 }
 
 #[cfg(not(feature = "embree"))]
-fn probe_embree(_: &Stage, _: &Scene, _: &Ray, _: Option<Answer>) -> Result<()> {
+fn probe_embree<C: Chapters>(_: &Stage<C>, _: &Scene, _: &Ray, _: Option<Answer>) -> Result<()> {
     println!("embree: not built in ({ENABLE_EMBREE})");
     Ok(())
 }
 
 #[cfg(feature = "embree")]
-fn probe_embree(stage: &Stage, scene: &Scene, ray: &Ray, ours: Option<Answer>) -> Result<()> {
+fn probe_embree<C: Chapters>(
+    stage: &Stage<C>,
+    scene: &Scene,
+    ray: &Ray,
+    ours: Option<Answer>,
+) -> Result<()> {
     let (embree, quads) = with_embree::build(stage, scene)?;
     let show = |v: Vec3| format!("({}, {}, {})", v.x, v.y, v.z);
     let theirs = embree.intersect(ray, 0.0, f32::INFINITY);
@@ -231,17 +237,20 @@ mod with_embree {
     use anyhow::Context;
 
     /// Embree's copy of the stage's shapes, and the quads for the planes.
-    pub fn build(stage: &Stage, scene: &Scene) -> Result<(EmbreeScene, Vec<Option<PlaneQuad>>)> {
+    pub fn build<C: Chapters>(
+        stage: &Stage<C>,
+        scene: &Scene,
+    ) -> Result<(EmbreeScene, Vec<Option<PlaneQuad>>)> {
         let (primitives, quads) = crosscheck::primitives(stage.shapes(), scene);
         let embree = EmbreeScene::new(&primitives).context("cannot build the Embree scene")?;
         Ok((embree, quads))
     }
 
-    pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
+    pub fn crosscheck<C: Chapters>(args: &CrosscheckArgs) -> Result<i32> {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
         let settings = args.overrides.apply(scene.render)?;
         check_recording_size(settings.width, settings.height, settings.samples)?;
-        let stage = Stage::new(&scene, chapter, settings)?;
+        let stage = Stage::<C>::with_chapters(&scene, chapter, settings)?;
         let rays = args.overrides.in_pool(|| record_rays(&stage))?;
         let (embree, quads) = build(&stage, &scene)?;
         let reference = Reference {
@@ -317,7 +326,7 @@ mod with_embree {
         }
     }
 
-    fn print_tally(tally: &Tally, stage: &Stage) {
+    fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {
         let [primary, shadow, reflection, refraction] = tally.by_kind;
         println!(
             "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
@@ -359,7 +368,7 @@ mod with_embree {
         }
     }
 
-    fn describe(compared: &Compared, stage: &Stage) -> String {
+    fn describe<C: Chapters>(compared: &Compared, stage: &Stage<C>) -> String {
         let cast = &compared.cast;
         let kind = match cast.kind {
             RayKind::Primary => "primary",

@@ -66,8 +66,15 @@ pub fn parse_threads(text: &str) -> Result<usize, String> {
     }
 }
 
-/// Runs the command line and returns the process exit status.
+/// Runs the command line with raylab's own chapters and returns the process
+/// exit status.
 pub fn main() -> i32 {
+    main_with::<crate::Reference>()
+}
+
+/// Runs the command line with the chapters `C` (a student workspace's
+/// `main` calls this with its own) and returns the process exit status.
+pub fn main_with<C: crate::Chapters>() -> i32 {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(error) => {
@@ -76,15 +83,15 @@ pub fn main() -> i32 {
         }
     };
     let result = match cli.command {
-        Command::Render(args) => render::render(&args),
+        Command::Render(args) => render::render::<C>(&args),
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
-        Command::Bench(args) => bench::bench(&args),
-        Command::Cost(args) => cost::cost(&args),
+        Command::Bench(args) => bench::bench::<C>(&args),
+        Command::Cost(args) => cost::cost::<C>(&args),
         Command::Diff(args) => diff::diff(&args),
         Command::Grade(args) => grade::grade(&args),
-        Command::Crosscheck(args) => crosscheck::crosscheck(&args),
-        Command::Probe(args) => crosscheck::probe(&args),
+        Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
+        Command::Probe(args) => crosscheck::probe::<C>(&args),
     };
     match result {
         Ok(status) => status,

@@ -1,5 +1,6 @@
 //! `raylab render`, `raylab chapters`, `raylab scene`.
 
+use crate::Chapters;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -136,7 +137,7 @@ pub fn select_scene(chapter: Option<u8>, scene: Option<&Path>) -> Result<(Scene,
     }
 }
 
-pub fn render(args: &RenderArgs) -> Result<i32> {
+pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
     let (scene, chapter) = select_scene(args.chapter, args.scene.as_deref())?;
     let settings = args.overrides.apply(scene.render)?;
     let output = output_name(
@@ -166,7 +167,7 @@ pub fn render(args: &RenderArgs) -> Result<i32> {
     });
     let rendered = args
         .overrides
-        .in_pool(|| crate::render(&scene, chapter, &settings, progress.as_ref()))??;
+        .in_pool(|| crate::render_with::<C>(&scene, chapter, &settings, progress.as_ref()))??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
