@@ -97,6 +97,8 @@ fn chosen_scene(chapter: Option<u8>, scene: Option<&std::path::Path>) -> Result<
     select_scene(chapter.or(scene.is_none().then_some(8)), scene)
 }
 
+// Without Embree, `C` has nothing to run.
+#[cfg_attr(not(feature = "embree"), allow(clippy::extra_unused_type_parameters))]
 pub fn crosscheck<C: Chapters>(args: &CrosscheckArgs) -> Result<i32> {
     #[cfg(feature = "embree")]
     {
