@@ -238,7 +238,7 @@ mod with_embree {
 
     pub fn crosscheck(args: &CrosscheckArgs) -> Result<i32> {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
-        let settings = args.overrides.apply(scene.render)?;
+        let settings = args.overrides.settings_for(&scene, chapter)?;
         check_recording_size(settings.width, settings.height, settings.samples)?;
         let tracer = Tracer::new(&scene, chapter, settings);
         let camera = Camera::new(&scene.camera, settings.width, settings.height);
