@@ -7,8 +7,24 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn script() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/setup-embree.sh")
+/// A copy of the script in a fresh folder that any user can read: the
+/// checkout may sit in a home folder that `nobody` cannot enter. (`--check`
+/// only looks at the copy's `.embree`, which does not exist.)
+fn script_copy() -> (tempfile::TempDir, PathBuf) {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scripts = dir.path().join("scripts");
+    std::fs::create_dir(&scripts).expect("mkdir");
+    let copy = scripts.join("setup-embree.sh");
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/setup-embree.sh"),
+        &copy,
+    )
+    .expect("copy the script");
+    for path in [dir.path(), scripts.as_path(), copy.as_path()] {
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    }
+    (dir, copy)
 }
 
 fn found(tool: &str) -> Option<PathBuf> {
@@ -40,7 +56,8 @@ fn check_without_root(path: Option<&str>) -> Option<Output> {
     } else {
         Command::new("bash")
     };
-    command.arg(script()).arg("--check");
+    let (_dir, script) = script_copy();
+    command.arg(&script).arg("--check");
     if let Some(path) = path {
         command.env("PATH", path);
     }
