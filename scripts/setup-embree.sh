@@ -12,9 +12,17 @@
 # 3. Writes <repo>/.embree/env.sh and prints `export RAYLAB_EMBREE_DIR=...`.
 #    build.rs also finds <repo>/.embree by itself, so exporting is optional.
 #
+# Root (or sudo) is needed only to install a missing system package, and the
+# script first checks what is missing: with libclang installed and Embree 4
+# taken from the wheel, any user can run it.
+#
 # Idempotent: a second run only checks a stamp file (about a second).
 # Usage: scripts/setup-embree.sh            (from anywhere)
 #        eval "$(scripts/setup-embree.sh --print-env)"   (quiet; only the export line)
+#        scripts/setup-embree.sh --check    (report what is missing and whether
+#                                            root is needed; change nothing;
+#                                            status 1 if root is needed and
+#                                            this user has none)
 set -euo pipefail
 
 EMBREEX_VERSION="4.4.0.post1"
@@ -28,7 +36,13 @@ declare -A WHEEL_SHA256=( [x86_64]="2cd0f7d5c6342e6247e31f700761689cae7829454d8c
 declare -A WHEEL_EMBREE_LIB=( [x86_64]="libembree4-4aef3270.so.4" )
 
 PRINT_ENV_ONLY=0
-[[ "${1:-}" == "--print-env" ]] && PRINT_ENV_ONLY=1
+CHECK_ONLY=0
+case "${1:-}" in
+    "") ;;
+    --print-env) PRINT_ENV_ONLY=1 ;;
+    --check) CHECK_ONLY=1 ;;
+    *) echo "setup-embree: unknown option '$1' (use --print-env or --check)" >&2; exit 2 ;;
+esac
 
 log() { if [[ $PRINT_ENV_ONLY == 0 ]]; then echo "setup-embree: $*" >&2; fi; }
 die() { echo "setup-embree: ERROR: $*" >&2; exit 1; }
@@ -38,24 +52,41 @@ CACHE="$REPO/.embree"
 STAMP="$CACHE/.done"
 ARCH="$(uname -m)"
 
-SUDO=""
-if [[ $(id -u) -ne 0 ]]; then
-    command -v sudo >/dev/null || die "not root and no sudo: install packages by hand"
-    SUDO="sudo"
+# How to run a command as root, decided once and used only by apt_install
+# and apt_update_once: "" (we are root), "sudo", or "none".
+if [[ $(id -u) -eq 0 ]]; then
+    AS_ROOT=""
+elif command -v sudo >/dev/null; then
+    AS_ROOT="sudo"
+else
+    AS_ROOT="none"
 fi
+can_root() { [[ "$AS_ROOT" != none ]]; }
 APT_UPDATED=0
 apt_update_once() {
-    if [[ $APT_UPDATED == 0 ]]; then
+    # Without root the current package lists are all there is to read.
+    if [[ $APT_UPDATED == 0 ]] && can_root; then
         log "apt-get update"
-        $SUDO apt-get update -qq >&2
+        $AS_ROOT apt-get update -qq >&2
         APT_UPDATED=1
     fi
 }
 apt_install() {
+    can_root || die "missing system package(s): $*. Installing them needs root, and you \
+are not root and have no sudo: ask an administrator to run \`apt-get install $*\`."
     log "apt-get install $*"
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "$@" >&2
+    DEBIAN_FRONTEND=noninteractive $AS_ROOT apt-get install -y -qq "$@" >&2
 }
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+# bindgen (clang-sys) loads libclang from $LIBCLANG_PATH or the linker's
+# search path, versioned names included, and needs clang's own headers:
+# libclang-dev brings both, and so does a versioned libclang-N-dev alone.
+have_libclang() {
+    have_pkg libclang-dev && return 0
+    [[ -n "${LIBCLANG_PATH:-}" ]] && return 0
+    dpkg-query -W -f='${Status} ${Package}\n' 'libclang-*-dev' 2>/dev/null \
+        | grep -Eq '^install ok installed libclang-[0-9.]+-dev$'
+}
 
 emit_env() {
     cat > "$CACHE/env.sh" <<ENV
@@ -70,7 +101,7 @@ ENV
 }
 
 # ---- fast path -------------------------------------------------------------
-if [[ -f "$STAMP" ]] && have_pkg libclang-dev; then
+if [[ $CHECK_ONLY == 0 && -f "$STAMP" ]] && have_libclang; then
     mode="$(cat "$STAMP")"
     if [[ "$mode" == system ]] && have_pkg libembree-dev; then
         emit_env ""; exit 0
@@ -82,10 +113,73 @@ if [[ -f "$STAMP" ]] && have_pkg libclang-dev; then
 fi
 
 command -v apt-get >/dev/null || die "no apt-get: install libclang and Embree 4 yourself and set RAYLAB_EMBREE_DIR (see docs/embree.md)"
+
+# ---- what is missing, and what needs root ---------------------------------
+candidate() { apt-cache policy libembree-dev 2>/dev/null | awk '/Candidate:/ {print $2}'; }
+cand="$(candidate)"
+if [[ -z "$cand" || "$cand" == "(none)" ]] && [[ $CHECK_ONLY == 0 ]]; then
+    apt_update_once
+    cand="$(candidate)"
+fi
+# Debian versions may carry an epoch ("1:4.3.3+dfsg-1"); strip it.
+cand_noepoch="${cand#*:}"
+wheel_file="${WHEEL_FILE[$ARCH]:-}"
+wheel="$CACHE/wheel/$wheel_file"
+want="${WHEEL_SHA256[$ARCH]:-}"
+wheel_cached() {
+    [[ -n "$wheel_file" && -f "$wheel" ]] && [[ "$(sha256sum "$wheel" | cut -d' ' -f1)" == "$want" ]]
+}
+NEED_ROOT=()   # system packages to install
+have_libclang || NEED_ROOT+=(libclang-dev)
+# The distribution's Embree 4 when it is installed or can be; otherwise the
+# wheel, which any user can unpack.
+if [[ "$cand_noepoch" == 4* ]] && { have_pkg libembree-dev || can_root; }; then
+    EMBREE=system
+    have_pkg libembree-dev || NEED_ROOT+=(libembree-dev)
+else
+    EMBREE=wheel
+    command -v python3 >/dev/null || NEED_ROOT+=(python3)
+    if ! wheel_cached && ! python3 -m pip --version >/dev/null 2>&1; then
+        command -v curl >/dev/null || NEED_ROOT+=(curl ca-certificates)
+    fi
+fi
+
+if [[ $CHECK_ONLY == 1 ]]; then
+    report() { echo "setup-embree: $*"; }
+    if have_libclang; then report "libclang: found"; else report "libclang: MISSING (package libclang-dev)"; fi
+    if [[ $EMBREE == system ]]; then
+        if have_pkg libembree-dev; then report "Embree 4: the distribution's libembree-dev, installed"
+        else report "Embree 4: the distribution's libembree-dev $cand, to install"; fi
+    elif [[ -z "$wheel_file" ]]; then
+        report "Embree 4: MISSING, and no pinned wheel for $ARCH: install it yourself (docs/embree.md)"
+    elif [[ -e "$CACHE/lib/libembree4.so" ]]; then
+        report "Embree 4: from the embreex $EMBREEX_VERSION wheel, unpacked in $CACHE/lib"
+    else
+        report "Embree 4: the embreex $EMBREEX_VERSION wheel, to download and unpack into $CACHE/lib (no root needed)"
+    fi
+    if [[ ${#NEED_ROOT[@]} == 0 ]]; then
+        report "root needed: no"
+        exit 0
+    elif can_root; then
+        report "root needed: yes, to apt-get install ${NEED_ROOT[*]} (${AS_ROOT:-running as root})"
+        exit 0
+    else
+        report "root needed: yes, to apt-get install ${NEED_ROOT[*]}; you are not root and have no sudo"
+        exit 1
+    fi
+fi
+
+# Stop before changing anything when a package is missing that only root
+# can install.
+if [[ ${#NEED_ROOT[@]} -gt 0 ]] && ! can_root; then
+    die "missing system package(s): ${NEED_ROOT[*]}. Installing them needs root, and you \
+are not root and have no sudo: ask an administrator to run \`apt-get install ${NEED_ROOT[*]}\`, \
+then run this script again (it needs no root after that)."
+fi
 mkdir -p "$CACHE"
 
 # ---- 1. libclang for bindgen ----------------------------------------------
-if ! have_pkg libclang-dev; then
+if ! have_libclang; then
     # Install from the current lists if possible, update only if that fails.
     if ! apt_install libclang-dev 2>/dev/null; then
         apt_update_once
@@ -94,15 +188,7 @@ if ! have_pkg libclang-dev; then
 fi
 
 # ---- 2. Embree 4 -----------------------------------------------------------
-candidate() { apt-cache policy libembree-dev 2>/dev/null | awk '/Candidate:/ {print $2}'; }
-cand="$(candidate)"
-if [[ -z "$cand" || "$cand" == "(none)" ]]; then
-    apt_update_once
-    cand="$(candidate)"
-fi
-# Debian versions may carry an epoch ("1:4.3.3+dfsg-1"); strip it.
-cand_noepoch="${cand#*:}"
-if [[ "$cand_noepoch" == 4* ]]; then
+if [[ $EMBREE == system ]]; then
     log "distribution has Embree $cand: using libembree-dev"
     have_pkg libembree-dev || apt_install libembree-dev
     echo system > "$STAMP"
@@ -110,12 +196,10 @@ if [[ "$cand_noepoch" == 4* ]]; then
     exit 0
 fi
 
-log "distribution Embree is '${cand:-none}' (not 4.x): using the pinned embreex $EMBREEX_VERSION wheel"
-[[ -n "${WHEEL_FILE[$ARCH]:-}" ]] || die "no pinned embreex wheel for arch $ARCH; install Embree 4 yourself and set RAYLAB_EMBREE_DIR (see docs/embree.md)"
-wheel="$CACHE/wheel/${WHEEL_FILE[$ARCH]}"
-want="${WHEEL_SHA256[$ARCH]}"
+log "distribution Embree is '${cand:-none}'$([[ "$cand_noepoch" == 4* ]] && echo " (not installed, and no root)" || echo " (not 4.x)"): using the pinned embreex $EMBREEX_VERSION wheel"
+[[ -n "$wheel_file" ]] || die "no pinned embreex wheel for arch $ARCH; install Embree 4 yourself and set RAYLAB_EMBREE_DIR (see docs/embree.md)"
 
-if [[ ! -f "$wheel" ]] || [[ "$(sha256sum "$wheel" | cut -d' ' -f1)" != "$want" ]]; then
+if ! wheel_cached; then
     rm -rf "$CACHE/wheel"; mkdir -p "$CACHE/wheel"
     command -v python3 >/dev/null || { apt_update_once; apt_install python3; }
     if python3 -m pip --version >/dev/null 2>&1; then
@@ -129,9 +213,9 @@ if [[ ! -f "$wheel" ]] || [[ "$(sha256sum "$wheel" | cut -d' ' -f1)" != "$want" 
         # index, as pip would, and fetch it; the hash check below still applies.
         command -v curl >/dev/null || { apt_update_once; apt_install curl ca-certificates; }
         url="$(curl -fsSL "https://pypi.org/simple/embreex/" \
-            | grep -o "href=\"[^\"]*/${WHEEL_FILE[$ARCH]}[#\"]" | head -n 1 \
+            | grep -o "href=\"[^\"]*/${wheel_file}[#\"]" | head -n 1 \
             | sed -e 's/^href="//' -e 's/[#"]$//')" || true
-        [[ -n "$url" ]] || die "cannot find ${WHEEL_FILE[$ARCH]} in PyPI's index"
+        [[ -n "$url" ]] || die "cannot find ${wheel_file} in PyPI's index"
         log "curl $url"
         curl -fsSL -o "$wheel" "$url" || die "download of $url failed"
     fi

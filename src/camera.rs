@@ -1,7 +1,7 @@
 //! The pinhole camera: which ray goes through which point of the image.
 
 use crate::scene::CameraSpec;
-use crate::{Ray, Vec3};
+use crate::{Ray, Vec3, unit_vector};
 
 /// A pinhole camera fitted to an image of `width x height` pixels.
 #[derive(Debug, Clone, Copy)]
@@ -17,21 +17,73 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// The camera for `spec`. A spec that [`Camera::try_new`] refuses (one
+    /// that `Scene::parse` never lets through) gives a camera whose rays are
+    /// NaN: every pixel is then counted as a non-finite sample, not a panic.
     pub fn new(spec: &CameraSpec, width: u32, height: u32) -> Camera {
-        let forward = (spec.look_at - spec.position).normalize();
-        let right = forward.cross(spec.up).normalize();
+        Camera::try_new(spec, width, height).unwrap_or(Camera {
+            origin: Vec3::NAN,
+            forward: Vec3::NAN,
+            right_edge: Vec3::NAN,
+            top_edge: Vec3::NAN,
+            width: width as f32,
+            height: height as f32,
+        })
+    }
+
+    /// The camera for `spec`, or why it has no viewing direction or no
+    /// sideways axis: the scene loader's check, so that what it accepts is
+    /// exactly what can be built.
+    pub fn try_new(spec: &CameraSpec, width: u32, height: u32) -> Result<Camera, String> {
+        let view = spec.look_at - spec.position;
+        if view == Vec3::ZERO {
+            return Err(format!(
+                "camera.look_at = {}: the same point as camera.position; the camera must look \
+                 at another point",
+                spec.look_at
+            ));
+        }
+        let forward = direction(view).ok_or_else(|| {
+            format!(
+                "camera.look_at - camera.position = {view}: not a finite direction (f32 \
+                 overflows)"
+            )
+        })?;
+        let up_unit = unit_vector(spec.up).ok_or_else(|| {
+            format!(
+                "camera.up = {}: must be a finite, non-zero direction",
+                spec.up
+            )
+        })?;
+        // An `up` within a millionth of a radian of the viewing direction
+        // leaves the sideways axis to rounding.
+        if !(forward.cross(up_unit).length_squared() > 1e-12) {
+            return Err(format!(
+                "camera.up = {}: must not be parallel to the viewing direction {view}",
+                spec.up
+            ));
+        }
+        // `up` as given where its square is a normal `f32`: the pinned
+        // images were made so.
+        let up_hint = if in_normal_range(spec.up) {
+            spec.up
+        } else {
+            up_unit
+        };
+        let right = direction(forward.cross(up_hint))
+            .ok_or_else(|| format!("camera.up = {}: no sideways axis", spec.up))?;
         let up = right.cross(forward);
         // `libm::tanf` rather than `f32::tan`: the same bits on every platform.
         let half_height = libm::tanf(spec.fov_degrees.to_radians() * 0.5);
         let half_width = half_height * width as f32 / height as f32;
-        Camera {
+        Ok(Camera {
             origin: spec.position,
             forward,
             right_edge: right * half_width,
             top_edge: up * half_height,
             width: width as f32,
             height: height as f32,
-        }
+        })
     }
 
     /// The ray through the image point `(x, y)`, in pixels from the top-left
@@ -43,4 +95,25 @@ impl Camera {
         let dir = self.forward + horizontal * self.right_edge + vertical * self.top_edge;
         Ray::new(self.origin, dir.normalize())
     }
+}
+
+/// `v` scaled to unit length, or `None` when it is zero or not finite.
+///
+/// `normalize` where `|v|^2` is a normal `f32`: the images the snapshots pin
+/// were made with it, bit for bit. Where `|v|^2` underflows (an `up` of
+/// `[0, 1e-23, 0]` has `|v|^2 = 1e-46`, below the smallest `f32`) or
+/// overflows, [`unit_vector`] rescales first, where `normalize` would give
+/// NaN or infinity and distort the image.
+fn direction(v: Vec3) -> Option<Vec3> {
+    if in_normal_range(v) {
+        Some(v.normalize())
+    } else {
+        unit_vector(v)
+    }
+}
+
+/// Whether `|v|^2` is a normal `f32` (neither underflowed nor overflowed).
+fn in_normal_range(v: Vec3) -> bool {
+    let squared = v.length_squared();
+    squared >= f32::MIN_POSITIVE && squared.is_finite()
 }

@@ -449,23 +449,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 
 /// Every ray that rendering the whole image at `stage` casts, in a fixed
 /// order: row by row from the top, pixel by pixel, and within a pixel in the
-/// order the chapters cast them. Rows are traced in parallel, each into its
-/// own log, and the logs are joined in row order, so the list does not depend
-/// on the number of threads.
+/// order the chapters cast them, whatever the number of threads. Unbounded:
+/// `raylab crosscheck` uses [`crate::crosscheck::record_rays_within`].
 pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
-    let (width, height) = (stage.settings.width, stage.settings.height);
-    let rows: Vec<Vec<CastRay>> = (0..height)
-        .into_par_iter()
-        .map(|y| {
-            let mut recorder = RayRecorder::default();
-            let mut tracer = stage.tracer(Some(&mut recorder));
-            for x in 0..width {
-                tracer.pixel(x, y);
-            }
-            recorder.rays
-        })
-        .collect();
-    rows.concat()
+    // No scene can cast u64::MAX rays, so the budget is never reached.
+    crate::crosscheck::record_rays_within(stage, u64::MAX).unwrap_or_default()
 }
 
 /// A finished render.

@@ -15,6 +15,116 @@ use serde::Deserialize;
 use crate::chapters::ch07_antialiasing::Sampling;
 use crate::{Plane, Sphere, Vec3};
 
+/// Reading the numbers of a scene file. TOML numbers are `f64` (or `i64`);
+/// serde's own `f32` turns `1e39` into infinity without a word, and glam's
+/// `Vec3` reads the first three elements of any longer array and ignores
+/// the rest. These refuse both, naming the value as written (in the
+/// shortest form that reads back as the same number).
+mod number {
+    use std::fmt;
+
+    use serde::de::{self, Deserializer, IgnoredAny, SeqAccess, Visitor};
+
+    use crate::Vec3;
+
+    /// A TOML number as `f32`, or why it does not fit one.
+    fn to_f32(value: f64) -> Result<f32, String> {
+        if !value.is_finite() {
+            return Err(format!("{value} is not a finite number"));
+        }
+        let single = value as f32;
+        if !single.is_finite() {
+            return Err(format!(
+                "{value:e} is too large: numbers are 32-bit floats, at most {:e} in size",
+                f32::MAX
+            ));
+        }
+        if single == 0.0 && value != 0.0 {
+            return Err(format!(
+                "{value:e} is too small: as a 32-bit float it is 0 (the smallest is {:e})",
+                f32::from_bits(1)
+            ));
+        }
+        Ok(single)
+    }
+
+    /// Any TOML number, as written, before it is rounded to `f32`.
+    struct Number(f64);
+
+    impl<'de> de::Deserialize<'de> for Number {
+        fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            deserializer.deserialize_f64(NumberVisitor)
+        }
+    }
+
+    struct NumberVisitor;
+
+    impl Visitor<'_> for NumberVisitor {
+        type Value = Number;
+
+        // "f32", as serde's own message said: the README quotes it.
+        fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+            formatter.write_str("f32")
+        }
+        fn visit_f64<E: de::Error>(self, value: f64) -> Result<Number, E> {
+            Ok(Number(value))
+        }
+        fn visit_i64<E: de::Error>(self, value: i64) -> Result<Number, E> {
+            Ok(Number(value as f64))
+        }
+        fn visit_u64<E: de::Error>(self, value: u64) -> Result<Number, E> {
+            Ok(Number(value as f64))
+        }
+    }
+
+    /// For `#[serde(deserialize_with)]` on `f32` fields.
+    pub fn f32<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f32, D::Error> {
+        let Number(value) = de::Deserialize::deserialize(deserializer)?;
+        to_f32(value).map_err(de::Error::custom)
+    }
+
+    /// For `#[serde(deserialize_with)]` on `Vec3` fields: exactly three
+    /// numbers, each one a finite `f32`.
+    pub fn vec3<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec3, D::Error> {
+        deserializer.deserialize_seq(Vec3Visitor)
+    }
+
+    struct Vec3Visitor;
+
+    impl<'de> Visitor<'de> for Vec3Visitor {
+        type Value = Vec3;
+
+        fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+            formatter.write_str("an array of three numbers [x, y, z]")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec3, A::Error> {
+            const AXES: [&str; 3] = ["x", "y", "z"];
+            let mut xyz = [0.0f32; 3];
+            for (index, axis) in AXES.iter().enumerate() {
+                let Some(Number(value)) = seq.next_element()? else {
+                    return Err(de::Error::custom(format!(
+                        "{index} numbers where three are needed: [x, y, z]"
+                    )));
+                };
+                xyz[index] = to_f32(value)
+                    .map_err(|message| de::Error::custom(format!("{axis}: {message}")))?;
+            }
+            let mut extra = 0usize;
+            while seq.next_element::<IgnoredAny>()?.is_some() {
+                extra += 1;
+            }
+            if extra > 0 {
+                return Err(de::Error::custom(format!(
+                    "{} elements where three numbers are needed: [x, y, z]",
+                    3 + extra
+                )));
+            }
+            Ok(Vec3::from_array(xyz))
+        }
+    }
+}
+
 /// Largest accepted width or height, in pixels.
 pub const MAX_SIDE: u32 = 16_384;
 /// Largest accepted image, in pixels (an 8K frame is 33 million).
@@ -49,20 +159,27 @@ pub fn plane_axes(plane: &Plane) -> (Vec3, Vec3) {
 pub struct Material {
     /// Linear RGB albedo, each channel in `[0, 1]`.
     #[serde(alias = "colour")]
+    #[serde(deserialize_with = "number::vec3")]
     pub color: Vec3,
     /// `k_a`: how much ambient light the surface returns.
+    #[serde(deserialize_with = "number::f32")]
     pub ambient: f32,
     /// `k_d`: how much diffuse (matte) light the surface returns.
+    #[serde(deserialize_with = "number::f32")]
     pub diffuse: f32,
     /// `k_s`: strength of the specular highlight.
+    #[serde(deserialize_with = "number::f32")]
     pub specular: f32,
     /// Phong exponent: larger is a smaller, sharper highlight.
     pub shininess: u32,
     /// Share of the colour that comes from the mirror direction, in `[0, 1]`.
+    #[serde(deserialize_with = "number::f32")]
     pub reflectivity: f32,
     /// Share of the colour that comes through the surface, in `[0, 1]`.
+    #[serde(deserialize_with = "number::f32")]
     pub transparency: f32,
     /// Index of refraction of the solid (glass is about 1.5, water 1.33).
+    #[serde(deserialize_with = "number::f32")]
     pub ior: f32,
     /// An optional second colour laid out in squares.
     pub checker: Option<Checker>,
@@ -90,7 +207,9 @@ impl Default for Material {
 #[serde(deny_unknown_fields)]
 pub struct Checker {
     #[serde(alias = "colour")]
+    #[serde(deserialize_with = "number::vec3")]
     pub color: Vec3,
+    #[serde(deserialize_with = "number::f32")]
     pub size: f32,
 }
 
@@ -115,10 +234,13 @@ impl Material {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Light {
+    #[serde(deserialize_with = "number::vec3")]
     pub position: Vec3,
     #[serde(alias = "colour", default = "white")]
+    #[serde(deserialize_with = "number::vec3")]
     pub color: Vec3,
     #[serde(default = "one")]
+    #[serde(deserialize_with = "number::f32")]
     pub intensity: f32,
 }
 
@@ -133,12 +255,16 @@ impl Light {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraSpec {
+    #[serde(deserialize_with = "number::vec3")]
     pub position: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
     pub look_at: Vec3,
     #[serde(default = "up")]
+    #[serde(deserialize_with = "number::vec3")]
     pub up: Vec3,
     /// Vertical field of view, in degrees.
     #[serde(default = "default_fov")]
+    #[serde(deserialize_with = "number::f32")]
     pub fov_degrees: f32,
 }
 
@@ -156,6 +282,7 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// A secondary ray whose weight in the pixel falls below this is not
     /// cast (0 casts every ray up to `max_depth`).
+    #[serde(deserialize_with = "number::f32")]
     pub min_contribution: f32,
     /// Seed of the per-pixel random sample positions.
     pub seed: u64,
@@ -166,6 +293,7 @@ pub struct RenderSettings {
     /// push) or `"fixed"` (`fixed_epsilon` along the ray, for comparison).
     pub ray_offset: OffsetRule,
     /// The distance used by `ray_offset = "fixed"`.
+    #[serde(deserialize_with = "number::f32")]
     pub fixed_epsilon: f32,
 }
 
@@ -299,8 +427,10 @@ struct SceneFile {
     #[serde(default)]
     render: RenderSettings,
     #[serde(default = "default_background", alias = "background_colour")]
+    #[serde(deserialize_with = "number::vec3")]
     background: Vec3,
     #[serde(default = "white")]
+    #[serde(deserialize_with = "number::vec3")]
     ambient_light: Vec3,
     #[serde(default)]
     lights: Vec<Light>,
@@ -321,14 +451,18 @@ struct ObjectSpec {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PlaneSpec {
+    #[serde(deserialize_with = "number::vec3")]
     point: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
     normal: Vec3,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SphereSpec {
+    #[serde(deserialize_with = "number::vec3")]
     center: Vec3,
+    #[serde(deserialize_with = "number::f32")]
     radius: f32,
 }
 
@@ -423,6 +557,42 @@ fn check_finite(what: &str, value: Vec3) -> Result<(), String> {
     }
 }
 
+/// The largest coordinate (and sphere radius) a scene may have, in size.
+/// Shading squares distances: `|light - point|^2` for a light at `y = 2e19`
+/// is 4e38, past `f32::MAX` (3.4e38), and the light then adds nothing. Within
+/// this limit every point of a sphere is within 2e18 of the origin on each
+/// axis, any two such points differ by at most 4e18 per axis, and the
+/// squared distance, at most 3 x (4e18)^2 = 4.8e37, leaves a factor of 7 to
+/// spare. (Precision is another matter: at 1e18 the spacing of `f32` is
+/// about 6.9e10, so a scene that far out is coarse, but it is computed as
+/// written.)
+pub const MAX_COORDINATE: f32 = 1e18;
+
+/// A point: finite, and within [`MAX_COORDINATE`] on every axis.
+fn check_point(what: &str, value: Vec3) -> Result<(), String> {
+    check_finite(what, value)?;
+    if value.abs().max_element() > MAX_COORDINATE {
+        return Err(format!(
+            "{what} = [{}, {}, {}]: each coordinate must be at most {MAX_COORDINATE:e} \
+             in size, so that squared distances fit a 32-bit float",
+            readable(value.x),
+            readable(value.y),
+            readable(value.z)
+        ));
+    }
+    Ok(())
+}
+
+/// `x` as a person would write it: `2e19` rather than twenty digits, `0.5`
+/// rather than `5e-1`.
+fn readable(x: f32) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// The brightest light (colour component or intensity) a scene may have.
 /// Physics has no such limit, but `f32` does: a light of 1e38 times a
 /// colour overflows to infinity and the pixel turns black. A million keeps
@@ -466,21 +636,10 @@ impl SceneFile {
             .validate()
             .map_err(|e| format!("[render] {e}"))?;
         let camera = self.camera;
-        check_finite("camera.position", camera.position)?;
-        check_finite("camera.look_at", camera.look_at)?;
+        check_point("camera.position", camera.position)?;
+        check_point("camera.look_at", camera.look_at)?;
         check_finite("camera.up", camera.up)?;
-        let view = camera.look_at - camera.position;
-        if view.length_squared() == 0.0 || !view.length_squared().is_finite() {
-            return Err("camera.look_at must differ from camera.position".into());
-        }
-        if view.cross(camera.up).length_squared()
-            <= 1e-12 * view.length_squared() * camera.up.length_squared()
-        {
-            return Err(format!(
-                "camera.up = {}: must not be zero or parallel to the viewing direction {}",
-                camera.up, view
-            ));
-        }
+        crate::camera::Camera::try_new(&camera, self.render.width, self.render.height)?;
         if !(camera.fov_degrees > 0.0 && camera.fov_degrees < 180.0) {
             return Err(format!(
                 "camera.fov_degrees = {}: must be between 0 and 180 (exclusive)",
@@ -491,7 +650,7 @@ impl SceneFile {
         check_light_color("ambient_light", self.ambient_light)?;
         for (index, light) in self.lights.iter().enumerate() {
             let name = format!("light {}", index + 1);
-            check_finite(&format!("{name}: position"), light.position)?;
+            check_point(&format!("{name}: position"), light.position)?;
             check_light_color(&format!("{name}: color"), light.color)?;
             if !(light.intensity >= 0.0 && light.intensity <= MAX_LIGHT) {
                 return Err(format!(
@@ -539,7 +698,7 @@ impl ObjectSpec {
     fn shape(&self, label: &str) -> Result<Shape, String> {
         match (&self.plane, &self.sphere) {
             (Some(plane), None) => {
-                check_finite(&format!("{label}: plane.point"), plane.point)?;
+                check_point(&format!("{label}: plane.point"), plane.point)?;
                 check_finite(&format!("{label}: plane.normal"), plane.normal)?;
                 if plane.normal.abs().max_element() == 0.0 {
                     return Err(format!(
@@ -550,11 +709,18 @@ impl ObjectSpec {
                 Ok(Plane::new(plane.point, plane.normal).into())
             }
             (None, Some(sphere)) => {
-                check_finite(&format!("{label}: sphere.center"), sphere.center)?;
+                check_point(&format!("{label}: sphere.center"), sphere.center)?;
                 if !(sphere.radius > 0.0 && sphere.radius.is_finite()) {
                     return Err(format!(
                         "{label}: sphere.radius = {}: must be a finite number > 0",
                         sphere.radius
+                    ));
+                }
+                if sphere.radius > MAX_COORDINATE {
+                    return Err(format!(
+                        "{label}: sphere.radius = {}: at most {MAX_COORDINATE:e}, the limit \
+                         of coordinates (squared distances must fit a 32-bit float)",
+                        readable(sphere.radius)
                     ));
                 }
                 Ok(Sphere::new(sphere.center, sphere.radius).into())

@@ -219,7 +219,7 @@ fn non_finite_numbers_are_refused() {
     let broken = GOOD.replace("center = [0.0, 1.0, 0.0]", "center = [nan, 1.0, 0.0]");
     assert_refused(Some(&broken), &[], &["sphere.center", "finite"]);
     let broken = GOOD.replace("position = [0.0, 5.0, 0.0]", "position = [0.0, inf, 0.0]");
-    assert_refused(Some(&broken), &[], &["light 1", "finite"]);
+    assert_refused(Some(&broken), &[], &["lights[0].position", "finite"]);
 }
 
 #[test]

@@ -28,7 +28,7 @@ pub struct BenchArgs {
 pub fn bench<C: Chapters>(args: &BenchArgs) -> Result<i32> {
     let chapter = args.chapter.or(args.scene.is_none().then_some(8));
     let (scene, chapter) = select_scene(chapter, args.scene.as_deref())?;
-    let settings = args.overrides.apply(scene.render)?;
+    let settings = args.overrides.settings_for(&scene, chapter)?;
     let threads = args
         .overrides
         .threads

@@ -18,28 +18,6 @@ const ENABLE_EMBREE: &str = "this raylab was built without Embree. To enable it,
      the `embree` feature, e.g. `cargo run --release --features embree -- crosscheck \
      --chapter 8`. See docs/embree.md.";
 
-/// The most primary samples (width x height x samples) a cross-check records.
-/// Every ray is kept in memory, 36 bytes each, and a primary sample of
-/// chapter 8 brings about 3.6 more rays: 4 Mi samples is about 0.7 GB (twice
-/// that for a moment while the rows are joined), and covers 1280x720 at 4
-/// samples.
-const MAX_RECORDED_SAMPLES: u64 = 1 << 22;
-
-/// Refuses a cross-check whose recorded rays would not fit in memory, before
-/// any is traced.
-#[cfg_attr(not(feature = "embree"), allow(dead_code))]
-fn check_recording_size(width: u32, height: u32, samples: u32) -> Result<()> {
-    let primary = u64::from(width) * u64::from(height) * u64::from(samples);
-    if primary > MAX_RECORDED_SAMPLES {
-        anyhow::bail!(
-            "{width}x{height} at {samples} samples per pixel is {primary} primary samples; \
-             crosscheck keeps every ray in memory and takes at most {MAX_RECORDED_SAMPLES}: \
-             use a smaller --width, --height or --samples"
-        );
-    }
-    Ok(())
-}
-
 #[derive(Debug, Args)]
 pub struct CrosscheckArgs {
     /// Chapter whose render to record (see `raylab chapters`) [default: 8].
@@ -235,7 +213,7 @@ mod with_embree {
         TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
     };
     use crate::embree::EmbreeScene;
-    use crate::{CastRay, RayKind, record_rays};
+    use crate::{CastRay, RayKind};
     use anyhow::Context;
 
     /// Embree's copy of the stage's shapes, and the quads for the planes.
@@ -250,10 +228,11 @@ mod with_embree {
 
     pub fn crosscheck<C: Chapters>(args: &CrosscheckArgs) -> Result<i32> {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
-        let settings = args.overrides.apply(scene.render)?;
-        check_recording_size(settings.width, settings.height, settings.samples)?;
+        let settings = args.overrides.settings_for(&scene, chapter)?;
         let stage = Stage::<C>::with_chapters(&scene, chapter, settings)?;
-        let rays = args.overrides.in_pool(|| record_rays(&stage))?;
+        let rays = args
+            .overrides
+            .in_pool(|| crosscheck::record_rays_within(&stage, crosscheck::MAX_RECORDED_RAYS))??;
         let (embree, quads) = build(&stage, &scene)?;
         let reference = Reference {
             shapes: stage.shapes(),

@@ -12,14 +12,20 @@ use crate::stage::{CHAPTERS, Effects, LAST_CHAPTER};
 use crate::{RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
+#[command(
+    after_long_help = "An option that the chosen chapter does not use (--samples or \
+--sampling before chapter 7, --depth before 6, --epsilon before 4, ...), or a scene without \
+lights from chapter 4 on, is not an error: each draws a one-line `warning:` on stderr."
+)]
 pub struct RenderArgs {
-    /// Chapter whose stage to render (see `raylab chapters`): it switches on the effects of
-    /// chapters 1 to N. Without --scene, the chapter's built-in scene is used.
-    /// Without --chapter, a --scene file renders with every effect (stage 8).
+    /// Chapter whose stage to render (see `raylab chapters`): it switches on
+    /// the effects of chapters 1 to N [default: the last chapter when --scene
+    /// is given]. Without --scene, the chapter's built-in scene is used.
     #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file to render instead of the built-in one
-    /// (`raylab scene --chapter N` prints one to start from).
+    /// (`raylab scene --chapter N` prints one to start from) [default: the
+    /// chapter's built-in scene].
     #[arg(short, long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
     #[command(flatten)]
@@ -37,44 +43,59 @@ pub struct RenderArgs {
     /// Print the effects simulated and the rays cast by kind.
     #[arg(long)]
     pub stats: bool,
-    /// Write the same statistics as JSON to FILE.
+    /// Write the same statistics as JSON to FILE [default: none written].
     #[arg(long, value_name = "FILE")]
     pub stats_json: Option<PathBuf>,
 }
 
-/// Settings that override the scene's `[render]` table.
+/// Settings that override the scene's `[render]` table. Each default is the
+/// scene's own value; the built-in scenes set width, height, samples and
+/// depth, and a scene file that leaves a value out gets
+/// `RenderSettings::default()`'s. An option the chosen chapter does not use
+/// is not an error, but draws a `warning:` line on stderr.
 #[derive(Debug, Clone, Default, Args)]
 pub struct SettingsOverrides {
-    /// Image width in pixels.
+    /// Image width in pixels [default: the scene's; 640 in the built-in
+    /// scenes, 320 in a scene file without it].
     #[arg(long)]
     pub width: Option<u32>,
-    /// Image height in pixels.
+    /// Image height in pixels [default: the scene's; 480 in the built-in
+    /// scenes, 240 in a scene file without it].
     #[arg(long)]
     pub height: Option<u32>,
-    /// Samples per pixel (chapter 7 on); a square for grid and jittered sampling.
+    /// Samples per pixel, used from chapter 7 on; a square for grid and
+    /// jittered sampling [default: the scene's; 4 in the built-in scenes of
+    /// chapters 7 and 8, else 1].
     #[arg(long)]
     pub samples: Option<u32>,
-    /// How samples are placed in a pixel (chapter 7 on). One sample per
-    /// pixel is always the pixel's centre, whatever the placement.
+    /// How samples are placed in a pixel, from chapter 7 on [default: the
+    /// scene's, else jittered]. One sample per pixel is always the pixel's
+    /// centre, whatever the placement.
     #[arg(long, value_enum)]
     pub sampling: Option<Sampling>,
-    /// Maximum reflection/refraction bounces (chapters 6 and 8).
+    /// Maximum reflection/refraction bounces, used from chapter 6 on
+    /// [default: the scene's, else 5].
     #[arg(long)]
     pub depth: Option<u32>,
-    /// Skip secondary rays whose share of the pixel is below this (0: never skip).
+    /// Skip secondary rays whose share of the pixel is below this (0: never
+    /// skip), from chapter 6 on [default: the scene's, else 0.001].
     #[arg(long, value_name = "WEIGHT")]
     pub min_contribution: Option<f32>,
-    /// Seed of the random sample positions.
+    /// Seed of the random sample positions (jittered and random sampling,
+    /// chapter 7 on) [default: the scene's, else 0].
     #[arg(long)]
     pub seed: Option<u64>,
-    /// How ray-sphere hits are solved (for comparing the two formulas).
+    /// How ray-sphere hits are solved, for comparing the two formulas
+    /// [default: the scene's, else stable].
     #[arg(long, value_enum)]
     pub sphere_formula: Option<crate::scene::SphereFormula>,
-    /// Where secondary rays start: scaled to the hit's rounding error, or a
-    /// fixed --epsilon along the ray (for comparison).
+    /// Where secondary rays start, from chapter 4 on: scaled to the hit's
+    /// rounding error, or a fixed --epsilon along the ray (for comparison)
+    /// [default: fixed if --epsilon is given, else the scene's, else scaled].
     #[arg(long, value_enum)]
     pub ray_offset: Option<crate::scene::OffsetRule>,
-    /// The distance used by --ray-offset fixed.
+    /// The distance used by --ray-offset fixed; giving it implies
+    /// --ray-offset fixed [default: the scene's, else 0.0001].
     #[arg(long)]
     pub epsilon: Option<f32>,
     /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
@@ -85,6 +106,13 @@ pub struct SettingsOverrides {
 impl SettingsOverrides {
     /// The scene's settings with these overrides applied, checked.
     pub fn apply(&self, base: RenderSettings) -> Result<RenderSettings> {
+        // --epsilon means a fixed offset: taking the distance and then
+        // ignoring it (the scaled rule has none) surprised every user.
+        let ray_offset = match (self.ray_offset, self.epsilon) {
+            (Some(rule), _) => rule,
+            (None, Some(_)) => crate::scene::OffsetRule::Fixed,
+            (None, None) => base.ray_offset,
+        };
         let settings = RenderSettings {
             width: self.width.unwrap_or(base.width),
             height: self.height.unwrap_or(base.height),
@@ -94,13 +122,115 @@ impl SettingsOverrides {
             min_contribution: self.min_contribution.unwrap_or(base.min_contribution),
             seed: self.seed.unwrap_or(base.seed),
             sphere_formula: self.sphere_formula.unwrap_or(base.sphere_formula),
-            ray_offset: self.ray_offset.unwrap_or(base.ray_offset),
+            ray_offset,
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
         };
         settings
             .validate()
             .map_err(|message| anyhow::anyhow!("invalid render settings: {message}"))?;
         Ok(settings)
+    }
+
+    /// [`SettingsOverrides::apply`] to `scene`'s settings, with a `warning:`
+    /// line on stderr for each of [`SettingsOverrides::unused`].
+    pub fn settings_for(&self, scene: &Scene, chapter: u8) -> Result<RenderSettings> {
+        let settings = self.apply(scene.render)?;
+        for warning in self.unused(scene, chapter, &settings) {
+            eprintln!("warning: {warning}");
+        }
+        Ok(settings)
+    }
+
+    /// The options given that rendering `scene` at `chapter` with `settings`
+    /// ignores, each with what it needs; and a scene without lights at a
+    /// lit stage, which renders dark.
+    pub fn unused(&self, scene: &Scene, chapter: u8, settings: &RenderSettings) -> Vec<String> {
+        use crate::scene::OffsetRule;
+        use crate::stage::Lighting;
+        let effects = Effects::for_chapter(chapter);
+        let mut warnings = Vec::new();
+        let mut before = |given: bool, option: String, first: u8, what: &str| {
+            if given && chapter < first {
+                warnings.push(format!(
+                    "{option} has no effect at chapter {chapter}: {what} from chapter {first} on"
+                ));
+            }
+        };
+        before(
+            self.samples.is_some_and(|n| n > 1),
+            format!("--samples {}", settings.samples),
+            7,
+            "pixels take one sample at their centre until supersampling",
+        );
+        before(
+            self.sampling.is_some(),
+            "--sampling".into(),
+            7,
+            "samples are placed",
+        );
+        before(
+            self.seed.is_some(),
+            "--seed".into(),
+            7,
+            "random sample positions are drawn",
+        );
+        before(
+            self.depth.is_some(),
+            "--depth".into(),
+            6,
+            "rays bounce (reflection)",
+        );
+        before(
+            self.min_contribution.is_some(),
+            "--min-contribution".into(),
+            6,
+            "secondary rays are weighed (reflection)",
+        );
+        before(
+            self.ray_offset.is_some() || self.epsilon.is_some(),
+            if self.epsilon.is_some() {
+                "--epsilon".into()
+            } else {
+                "--ray-offset".into()
+            },
+            4,
+            "secondary rays are cast (shadows)",
+        );
+        before(
+            self.sphere_formula.is_some(),
+            "--sphere-formula".into(),
+            2,
+            "spheres are drawn",
+        );
+        if effects.antialiasing && settings.samples == 1 {
+            if self.sampling.is_some() {
+                warnings.push(
+                    "--sampling has no effect with 1 sample per pixel (a lone sample is the \
+                     pixel's centre): add --samples 4 or more"
+                        .into(),
+                );
+            } else if self.seed.is_some() {
+                warnings.push(
+                    "--seed has no effect with 1 sample per pixel (a lone sample is the \
+                     pixel's centre): add --samples 4 or more"
+                        .into(),
+                );
+            }
+        }
+        if self.epsilon.is_some() && self.ray_offset == Some(OffsetRule::Scaled) {
+            warnings.push(
+                "--epsilon has no effect with --ray-offset scaled: it is the distance of \
+                 --ray-offset fixed"
+                    .into(),
+            );
+        }
+        if effects.lighting != Lighting::Unlit && scene.lights.is_empty() {
+            warnings.push(format!(
+                "the scene has no lights: at chapter {chapter} surfaces are lit by the ambient \
+                 light alone, so the image is dark; add a [[lights]] table"
+            ));
+        }
+        warnings
     }
 
     /// Runs `work` on a pool of `--threads` threads, or on the global pool.
@@ -139,7 +269,7 @@ pub fn select_scene(chapter: Option<u8>, scene: Option<&Path>) -> Result<(Scene,
 
 pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
     let (scene, chapter) = select_scene(args.chapter, args.scene.as_deref())?;
-    let settings = args.overrides.apply(scene.render)?;
+    let settings = args.overrides.settings_for(&scene, chapter)?;
     let output = output_name(
         args.output.as_deref(),
         args.scene.as_deref(),

@@ -1,0 +1,184 @@
+//! Scene values at the edges of `f32`: each one loads and renders right, or
+//! is refused with a message that names the field and the real problem
+//! (issue 12, "wrong answers given as right").
+
+use raylab::{RenderSettings, Scene};
+
+/// A floor seen from above, lit by one light straight over it.
+fn scene(camera: &str, light: &str) -> String {
+    format!(
+        r#"
+[camera]
+{camera}
+
+[[lights]]
+{light}
+
+[[objects]]
+name = "floor"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = {{ ambient = 0.1, diffuse = 0.9 }}
+"#
+    )
+}
+
+const CAMERA: &str = "position = [0.0, 3.0, -5.0]\nlook_at = [0.0, 0.0, 0.0]";
+const LIGHT: &str = "position = [0.0, 5.0, 0.0]";
+
+fn refused(text: &str) -> String {
+    match Scene::parse(text, "test scene") {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(error) => error.to_string(),
+    }
+}
+
+fn assert_names(message: &str, needles: &[&str]) {
+    for needle in needles {
+        assert!(message.contains(needle), "`{needle}` not in: {message}");
+    }
+}
+
+fn pixels(text: &str) -> Vec<u8> {
+    let scene = Scene::parse(text, "test scene").expect("valid scene");
+    let settings = RenderSettings {
+        width: 8,
+        height: 6,
+        samples: 1,
+        ..scene.render
+    };
+    raylab::render(&scene, 5, &settings, None)
+        .expect("renders")
+        .rgb
+}
+
+#[test]
+fn a_light_beyond_the_coordinate_limit_is_refused_and_one_within_it_shines() {
+    // At y = 2e19 the squared distance to the floor (4e38) overflows f32 and
+    // the light used to add nothing, silently.
+    let message = refused(&scene(CAMERA, "position = [0.0, 2e19, 0.0]"));
+    assert_names(&message, &["light 1: position", "2e19", "at most 1e18"]);
+    // At the limit, the light is far but lights the floor: brighter than no
+    // light at all, everywhere the floor is seen.
+    let lit = pixels(&scene(CAMERA, "position = [0.0, 1e18, 0.0]"));
+    let dark = pixels(&scene(CAMERA, "position = [0.0, -5.0, 0.0]"));
+    assert!(lit.iter().zip(&dark).any(|(l, d)| l > d));
+    assert!(lit.iter().zip(&dark).all(|(l, d)| l >= d));
+}
+
+#[test]
+fn shapes_beyond_the_coordinate_limit_are_refused() {
+    let far_ball = format!(
+        "{}\n[[objects]]\nname = \"moon\"\nsphere = {{ center = [0.0, 0.0, 3e18], radius = 1.0 }}\n",
+        scene(CAMERA, LIGHT)
+    );
+    assert_names(
+        &refused(&far_ball),
+        &["object 2 (\"moon\"): sphere.center", "3e18", "at most 1e18"],
+    );
+    let huge_ball = format!(
+        "{}\n[[objects]]\nsphere = {{ center = [0.0, 0.0, 0.0], radius = 1e30 }}\n",
+        scene(CAMERA, LIGHT)
+    );
+    assert_names(
+        &refused(&huge_ball),
+        &["object 2: sphere.radius", "1e30", "at most 1e18"],
+    );
+}
+
+#[test]
+fn a_tiny_up_vector_is_a_direction_like_any_other() {
+    // |up|^2 = 1e-46 underflows to zero in f32: normalising it plainly gave
+    // NaN or infinity, and a distorted image.
+    let unit = pixels(&scene(&format!("{CAMERA}\nup = [0.0, 1.0, 0.0]"), LIGHT));
+    let tiny = pixels(&scene(&format!("{CAMERA}\nup = [0.0, 1e-23, 0.0]"), LIGHT));
+    assert_eq!(tiny, unit);
+    let huge = pixels(&scene(&format!("{CAMERA}\nup = [0.0, 1e30, 0.0]"), LIGHT));
+    assert_eq!(huge, unit);
+}
+
+#[test]
+fn a_degenerate_up_or_view_names_the_problem() {
+    let zero_up = refused(&scene(&format!("{CAMERA}\nup = [0.0, 0.0, 0.0]"), LIGHT));
+    assert_names(&zero_up, &["camera.up", "non-zero"]);
+    let parallel = refused(&scene(&format!("{CAMERA}\nup = [0.0, 3.0, -5.0]"), LIGHT));
+    assert_names(&parallel, &["camera.up", "parallel"]);
+    let same = refused(&scene(
+        "position = [1.0, 2.0, 3.0]\nlook_at = [1.0, 2.0, 3.0]",
+        LIGHT,
+    ));
+    assert_names(&same, &["camera.look_at", "same point as camera.position"]);
+}
+
+#[test]
+fn a_far_camera_is_told_its_distance_not_that_look_at_equals_position() {
+    // 3.4e38 apart: the difference overflows f32, and the old check called
+    // that "look_at must differ from position".
+    let message = refused(&scene(
+        "position = [0.0, 0.0, -1.7e38]\nlook_at = [0.0, 0.0, 1.7e38]",
+        LIGHT,
+    ));
+    assert_names(&message, &["camera.position", "1.7e38", "at most 1e18"]);
+    assert!(!message.contains("must differ"), "{message}");
+}
+
+#[test]
+fn vectors_need_exactly_three_numbers() {
+    let junk = refused(&scene(
+        "position = [0.0, 0.0, -5.0, \"junk\"]\nlook_at = [0.0, 0.0, 0.0]",
+        LIGHT,
+    ));
+    assert_names(&junk, &["camera.position", "4 elements", "[x, y, z]"]);
+    let four = refused(&scene(CAMERA, "position = [0.0, 5.0, 0.0, 1.0]"));
+    assert_names(&four, &["lights[0].position", "4 elements"]);
+    let two = refused(&scene(CAMERA, "position = [0.0, 5.0]"));
+    assert_names(&two, &["lights[0].position", "2 numbers"]);
+    let word = refused(&scene(CAMERA, "position = [0.0, \"up\", 0.0]"));
+    assert_names(&word, &["lights[0].position", "invalid type"]);
+    let colour = refused(&scene(
+        CAMERA,
+        "position = [0.0, 5.0, 0.0]\ncolor = [1, 1, 1, 1]",
+    ));
+    assert_names(&colour, &["lights[0].color", "4 elements"]);
+    // Integers are numbers too.
+    Scene::parse(&scene(CAMERA, "position = [0, 5, 0]"), "test scene").expect("integers");
+}
+
+#[test]
+fn numbers_beyond_f32_are_refused_as_written_not_as_inf() {
+    let far = refused(&scene(CAMERA, "position = [0.0, 1e39, 0.0]"));
+    assert_names(&far, &["lights[0].position", "y: 1e39 is too large"]);
+    assert!(!far.contains("inf"), "{far}");
+    let bright = refused(&scene(
+        CAMERA,
+        "position = [0.0, 5.0, 0.0]\nintensity = -1e39",
+    ));
+    assert_names(&bright, &["lights[0].intensity", "-1e39 is too large"]);
+    let radius = format!(
+        "{}\n[[objects]]\nsphere = {{ center = [0.0, 0.0, 0.0], radius = 1e39 }}\n",
+        scene(CAMERA, LIGHT)
+    );
+    assert_names(
+        &refused(&radius),
+        &["objects[1].sphere.radius", "1e39 is too large"],
+    );
+    // A number that f32 rounds to zero would make a zero radius out of a
+    // positive one.
+    let tiny = format!(
+        "{}\n[[objects]]\nsphere = {{ center = [0.0, 0.0, 0.0], radius = 1e-50 }}\n",
+        scene(CAMERA, LIGHT)
+    );
+    assert_names(
+        &refused(&tiny),
+        &["objects[1].sphere.radius", "1e-50 is too small"],
+    );
+    let epsilon = format!("{}\n[render]\nfixed_epsilon = 1e40\n", scene(CAMERA, LIGHT));
+    assert_names(
+        &refused(&epsilon),
+        &["render.fixed_epsilon", "1e40 is too large"],
+    );
+    let infinite = refused(&scene(&format!("{CAMERA}\nfov_degrees = inf"), LIGHT));
+    assert_names(
+        &infinite,
+        &["camera.fov_degrees", "inf is not a finite number"],
+    );
+}
