@@ -1,0 +1,192 @@
+//! Every chapter's code runs in that chapter's image: for each function a
+//! student writes (each method of `Chapters`), a variant of the reference
+//! that breaks just that function renders the chapter that introduces it
+//! differently. A function whose mutation left the image unchanged would be
+//! lesson code that never runs, or runs somewhere else.
+
+use raylab::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
+use raylab::render::Tracer;
+use raylab::stage::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
+use raylab::{Material, Plane, Ray, RenderSettings, Sampling, Sphere, SurfacePoint, Vec3};
+
+fn image<C: Chapters>(chapter: u8) -> Vec<u8> {
+    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+    let settings = RenderSettings {
+        width: REFERENCE_WIDTH,
+        height: REFERENCE_HEIGHT,
+        ..scene.render
+    };
+    raylab::render_with::<C>(&scene, chapter, &settings, None)
+        .expect("valid settings")
+        .rgb
+}
+
+/// Asserts that the variant `C` changes chapter `chapter`'s image.
+fn changes<C: Chapters>(chapter: u8, what: &str) {
+    assert_ne!(
+        image::<C>(chapter),
+        image::<raylab::Reference>(chapter),
+        "breaking {what} left chapter {chapter}'s image unchanged"
+    );
+}
+
+struct NoPlane;
+impl Chapters for NoPlane {
+    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        None
+    }
+}
+
+struct NoSphere;
+impl Chapters for NoSphere {
+    fn intersect_sphere(_: &Sphere, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        None
+    }
+}
+
+struct ListOrder;
+impl Chapters for ListOrder {
+    fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        objects.first_hit(ray, t_min, t_max)
+    }
+}
+
+struct NoOffset;
+impl Chapters for NoOffset {
+    fn offset_origin(surface: &SurfacePoint, _: Vec3) -> Vec3 {
+        surface.point
+    }
+}
+
+struct NeverInShadow;
+impl Chapters for NeverInShadow {
+    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+        false
+    }
+}
+
+struct Unlit;
+impl Chapters for Unlit {
+    fn shade_flat(_: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        point.albedo
+    }
+}
+
+struct NoDiffuse;
+impl Chapters for NoDiffuse {
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        let terms = raylab::chapters::ch05_phong::phong_terms(
+            material, albedo, normal, to_light, to_eye, light,
+        );
+        PhongTerms {
+            diffuse: Vec3::ZERO,
+            ..terms
+        }
+    }
+}
+
+struct AmbientOnly;
+impl Chapters for AmbientOnly {
+    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+        PhongTerms {
+            diffuse: point.albedo * point.material.ambient * tracer.ambient_light(),
+            specular: Vec3::ZERO,
+        }
+    }
+}
+
+struct StraightOn;
+impl Chapters for StraightOn {
+    fn reflect(d: Vec3, _: Vec3) -> Vec3 {
+        d
+    }
+}
+
+struct NoMirror;
+impl Chapters for NoMirror {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, _: u32, _: f32) -> Vec3 {
+        let local = Self::shade_phong(tracer, point);
+        local.diffuse + local.specular
+    }
+}
+
+struct CentreSamples;
+impl Chapters for CentreSamples {
+    fn sample_offset(_: Sampling, _: u32, _: u32, _: (u32, u32), _: u64) -> (f32, f32) {
+        (0.5, 0.5)
+    }
+}
+
+struct OneSample;
+impl Chapters for OneSample {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        tracer.sample(x as f32 + 0.5, y as f32 + 0.5)
+    }
+}
+
+struct AlwaysTotal;
+impl Chapters for AlwaysTotal {
+    fn refract(_: Vec3, _: Vec3, _: f32) -> Option<Vec3> {
+        None
+    }
+}
+
+struct Opaque;
+impl Chapters for Opaque {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        Self::shade_mirror(tracer, point, depth, weight)
+    }
+}
+
+#[test]
+fn chapter_1_draws_with_intersect_plane() {
+    changes::<NoPlane>(1, "intersect_plane");
+}
+
+#[test]
+fn chapter_2_draws_with_intersect_sphere() {
+    changes::<NoSphere>(2, "intersect_sphere");
+}
+
+#[test]
+fn chapter_3_draws_with_nearest_hit() {
+    changes::<ListOrder>(3, "nearest_hit");
+}
+
+#[test]
+fn chapter_4_draws_with_its_offset_shadow_test_and_light_sum() {
+    changes::<NoOffset>(4, "offset_origin");
+    changes::<NeverInShadow>(4, "in_shadow");
+    changes::<Unlit>(4, "shade_flat");
+}
+
+#[test]
+fn chapter_5_draws_with_its_terms_and_sum() {
+    changes::<NoDiffuse>(5, "phong_terms");
+    changes::<AmbientOnly>(5, "shade_phong");
+}
+
+#[test]
+fn chapter_6_draws_with_reflect_and_its_mix() {
+    changes::<StraightOn>(6, "reflect");
+    changes::<NoMirror>(6, "shade_mirror");
+}
+
+#[test]
+fn chapter_7_draws_with_its_samples_and_their_mean() {
+    changes::<CentreSamples>(7, "sample_offset");
+    changes::<OneSample>(7, "pixel_color");
+}
+
+#[test]
+fn chapter_8_draws_with_refract_and_its_mix() {
+    changes::<AlwaysTotal>(8, "refract");
+    changes::<Opaque>(8, "shade_glass");
+}
