@@ -46,36 +46,43 @@ pub struct PhongTerms {
 /// student's own functions.
 pub trait Chapters: Sized + Send + Sync + 'static {
     /// Chapter 1: the nearest `t` with `t_min < t < t_max` where `ray` meets `plane`.
+    #[inline(always)]
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         ch01_plane::intersect_plane(plane, ray, t_min, t_max)
     }
 
     /// Chapter 2: the nearest `t` with `t_min < t < t_max` where `ray` meets `sphere`.
+    #[inline(always)]
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)
     }
 
     /// Chapter 3: the closest hit with `t_min < t < t_max` among `objects`.
+    #[inline(always)]
     fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         ch03_nearest::nearest_hit(objects, ray, t_min, t_max)
     }
 
     /// Chapter 4: where a secondary ray leaving `surface` in direction `dir` starts.
+    #[inline(always)]
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         ch04_shadows::offset_origin(surface, dir)
     }
 
     /// Chapter 4: whether something lies between `point` and a light at `light`.
+    #[inline(always)]
     fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
         ch04_shadows::in_shadow(tracer, point, light)
     }
 
     /// Chapter 4: ambient light plus a constant share of each visible light.
+    #[inline(always)]
     fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
         ch04_shadows::shade_flat(tracer, point)
     }
 
     /// Chapter 5: diffuse and specular light that one light sends to the eye.
+    #[inline(always)]
     fn phong_terms(
         material: &Material,
         albedo: Vec3,
@@ -88,21 +95,25 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     }
 
     /// Chapter 5: ambient, and the Phong terms of every visible light, summed.
+    #[inline(always)]
     fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
         ch05_phong::shade_phong(tracer, point)
     }
 
     /// Chapter 6: the mirror image of direction `d` about the normal `n`.
+    #[inline(always)]
     fn reflect(d: Vec3, n: Vec3) -> Vec3 {
         ch06_reflection::reflect(d, n)
     }
 
     /// Chapter 6: the local light mixed with what the mirror direction sees.
+    #[inline(always)]
     fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         ch06_reflection::shade_mirror(tracer, point, depth, weight)
     }
 
     /// Chapter 7: where sample `index` of `count` falls inside pixel `pixel`.
+    #[inline(always)]
     fn sample_offset(
         sampling: Sampling,
         count: u32,
@@ -114,17 +125,20 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     }
 
     /// Chapter 7: the colour of pixel `(x, y)`, in linear light, from its samples.
+    #[inline(always)]
     fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
         ch07_antialiasing::pixel_color(tracer, x, y)
     }
 
     /// Chapter 8: the direction of a ray crossing a surface, or `None` under
     /// total internal reflection.
+    #[inline(always)]
     fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
         ch08_refraction::refract(d, n, eta)
     }
 
     /// Chapter 8: local light, reflection and refraction mixed.
+    #[inline(always)]
     fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         ch08_refraction::shade_glass(tracer, point, depth, weight)
     }
@@ -235,14 +249,14 @@ impl<'a, C: Chapters> Objects<'a, C> {
 
 /// What a shading function knows about the point it colours.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HitPoint {
+pub struct HitPoint<'a> {
     /// The object hit (an index into the tracer's objects).
     pub object: usize,
     /// The ray that arrived here.
     pub ray: Ray,
     /// Where, exactly, with its error bound and the geometric normal.
     pub surface: SurfacePoint,
-    pub material: Material,
+    pub material: &'a Material,
     /// The material's colour at this point (its checker applied).
     pub albedo: Vec3,
     /// Unit vector from the point toward where the ray came from.
@@ -254,9 +268,16 @@ pub struct HitPoint {
     inside_sphere: Option<Sphere>,
 }
 
-impl HitPoint {
+impl<'a> HitPoint<'a> {
     /// The point where `ray` met `shape` (object number `object`) at `t`.
-    pub fn new(object: usize, shape: &Shape, material: &Material, ray: &Ray, t: f32) -> HitPoint {
+    #[inline]
+    pub fn new(
+        object: usize,
+        shape: &Shape,
+        material: &'a Material,
+        ray: &Ray,
+        t: f32,
+    ) -> HitPoint<'a> {
         let surface = shape.surface_point(ray, t);
         let to_eye = -ray.dir.normalize();
         let from_outside = surface.normal.dot(to_eye) >= 0.0;
@@ -264,7 +285,7 @@ impl HitPoint {
             object,
             ray: *ray,
             surface,
-            material: *material,
+            material,
             albedo: material.albedo_at(shape, surface.point),
             to_eye,
             normal: if from_outside {
@@ -284,6 +305,7 @@ impl HitPoint {
     /// ray arrived on, before any shadow test: it must be in front of that
     /// side, and, seen from inside a sphere, inside the same sphere (the
     /// sphere itself hides every light outside it, no ray needed).
+    #[inline]
     pub fn faces(&self, light: Vec3) -> bool {
         self.normal.dot(light - self.surface.point) > 0.0
             && self

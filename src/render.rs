@@ -307,22 +307,26 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 
     /// The point where `ray` meets object `object` at parameter `t`, as the
     /// shading chapters receive it.
-    pub fn hit_point(&self, object: usize, ray: &Ray, t: f32) -> HitPoint {
+    #[inline]
+    pub fn hit_point(&self, object: usize, ray: &Ray, t: f32) -> HitPoint<'a> {
         let shape = &self.stage.shapes[object];
         HitPoint::new(object, shape, &self.stage.materials[object], ray, t)
     }
 
     /// The scene's point lights.
+    #[inline]
     pub fn lights(&self) -> &'a [Light] {
         &self.stage.scene.lights
     }
 
     /// The scene's ambient light (chapters 4 and 5).
+    #[inline]
     pub fn ambient_light(&self) -> Vec3 {
         self.stage.scene.ambient_light
     }
 
     /// How many bounces chapters 6 and 8 may follow.
+    #[inline]
     pub fn max_depth(&self) -> u32 {
         self.stage.settings.max_depth
     }
@@ -337,6 +341,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// positive, and the ray's weight in the pixel at least the scene's
     /// `min_contribution`. Skipping the others costs at most that much of
     /// the pixel, and saves every ray they would have spawned.
+    #[inline]
     pub fn worth_casting(&self, weight: f32, share: f32) -> bool {
         share > 0.0 && weight * share >= self.stage.settings.min_contribution
     }
@@ -344,6 +349,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// Where a secondary ray leaving `surface` in direction `dir` starts:
     /// chapter 4's [`Chapters::offset_origin`], or the fixed epsilon of the
     /// comparison setting `ray_offset = "fixed"`.
+    #[inline]
     pub fn offset_origin(&self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         self.stage.offset.origin_with::<C>(surface, dir)
     }
@@ -352,6 +358,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// `t_min < t < t_max`. Any blocker will do, so the search stops at the
     /// first in list order. `from` is the point the ray leaves, for the acne
     /// counter of `--stats`.
+    #[inline]
     pub fn blocked(&mut self, ray: &Ray, t_min: f32, t_max: f32, from: &HitPoint) -> bool {
         self.log(RayKind::Shadow, ray, t_min, t_max);
         match self.objects.first_hit(ray, t_min, t_max) {
@@ -418,6 +425,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 
     /// Where sample `index` of this stage's count falls inside `pixel`, by
     /// chapter 7's [`Chapters::sample_offset`] with the scene's settings.
+    #[inline]
     pub fn sample_offset(&self, index: u32, pixel: (u32, u32)) -> (f32, f32) {
         let settings = &self.stage.settings;
         C::sample_offset(
@@ -439,6 +447,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         }
     }
 
+    #[inline]
     fn log(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
         self.counts.count(kind);
         if let Some(recorder) = self.recorder.as_deref_mut() {
