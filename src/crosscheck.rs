@@ -118,7 +118,7 @@ pub fn scene_size(scene: &Scene) -> f32 {
 /// for an axis-aligned plane the coordinate along the normal is copied, not
 /// computed, and the quad lies exactly in the plane.
 pub fn plane_quad(plane: &Plane, eye: Vec3, half_side: f32) -> PlaneQuad {
-    let (u, v) = crate::scene::plane_axes(plane);
+    let (u, v) = plane.axes();
     let v = v.normalize();
     let point = plane.point();
     let to_eye = eye - point;

@@ -271,11 +271,6 @@ impl<'a, C: Chapters> Stage<'a, C> {
             recorder,
         }
     }
-
-    /// The colour of pixel `(x, y)` in linear light, with `tracer`.
-    pub fn pixel(&self, tracer: &mut Tracer<'_, C>, x: u32, y: u32) -> Vec3 {
-        tracer.pixel(x, y)
-    }
 }
 
 /// Past this many bounces [`Tracer::trace`] stops whatever the chapters ask,

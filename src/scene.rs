@@ -147,11 +147,6 @@ pub const MAX_SHININESS: u32 = 100_000;
 
 pub use crate::shapes::Shape;
 
-/// Two axes lying in `plane` ([`Plane::axes`]).
-pub fn plane_axes(plane: &Plane) -> (Vec3, Vec3) {
-    plane.axes()
-}
-
 /// How a surface responds to light. Coefficients follow the chapters: the
 /// Phong terms (chapter 5), mirror reflection (6), transparency (8).
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
