@@ -478,10 +478,10 @@ pub struct Scene {
 /// Why a scene could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    // `cause` rather than `source`: thiserror would make a field named
-    // `source` the error's cause, and anyhow would print it twice.
-    #[error("cannot read scene file {path}: {cause}")]
-    Read { path: String, cause: std::io::Error },
+    /// The file could not be read: missing, not a regular file, too large,
+    /// not UTF-8 ([`crate::input::read_scene_text`] says which).
+    #[error("{message}")]
+    Read { path: String, message: String },
     #[error("{origin}: {message}")]
     Syntax { origin: String, message: String },
     #[error("{origin}: {message}")]
@@ -489,11 +489,13 @@ pub enum SceneError {
 }
 
 impl Scene {
-    /// Reads and checks a scene file.
+    /// Reads and checks a scene file: a regular file of at most
+    /// [`crate::input::MAX_SCENE_BYTES`], so a FIFO or `/dev/zero` given as
+    /// a scene is refused instead of blocking or filling memory.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Read {
+        let text = crate::input::read_scene_text(path).map_err(|error| SceneError::Read {
             path: path.display().to_string(),
-            cause,
+            message: format!("{error:#}"),
         })?;
         Scene::parse(&text, &format!("scene file {}", path.display()))
     }

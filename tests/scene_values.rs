@@ -182,3 +182,20 @@ fn numbers_beyond_f32_are_refused_as_written_not_as_inf() {
         &["camera.fov_degrees", "inf is not a finite number"],
     );
 }
+
+/// `Scene::load`, the library's own reader, takes the same guard as the
+/// command line: a device or a FIFO is refused at once, never read.
+#[test]
+fn scene_load_reads_only_regular_files() {
+    let error = raylab::Scene::load(std::path::Path::new("/dev/zero")).expect_err("a device");
+    assert!(error.to_string().contains("/dev/zero"), "{error}");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let fifo = dir.path().join("scene.toml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    let error = raylab::Scene::load(&fifo).expect_err("a FIFO");
+    assert!(error.to_string().contains("scene.toml"), "{error}");
+}
