@@ -423,6 +423,24 @@ fn check_finite(what: &str, value: Vec3) -> Result<(), String> {
     }
 }
 
+/// The largest coordinate or radius a shape may have. `f32` resolves a
+/// coordinate of size `M` to about `M / 1.7e7`: at 1e6 a surface is known
+/// to 0.06 units, enough for a ground sphere under a scene of unit-sized
+/// objects; a sphere of radius 1e30 is known to 1e23 and renders as noise
+/// (lesson 2, "Coordinates f32 can resolve").
+pub const MAX_COORDINATE: f32 = 1e6;
+
+fn check_coordinates(what: &str, value: Vec3) -> Result<(), String> {
+    if value.abs().max_element() > MAX_COORDINATE {
+        return Err(format!(
+            "{what} = {value}: shape coordinates must be within {MAX_COORDINATE:e} of the \
+             origin; f32 resolves a surface there to 0.06 units, and beyond that the picture \
+             degrades (use a plane for a floor that should look infinite)"
+        ));
+    }
+    Ok(())
+}
+
 /// The brightest light (colour component or intensity) a scene may have.
 /// Physics has no such limit, but `f32` does: a light of 1e38 times a
 /// colour overflows to infinity and the pixel turns black. A million keeps
@@ -541,6 +559,7 @@ impl ObjectSpec {
             (Some(plane), None) => {
                 check_finite(&format!("{label}: plane.point"), plane.point)?;
                 check_finite(&format!("{label}: plane.normal"), plane.normal)?;
+                check_coordinates(&format!("{label}: plane.point"), plane.point)?;
                 if plane.normal.abs().max_element() == 0.0 {
                     return Err(format!(
                         "{label}: plane.normal = {}: a plane's normal must not be zero",
@@ -554,6 +573,15 @@ impl ObjectSpec {
                 if !(sphere.radius > 0.0 && sphere.radius.is_finite()) {
                     return Err(format!(
                         "{label}: sphere.radius = {}: must be a finite number > 0",
+                        sphere.radius
+                    ));
+                }
+                check_coordinates(&format!("{label}: sphere.center"), sphere.center)?;
+                if sphere.radius > MAX_COORDINATE {
+                    return Err(format!(
+                        "{label}: sphere.radius = {}: at most {MAX_COORDINATE:e}; f32 resolves \
+                         the surface of a larger sphere to worse than 0.06 units (use a plane \
+                         for a floor that should look infinite)",
                         sphere.radius
                     ));
                 }
