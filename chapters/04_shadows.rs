@@ -13,7 +13,15 @@ use raylab::{Ray, Vec3};
 /// moves one more float away, because the addition `point + offset` rounds
 /// too. The push is a few ulps of the coordinates: invisible, and no bigger
 /// far from the origin than it must be, unlike one global epsilon.
+///
+/// A non-finite point gives NaN (no ray from it hits anything): stepping
+/// away from an infinite coordinate would otherwise land on `f32::MAX`, a
+/// finite point. A NaN `dir` has no side; the push then goes against the
+/// normal, and a ray with that direction hits nothing anyway.
 pub fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+    if !surface.point.is_finite() {
+        return Vec3::NAN;
+    }
     let distance = surface.normal.abs().dot(surface.error);
     let side = if dir.dot(surface.normal) >= 0.0 {
         1.0

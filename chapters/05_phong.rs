@@ -20,6 +20,10 @@ pub fn ambient(albedo: Vec3, k_ambient: f32, ambient_light: Vec3) -> Vec3 {
 /// - specular: `k_s * max(0, r.v)^shininess * light`, with `r` the mirror
 ///   image of `l` about `n`. It is not tinted by the albedo: highlights on
 ///   plastic are the colour of the light.
+///
+/// A light behind the surface (`n.l <= 0`) adds nothing, whatever else is
+/// given; otherwise NaN or infinite input gives non-finite terms (the
+/// renderer counts such samples), never a plausible colour.
 pub fn phong_terms(
     material: &Material,
     albedo: Vec3,
@@ -38,7 +42,14 @@ pub fn phong_terms(
     }
     let diffuse = albedo * material.diffuse * cos_incidence * light;
     let mirrored_light = 2.0 * cos_incidence * normal - to_light;
-    let cos_highlight = mirrored_light.dot(to_eye).max(0.0);
+    // Clamp negative cosines to 0, but let NaN through: `f32::max` would
+    // turn a NaN `to_eye` into 0 and a plausible colour.
+    let cos_highlight = mirrored_light.dot(to_eye);
+    let cos_highlight = if cos_highlight < 0.0 {
+        0.0
+    } else {
+        cos_highlight
+    };
     let specular = material.specular * pow_whole(cos_highlight, material.shininess) * light;
     PhongTerms { diffuse, specular }
 }

@@ -8,21 +8,26 @@ use raylab::{Ray, Vec3};
 ///
 /// `d` points toward the surface; the result points away from it and has
 /// the same length as `d`. `n` may have any length and either orientation:
-/// `r = d - 2 (d.n / n.n) n` only uses `n` through the ratio, and flipping
-/// `n` flips both factors. A zero or non-finite `n` gives NaN components
-/// (`0 / 0`, `inf / inf`), never a plausible-looking direction.
+/// it is normalised first, and flipping `n` flips both factors of
+/// `2 (d.n) n`, which leaves the product unchanged. Degenerate input gives
+/// NaN components, never a plausible-looking direction: a zero or
+/// non-finite `n` (it has no direction to mirror about) or a non-finite `d`.
 pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
     // Normalising first keeps n.n from underflowing (n = 1e-30) or
     // overflowing (n = 1e30); the unit normal then needs no division.
-    let Some(n) = crate::unit_vector(n) else {
+    let Some(n) = raylab::unit_vector(n) else {
         return Vec3::NAN;
     };
+    if !d.is_finite() {
+        return Vec3::NAN;
+    }
     // A huge d (components near f32::MAX = 2^128) would overflow 2 (d.n)
     // although the mirrored vector, as long as d, fits. Scaling by a power of
-    // two is exact, so reflect d / 2^64 and scale the answer back.
+    // two is exact, so reflect d / 2^64 (now below 2^64) and scale back.
     const HUGE: f32 = (1u64 << 63) as f32 * 2.0; // 2^64
     if d.abs().max_element() > HUGE {
-        return reflect(d / HUGE, n) * HUGE;
+        let small = d / HUGE;
+        return (small - 2.0 * small.dot(n) * n) * HUGE;
     }
     d - 2.0 * d.dot(n) * n
 }
@@ -99,5 +104,14 @@ mod tests {
     fn degenerate_normal_gives_nan() {
         assert!(reflect(Vec3::X, Vec3::ZERO).is_nan());
         assert!(reflect(Vec3::X, Vec3::new(f32::INFINITY, 0.0, 0.0)).is_nan());
+    }
+
+    #[test]
+    fn non_finite_direction_gives_nan() {
+        // An infinite component once sent the rescaling into endless
+        // recursion: inf / 2^64 is still inf.
+        assert!(reflect(Vec3::new(f32::INFINITY, -1.0, 0.0), Vec3::Y).is_nan());
+        assert!(reflect(Vec3::new(0.0, f32::NEG_INFINITY, 0.0), Vec3::Y).is_nan());
+        assert!(reflect(Vec3::new(f32::NAN, -1.0, 0.0), Vec3::Y).is_nan());
     }
 }

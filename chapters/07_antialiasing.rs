@@ -33,6 +33,10 @@ impl Sampling {
 /// from a generator shared across pixels: every pixel gets the same samples
 /// whichever thread renders it, in whatever order, so images are identical
 /// on 1 or 64 threads.
+///
+/// `index` runs from 0 to `count - 1`; grid and jittered sampling need a
+/// square `count` (the scene loader checks). Every such input, whatever the
+/// pixel and seed, gives an offset inside the pixel.
 pub fn sample_offset(
     sampling: Sampling,
     count: u32,

@@ -38,8 +38,10 @@ pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
         n = -n;
         cos_incidence = -cos_incidence;
     }
-    // |d x n|^2 rather than 1 - cos^2: near normal incidence cos is close to
-    // 1 and `1 - cos^2` would keep only a few significant bits of sin^2.
+    // |d x n|^2 rather than 1 - cos^2: near normal incidence `1 - cos^2`
+    // keeps only a few bits of sin^2 i, the cross product all of them. The
+    // direction below is no more accurate for it (cos t only needs sin^2 t
+    // to an ulp of 1); the lesson measures both.
     let sin2_incidence = d.cross(n).length_squared().min(1.0);
     let sin2_transmitted = eta * eta * sin2_incidence;
     if sin2_transmitted > 1.0 {
@@ -51,9 +53,10 @@ pub fn refract(incident: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 
 /// The critical angle, in radians, for light going from index `n1` into a
 /// lower index `n2`: past it, every ray is totally reflected. `None` when
-/// `n1 <= n2` (then every ray can cross).
+/// `n1 <= n2` (then every ray can cross) or when either is not a finite
+/// positive number.
 pub fn critical_angle(n1: f32, n2: f32) -> Option<f32> {
-    (n1 > n2 && n2 > 0.0).then(|| libm::asinf(n2 / n1))
+    (n1 > n2 && n2 > 0.0 && n1.is_finite()).then(|| libm::asinf(n2 / n1))
 }
 
 /// The colour of a surface that may reflect and let light through: its own

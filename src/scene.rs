@@ -580,6 +580,25 @@ fn check_point(what: &str, value: Vec3) -> Result<(), String> {
     Ok(())
 }
 
+/// The largest coordinate or radius a shape may have (stricter than
+/// [`MAX_COORDINATE`], which keeps squared distances finite). `f32` resolves a
+/// coordinate of size `M` to about `M / 1.7e7`: at 1e6 a surface is known
+/// to 0.06 units, enough for a ground sphere under a scene of unit-sized
+/// objects; a sphere of radius 1e30 is known to 1e23 and renders as noise
+/// (lesson 2, "Coordinates f32 can resolve").
+pub const MAX_SHAPE_COORDINATE: f32 = 1e6;
+
+fn check_coordinates(what: &str, value: Vec3) -> Result<(), String> {
+    if value.abs().max_element() > MAX_SHAPE_COORDINATE {
+        return Err(format!(
+            "{what} = {value}: shape coordinates must be within {MAX_SHAPE_COORDINATE:e} of the \
+             origin; f32 resolves a surface there to 0.06 units, and beyond that the picture \
+             degrades (use a plane for a floor that should look infinite)"
+        ));
+    }
+    Ok(())
+}
+
 /// `x` as a person would write it: `2e19` rather than twenty digits, `0.5`
 /// rather than `5e-1`.
 fn readable(x: f32) -> String {
@@ -697,6 +716,7 @@ impl ObjectSpec {
             (Some(plane), None) => {
                 check_point(&format!("{label}: plane.point"), plane.point)?;
                 check_finite(&format!("{label}: plane.normal"), plane.normal)?;
+                check_coordinates(&format!("{label}: plane.point"), plane.point)?;
                 if plane.normal.abs().max_element() == 0.0 {
                     return Err(format!(
                         "{label}: plane.normal = {}: a plane's normal must not be zero",
@@ -713,10 +733,12 @@ impl ObjectSpec {
                         sphere.radius
                     ));
                 }
-                if sphere.radius > MAX_COORDINATE {
+                check_coordinates(&format!("{label}: sphere.center"), sphere.center)?;
+                if sphere.radius > MAX_SHAPE_COORDINATE {
                     return Err(format!(
-                        "{label}: sphere.radius = {}: at most {MAX_COORDINATE:e}, the limit \
-                         of coordinates (squared distances must fit a 32-bit float)",
+                        "{label}: sphere.radius = {}: at most {MAX_SHAPE_COORDINATE:e}; f32 resolves \
+                         the surface of a larger sphere to worse than 0.06 units (use a plane \
+                         for a floor that should look infinite)",
                         readable(sphere.radius)
                     ));
                 }

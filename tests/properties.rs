@@ -365,3 +365,223 @@ fn non_finite_input_never_hits() {
     );
     assert_eq!(checked, 3 * 3 * (4 + 4));
 }
+
+/// Every public function of the chapters, fed NaN and infinities in each
+/// float argument, returns its documented answer (NaN, `None`, a miss),
+/// never panics and never recurses without end. `reflect` with an infinite
+/// component in `d` used to overflow the stack: its rescaling divided inf by
+/// 2^64 and tried again.
+#[test]
+fn every_chapter_function_answers_non_finite_input() {
+    use raylab::Material;
+    use raylab::chapters::ch01_plane::intersect_plane;
+    use raylab::chapters::ch02_sphere::{
+        intersect_sphere, intersect_sphere_textbook, sphere_roots,
+    };
+    use raylab::chapters::ch04_shadows::offset_origin;
+    use raylab::chapters::ch05_phong::{ambient, phong_terms, pow_whole};
+    use raylab::chapters::ch07_antialiasing::{sample_offset, unit_random, whole_sqrt};
+    use raylab::chapters::ch08_refraction::critical_angle;
+    use raylab::shapes::SurfacePoint;
+    use raylab::{Sampling, nearest_hit, unit_vector};
+
+    let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+    // Each good vector with one component replaced by each bad value.
+    let spoilt = |v: Vec3| {
+        bad.iter().flat_map(move |&value| {
+            (0..3).map(move |axis| {
+                let mut a = v.to_array();
+                a[axis] = value;
+                Vec3::from(a)
+            })
+        })
+    };
+    let (origin, dir) = (Vec3::new(0.1, 0.2, -5.0), Vec3::new(0.01, 0.02, 1.0));
+    let ball = Sphere::new(Vec3::ZERO, 1.0);
+    let wall = Plane::new(Vec3::ZERO, Vec3::Z);
+    let shapes: [Shape; 2] = [ball.into(), wall.into()];
+    let good = Ray::new(origin, dir);
+    let mut rays: Vec<Ray> = spoilt(origin).map(|o| Ray::new(o, dir)).collect();
+    rays.extend(spoilt(dir).map(|d| Ray::new(origin, d)));
+    let ranges = [(f32::NAN, f32::INFINITY), (0.0, f32::NAN)];
+
+    // Chapters 1 to 3: no hit, no roots.
+    for ray in &rays {
+        assert_eq!(
+            intersect_plane(&wall, ray, 0.0, f32::INFINITY),
+            None,
+            "{ray:?}"
+        );
+        assert_eq!(
+            intersect_sphere(&ball, ray, 0.0, f32::INFINITY),
+            None,
+            "{ray:?}"
+        );
+        assert_eq!(
+            intersect_sphere_textbook(&ball, ray, 0.0, f32::INFINITY),
+            None
+        );
+        assert_eq!(sphere_roots(&ball, ray), None, "{ray:?}");
+        assert_eq!(nearest_hit(&shapes, ray, 0.0, f32::INFINITY), None);
+    }
+    for (t_min, t_max) in ranges {
+        assert_eq!(intersect_plane(&wall, &good, t_min, t_max), None);
+        assert_eq!(intersect_sphere(&ball, &good, t_min, t_max), None);
+        assert_eq!(intersect_sphere_textbook(&ball, &good, t_min, t_max), None);
+        assert_eq!(nearest_hit(&shapes, &good, t_min, t_max), None);
+    }
+    assert!(nearest_hit(&shapes, &good, 0.0, f32::INFINITY).is_some());
+
+    // Chapter 4: a non-finite surface point gives a non-finite origin (no
+    // ray from it hits anything); a non-finite direction still gives a
+    // finite origin, and the ray built with that direction hits nothing.
+    let surface = surface_point(&Shape::from(ball), &good, 4.0);
+    assert!(surface.point.is_finite());
+    for v in spoilt(surface.point) {
+        let at_bad = SurfacePoint {
+            point: v,
+            ..surface
+        };
+        assert!(!offset_origin(&at_bad, Vec3::Y).is_finite(), "{v}");
+    }
+    for d in spoilt(Vec3::Y) {
+        let from = offset_origin(&surface, d);
+        assert!(from.is_finite(), "{d}");
+        assert_eq!(
+            nearest_hit(&shapes, &Ray::new(from, d), 0.0, f32::INFINITY),
+            None
+        );
+    }
+    // A non-finite t gives a non-finite surface point, not a plausible one.
+    for t in bad {
+        for shape in &shapes {
+            assert!(
+                !surface_point(shape, &good, t).point.is_finite(),
+                "{shape:?} t = {t}"
+            );
+        }
+    }
+
+    // Chapter 5: non-finite light, colour or direction gives non-finite terms.
+    let material = Material {
+        specular: 0.5,
+        ..Material::default()
+    };
+    let (n, l, e) = (Vec3::Y, Vec3::new(0.6, 0.8, 0.0), Vec3::new(-0.6, 0.8, 0.0));
+    let finite = |t: raylab::course::PhongTerms| t.diffuse.is_finite() && t.specular.is_finite();
+    assert!(finite(phong_terms(
+        &material,
+        Vec3::ONE,
+        n,
+        l,
+        e,
+        Vec3::ONE
+    )));
+    for v in spoilt(Vec3::new(0.5, 0.6, 0.7)) {
+        assert!(
+            !finite(phong_terms(&material, v, n, l, e, Vec3::ONE)),
+            "albedo {v}"
+        );
+        assert!(
+            !finite(phong_terms(&material, Vec3::ONE, n, l, e, v)),
+            "light {v}"
+        );
+        assert!(!ambient(v, 0.1, Vec3::ONE).is_finite());
+        assert!(!ambient(Vec3::ONE, 0.1, v).is_finite());
+    }
+    // A NaN direction gives NaN terms; only a light certainly behind the
+    // surface (n.l <= 0, -inf included) gives zero, as documented.
+    for v in spoilt(l).filter(|v| v.is_nan()) {
+        assert!(
+            !finite(phong_terms(&material, Vec3::ONE, v, l, e, Vec3::ONE)),
+            "normal {v}"
+        );
+        assert!(
+            !finite(phong_terms(&material, Vec3::ONE, n, v, e, Vec3::ONE)),
+            "to_light {v}"
+        );
+        assert!(
+            !finite(phong_terms(&material, Vec3::ONE, n, l, v, Vec3::ONE)),
+            "to_eye {v}"
+        );
+    }
+    assert!(pow_whole(f32::NAN, 3).is_nan());
+    assert_eq!(pow_whole(f32::INFINITY, 3), f32::INFINITY);
+    assert_eq!(pow_whole(f32::NAN, 0), 1.0, "x^0 = 1 for every x, as powf");
+
+    // Chapter 6: NaN, whatever is not finite (this used to overflow the stack).
+    for v in spoilt(Vec3::new(1.0, -1.0, 0.5)) {
+        assert!(reflect(v, Vec3::Y).is_nan(), "d = {v}");
+        assert!(reflect(Vec3::new(1.0, -1.0, 0.0), v).is_nan(), "n = {v}");
+    }
+    assert!(reflect(Vec3::new(3e38, -3e38, 0.0), Vec3::Y).is_finite());
+
+    // Chapter 7: no float input; every count and seed gives samples in the
+    // pixel (grid and jittered need a square count, as the loader checks).
+    for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
+        for count in [0, 1, 4, 9, 4096, 65_535 * 65_535] {
+            for index in [0, count.max(1) - 1] {
+                for seed in [0, u64::MAX] {
+                    let (x, y) = sample_offset(sampling, count, index, (u32::MAX, 0), seed);
+                    assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y));
+                }
+            }
+        }
+    }
+    let last = sample_offset(Sampling::Random, u32::MAX, u32::MAX - 1, (0, 0), 1);
+    assert!((0.0..1.0).contains(&last.0) && (0.0..1.0).contains(&last.1));
+    assert!((0.0..1.0).contains(&unit_random(u64::MAX, (u32::MAX, u32::MAX), u32::MAX, 9)));
+    assert_eq!(whole_sqrt(u32::MAX), 65_535);
+
+    // Chapter 8: None.
+    for v in spoilt(Vec3::new(1.0, -1.0, 0.5)) {
+        assert_eq!(refract(v, Vec3::Y, 0.7), None, "d = {v}");
+        assert_eq!(refract(Vec3::new(1.0, -1.0, 0.0), v, 0.7), None, "n = {v}");
+    }
+    for value in bad {
+        assert_eq!(refract(Vec3::new(1.0, -1.0, 0.0), Vec3::Y, value), None);
+        assert_eq!(critical_angle(value, 1.0), None, "n1 = {value}");
+        assert_eq!(critical_angle(1.5, value), None, "n2 = {value}");
+        assert_eq!(unit_vector(Vec3::new(value, 1.0, 0.0)), None);
+    }
+}
+
+/// Lesson 7: a `k x k` grid (N = k^2 samples) gives an axis-aligned edge
+/// `k + 1` levels of grey, not `N + 1`: every row of samples sits at the same
+/// `x`, so a vertical edge covers whole columns. A near-axis edge (slope
+/// 1/64) mostly shows those same levels; only where it passes within a
+/// row-to-row shift of a column does a level in between appear.
+#[test]
+fn a_grid_gives_k_plus_one_grey_levels_on_near_axis_edges() {
+    use raylab::Sampling;
+    use raylab::chapters::ch07_antialiasing::sample_offset;
+    for k in [2u32, 3, 4, 8] {
+        let n = k * k;
+        let samples: Vec<(f32, f32)> = (0..n)
+            .map(|i| sample_offset(Sampling::Grid, n, i, (0, 0), 0))
+            .collect();
+        let levels = |slope: f32| {
+            let mut seen = std::collections::BTreeSet::new();
+            let mut off_grid = 0;
+            let positions = 10_000;
+            for step in 0..positions {
+                let edge = step as f32 / positions as f32;
+                let covered = samples
+                    .iter()
+                    .filter(|(x, y)| *x < edge + slope * (y - 0.5))
+                    .count() as u32;
+                seen.insert(covered);
+                off_grid += usize::from(covered % k != 0);
+            }
+            (seen.len() as u32, off_grid as f64 / positions as f64)
+        };
+        let (vertical, _) = levels(0.0);
+        assert_eq!(vertical, k + 1, "k = {k}: {vertical} levels");
+        assert!(vertical < n + 1 || k == 1);
+        let (_, between) = levels(1.0 / 64.0);
+        assert!(
+            between < 0.02 * k as f64,
+            "k = {k}: {between} of edges between levels"
+        );
+    }
+}

@@ -97,8 +97,9 @@ impl Shape {
                 let center = sphere.center();
                 let radius = sphere.radius();
                 // A ray that hits a sphere exactly at its centre cannot exist
-                // (the centre is inside), so this fallback is only for NaN input.
-                let normal = unit_vector(on_ray - center).unwrap_or(Vec3::Y);
+                // (the centre is inside), so this is only non-finite input:
+                // it stays NaN rather than becoming a plausible point.
+                let normal = unit_vector(on_ray - center).unwrap_or(Vec3::NAN);
                 let point = center + radius * normal;
                 SurfacePoint {
                     point,
