@@ -1143,8 +1143,9 @@ pub fn chapter_5() -> Vec<Case> {
         shade(
             "phong-sum-lit",
             "the floor point (3, 0, 0) (albedo 0.5, k_a = 0.2, k_d = 0.6, k_s = 0.5, shininess 8) \
-             lit from (0, 10, 0): ambient 0.1 plus 0.6 * 0.5 * cos i with cos i = 10 / sqrt(109), \
-             so diffuse 0.3873 (the eye is far from the mirror direction: specular 0)",
+             lit from (0, 10, 0), seen from straight above: cos i = 10 / sqrt(109) = 0.958, so \
+             diffuse 0.1 + 0.6 * 0.5 * 0.958 = 0.3873, and the mirrored light makes the same \
+             angle with the eye: specular 0.5 * 0.958^8 = 0.354",
             (v(3.0, 5.0, 0.0), -Vec3::Y),
             LIGHT_ABOVE,
         ),
