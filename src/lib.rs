@@ -39,6 +39,7 @@ pub mod chapters;
 
 pub mod builtin;
 pub mod camera;
+pub mod check;
 pub mod cleanup;
 pub mod cli;
 pub mod cost;

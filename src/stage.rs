@@ -6,6 +6,7 @@
 //! here plus its files.
 
 use crate::Scene;
+use crate::check::catalog;
 
 /// One chapter of the course.
 #[derive(Debug, Clone, Copy)]
@@ -26,6 +27,12 @@ pub struct ChapterInfo {
     /// chapters and pinned by the snapshot tests: what a student's render is
     /// compared with, never rendered by the code under test.
     pub reference_png: &'static [u8],
+    /// The checkpoint cases of `raylab check` (level 1): questions to this
+    /// chapter's functions that every correct implementation answers.
+    pub checkpoints: fn() -> Vec<crate::check::Case>,
+    /// Its hard cases (level 2, reported apart): only a numerically robust
+    /// implementation answers them.
+    pub robustness: fn() -> Vec<crate::check::Case>,
 }
 
 impl ChapterInfo {
@@ -40,7 +47,8 @@ pub const REFERENCE_WIDTH: u32 = 160;
 pub const REFERENCE_HEIGHT: u32 = 120;
 
 macro_rules! chapter {
-    ($number:literal, $file:literal, $title:literal, $adds:literal, [$($function:literal),*]) => {
+    ($number:literal, $file:literal, $title:literal, $adds:literal, [$($function:literal),*],
+     $checkpoints:path, $robustness:path) => {
         ChapterInfo {
             number: $number,
             title: $title,
@@ -49,6 +57,8 @@ macro_rules! chapter {
             functions: &[$($function),*],
             scene: include_str!(concat!("../chapters/scenes/chapter-", $number, ".toml")),
             reference_png: include_bytes!(concat!("../snapshots/chapter-", $number, ".png")),
+            checkpoints: $checkpoints,
+            robustness: $robustness,
         }
     };
 }
@@ -60,56 +70,72 @@ pub const CHAPTERS: &[ChapterInfo] = &[
         "01_plane",
         "Ray-plane intersection",
         "planes",
-        ["intersect_plane"]
+        ["intersect_plane"],
+        catalog::chapter_1,
+        catalog::chapter_1_robustness
     ),
     chapter!(
         2,
         "02_sphere",
         "Ray-sphere intersection",
         "spheres",
-        ["intersect_sphere"]
+        ["intersect_sphere"],
+        catalog::chapter_2,
+        catalog::chapter_2_robustness
     ),
     chapter!(
         3,
         "03_nearest",
         "Nearest hit",
         "nearest-hit",
-        ["nearest_hit"]
+        ["nearest_hit"],
+        catalog::chapter_3,
+        catalog::chapter_3_robustness
     ),
     chapter!(
         4,
         "04_shadows",
         "Hard shadows",
         "lights, shadow rays",
-        ["offset_origin", "in_shadow", "shade_flat"]
+        ["offset_origin", "in_shadow", "shade_flat"],
+        catalog::chapter_4,
+        catalog::chapter_4_robustness
     ),
     chapter!(
         5,
         "05_phong",
         "Phong illumination",
         "ambient, diffuse, specular",
-        ["phong_terms", "shade_phong"]
+        ["phong_terms", "shade_phong"],
+        catalog::chapter_5,
+        catalog::chapter_5_robustness
     ),
     chapter!(
         6,
         "06_reflection",
         "Mirror reflection",
         "reflection",
-        ["reflect", "shade_mirror"]
+        ["reflect", "shade_mirror"],
+        catalog::chapter_6,
+        catalog::chapter_6_robustness
     ),
     chapter!(
         7,
         "07_antialiasing",
         "Anti-aliasing",
         "supersampling",
-        ["sample_offset", "pixel_color"]
+        ["sample_offset", "pixel_color"],
+        catalog::chapter_7,
+        catalog::chapter_7_robustness
     ),
     chapter!(
         8,
         "08_refraction",
         "Refraction",
         "refraction",
-        ["refract", "shade_glass"]
+        ["refract", "shade_glass"],
+        catalog::chapter_8,
+        catalog::chapter_8_robustness
     ),
 ];
 

@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod check;
 mod cost;
 mod crosscheck;
 mod diff;
@@ -42,6 +43,7 @@ pub enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Show what one ray hits: each shape, our nearest hit, and Embree's.
     Probe(crosscheck::ProbeArgs),
+    Check(check::CheckArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -92,6 +94,7 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
         Command::Grade(args) => grade::grade(&args),
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
+        Command::Check(args) => check::check::<C>(&args),
     };
     match result {
         Ok(status) => status,

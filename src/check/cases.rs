@@ -1,0 +1,972 @@
+//! Checkpoint cases as data, and how each is run against some chapters.
+//!
+//! A [`Case`] is one question to one function of the course, in the spirit
+//! of The Ray Tracer Challenge's scenarios: its inputs, what is expected,
+//! how close is close enough, and a sentence a student can check by hand.
+//! [`Case::run`] asks the question of the chapters `C` and says whether the
+//! answer is right, without ever letting a panic out.
+
+use glam::{DVec3, Vec3};
+
+use super::exact::{self, U, wide};
+use super::panics::{Panic, guarded};
+use crate::course::{Chapters, HitPoint, PhongTerms};
+use crate::render::{Stage, Tracer};
+use crate::shapes::SurfacePoint;
+use crate::{Material, Plane, Ray, Reference, Sampling, Scene, Shape, Sphere};
+
+/// Which level a case belongs to: a checkpoint every correct formula meets,
+/// or a hard case that only a numerically robust one does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Level {
+    Checkpoint,
+    Robustness,
+}
+
+/// Roundings allowed per formula in the robustness cases (the same bound as
+/// tests/hard_cases.rs, where the largest ratio the reference reaches is
+/// printed): `16 u` times the scale of the problem.
+pub const ROUNDINGS: f64 = 16.0;
+
+/// How far a checkpoint answer may be from the exact one, relative to
+/// `max(1, |expected|)`. Checkpoints are well-conditioned: any correct `f32`
+/// formula lands within a few `u = 6e-8` of the exact answer, in any order
+/// of operations, so `1e-4` accepts them all and still rejects every wrong
+/// formula (whose error is a visible fraction).
+pub const CHECKPOINT_TOLERANCE: f64 = 1e-4;
+
+/// What an intersection case expects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ExpectT {
+    /// A hit at this `t` (exact).
+    Hit(f64),
+    Miss,
+    /// Rounding decides (a tangent ray, an origin rounded onto the surface):
+    /// either answer is right, but a hit must lie on the surface.
+    Either,
+}
+
+/// Which shading function a scene case calls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shading {
+    /// Chapter 4's `shade_flat`.
+    Flat,
+    /// Chapter 5's `shade_phong`.
+    Phong,
+    /// Chapter 6's `shade_mirror`.
+    Mirror,
+    /// Chapter 8's `shade_glass`.
+    Glass,
+}
+
+impl Shading {
+    fn stage(self) -> u8 {
+        match self {
+            Shading::Flat => 4,
+            Shading::Phong => 5,
+            Shading::Mirror => 6,
+            Shading::Glass => 8,
+        }
+    }
+}
+
+/// What a set of sample offsets must look like.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SampleRule {
+    /// The centres of the `k x k` cells, in any order.
+    GridCentres,
+    /// Exactly one sample in each of the `k x k` cells, all inside `[0, 1)^2`.
+    OnePerCell,
+    /// Every sample inside `[0, 1)^2`, and not all at one point.
+    InsidePixel,
+}
+
+/// The question a case asks, one variant per kind of function.
+#[derive(Debug, Clone)]
+pub enum CaseKind {
+    /// `intersect_plane(Plane::new(point, normal), ray, t_min, t_max)`.
+    Plane {
+        point: Vec3,
+        normal: Vec3,
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        expect: ExpectT,
+    },
+    /// `intersect_sphere(Sphere::new(center, radius), ray, t_min, t_max)`.
+    Sphere {
+        center: Vec3,
+        radius: f32,
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        expect: ExpectT,
+    },
+    /// `nearest_hit(shapes, ray, t_min, t_max)`: the object index and `t`.
+    Nearest {
+        shapes: Vec<Shape>,
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        expect: Option<(usize, f64)>,
+    },
+    /// `offset_origin(surface, dir)`: off the surface on `dir`'s side by at
+    /// least the point's error bound `|n| . error`, and by at most
+    /// `at_most` (scene units) at the checkpoint level or
+    /// `ROUNDINGS` error bounds at the robustness level.
+    Offset {
+        surface: SurfacePoint,
+        dir: Vec3,
+        at_most: f64,
+    },
+    /// `in_shadow` at the points where each of `rays` meets object
+    /// `object` of `scene` (TOML), for a light at `light`.
+    Shadow {
+        scene: String,
+        object: usize,
+        rays: Vec<Ray>,
+        light: Vec3,
+        expect: bool,
+    },
+    /// A shading function at the point where `ray` meets `scene` (TOML):
+    /// expected, the reference chapters' answer on the same point.
+    Shade {
+        shading: Shading,
+        scene: String,
+        ray: Ray,
+        /// Bounces so far (chapters 6 and 8).
+        depth: u32,
+    },
+    /// `phong_terms(material, albedo, normal, to_light, to_eye, light)`.
+    PhongTerms {
+        material: Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+        expect: PhongTerms,
+    },
+    /// `reflect(d, n)`: expected the exact mirror image.
+    Reflect { d: Vec3, n: Vec3 },
+    /// `sample_offset(sampling, count, index, pixel, seed)` for every index
+    /// and each pixel.
+    SampleOffsets {
+        sampling: Sampling,
+        count: u32,
+        pixels: Vec<(u32, u32)>,
+        seed: u64,
+        rule: SampleRule,
+    },
+    /// `pixel_color` of each pixel of `scene` (TOML, chapter 7's stage):
+    /// expected the mean, in linear light, of the pixel's own samples (at
+    /// the offsets `sample_offset` gives).
+    PixelColor {
+        scene: String,
+        pixels: Vec<(u32, u32)>,
+    },
+    /// `refract(d, n, eta)`: expected the exact unit direction, or `None`.
+    Refract { d: Vec3, n: Vec3, eta: f32 },
+}
+
+/// One checkpoint: a question, its expected answer and its tolerance, with
+/// the sentence that says it and the lesson section that teaches it.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// A short stable name (`sphere-direction-not-unit`), for tests and logs.
+    pub name: &'static str,
+    /// The case in words, with its numbers: what a student reproduces by hand.
+    pub says: String,
+    /// The heading of the lesson section that teaches it.
+    pub section: &'static str,
+    pub level: Level,
+    pub kind: CaseKind,
+}
+
+/// How a case went.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    Pass,
+    Fail {
+        expected: String,
+        got: String,
+    },
+    /// The code panicked with `todo!()`: a function not written yet.
+    Todo(Panic),
+    /// The code panicked otherwise.
+    Panicked(Panic),
+    /// The check itself could not run (a bug in raylab, not the student's).
+    Error(String),
+}
+
+impl Case {
+    pub fn new(
+        name: &'static str,
+        section: &'static str,
+        says: impl Into<String>,
+        kind: CaseKind,
+    ) -> Case {
+        Case {
+            name,
+            says: says.into(),
+            section,
+            level: Level::Checkpoint,
+            kind,
+        }
+    }
+
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        match &self.kind {
+            CaseKind::Plane { .. } => "intersect_plane",
+            CaseKind::Sphere { .. } => "intersect_sphere",
+            CaseKind::Nearest { .. } => "nearest_hit",
+            CaseKind::Offset { .. } => "offset_origin",
+            CaseKind::Shadow { .. } => "in_shadow",
+            CaseKind::Shade { shading, .. } => match shading {
+                Shading::Flat => "shade_flat",
+                Shading::Phong => "shade_phong",
+                Shading::Mirror => "shade_mirror",
+                Shading::Glass => "shade_glass",
+            },
+            CaseKind::PhongTerms { .. } => "phong_terms",
+            CaseKind::Reflect { .. } => "reflect",
+            CaseKind::SampleOffsets { .. } => "sample_offset",
+            CaseKind::PixelColor { .. } => "pixel_color",
+            CaseKind::Refract { .. } => "refract",
+        }
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        let range =
+            |t_min: f32, t_max: f32| format!("t_min = {}, t_max = {}", num(t_min), num(t_max));
+        match &self.kind {
+            CaseKind::Plane {
+                point,
+                normal,
+                ray,
+                t_min,
+                t_max,
+                ..
+            } => format!(
+                "intersect_plane(plane through {} with normal {}, {}, {})",
+                vec(*point),
+                vec(*normal),
+                ray_text(ray),
+                range(*t_min, *t_max)
+            ),
+            CaseKind::Sphere {
+                center,
+                radius,
+                ray,
+                t_min,
+                t_max,
+                ..
+            } => format!(
+                "intersect_sphere(sphere centre {} radius {}, {}, {})",
+                vec(*center),
+                num(*radius),
+                ray_text(ray),
+                range(*t_min, *t_max)
+            ),
+            CaseKind::Nearest {
+                shapes,
+                ray,
+                t_min,
+                t_max,
+                ..
+            } => format!(
+                "nearest_hit([{}], {}, {})",
+                shapes.iter().map(shape_text).collect::<Vec<_>>().join(", "),
+                ray_text(ray),
+                range(*t_min, *t_max)
+            ),
+            CaseKind::Offset { surface, dir, .. } => format!(
+                "offset_origin(point {}, normal {}, error {}; dir {})",
+                vec(surface.point),
+                vec(surface.normal),
+                vec(surface.error),
+                vec(*dir)
+            ),
+            CaseKind::Shadow {
+                rays,
+                light,
+                object,
+                ..
+            } => format!(
+                "in_shadow at the point{} where {} meet{} object {object}, light at {}",
+                if rays.len() > 1 { "s" } else { "" },
+                if rays.len() > 1 {
+                    format!("{} rays", rays.len())
+                } else {
+                    rays.first().map(ray_text).unwrap_or_default()
+                },
+                if rays.len() > 1 { "" } else { "s" },
+                vec(*light)
+            ),
+            CaseKind::Shade {
+                shading,
+                ray,
+                depth,
+                ..
+            } => format!(
+                "{}(the point where {} meets the case's scene{})",
+                self.function(),
+                ray_text(ray),
+                match shading {
+                    Shading::Mirror | Shading::Glass => format!(", depth {depth}, weight 1"),
+                    _ => String::new(),
+                }
+            ),
+            CaseKind::PhongTerms {
+                material,
+                albedo,
+                normal,
+                to_light,
+                to_eye,
+                light,
+                ..
+            } => format!(
+                "phong_terms(k_d = {}, k_s = {}, shininess {}; albedo {}, normal {}, to_light {}, to_eye {}, light {})",
+                num(material.diffuse),
+                num(material.specular),
+                material.shininess,
+                vec(*albedo),
+                vec(*normal),
+                vec(*to_light),
+                vec(*to_eye),
+                vec(*light)
+            ),
+            CaseKind::Reflect { d, n } => format!("reflect({}, {})", vec(*d), vec(*n)),
+            CaseKind::SampleOffsets {
+                sampling,
+                count,
+                pixels,
+                seed,
+                ..
+            } => format!(
+                "sample_offset({sampling:?}, count {count}, index 0..{count}, {} pixel{} from {:?}, seed {seed})",
+                pixels.len(),
+                if pixels.len() > 1 { "s" } else { "" },
+                pixels.first().copied().unwrap_or_default()
+            ),
+            CaseKind::PixelColor { pixels, .. } => format!(
+                "pixel_color of {} pixel{} from {:?}",
+                pixels.len(),
+                if pixels.len() > 1 { "s" } else { "" },
+                pixels.first().copied().unwrap_or_default()
+            ),
+            CaseKind::Refract { d, n, eta } => {
+                format!("refract({}, {}, eta = {})", vec(*d), vec(*n), num(*eta))
+            }
+        }
+    }
+
+    /// Asks the question of the chapters `C`.
+    pub fn run<C: Chapters>(&self) -> Outcome {
+        match guarded(|| self.evaluate::<C>()) {
+            Ok(outcome) => outcome,
+            Err(panic) if panic.is_todo() => Outcome::Todo(panic),
+            Err(panic) => Outcome::Panicked(panic),
+        }
+    }
+
+    fn evaluate<C: Chapters>(&self) -> Outcome {
+        let robust = self.level == Level::Robustness;
+        match &self.kind {
+            CaseKind::Plane {
+                point,
+                normal,
+                ray,
+                t_min,
+                t_max,
+                expect,
+            } => {
+                let plane = Plane::new(*point, *normal);
+                let got = C::intersect_plane(&plane, ray, *t_min, *t_max);
+                let scale = max_abs(wide(*point));
+                let on_surface =
+                    |p: DVec3| (p - wide(plane.point())).dot(wide(plane.normal())).abs();
+                judge_t(
+                    got,
+                    *expect,
+                    ray,
+                    robust,
+                    scale,
+                    wide(plane.normal()),
+                    on_surface,
+                )
+            }
+            CaseKind::Sphere {
+                center,
+                radius,
+                ray,
+                t_min,
+                t_max,
+                expect,
+            } => {
+                let sphere = Sphere::new(*center, *radius);
+                let got = C::intersect_sphere(&sphere, ray, *t_min, *t_max);
+                let c = wide(*center);
+                let r = f64::from(*radius);
+                let scale = max_abs(c) + r;
+                let normal_at = match expect {
+                    ExpectT::Hit(t) => (wide(ray.origin) + *t * wide(ray.dir) - c) / r,
+                    _ => DVec3::Y,
+                };
+                let on_surface = |p: DVec3| ((p - c).length() - r).abs();
+                judge_t(got, *expect, ray, robust, scale, normal_at, on_surface)
+            }
+            CaseKind::Nearest {
+                shapes,
+                ray,
+                t_min,
+                t_max,
+                expect,
+            } => {
+                let got = C::nearest_hit(&crate::Objects::<C>::new(shapes), ray, *t_min, *t_max);
+                let show = |hit: Option<(usize, f64)>| match hit {
+                    Some((object, t)) => format!("object {object} at t = {}", num64(t)),
+                    None => "no hit".into(),
+                };
+                let got_pair = got.map(|hit| (hit.object, f64::from(hit.t)));
+                let pass = match (got_pair, *expect) {
+                    (None, None) => true,
+                    (Some((object, t)), Some((want, t_ref))) => {
+                        object == want && close(t, t_ref, CHECKPOINT_TOLERANCE)
+                    }
+                    _ => false,
+                };
+                verdict(pass, show(*expect), show(got_pair))
+            }
+            CaseKind::Offset {
+                surface,
+                dir,
+                at_most,
+            } => {
+                let got = C::offset_origin(surface, *dir);
+                let n = wide(surface.normal);
+                let bound = n.abs().dot(wide(surface.error));
+                let side = if wide(*dir).dot(n) >= 0.0 { 1.0 } else { -1.0 };
+                let push = side * (wide(got) - wide(surface.point)).dot(n);
+                let limit = if robust {
+                    ROUNDINGS * bound + 4.0 * 2.0 * U * max_abs(wide(surface.point))
+                } else {
+                    *at_most
+                };
+                // 0.99: the bound itself is computed in f32 by the reference,
+                // a few u below its exact value.
+                let pass = got.is_finite() && push > 0.0 && push >= 0.99 * bound && push <= limit;
+                verdict(
+                    pass,
+                    format!(
+                        "an origin {} the surface (dir side) by at least {} and at most {}",
+                        if side > 0.0 { "above" } else { "below" },
+                        num64(bound),
+                        num64(limit)
+                    ),
+                    format!(
+                        "{}, {} the surface by {}",
+                        vec(got),
+                        if push >= 0.0 {
+                            "on the dir side of"
+                        } else {
+                            "on the WRONG side of"
+                        },
+                        num64(push.abs())
+                    ),
+                )
+            }
+            CaseKind::Shadow {
+                scene,
+                object,
+                rays,
+                light,
+                expect,
+            } => {
+                let scene = match parse(scene) {
+                    Ok(scene) => scene,
+                    Err(error) => return Outcome::Error(error),
+                };
+                let stage = match Stage::<C>::with_chapters(&scene, 4, scene.render) {
+                    Ok(stage) => stage,
+                    Err(error) => return Outcome::Error(error.to_string()),
+                };
+                let mut tracer = stage.tracer(None);
+                for (index, ray) in rays.iter().enumerate() {
+                    let point = match point_on(&scene, &tracer, *object, ray) {
+                        Ok(point) => point,
+                        Err(error) => return Outcome::Error(error),
+                    };
+                    let got = C::in_shadow(&mut tracer, &point, *light);
+                    if got != *expect {
+                        let word = |shadow: bool| if shadow { "in shadow" } else { "lit" };
+                        return Outcome::Fail {
+                            expected: format!("{} at every point", word(*expect)),
+                            got: format!(
+                                "{} at {} (ray {} of {}: {})",
+                                word(got),
+                                vec(point.surface.point),
+                                index + 1,
+                                rays.len(),
+                                ray_text(ray)
+                            ),
+                        };
+                    }
+                }
+                Outcome::Pass
+            }
+            CaseKind::Shade {
+                shading,
+                scene,
+                ray,
+                depth,
+            } => shade::<C>(*shading, scene, ray, *depth),
+            CaseKind::PhongTerms {
+                material,
+                albedo,
+                normal,
+                to_light,
+                to_eye,
+                light,
+                expect,
+            } => {
+                let got = C::phong_terms(material, *albedo, *normal, *to_light, *to_eye, *light);
+                let pass = colour_close(got.diffuse, expect.diffuse)
+                    && colour_close(got.specular, expect.specular);
+                verdict(pass, terms_text(expect), terms_text(&got))
+            }
+            CaseKind::Reflect { d, n } => {
+                let got = C::reflect(*d, *n);
+                let expected = exact::reflect(wide(*d), wide(*n));
+                if !expected.is_finite() {
+                    // A zero or non-finite normal has no mirror: the answer
+                    // must not look like a direction.
+                    return verdict(
+                        got.is_nan(),
+                        "a NaN component (no mirror without a normal)".into(),
+                        vec(got),
+                    );
+                }
+                let g = wide(got);
+                let pass = got.is_finite()
+                    && if robust {
+                        // Direction and length apart, as tests/hard_cases.rs.
+                        let length = expected.length();
+                        exact::angle(g, expected) <= ROUNDINGS * U
+                            && (g.length() - length).abs() <= ROUNDINGS * U * length
+                    } else {
+                        (g - expected).length() <= CHECKPOINT_TOLERANCE * expected.length()
+                    };
+                verdict(pass, vec64(expected), vec(got))
+            }
+            CaseKind::SampleOffsets {
+                sampling,
+                count,
+                pixels,
+                seed,
+                rule,
+            } => {
+                for pixel in pixels {
+                    let offsets: Vec<(f32, f32)> = (0..*count)
+                        .map(|index| C::sample_offset(*sampling, *count, index, *pixel, *seed))
+                        .collect();
+                    if let Err(problem) = sample_rule(*rule, *count, &offsets) {
+                        return Outcome::Fail {
+                            expected: rule_text(*rule, *count),
+                            got: format!(
+                                "pixel {pixel:?}: {problem}; offsets {}",
+                                offsets
+                                    .iter()
+                                    .take(16)
+                                    .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
+                                    .collect::<Vec<_>>()
+                                    .join(" ")
+                            ),
+                        };
+                    }
+                }
+                Outcome::Pass
+            }
+            CaseKind::PixelColor { scene, pixels } => {
+                let scene = match parse(scene) {
+                    Ok(scene) => scene,
+                    Err(error) => return Outcome::Error(error),
+                };
+                let stage = match Stage::<C>::with_chapters(&scene, 7, scene.render) {
+                    Ok(stage) => stage,
+                    Err(error) => return Outcome::Error(error.to_string()),
+                };
+                let mut tracer = stage.tracer(None);
+                for &(x, y) in pixels {
+                    let samples = tracer.samples();
+                    let mut colours = Vec::new();
+                    for index in 0..samples {
+                        let (dx, dy) = tracer.sample_offset(index, (x, y));
+                        colours.push(tracer.sample(x as f32 + dx, y as f32 + dy));
+                    }
+                    let mean = colours.iter().copied().sum::<Vec3>() / samples.max(1) as f32;
+                    let got = C::pixel_color(&mut tracer, x, y);
+                    if !colour_close(got, mean) {
+                        return Outcome::Fail {
+                            expected: format!(
+                                "pixel ({x}, {y}): {} = the mean of its samples {}",
+                                vec(mean),
+                                colours
+                                    .iter()
+                                    .map(|c| vec(*c))
+                                    .collect::<Vec<_>>()
+                                    .join(" ")
+                            ),
+                            got: vec(got),
+                        };
+                    }
+                }
+                Outcome::Pass
+            }
+            CaseKind::Refract { d, n, eta } => {
+                let got = C::refract(*d, *n, *eta);
+                let expected = if eta.is_finite() && *eta > 0.0 {
+                    exact::refract(wide(*d), wide(*n), f64::from(*eta)).filter(|t| t.is_finite())
+                } else {
+                    None
+                };
+                let show =
+                    |t: Option<String>| t.unwrap_or_else(|| "None (no refracted ray)".into());
+                match (expected, got) {
+                    (None, None) => Outcome::Pass,
+                    (Some(want), Some(t)) => {
+                        let d64 = wide(*d).normalize();
+                        let n64 = wide(*n).normalize();
+                        let cos_i = d64.dot(n64).abs();
+                        let cos_t = want.dot(n64).abs();
+                        let tolerance = if robust {
+                            ROUNDINGS * U * (1.0 + f64::from(*eta) * cos_i / cos_t.max(1e-300))
+                        } else {
+                            CHECKPOINT_TOLERANCE
+                        };
+                        let t64 = wide(t);
+                        let unit = (t64.length() - 1.0).abs() <= tolerance.max(ROUNDINGS * U);
+                        let pass = t.is_finite() && unit && exact::angle(t64, want) <= tolerance;
+                        verdict(
+                            pass,
+                            format!("Some({}) (unit length)", vec64(want)),
+                            format!("Some({}) (length {})", vec(t), num64(t64.length())),
+                        )
+                    }
+                    (want, t) => Outcome::Fail {
+                        expected: show(want.map(|w| format!("Some({})", vec64(w)))),
+                        got: show(t.map(|t| format!("Some({})", vec(t)))),
+                    },
+                }
+            }
+        }
+    }
+}
+
+fn verdict(pass: bool, expected: String, got: String) -> Outcome {
+    if pass {
+        Outcome::Pass
+    } else {
+        Outcome::Fail { expected, got }
+    }
+}
+
+/// Judges an intersection answer `got` against `expect` (see the module
+/// docs of tests/hard_cases.rs for the robustness bound).
+fn judge_t(
+    got: Option<f32>,
+    expect: ExpectT,
+    ray: &Ray,
+    robust: bool,
+    shape_scale: f64,
+    normal: DVec3,
+    distance_to_surface: impl Fn(DVec3) -> f64,
+) -> Outcome {
+    let (o, d) = (wide(ray.origin), wide(ray.dir));
+    let show_expected = match expect {
+        ExpectT::Hit(t) => format!("t = {}", num64(t)),
+        ExpectT::Miss => "no hit (None)".into(),
+        ExpectT::Either => "either no hit or a hit on the surface".into(),
+    };
+    let show_got = match got {
+        Some(t) => format!("t = {}", num(t)),
+        None => "no hit (None)".into(),
+    };
+    let scale_at = |t: f64| max_abs(o) + shape_scale + max_abs(o + t * d);
+    let pass = match (expect, got) {
+        (_, Some(t)) if !t.is_finite() => false,
+        (ExpectT::Miss | ExpectT::Either, None) => true,
+        (ExpectT::Miss, Some(_)) | (ExpectT::Hit(_), None) => false,
+        (ExpectT::Either, Some(t)) => {
+            let t = f64::from(t);
+            distance_to_surface(o + t * d) <= ROUNDINGS * U * scale_at(t)
+        }
+        (ExpectT::Hit(t_ref), Some(t)) => {
+            let t = f64::from(t);
+            if robust {
+                let cos = (d.dot(normal) / (d.length() * normal.length())).abs();
+                let unit = U * (t_ref.abs() + scale_at(t_ref) / (d.length() * cos));
+                (t - t_ref).abs() <= ROUNDINGS * unit
+            } else {
+                close(t, t_ref, CHECKPOINT_TOLERANCE)
+            }
+        }
+    };
+    verdict(pass, show_expected, show_got)
+}
+
+fn close(got: f64, want: f64, tolerance: f64) -> bool {
+    (got - want).abs() <= tolerance * want.abs().max(1.0)
+}
+
+/// Colours agree within `1e-4` (about a third of an 8-bit level in the
+/// darkest sRGB codes): far above any rounding, far below any wrong term.
+fn colour_close(got: Vec3, want: Vec3) -> bool {
+    got.is_finite()
+        && (wide(got) - wide(want))
+            .abs()
+            .cmple(DVec3::splat(CHECKPOINT_TOLERANCE) * wide(want).abs().max(DVec3::ONE))
+            .all()
+}
+
+fn parse(text: &str) -> Result<Scene, String> {
+    Scene::parse(text, "a checkpoint's scene").map_err(|error| error.to_string())
+}
+
+/// The point where `ray` meets object `object`, by the reference tests (the
+/// case's inputs do not depend on the code under check).
+fn point_on<C: Chapters>(
+    scene: &Scene,
+    tracer: &Tracer<'_, C>,
+    object: usize,
+    ray: &Ray,
+) -> Result<HitPoint, String> {
+    match crate::nearest_hit(&scene.shapes, ray, 0.0, f32::INFINITY) {
+        Some(hit) if hit.object == object => Ok(tracer.hit_point(object, ray, hit.t)),
+        other => Err(format!(
+            "the case's ray {} should meet object {object} first, but meets {other:?}",
+            ray_text(ray)
+        )),
+    }
+}
+
+fn shade<C: Chapters>(shading: Shading, scene: &str, ray: &Ray, depth: u32) -> Outcome {
+    let scene = match parse(scene) {
+        Ok(scene) => scene,
+        Err(error) => return Outcome::Error(error),
+    };
+    let chapter = shading.stage();
+    let (stage, reference) = match (
+        Stage::<C>::with_chapters(&scene, chapter, scene.render),
+        Stage::<Reference>::with_chapters(&scene, chapter, scene.render),
+    ) {
+        (Ok(stage), Ok(reference)) => (stage, reference),
+        (Err(error), _) | (_, Err(error)) => return Outcome::Error(error.to_string()),
+    };
+    let mut tracer = stage.tracer(None);
+    let mut reference_tracer = reference.tracer(None);
+    let point = match point_on(&scene, &tracer, 0, ray) {
+        Ok(point) => point,
+        Err(error) => return Outcome::Error(error),
+    };
+    // The expected colour: raylab's own chapters on the same point. The
+    // case's sentence gives the same number by hand.
+    let (got, expected) = match shading {
+        Shading::Flat => (
+            vec![C::shade_flat(&mut tracer, &point)],
+            vec![Reference::shade_flat(&mut reference_tracer, &point)],
+        ),
+        Shading::Phong => {
+            let got = C::shade_phong(&mut tracer, &point);
+            let want = Reference::shade_phong(&mut reference_tracer, &point);
+            (
+                vec![got.diffuse, got.specular],
+                vec![want.diffuse, want.specular],
+            )
+        }
+        Shading::Mirror => (
+            vec![C::shade_mirror(&mut tracer, &point, depth, 1.0)],
+            vec![Reference::shade_mirror(
+                &mut reference_tracer,
+                &point,
+                depth,
+                1.0,
+            )],
+        ),
+        Shading::Glass => (
+            vec![C::shade_glass(&mut tracer, &point, depth, 1.0)],
+            vec![Reference::shade_glass(
+                &mut reference_tracer,
+                &point,
+                depth,
+                1.0,
+            )],
+        ),
+    };
+    let pass = got.iter().zip(&expected).all(|(g, w)| colour_close(*g, *w));
+    let show = |colours: &[Vec3]| {
+        if shading == Shading::Phong {
+            format!("diffuse {}, specular {}", vec(colours[0]), vec(colours[1]))
+        } else {
+            vec(colours[0])
+        }
+    };
+    verdict(pass, show(&expected), show(&got))
+}
+
+fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(), String> {
+    let inside = |v: f32| (0.0..1.0).contains(&v);
+    if let Some((x, y)) = offsets.iter().find(|(x, y)| !inside(*x) || !inside(*y)) {
+        return Err(format!(
+            "({}, {}) is outside [0, 1)^2 (1.0 is the next pixel's edge)",
+            num(*x),
+            num(*y)
+        ));
+    }
+    let k = crate::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+    let cell_of = |(x, y): (f32, f32)| {
+        let column = ((x * k as f32) as u32).min(k - 1);
+        let row = ((y * k as f32) as u32).min(k - 1);
+        row * k + column
+    };
+    match rule {
+        SampleRule::GridCentres => {
+            for &(x, y) in offsets {
+                let centre = |v: f32| ((v * k as f32).floor() + 0.5) / k as f32;
+                if (x - centre(x)).abs() > 1e-5 || (y - centre(y)).abs() > 1e-5 {
+                    return Err(format!(
+                        "({}, {}) is not the centre of a cell",
+                        num(x),
+                        num(y)
+                    ));
+                }
+            }
+            one_per_cell(k, offsets, cell_of)
+        }
+        SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
+        SampleRule::InsidePixel => {
+            if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
+                Err("every sample is at the same point".into())
+            } else {
+                Ok(())
+            }
+        }
+    }
+}
+
+fn one_per_cell(
+    k: u32,
+    offsets: &[(f32, f32)],
+    cell_of: impl Fn((f32, f32)) -> u32,
+) -> Result<(), String> {
+    let mut seen = vec![0u32; (k * k) as usize];
+    for &offset in offsets {
+        seen[cell_of(offset) as usize] += 1;
+    }
+    match seen.iter().position(|&n| n != 1) {
+        None => Ok(()),
+        Some(cell) => Err(format!(
+            "cell (column {}, row {}) of the {k} x {k} grid has {} samples",
+            cell as u32 % k,
+            cell as u32 / k,
+            seen[cell]
+        )),
+    }
+}
+
+fn rule_text(rule: SampleRule, count: u32) -> String {
+    let k = crate::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+    match rule {
+        SampleRule::GridCentres => {
+            format!("the {count} centres of a {k} x {k} grid of cells, one each")
+        }
+        SampleRule::OnePerCell => {
+            format!("one sample in each cell of a {k} x {k} grid, inside [0, 1)^2")
+        }
+        SampleRule::InsidePixel => "samples inside [0, 1)^2, not all at one point".into(),
+    }
+}
+
+fn terms_text(terms: &PhongTerms) -> String {
+    format!(
+        "diffuse {}, specular {}",
+        vec(terms.diffuse),
+        vec(terms.specular)
+    )
+}
+
+fn max_abs(v: DVec3) -> f64 {
+    v.abs().max_element()
+}
+
+/// A number as a student would write it: short, exponent for the very
+/// large and very small.
+pub fn num(x: f32) -> String {
+    num64(f64::from(x))
+}
+
+pub fn num64(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return if x.is_nan() {
+            "NaN".into()
+        } else if x.is_infinite() {
+            if x > 0.0 { "inf".into() } else { "-inf".into() }
+        } else {
+            "0".into()
+        };
+    }
+    let magnitude = x.abs();
+    if !(1e-4..1e7).contains(&magnitude) {
+        return format!("{x:.6e}")
+            .replace("0000e", "e")
+            .replace("000e", "e")
+            .replace("00e", "e")
+            .replace("0e", "e")
+            .replace(".e", "e");
+    }
+    let text = format!("{x:.7}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    text.to_string()
+}
+
+pub fn vec(v: Vec3) -> String {
+    format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
+}
+
+fn vec64(v: DVec3) -> String {
+    format!("({}, {}, {})", num64(v.x), num64(v.y), num64(v.z))
+}
+
+fn ray_text(ray: &Ray) -> String {
+    format!("ray from {} along {}", vec(ray.origin), vec(ray.dir))
+}
+
+fn shape_text(shape: &Shape) -> String {
+    match shape {
+        Shape::Plane(plane) => format!(
+            "plane through {} normal {}",
+            vec(plane.point()),
+            vec(plane.normal())
+        ),
+        Shape::Sphere(sphere) => {
+            format!("sphere {} r {}", vec(sphere.center()), num(sphere.radius()))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_read_like_a_student_writes_them() {
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(-5.0), "-5");
+        assert_eq!(num(0.5), "0.5");
+        assert_eq!(num(1e20), "1e20");
+        assert_eq!(num(f32::INFINITY), "inf");
+        assert_eq!(vec(Vec3::new(0.0, 1.0, -5.0)), "(0, 1, -5)");
+    }
+}

@@ -1,0 +1,1748 @@
+//! Every chapter's checkpoint and robustness cases, as data.
+//!
+//! Checkpoints are well-conditioned questions whose answers a student can
+//! work out by hand; robustness cases are the hard inputs of
+//! tests/hard_cases.rs (grazing and tangent rays, far and huge spheres,
+//! origins on surfaces, the critical angle, NaN and infinite input), where
+//! only a numerically careful formula is right. Expected intersection
+//! parameters and directions come from `exact` (f64, separate formulas);
+//! shading cases compare with raylab's reference chapters on the same point.
+
+use glam::Vec3;
+
+use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, vec};
+use super::exact::{self, wide};
+use crate::course::PhongTerms;
+use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
+
+const INF: f32 = f32::INFINITY;
+
+fn v(x: f32, y: f32, z: f32) -> Vec3 {
+    Vec3::new(x, y, z)
+}
+
+fn robust(cases: Vec<Case>) -> Vec<Case> {
+    cases
+        .into_iter()
+        .map(|case| Case {
+            level: Level::Robustness,
+            ..case
+        })
+        .collect()
+}
+
+/// What an intersection case expects, before the exact `t` is filled in.
+#[derive(Clone, Copy)]
+enum E {
+    Hit,
+    Miss,
+    Either,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn plane_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    point: Vec3,
+    normal: Vec3,
+    ray: (Vec3, Vec3),
+    range: (f32, f32),
+    expect: E,
+) -> Case {
+    let plane = Plane::new(point, normal);
+    let expect = match expect {
+        E::Hit => ExpectT::Hit(
+            exact::plane(
+                wide(plane.point()),
+                wide(plane.normal()),
+                wide(ray.0),
+                wide(ray.1),
+                f64::from(range.0),
+                f64::from(range.1),
+            )
+            .unwrap_or(f64::NAN),
+        ),
+        E::Miss => ExpectT::Miss,
+        E::Either => ExpectT::Either,
+    };
+    Case::new(
+        name,
+        section,
+        says,
+        CaseKind::Plane {
+            point,
+            normal,
+            ray: Ray::new(ray.0, ray.1),
+            t_min: range.0,
+            t_max: range.1,
+            expect,
+        },
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn sphere_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    center: Vec3,
+    radius: f32,
+    ray: (Vec3, Vec3),
+    range: (f32, f32),
+    expect: E,
+) -> Case {
+    let expect = match expect {
+        E::Hit => ExpectT::Hit(
+            exact::sphere(
+                wide(center),
+                f64::from(radius),
+                wide(ray.0),
+                wide(ray.1),
+                f64::from(range.0),
+                f64::from(range.1),
+            )
+            .unwrap_or(f64::NAN),
+        ),
+        E::Miss => ExpectT::Miss,
+        E::Either => ExpectT::Either,
+    };
+    Case::new(
+        name,
+        section,
+        says,
+        CaseKind::Sphere {
+            center,
+            radius,
+            ray: Ray::new(ray.0, ray.1),
+            t_min: range.0,
+            t_max: range.1,
+            expect,
+        },
+    )
+}
+
+const ALL: (f32, f32) = (0.0, INF);
+
+// ---------------------------------------------------------------------------
+// Chapter 1: planes.
+
+const EQUATION_1: &str = "The equation";
+const CODE_1: &str = "The code: `Plane::intersect`";
+
+pub fn chapter_1() -> Vec<Case> {
+    let floor = (Vec3::ZERO, Vec3::Y);
+    let p = |name, section, says, plane: (Vec3, Vec3), ray, range, expect| {
+        plane_case(name, section, says, plane.0, plane.1, ray, range, expect)
+    };
+    vec![
+        p(
+            "plane-straight-down",
+            EQUATION_1,
+            "a ray from (0, 2, 0) straight down, along (0, -1, 0), meets the floor y = 0 \
+             at t = 2: t = dot(point - origin, n) / dot(dir, n) = (0 - 2) / -1",
+            floor,
+            (v(0.0, 2.0, 0.0), -Vec3::Y),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-parallel",
+            EQUATION_1,
+            "a ray from (0, 1, -5) along +z runs parallel to the floor y = 0 \
+             (dot(dir, n) = 0): expected no hit",
+            floor,
+            (v(0.0, 1.0, -5.0), Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-direction-not-unit",
+            EQUATION_1,
+            "a ray from (0, 3, 0) along (4, -3, 0) meets the floor y = 0 at the point (4, 0, 0), \
+             that is at t = 1: t counts lengths of the direction, not scene units",
+            floor,
+            (v(0.0, 3.0, 0.0), v(4.0, -3.0, 0.0)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-behind",
+            EQUATION_1,
+            "a ray from (0, 1, 0) going up, along (0, 1, 0), has the floor y = 0 behind it \
+             (t = -1): expected no hit",
+            floor,
+            (v(0.0, 1.0, 0.0), Vec3::Y),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-from-behind",
+            EQUATION_1,
+            "planes are two-sided: a ray from the origin along (0, 0, 0.5) meets the wall z = 5 \
+             (normal +z, facing the other way) at t = 10",
+            (v(0.0, 0.0, 5.0), Vec3::Z),
+            (Vec3::ZERO, v(0.0, 0.0, 0.5)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-beyond-t-max",
+            EQUATION_1,
+            "a ray from (0, 1, 0) straight down meets the floor at t = 1, beyond t_max = 0.5: \
+             expected no hit",
+            floor,
+            (v(0.0, 1.0, 0.0), -Vec3::Y),
+            (0.0, 0.5),
+            E::Miss,
+        ),
+        p(
+            "plane-origin-on-it",
+            EQUATION_1,
+            "a ray starting on the floor, from (0, 0, 0) along (0, -1, 0), meets it at t = 0, \
+             and t must be strictly greater than t_min = 0: expected no hit",
+            floor,
+            (Vec3::ZERO, -Vec3::Y),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-slanted",
+            EQUATION_1,
+            "a ray from the origin along (1, 1, 1) meets the plane through (1, 2, 3) with normal \
+             (1, 1, 1) at t = 6 / 3 = 2 (the normal's length does not matter)",
+            (v(1.0, 2.0, 3.0), Vec3::ONE),
+            (Vec3::ZERO, Vec3::ONE),
+            ALL,
+            E::Hit,
+        ),
+    ]
+}
+
+pub fn chapter_1_robustness() -> Vec<Case> {
+    let floor = (Vec3::ZERO, Vec3::Y);
+    let p = |name, says, plane: (Vec3, Vec3), ray, range, expect| {
+        plane_case(name, CODE_1, says, plane.0, plane.1, ray, range, expect)
+    };
+    robust(vec![
+        p(
+            "plane-nearly-parallel",
+            "nearly parallel, slope 1e-6, from (0, 1, 0): a genuine hit at t = 1e6",
+            floor,
+            (v(0.0, 1.0, 0.0), v(1.0, -1e-6, 0.0)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-parallel-within-rounding",
+            "slope 1e-8: parallel as far as f32 can tell; either answer, but a hit must lie on the plane",
+            floor,
+            (v(0.0, 1.0, 0.0), v(1.0, -1e-8, 0.0)),
+            ALL,
+            E::Either,
+        ),
+        p(
+            "plane-tiny-direction",
+            "a direction of length 1e-20 straight down from (0, 1, 0): a hit at t = 1e20 \
+             (a fixed 'parallel' threshold such as 1e-6 on dot(dir, n) wrongly misses)",
+            floor,
+            (v(0.0, 1.0, 0.0), v(0.0, -1e-20, 0.0)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-grazing-far",
+            "grazing ray 1e4 along and 1 above the floor: hit at t = 1",
+            floor,
+            (v(-1e4, 1.0, 0.0), v(1e4, -1.0, 0.0)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-far-away",
+            "a wall 1e6 away: t = 1e6",
+            (v(0.0, 0.0, 1e6), -Vec3::Z),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-large-coordinates",
+            "slanted plane through (1e5, 1e5, 1e5) with normal (1, 2, 3), seen from close by",
+            (v(1e5, 1e5, 1e5), v(1.0, 2.0, 3.0)),
+            (v(1e5 - 10.0, 1e5 + 3.0, 1e5 - 7.0), v(0.3, 0.1, 0.9)),
+            ALL,
+            E::Hit,
+        ),
+        p(
+            "plane-in-the-plane",
+            "a ray lying in the floor (0 / 0): no hit",
+            floor,
+            (Vec3::ZERO, v(1.0, 0.0, 1.0)),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-zero-normal",
+            "a plane made with a zero normal (its fields are NaN): no hit",
+            (Vec3::ZERO, Vec3::ZERO),
+            (v(0.0, 1.0, 0.0), -Vec3::Y),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-nan-origin",
+            "a NaN in the origin: no hit",
+            floor,
+            (v(0.0, f32::NAN, 0.0), -Vec3::Y),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-infinite-direction",
+            "an infinite direction (inf / inf): no hit",
+            floor,
+            (v(0.0, 1.0, 0.0), v(0.0, -INF, 0.0)),
+            ALL,
+            E::Miss,
+        ),
+        p(
+            "plane-infinite-origin",
+            "an infinite origin: no hit",
+            floor,
+            (v(0.0, INF, 0.0), -Vec3::Y),
+            ALL,
+            E::Miss,
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 2: spheres.
+
+const EQUATION_2: &str = "The equation";
+const ROOTS_2: &str = "Two ways to compute the roots";
+
+pub fn chapter_2() -> Vec<Case> {
+    let ball = (v(0.0, 0.0, 5.0), 1.0);
+    let s = |name, section, says, sphere: (Vec3, f32), ray, range, expect| {
+        sphere_case(name, section, says, sphere.0, sphere.1, ray, range, expect)
+    };
+    vec![
+        s(
+            "sphere-nearer-root",
+            EQUATION_2,
+            "a ray from the origin along +z meets the unit sphere centred at (0, 0, 5) twice, \
+             at t = 4 and t = 6; from outside, the hit is the nearer: expected t = 4",
+            ball,
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-direction-not-unit",
+            EQUATION_2,
+            "the same ray with direction (0, 0, 2): a = dot(dir, dir) = 4, and the hit is at t = 2 \
+             (t counts lengths of the direction; a quadratic that assumes a = 1 gets this wrong)",
+            ball,
+            (Vec3::ZERO, v(0.0, 0.0, 2.0)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-origin-inside",
+            EQUATION_2,
+            "from the centre (0, 0, 5) along +z the roots are -1 and 1; the one in front, t = 1, \
+             is the hit (from inside, the far root)",
+            ball,
+            (v(0.0, 0.0, 5.0), Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-behind",
+            EQUATION_2,
+            "a ray from the origin along -z has the sphere at (0, 0, 5) behind it (roots -6 and -4): \
+             expected no hit",
+            ball,
+            (Vec3::ZERO, -Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-beside",
+            EQUATION_2,
+            "a ray from (2, 0, 0) along +z passes 2 from the centre of the unit sphere at (0, 0, 5): \
+             expected no hit (negative discriminant)",
+            ball,
+            (v(2.0, 0.0, 0.0), Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-off-axis",
+            EQUATION_2,
+            "a ray from (0, 0.6, 0) along +z meets the unit sphere at (0, 0, 5) where \
+             z = 5 - sqrt(1 - 0.36) = 4.2: expected t = 4.2",
+            ball,
+            (v(0.0, 0.6, 0.0), Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-near-root-below-t-min",
+            EQUATION_2,
+            "from the origin along +z with t_min = 4.5: the near root 4 is too close, \
+             the far root t = 6 is the hit",
+            ball,
+            (Vec3::ZERO, Vec3::Z),
+            (4.5, INF),
+            E::Hit,
+        ),
+        s(
+            "sphere-beyond-t-max",
+            EQUATION_2,
+            "from the origin along +z with t_max = 3.9: both roots (4 and 6) are beyond it: \
+             expected no hit",
+            ball,
+            (Vec3::ZERO, Vec3::Z),
+            (0.0, 3.9),
+            E::Miss,
+        ),
+        s(
+            "sphere-inside-heading-back",
+            EQUATION_2,
+            "from (0, 0, 4.5), inside, along -z: roots 0.5 and -1.5; expected t = 0.5",
+            ball,
+            (v(0.0, 0.0, 4.5), -Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-inside-slanted",
+            EQUATION_2,
+            "from the origin along (1, 1, 0), inside the sphere of radius 5 at (3, 0, 0): \
+             t^2 - 3t - 8 = 0, so t = (3 + sqrt(41)) / 2 = 4.7016",
+            (v(3.0, 0.0, 0.0), 5.0),
+            (Vec3::ZERO, v(1.0, 1.0, 0.0)),
+            ALL,
+            E::Hit,
+        ),
+    ]
+}
+
+pub fn chapter_2_robustness() -> Vec<Case> {
+    let s = |name, says, sphere: (Vec3, f32), ray, range, expect| {
+        sphere_case(name, ROOTS_2, says, sphere.0, sphere.1, ray, range, expect)
+    };
+    let tiny_far = (v(0.0, 0.0, 10.0), 1e-3);
+    let unit_at_5 = (v(0.0, 0.0, 5.0), 1.0);
+    let unit = (Vec3::ZERO, 1.0);
+    robust(vec![
+        s(
+            "sphere-tiny-far-central",
+            "a sphere of radius 1e-3 at (0, 0, 10), 1e4 radii away, central ray: b^2 - 4ac \
+             cancels 8 digits (t = 9.999)",
+            tiny_far,
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-tiny-far-half",
+            "the same tiny far sphere, ray half a radius off centre",
+            tiny_far,
+            (Vec3::ZERO, v(5e-4, 0.0, 10.0)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-tiny-far-grazing",
+            "the same tiny far sphere, ray 0.9 radius off centre (grazing)",
+            tiny_far,
+            (Vec3::ZERO, v(9e-4, 0.0, 10.0)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-tiny-far-miss",
+            "the same tiny far sphere, ray 1.1 radius off centre: no hit",
+            tiny_far,
+            (Vec3::ZERO, v(1.1e-3, 0.0, 10.0)),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-far-away",
+            "a unit sphere 1e5 away (t = 99999)",
+            (v(0.0, 0.0, 1e5), 1.0),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-origin-on-surface-in",
+            "origin exactly on the surface at (1, 0, 0), heading in: roots 0 and 2, \
+             expected t = 2 (not a tiny rounding root)",
+            unit,
+            (v(1.0, 0.0, 0.0), -Vec3::X),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-origin-on-surface-out",
+            "origin exactly on the surface at (1, 0, 0), heading out: roots -2 and 0: no hit",
+            unit,
+            (v(1.0, 0.0, 0.0), Vec3::X),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-inside-near-surface",
+            "origin inside, 1e-3 from the surface, heading out: t = 0.001",
+            unit,
+            (v(0.0, 0.0, 0.999), Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-tangent",
+            "an exactly tangent ray from (1, 0, 0) along +z: rounding decides, a hit must lie on the surface",
+            unit_at_5,
+            (v(1.0, 0.0, 0.0), Vec3::Z),
+            ALL,
+            E::Either,
+        ),
+        s(
+            "sphere-near-tangent-inside",
+            "a ray 1e-4 of the radius inside the tangent: a hit, t = 4.986",
+            unit_at_5,
+            (v(0.9999, 0.0, 0.0), Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-near-tangent-outside",
+            "a ray 1e-4 of the radius outside the tangent: no hit",
+            unit_at_5,
+            (v(1.0001, 0.0, 0.0), Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-direction-1e-21",
+            "a direction of length 1e-21: dot(dir, dir) = 1e-42 underflows (t = 4e21)",
+            unit_at_5,
+            (Vec3::ZERO, v(0.0, 0.0, 1e-21)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-direction-1e20",
+            "a direction of length 1e20: dot(dir, dir) = 1e40 overflows f32 (t = 4e-20)",
+            unit_at_5,
+            (Vec3::ZERO, v(0.0, 0.0, 1e20)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-millions",
+            "a sphere of radius 1e3 at coordinates in the millions",
+            (v(1e6, -2e6, 3e6), 1e3),
+            (v(1e6, -2e6, 2.9e6), Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-huge-floor",
+            "a huge sphere used as a floor (radius 1e5), seen from 1.5 above at a 10 degree slope",
+            (v(0.0, -1e5, 0.0), 1e5),
+            (v(0.0, 1.5, -6.0), v(0.0, -0.173_648_18, 0.984_807_7)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-coordinates-1e20",
+            "coordinates near 1e20: dot(oc, oc) = 1e40 overflows (t = 9e19)",
+            (v(0.0, 0.0, 1e20), 1e19),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-nan-origin",
+            "a NaN in the origin: no hit",
+            unit_at_5,
+            (v(f32::NAN, 0.0, 0.0), Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-zero-direction",
+            "a zero direction: no hit",
+            unit_at_5,
+            (Vec3::ZERO, Vec3::ZERO),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-infinite-radius",
+            "an infinite radius: no hit",
+            (v(0.0, 0.0, 5.0), INF),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-nan-t-max",
+            "t_max = NaN: no hit",
+            unit_at_5,
+            (Vec3::ZERO, Vec3::Z),
+            (0.0, f32::NAN),
+            E::Miss,
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 3: the nearest hit.
+
+const NEAREST_3: &str = "The fix: `nearest_hit`";
+
+fn nearest(
+    name: &'static str,
+    says: &str,
+    shapes: Vec<Shape>,
+    ray: (Vec3, Vec3),
+    range: (f32, f32),
+    expect: Option<(usize, f64)>,
+) -> Case {
+    Case::new(
+        name,
+        NEAREST_3,
+        says,
+        CaseKind::Nearest {
+            shapes,
+            ray: Ray::new(ray.0, ray.1),
+            t_min: range.0,
+            t_max: range.1,
+            expect,
+        },
+    )
+}
+
+pub fn chapter_3() -> Vec<Case> {
+    let three = || -> Vec<Shape> {
+        vec![
+            Plane::new(v(0.0, 0.0, 10.0), Vec3::Z).into(),
+            Sphere::new(v(0.0, 0.0, 6.0), 1.0).into(),
+            Sphere::new(v(0.0, 0.0, 3.0), 1.0).into(),
+        ]
+    };
+    let axis = (Vec3::ZERO, Vec3::Z);
+    vec![
+        nearest(
+            "nearest-of-three",
+            "a wall z = 10 (object 0), a unit sphere at z = 6 (object 1) and one at z = 3 \
+             (object 2), listed far to near; a ray from the origin along +z: expected object 2 at t = 2",
+            three(),
+            axis,
+            ALL,
+            Some((2, 2.0)),
+        ),
+        nearest(
+            "nearest-listed-first",
+            "a unit sphere at z = 3 (object 0) before a wall z = 10 (object 1): expected object 0 at t = 2",
+            vec![
+                Sphere::new(v(0.0, 0.0, 3.0), 1.0).into(),
+                Plane::new(v(0.0, 0.0, 10.0), Vec3::Z).into(),
+            ],
+            axis,
+            ALL,
+            Some((0, 2.0)),
+        ),
+        nearest(
+            "nearest-t-min",
+            "the three objects with t_min = 4.5: the sphere at z = 3 ends at t = 4, so the next \
+             hit is object 1 at t = 5",
+            three(),
+            axis,
+            (4.5, INF),
+            Some((1, 5.0)),
+        ),
+        nearest(
+            "nearest-t-max",
+            "the three objects with t_max = 1.5: nothing that close: expected no hit",
+            three(),
+            axis,
+            (0.0, 1.5),
+            None,
+        ),
+        nearest(
+            "nearest-empty",
+            "an empty list of objects: expected no hit",
+            Vec::new(),
+            axis,
+            ALL,
+            None,
+        ),
+        nearest(
+            "nearest-all-behind",
+            "the three objects, ray along -z: all behind: expected no hit",
+            three(),
+            (Vec3::ZERO, -Vec3::Z),
+            ALL,
+            None,
+        ),
+    ]
+}
+
+pub fn chapter_3_robustness() -> Vec<Case> {
+    // 100 spheres of radius 0.25 along +z, listed far to near.
+    let row: Vec<Shape> = (1..=100)
+        .rev()
+        .map(|z| Sphere::new(v(0.0, 0.0, z as f32), 0.25).into())
+        .collect();
+    robust(vec![
+        nearest(
+            "nearest-hundred-reversed",
+            "100 spheres of radius 0.25 at z = 100, 99, ..., 1 (that order): expected the last \
+             listed, object 99, at t = 0.75",
+            row,
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            Some((99, 0.75)),
+        ),
+        nearest(
+            "nearest-nested",
+            "a sphere of radius 2 at (0, 0, 5) around one of radius 1 at (0, 0, 5.5), inner \
+             listed first: from the origin the outer is met first, object 1 at t = 3",
+            vec![
+                Sphere::new(v(0.0, 0.0, 5.5), 1.0).into(),
+                Sphere::new(v(0.0, 0.0, 5.0), 2.0).into(),
+            ],
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            Some((1, 3.0)),
+        ),
+        nearest(
+            "nearest-nan-t-max",
+            "t_max = NaN: expected no hit",
+            vec![Sphere::new(v(0.0, 0.0, 3.0), 1.0).into()],
+            (Vec3::ZERO, Vec3::Z),
+            (0.0, f32::NAN),
+            None,
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 4: shadows.
+
+const SHADOW_RAYS_4: &str = "Shadow rays";
+const WHERE_4: &str = "Where a shadow ray starts";
+const OFFSET_4: &str = "The error-scaled offset";
+
+/// A floor (object 0) and a unit ball resting on it (object 1).
+fn floor_and_ball(lights: &str) -> String {
+    format!(
+        r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 2.0, -6.0]
+look_at = [0.0, 0.0, 0.0]
+{lights}
+[[objects]]
+name = "floor"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = {{ color = [0.5, 0.5, 0.5], ambient = 0.2, diffuse = 0.6, specular = 0.5, shininess = 8 }}
+[[objects]]
+name = "ball"
+sphere = {{ center = [0.0, 1.0, 0.0], radius = 1.0 }}
+material = {{ color = [0.8, 0.2, 0.2], ambient = 0.2, diffuse = 0.6 }}
+"#
+    )
+}
+
+const LIGHT_ABOVE: &str = "[[lights]]\nposition = [0.0, 10.0, 0.0]\n";
+const TWO_LIGHTS: &str = "[[lights]]\nposition = [0.0, 10.0, 0.0]\n\
+                          [[lights]]\nposition = [10.0, 0.5, 0.0]\nintensity = 0.5\n";
+
+/// Rays from `light` to a grid of 64 points of the ball (`center`,
+/// `radius`) that face it: every point they reach sees the light.
+fn rays_from_light(light: Vec3, center: Vec3, radius: f32) -> Vec<Ray> {
+    let toward = (center - light).normalize();
+    let side = toward.cross(Vec3::Y).normalize();
+    let up = side.cross(toward);
+    let mut rays = Vec::new();
+    for i in 0..8 {
+        for j in 0..8 {
+            let (a, b) = ((i as f32 - 3.5) / 5.0, (j as f32 - 3.5) / 5.0);
+            let target = center + radius * (a * side + b * up);
+            rays.push(Ray::new(light, target - light));
+        }
+    }
+    rays
+}
+
+fn surface(shape: Shape, origin: Vec3, toward: Vec3) -> crate::SurfacePoint {
+    let ray = Ray::new(origin, toward - origin);
+    let t = shape.intersect(&ray, 0.0, INF).unwrap_or(1.0);
+    shape.surface_point(&ray, t)
+}
+
+pub fn chapter_4() -> Vec<Case> {
+    let floor: Shape = Plane::new(Vec3::ZERO, Vec3::Y).into();
+    let ball: Shape = Sphere::new(v(0.0, 1.0, 0.0), 1.0).into();
+    let floor_point = surface(floor, v(0.5, 4.0, 0.0), v(0.5, 0.0, 2.0));
+    let ball_top = surface(ball, v(0.3, 5.0, 0.2), v(0.0, 1.0, 0.0));
+    let offset = |name, section, says, surface, dir| {
+        Case::new(
+            name,
+            section,
+            says,
+            CaseKind::Offset {
+                surface,
+                dir,
+                at_most: 1e-2,
+            },
+        )
+    };
+    let shadow = |name, says, rays: Vec<Ray>, light, expect, lights: &str| {
+        Case::new(
+            name,
+            SHADOW_RAYS_4,
+            says,
+            CaseKind::Shadow {
+                scene: floor_and_ball(lights),
+                object: if rays.len() > 1 { 1 } else { 0 },
+                rays,
+                light,
+                expect,
+            },
+        )
+    };
+    let flat = |name, says, ray: (Vec3, Vec3), lights: &str| {
+        Case::new(
+            name,
+            SHADOW_RAYS_4,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Flat,
+                scene: floor_and_ball(lights),
+                ray: Ray::new(ray.0, ray.1),
+                depth: 0,
+            },
+        )
+    };
+    // A slanted ray that reaches the floor point (0.2, 0, 0), next to where
+    // the ball touches the floor, without touching the ball.
+    let under_ball = (v(5.0, 0.5, 0.0), v(-4.8, -0.5, 0.0));
+    let beside_ball = (v(3.0, 5.0, 0.0), -Vec3::Y);
+    let light_above = v(0.0, 10.0, 0.0);
+    vec![
+        offset(
+            "offset-floor-up",
+            WHERE_4,
+            format!(
+                "a shadow ray leaving the floor point {} upward, along (0.3, 1, 0.2), must start \
+                 above the floor by at least the point's error bound dot(|n|, error), and by \
+                 less than 0.01",
+                vec(floor_point.point)
+            ),
+            floor_point,
+            v(0.3, 1.0, 0.2),
+        ),
+        offset(
+            "offset-floor-down",
+            WHERE_4,
+            "the same floor point, a ray leaving downward along (0.3, -1, 0) (through the \
+             surface, as a refracted ray does): it must start below the floor"
+                .to_string(),
+            floor_point,
+            v(0.3, -1.0, 0.0),
+        ),
+        offset(
+            "offset-ball-out",
+            WHERE_4,
+            format!(
+                "a ray leaving the top of the unit ball at {} upward must start outside the ball",
+                vec(ball_top.point)
+            ),
+            ball_top,
+            v(0.2, 1.0, 0.0),
+        ),
+        offset(
+            "offset-ball-in",
+            WHERE_4,
+            "the same point of the ball, a ray going into it: it must start inside".to_string(),
+            ball_top,
+            v(0.1, -1.0, 0.3),
+        ),
+        shadow(
+            "shadow-under-ball",
+            "the floor point (0.2, 0, 0), next to where the unit ball at (0, 1, 0) touches the \
+             floor, with a light straight above at (0, 10, 0): the ball is between them, \
+             expected in shadow",
+            vec![Ray::new(under_ball.0, under_ball.1)],
+            light_above,
+            true,
+            LIGHT_ABOVE,
+        ),
+        shadow(
+            "shadow-beside-ball",
+            "the floor point (3, 0, 0), light at (0, 10, 0): nothing between them, expected lit",
+            vec![Ray::new(beside_ball.0, beside_ball.1)],
+            light_above,
+            false,
+            LIGHT_ABOVE,
+        ),
+        shadow(
+            "shadow-blocker-beyond-light",
+            "the floor point (3, 0, 0), light at (2, 0.5, 0): the ball lies on the same line but \
+             beyond the light (t > 1 on a shadow ray from the point to the light), expected lit",
+            vec![Ray::new(beside_ball.0, beside_ball.1)],
+            v(2.0, 0.5, 0.0),
+            false,
+            LIGHT_ABOVE,
+        ),
+        shadow(
+            "shadow-no-acne",
+            "64 rays from the light at (-4, 6, -3) to the unit ball at (0, 1, 0): every point they \
+             reach sees the light, so none may be in shadow (a shadow ray must not hit the \
+             surface it leaves: shadow acne)",
+            rays_from_light(v(-4.0, 6.0, -3.0), v(0.0, 1.0, 0.0), 1.0),
+            v(-4.0, 6.0, -3.0),
+            false,
+            LIGHT_ABOVE,
+        ),
+        flat(
+            "flat-lit",
+            "the floor point (3, 0, 0) (albedo 0.5, k_a = 0.2, k_d = 0.6, white ambient light), \
+             lit by the light at (0, 10, 0): expected 0.2 * 0.5 + 0.6 * 0.5 = 0.4 in each channel",
+            beside_ball,
+            LIGHT_ABOVE,
+        ),
+        flat(
+            "flat-shadowed",
+            "the floor point (0.2, 0, 0) under the ball, light at (0, 10, 0): only ambient, \
+             expected 0.2 * 0.5 = 0.1",
+            under_ball,
+            LIGHT_ABOVE,
+        ),
+        flat(
+            "flat-two-lights",
+            "the floor point (0.2, 0, 0), the light above hidden by the ball, a second light of \
+             intensity 0.5 low on the right at (10, 0.5, 0) reaching it: expected \
+             0.1 + 0.6 * 0.5 * 0.5 = 0.25",
+            under_ball,
+            TWO_LIGHTS,
+        ),
+        flat(
+            "flat-light-below",
+            "the floor point (3, 0, 0) seen from above, light below the floor at (0, -5, 0): it \
+             lights the other side only, expected 0.1",
+            beside_ball,
+            "[[lights]]\nposition = [0.0, -5.0, 0.0]\n",
+        ),
+    ]
+}
+
+pub fn chapter_4_robustness() -> Vec<Case> {
+    let far_ball: Shape = Sphere::new(v(1e4, 1.0, 1e4), 1.0).into();
+    let side = surface(
+        far_ball,
+        v(1e4 - 5.0, 1.0, 1e4 + 0.3),
+        v(1e4, 1.0, 1e4 + 0.3),
+    );
+    let small: Shape = Sphere::new(v(0.1, 0.1, 0.1), 0.01).into();
+    let small_point = surface(small, v(0.1, 0.5, 0.1), v(0.1, 0.1, 0.1));
+    let ball: Shape = Sphere::new(v(0.0, 1.0, 0.0), 1.0).into();
+    let ball_side = surface(ball, v(-5.0, 1.0, 0.0), v(0.0, 1.0, 0.0));
+    let offset = |name, says: &str, surface, dir| {
+        Case::new(
+            name,
+            OFFSET_4,
+            says,
+            CaseKind::Offset {
+                surface,
+                dir,
+                at_most: 0.0,
+            },
+        )
+    };
+    let far_scene = r#"
+[camera]
+position = [9990.0, 5.0, 9990.0]
+look_at = [10000.0, 1.0, 10000.0]
+[[lights]]
+position = [9996.0, 6.0, 9997.0]
+[[objects]]
+sphere = { center = [10000.0, 1.0, 10000.0], radius = 1.0 }
+"#;
+    robust(vec![
+        offset(
+            "offset-far-ball",
+            "the side of a unit ball at (1e4, 1, 1e4): its point's error bound is about 5e-3, \
+             so a fixed push of 1e-4 leaves the origin where rounding can put it inside",
+            side,
+            v(-1.0, 0.5, 0.0),
+        ),
+        offset(
+            "offset-grazing",
+            "a ray leaving the side of the unit ball at (0, 1, 0) almost along the surface \
+             (dot(dir, n) = 1e-3): pushing along dir barely moves it off the surface",
+            ball_side,
+            v(-1e-3, 1.0, 0.0),
+        ),
+        offset(
+            "offset-small-ball",
+            "a ball of radius 0.01 at (0.1, 0.1, 0.1): its error bound is 5e-8, and a push of \
+             more than 16 error bounds detaches shadows from small objects",
+            small_point,
+            v(0.0, 1.0, 0.0),
+        ),
+        Case::new(
+            "shadow-no-acne-far",
+            SHADOW_RAYS_4,
+            "64 rays from the light at (9996, 6, 9997) to a unit ball at (1e4, 1, 1e4): every \
+             point they reach sees the light, none may be in shadow",
+            CaseKind::Shadow {
+                scene: far_scene.to_string(),
+                object: 0,
+                rays: rays_from_light(v(9996.0, 6.0, 9997.0), v(1e4, 1.0, 1e4), 1.0),
+                light: v(9996.0, 6.0, 9997.0),
+                expect: false,
+            },
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 5: Phong.
+
+const TERMS_5: &str = "The three terms";
+
+#[allow(clippy::too_many_arguments)]
+fn phong(
+    name: &'static str,
+    says: &str,
+    material: (f32, f32, u32),
+    albedo: Vec3,
+    normal: Vec3,
+    to_light: Vec3,
+    to_eye: Vec3,
+    light: Vec3,
+    expect: (Vec3, Vec3),
+) -> Case {
+    Case::new(
+        name,
+        TERMS_5,
+        says,
+        CaseKind::PhongTerms {
+            material: Material {
+                diffuse: material.0,
+                specular: material.1,
+                shininess: material.2,
+                ..Material::default()
+            },
+            albedo,
+            normal,
+            to_light,
+            to_eye,
+            light,
+            expect: PhongTerms {
+                diffuse: expect.0,
+                specular: expect.1,
+            },
+        },
+    )
+}
+
+pub fn chapter_5() -> Vec<Case> {
+    let half_sqrt3 = 3f32.sqrt() / 2.0;
+    let mirror = v(1.0, 1.0, 0.0).normalize();
+    let off_mirror = v(0.5, half_sqrt3, 0.0);
+    let cos15 = f64::from(mirror.dot(off_mirror));
+    let shade = |name, says, ray: (Vec3, Vec3), lights: &str| {
+        Case::new(
+            name,
+            TERMS_5,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Phong,
+                scene: floor_and_ball(lights),
+                ray: Ray::new(ray.0, ray.1),
+                depth: 0,
+            },
+        )
+    };
+    vec![
+        phong(
+            "phong-diffuse-cosine",
+            "a light 60 degrees from the normal (0, 1, 0), to_light = (0.866, 0.5, 0), white, \
+             albedo (1, 0.5, 0.25), k_d = 0.8: diffuse = albedo * k_d * cos 60 = (0.4, 0.2, 0.1), \
+             no specular (k_s = 0)",
+            (0.8, 0.0, 1),
+            v(1.0, 0.5, 0.25),
+            Vec3::Y,
+            v(half_sqrt3, 0.5, 0.0),
+            Vec3::Y,
+            Vec3::ONE,
+            (v(0.4, 0.2, 0.1), Vec3::ZERO),
+        ),
+        phong(
+            "phong-specular-peak",
+            "light from (-1, 1, 0)/sqrt 2, eye exactly in the mirror direction (1, 1, 0)/sqrt 2, \
+             k_s = 0.5, shininess 10: specular = 0.5 * 1^10 = 0.5 (k_d = 0: no diffuse)",
+            (0.0, 0.5, 10),
+            Vec3::ONE,
+            Vec3::Y,
+            v(-1.0, 1.0, 0.0).normalize(),
+            mirror,
+            Vec3::ONE,
+            (Vec3::ZERO, Vec3::splat(0.5)),
+        ),
+        phong(
+            "phong-specular-off-peak",
+            "the same light, eye 15 degrees off the mirror direction at (0.5, 0.866, 0): \
+             specular = 0.5 * cos(15)^10 = 0.3535",
+            (0.0, 0.5, 10),
+            Vec3::ONE,
+            Vec3::Y,
+            v(-1.0, 1.0, 0.0).normalize(),
+            off_mirror,
+            Vec3::ONE,
+            (Vec3::ZERO, Vec3::splat((0.5 * cos15.powi(10)) as f32)),
+        ),
+        phong(
+            "phong-light-behind",
+            "a light behind the surface (to_light = (0, -1, 0), normal (0, 1, 0)): both terms 0",
+            (1.0, 1.0, 8),
+            Vec3::ONE,
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::Y,
+            Vec3::ONE,
+            (Vec3::ZERO, Vec3::ZERO),
+        ),
+        phong(
+            "phong-highlight-untinted",
+            "a red surface (albedo (1, 0, 0), k_d = 0.5, k_s = 0.5, shininess 1) lit and seen \
+             along its normal by a light (1, 0.9, 0.7): diffuse (0.5, 0, 0); the highlight has \
+             the light's colour, not the albedo's: specular (0.5, 0.45, 0.35)",
+            (0.5, 0.5, 1),
+            v(1.0, 0.0, 0.0),
+            Vec3::Y,
+            Vec3::Y,
+            Vec3::Y,
+            v(1.0, 0.9, 0.7),
+            (v(0.5, 0.0, 0.0), v(0.5, 0.45, 0.35)),
+        ),
+        shade(
+            "phong-sum-lit",
+            "the floor point (3, 0, 0) (albedo 0.5, k_a = 0.2, k_d = 0.6, k_s = 0.5, shininess 8) \
+             lit from (0, 10, 0), seen from straight above: cos i = 10 / sqrt(109) = 0.958, so \
+             diffuse 0.1 + 0.6 * 0.5 * 0.958 = 0.3873, and the mirrored light makes the same \
+             angle with the eye: specular 0.5 * 0.958^8 = 0.354",
+            (v(3.0, 5.0, 0.0), -Vec3::Y),
+            LIGHT_ABOVE,
+        ),
+        shade(
+            "phong-sum-one-hidden",
+            "the floor point (0.2, 0, 0) under the ball: the light above is hidden, the light of \
+             intensity 0.5 at (10, 0.5, 0) is not: diffuse 0.1 + 0.6 * 0.5 * 0.5 * 0.05095 = 0.1076",
+            (v(5.0, 0.5, 0.0), v(-4.8, -0.5, 0.0)),
+            TWO_LIGHTS,
+        ),
+    ]
+}
+
+pub fn chapter_5_robustness() -> Vec<Case> {
+    robust(vec![phong(
+        "phong-grazing-light",
+        "a light grazing the surface, cos i = 1e-7: tiny but not negative, never NaN",
+        (1.0, 0.0, 8),
+        Vec3::ONE,
+        Vec3::Y,
+        v(1.0, 1e-7, 0.0),
+        Vec3::Y,
+        Vec3::ONE,
+        (Vec3::splat(1e-7), Vec3::ZERO),
+    )])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 6: reflection.
+
+const FORMULA_6: &str = "The reflection formula";
+const RECURSION_6: &str = "The recursion";
+
+fn reflect_case(name: &'static str, section: &'static str, says: &str, d: Vec3, n: Vec3) -> Case {
+    Case::new(name, section, says, CaseKind::Reflect { d, n })
+}
+
+/// A mirror floor (object 0, k_r = 0.5, grey 0.4 lit by ambient light only)
+/// and a red ball above it; no lights.
+const MIRROR_SCENE: &str = r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[objects]]
+name = "mirror floor"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }
+[[objects]]
+name = "red ball"
+sphere = { center = [0.0, 1.0, 4.0], radius = 1.0 }
+material = { color = [0.9, 0.1, 0.1], ambient = 1.0, diffuse = 0.0 }
+"#;
+
+pub fn chapter_6() -> Vec<Case> {
+    let mirror = |name, says, ray: (Vec3, Vec3), depth| {
+        Case::new(
+            name,
+            RECURSION_6,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Mirror,
+                scene: MIRROR_SCENE.to_string(),
+                ray: Ray::new(ray.0, ray.1),
+                depth,
+            },
+        )
+    };
+    vec![
+        reflect_case(
+            "reflect-floor",
+            FORMULA_6,
+            "(1, -1, 0) bouncing off a floor with normal (0, 1, 0) leaves along (1, 1, 0)",
+            v(1.0, -1.0, 0.0),
+            Vec3::Y,
+        ),
+        reflect_case(
+            "reflect-normal-length",
+            FORMULA_6,
+            "the normal's length does not matter: (1, -2, 3) off a normal (0, 7, 0) gives (1, 2, 3)",
+            v(1.0, -2.0, 3.0),
+            v(0.0, 7.0, 0.0),
+        ),
+        reflect_case(
+            "reflect-normal-flipped",
+            FORMULA_6,
+            "nor its orientation: (1, -2, 3) off a normal (0, -0.25, 0) gives (1, 2, 3)",
+            v(1.0, -2.0, 3.0),
+            v(0.0, -0.25, 0.0),
+        ),
+        reflect_case(
+            "reflect-normal-incidence",
+            FORMULA_6,
+            "straight at a wall: (0, 0, -2) off a normal (0, 0, 1) comes back as (0, 0, 2), \
+             the same length",
+            v(0.0, 0.0, -2.0),
+            Vec3::Z,
+        ),
+        reflect_case(
+            "reflect-45-mirror",
+            FORMULA_6,
+            "a mirror at 45 degrees (normal (-1, 1, 0)) turns +x into +y",
+            Vec3::X,
+            v(-1.0, 1.0, 0.0),
+        ),
+        mirror(
+            "mirror-sees-sky",
+            "a ray from (0, 1, -5) along (0, -1, 1) meets the mirror floor (k_r = 0.5, own colour \
+             0.4) at (0, 0, -4) and is reflected to the sky (0.55, 0.7, 0.9): expected \
+             (1 - 0.5) * 0.4 + 0.5 * sky = (0.475, 0.55, 0.65)",
+            (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
+            0,
+        ),
+        mirror(
+            "mirror-sees-ball",
+            "a ray from (0, 1, 1) along (0, -1, 1.5) meets the mirror floor at (0, 0, 2.5) and is \
+             reflected into the red ball (0.9, 0.1, 0.1): expected 0.2 + 0.5 * ball = (0.65, 0.25, 0.25)",
+            (v(0.0, 1.0, 1.0), v(0.0, -1.0, 1.5)),
+            0,
+        ),
+        mirror(
+            "mirror-depth-limit",
+            "the sky case at depth 5 = max_depth: no more bounces, only the local share \
+             (1 - 0.5) * 0.4 = 0.2",
+            (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
+            5,
+        ),
+    ]
+}
+
+pub fn chapter_6_robustness() -> Vec<Case> {
+    let r = |name, says, d, n| reflect_case(name, FORMULA_6, says, d, n);
+    robust(vec![
+        r(
+            "reflect-huge-direction",
+            "a direction (3e38, -3e38, 0) near f32::MAX: 2 (d.n) overflows, the answer (3e38, 3e38, 0) does not",
+            v(3e38, -3e38, 0.0),
+            Vec3::Y,
+        ),
+        r(
+            "reflect-tiny-normal",
+            "a normal of length 1e-30: n.n underflows to 0",
+            v(1.0, -1.0, 0.5),
+            v(0.0, 1e-30, 1e-30),
+        ),
+        r(
+            "reflect-huge-normal",
+            "a normal of length 1e30: n.n overflows",
+            v(1.0, -1.0, 0.5),
+            v(1e30, 1e30, 0.0),
+        ),
+        r(
+            "reflect-tiny-direction",
+            "a direction of length 1e-20 keeps its length",
+            v(1e-20, -2e-20, 3e-20),
+            v(0.2, 0.9, -0.4),
+        ),
+        r(
+            "reflect-awkward-normal",
+            "a slanted normal with awkward components",
+            v(0.1, 0.7, -0.3),
+            v(0.577, -0.123, 0.808),
+        ),
+        r(
+            "reflect-zero-normal",
+            "a zero normal: NaN, not a plausible direction",
+            Vec3::X,
+            Vec3::ZERO,
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 7: anti-aliasing.
+
+const SAMPLES_7: &str = "Where the samples go";
+
+/// A wall of white and black checkers of size 1 whose corner is on the
+/// camera's axis, seen in 3 x 3 pixels: the middle pixel's four quarters see
+/// white, black, black, white. Ambient light only, `k_a = 1`: each sample is
+/// exactly 1 or 0.
+const QUARTERS_SCENE: &str = r#"
+background = [1.0, 1.0, 1.0]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 0.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 45.0
+[render]
+width = 3
+height = 3
+samples = 4
+sampling = "grid"
+[[objects]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, -1.0] }
+[objects.material]
+color = [1.0, 1.0, 1.0]
+ambient = 1.0
+diffuse = 0.0
+checker = { color = [0.0, 0.0, 0.0], size = 1.0 }
+"#;
+
+fn samples_case(
+    name: &'static str,
+    says: &str,
+    sampling: Sampling,
+    count: u32,
+    pixels: Vec<(u32, u32)>,
+    seed: u64,
+    rule: SampleRule,
+) -> Case {
+    Case::new(
+        name,
+        SAMPLES_7,
+        says,
+        CaseKind::SampleOffsets {
+            sampling,
+            count,
+            pixels,
+            seed,
+            rule,
+        },
+    )
+}
+
+/// Chapter 7's own scene at the reference size: what `pixel_color` is
+/// checked on, pixel by pixel, along three rows that cross edges.
+fn chapter_7_scene() -> String {
+    crate::stage::chapter(7)
+        .map(|info| {
+            info.scene
+                .replace(
+                    "width = 640",
+                    &format!("width = {}", crate::stage::REFERENCE_WIDTH),
+                )
+                .replace(
+                    "height = 480",
+                    &format!("height = {}", crate::stage::REFERENCE_HEIGHT),
+                )
+        })
+        .unwrap_or_default()
+}
+
+pub fn chapter_7() -> Vec<Case> {
+    let rows: Vec<(u32, u32)> = [44u32, 60, 84]
+        .iter()
+        .flat_map(|&y| (0..crate::stage::REFERENCE_WIDTH).map(move |x| (x, y)))
+        .collect();
+    vec![
+        samples_case(
+            "samples-grid-4",
+            "4 grid samples in pixel (3, 7): the centres of its quarters, (0.25, 0.25), \
+             (0.75, 0.25), (0.25, 0.75) and (0.75, 0.75), in any order",
+            Sampling::Grid,
+            4,
+            vec![(3, 7)],
+            1,
+            SampleRule::GridCentres,
+        ),
+        samples_case(
+            "samples-grid-9",
+            "9 grid samples: the centres of a 3 x 3 grid of cells, (1/6, 1/6) to (5/6, 5/6)",
+            Sampling::Grid,
+            9,
+            vec![(0, 0), (5, 2)],
+            0,
+            SampleRule::GridCentres,
+        ),
+        samples_case(
+            "samples-jittered-16",
+            "16 jittered samples in pixels (10, 20), (0, 0) and (159, 119), seed 42: one in each \
+             cell of a 4 x 4 grid, all inside [0, 1)^2",
+            Sampling::Jittered,
+            16,
+            vec![(10, 20), (0, 0), (159, 119)],
+            42,
+            SampleRule::OnePerCell,
+        ),
+        samples_case(
+            "samples-random-4",
+            "4 random samples: inside [0, 1)^2, not all at the same point",
+            Sampling::Random,
+            4,
+            vec![(5, 6), (100, 50)],
+            9,
+            SampleRule::InsidePixel,
+        ),
+        Case::new(
+            "pixel-quarters",
+            SAMPLES_7,
+            "the middle pixel of a 3 x 3 view of a black and white checker whose corner is on the \
+             axis: its four grid samples see 1, 0, 0, 1; expected their mean in linear light, 0.5 \
+             (averaging sRGB codes instead gives 0.21)",
+            CaseKind::PixelColor {
+                scene: QUARTERS_SCENE.to_string(),
+                pixels: vec![(1, 1)],
+            },
+        ),
+        Case::new(
+            "pixel-mean-of-own-samples",
+            SAMPLES_7,
+            "every pixel of rows 44, 60 and 84 of the chapter 7 scene at 160 x 120 (they cross \
+             the balls' edges): expected the mean, in linear light, of the pixel's own 4 samples, \
+             at the offsets sample_offset gives; nothing from neighbouring pixels",
+            CaseKind::PixelColor {
+                scene: chapter_7_scene(),
+                pixels: rows,
+            },
+        ),
+    ]
+}
+
+pub fn chapter_7_robustness() -> Vec<Case> {
+    let mut pixels: Vec<(u32, u32)> = (0..20_000).map(|x| (x, 3)).collect();
+    pixels.push((109_417, 17));
+    robust(vec![
+        samples_case(
+            "samples-jittered-never-1",
+            "4 jittered samples in each of 20,000 pixels: (column + r) / 2 can round up to 1.0 \
+             in f32 (pixel (109417, 17), sample 1 does); every offset must stay below 1",
+            Sampling::Jittered,
+            4,
+            pixels.clone(),
+            0,
+            SampleRule::OnePerCell,
+        ),
+        samples_case(
+            "samples-random-never-1",
+            "4 random samples in each of 20,000 pixels: every offset inside [0, 1)^2",
+            Sampling::Random,
+            4,
+            pixels,
+            0,
+            SampleRule::InsidePixel,
+        ),
+    ])
+}
+
+// ---------------------------------------------------------------------------
+// Chapter 8: refraction.
+
+const SNELL_8: &str = "Snell-Descartes";
+const TIR_8: &str = "Total internal reflection";
+const ENTERING_8: &str = "Entering and leaving";
+
+fn refract_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    d: Vec3,
+    n: Vec3,
+    eta: f32,
+) -> Case {
+    Case::new(name, section, says, CaseKind::Refract { d, n, eta })
+}
+
+/// Incident direction at `degrees` from the normal +y, travelling down.
+fn at_angle(degrees: f64) -> Vec3 {
+    let a = degrees.to_radians();
+    Vec3::new(a.sin() as f32, -a.cos() as f32, 0.0)
+}
+
+/// A water surface y = 0 (object 0: k_t = 0.9, k_r = 0.1, no light of its
+/// own, index 1.33) over a red and blue checkered floor y = -2 lit by
+/// ambient light only; no lights.
+const WATER_SCENE: &str = r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[objects]]
+name = "water surface"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, reflectivity = 0.1, transparency = 0.9, ior = 1.33 }
+[[objects]]
+name = "floor"
+plane = { point = [0.0, -2.0, 0.0], normal = [0.0, 1.0, 0.0] }
+[objects.material]
+color = [0.9, 0.1, 0.1]
+ambient = 1.0
+diffuse = 0.0
+checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
+"#;
+
+pub fn chapter_8() -> Vec<Case> {
+    let glass = 1.5f32;
+    let water = |name, section, says, ray: (Vec3, Vec3), depth| {
+        Case::new(
+            name,
+            section,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Glass,
+                scene: WATER_SCENE.to_string(),
+                ray: Ray::new(ray.0, ray.1),
+                depth,
+            },
+        )
+    };
+    vec![
+        refract_case(
+            "refract-normal-incidence",
+            SNELL_8,
+            "straight down into glass, (0, -2, 0) through a normal (0, 1, 0), eta = 1/1.5: \
+             straight on, as a unit vector (0, -1, 0)",
+            v(0.0, -2.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-air-to-glass-45",
+            SNELL_8,
+            "air to glass at 45 degrees, (1, -1, 0) through (0, 1, 0), eta = 1/1.5: \
+             sin t = sin 45 / 1.5 = 0.4714, so the unit direction (0.4714, -0.8819, 0)",
+            v(1.0, -1.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-glass-to-air",
+            SNELL_8,
+            "glass to air, (0.4, 0.9165, 0) through (0, 1, 0), eta = 1.5: sin i = 0.4, \
+             sin t = 0.6, so (0.6, 0.8, 0): away from the normal",
+            v(0.4, (1.0f32 - 0.16).sqrt(), 0.0),
+            Vec3::Y,
+            glass,
+        ),
+        refract_case(
+            "refract-normal-either-way",
+            SNELL_8,
+            "the 45 degree case with the normal given as (0, -3, 0): its length and side do not \
+             matter, expected (0.4714, -0.8819, 0)",
+            v(1.0, -1.0, 0.0),
+            v(0.0, -3.0, 0.0),
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-same-medium",
+            SNELL_8,
+            "eta = 1 (same medium on both sides): the ray goes straight on, as a unit vector",
+            v(0.3, -0.5, 0.8),
+            Vec3::Y,
+            1.0,
+        ),
+        refract_case(
+            "refract-total-internal-reflection",
+            TIR_8,
+            "glass to air at 60 degrees, past the critical angle asin(1/1.5) = 41.8 degrees: \
+             sin t would be 1.5 * 0.866 = 1.3 > 1, expected None",
+            at_angle(60.0),
+            Vec3::Y,
+            glass,
+        ),
+        water(
+            "glass-entering",
+            ENTERING_8,
+            "a ray from (0, 1, 0.7) along (1, -1, 0) enters water (index 1.33, k_t = 0.9, \
+             k_r = 0.1) at (1, 0, 0.7): entering, eta = 1/1.33, it bends toward the normal \
+             (sin t = 0.53) and meets the checkered floor y = -2 at x = 2.26; expected \
+             0.9 * that floor colour + 0.1 * the sky",
+            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
+            0,
+        ),
+        water(
+            "glass-total-internal-reflection",
+            TIR_8,
+            "an eye under water at (0, -1, 0.7) looking up along (1, 0.2, 0): leaving the water \
+             at 79 degrees from the normal, past the critical angle (48.8 degrees), nothing \
+             crosses; the transmitted share joins the reflected one: expected \
+             (0.1 + 0.9) * the floor colour at (15, -2, 0.7)",
+            (v(0.0, -1.0, 0.7), v(1.0, 0.2, 0.0)),
+            0,
+        ),
+        water(
+            "glass-depth-limit",
+            ENTERING_8,
+            "the entering ray at depth 5 = max_depth: no more rays, only the surface's own \
+             light, which is 0 here",
+            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
+            5,
+        ),
+    ]
+}
+
+pub fn chapter_8_robustness() -> Vec<Case> {
+    let glass = 1.5f32;
+    let water = 1.33f32;
+    let critical = (1.0 / 1.5f64).asin().to_degrees();
+    let r = |name, section, says, d, n, eta| refract_case(name, section, says, d, n, eta);
+    robust(vec![
+        r(
+            "refract-just-below-critical",
+            TIR_8,
+            "glass to air 0.01 degree below the critical angle: cos t = 0.01, the refracted ray \
+             exists and skims the surface",
+            at_angle(critical - 0.01),
+            Vec3::Y,
+            glass,
+        ),
+        r(
+            "refract-just-above-critical",
+            TIR_8,
+            "glass to air 0.01 degree above the critical angle: None",
+            at_angle(critical + 0.01),
+            Vec3::Y,
+            glass,
+        ),
+        r(
+            "refract-grazing",
+            SNELL_8,
+            "air to glass at 89.99 degrees: cos i = 1.7e-4",
+            at_angle(89.99),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-near-normal",
+            SNELL_8,
+            "near-normal incidence, 1e-4 degree: sin^2 i from 1 - cos^2 i would be noise",
+            at_angle(1e-4),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nested-media",
+            SNELL_8,
+            "glass into water at 40 degrees, eta = 1.5 / 1.33",
+            at_angle(40.0),
+            Vec3::Y,
+            glass / water,
+        ),
+        r(
+            "refract-unnormalised-input",
+            SNELL_8,
+            "air to glass at 45 degrees with d = (3, -3, 0) and n = (0, 0.25, 0)",
+            v(3.0, -3.0, 0.0),
+            v(0.0, 0.25, 0.0),
+            1.0 / glass,
+        ),
+        r(
+            "refract-zero-normal",
+            SNELL_8,
+            "a zero normal: None",
+            at_angle(30.0),
+            Vec3::ZERO,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nan-direction",
+            SNELL_8,
+            "a NaN direction: None",
+            v(f32::NAN, -1.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nan-eta",
+            SNELL_8,
+            "eta = NaN: None",
+            at_angle(30.0),
+            Vec3::Y,
+            f32::NAN,
+        ),
+        r(
+            "refract-zero-eta",
+            SNELL_8,
+            "eta = 0: None",
+            at_angle(30.0),
+            Vec3::Y,
+            0.0,
+        ),
+    ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_expected_hit_has_an_exact_value() {
+        for case in chapter_1()
+            .into_iter()
+            .chain(chapter_1_robustness())
+            .chain(chapter_2())
+            .chain(chapter_2_robustness())
+        {
+            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
+                if let ExpectT::Hit(t) = expect {
+                    assert!(t.is_finite(), "{}: the exact reference misses", case.name);
+                }
+            }
+        }
+    }
+}

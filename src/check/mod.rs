@@ -1,0 +1,814 @@
+//! `check`: the verdict on a student's chapters, chapter by chapter.
+//!
+//! For each chapter, three things, in this order:
+//!
+//! 1. **checkpoint cases** ([`cases::Case`], listed per chapter in the
+//!    registry [`crate::stage::CHAPTERS`]): questions to each function of the
+//!    chapter with numbers a student can work out by hand; the first failing
+//!    one is printed with its inputs, the expected and the actual answer, and
+//!    the lesson section that teaches it;
+//! 2. **the image**: the chapter's built-in scene rendered with the student's
+//!    chapters at the reference size, compared with the reference image
+//!    shipped inside raylab (never rendered by the code under check) by
+//!    `raylab diff`'s default rule: no pixel may differ by more than 2
+//!    levels. A student whose code is right differs from the reference only
+//!    by rounding, which changes a pixel by at most a level; every bug of the
+//!    gallery (tests/check.rs) changes hundreds. On failure the student's
+//!    image and a heatmap are written to [`CheckOptions::failures_dir`];
+//! 3. **robustness**, reported apart: the chapter's hard cases (grazing and
+//!    tangent rays, far and huge spheres, origins on surfaces, the critical
+//!    angle, NaN input). A correct textbook formula passes level 1 and is
+//!    "correct, not yet robust"; the stable one earns level 2.
+//!
+//! A function still written as `todo!()` makes its chapter "not started",
+//! never a backtrace; any other panic is a failure that quotes its message.
+//! Chapter N builds on chapters 1 to N-1: when one of them does not pass,
+//! the verdict says so.
+
+pub mod cases;
+pub mod catalog;
+pub mod exact;
+mod panics;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+pub use cases::{Case, CaseKind, Level, Outcome};
+pub use panics::Panic;
+
+use crate::Chapters;
+use crate::diff::{Criteria, Image, Metrics, compare};
+use crate::stage::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
+
+/// Exit status when every checked chapter passes.
+pub const EXIT_PASS: i32 = 0;
+/// Exit status when a chapter fails or is not started.
+pub const EXIT_FAIL: i32 = crate::cli::EXIT_FAILED_CHECK;
+/// Exit status when the check itself could not run.
+pub const EXIT_ERROR: i32 = crate::cli::EXIT_ERROR;
+
+/// How to check.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CheckOptions {
+    /// Where the student's image and the heatmap go when a chapter's image
+    /// fails (created when needed).
+    pub failures_dir: PathBuf,
+    /// Whether to write those images at all (the tests of raylab itself
+    /// turn it off).
+    pub write_images: bool,
+}
+
+impl Default for CheckOptions {
+    fn default() -> CheckOptions {
+        CheckOptions {
+            failures_dir: PathBuf::from("check-failures"),
+            write_images: true,
+        }
+    }
+}
+
+/// A chapter's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// Its cases and its image pass, and so do the chapters before it.
+    Pass,
+    /// Every function of the chapter is still `todo!()`.
+    NotStarted,
+    /// A case or the image fails (or a function is not written yet).
+    Fail,
+    /// The chapter's own cases pass, but chapter `by` (an earlier one it
+    /// builds on) does not.
+    Blocked { by: u8 },
+    /// The check could not run, or its output could not be written.
+    Error,
+}
+
+impl Status {
+    pub fn word(self) -> String {
+        match self {
+            Status::Pass => "pass".into(),
+            Status::NotStarted => "not started".into(),
+            Status::Fail => "FAIL".into(),
+            Status::Blocked { by } => format!("needs ch. {by}"),
+            Status::Error => "ERROR".into(),
+        }
+    }
+}
+
+/// A case that did not pass, as the report prints it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaseFailure {
+    pub name: &'static str,
+    pub function: &'static str,
+    pub level: Level,
+    /// Its number in its list (from 1) and the length of the list.
+    pub number: usize,
+    pub of: usize,
+    pub says: String,
+    pub inputs: String,
+    pub outcome: Outcome,
+    /// The lesson file and section that teach it.
+    pub lesson: String,
+    pub section: &'static str,
+}
+
+/// How the chapter's image compared with the reference.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageCheck {
+    pub metrics: Metrics,
+    pub passed: bool,
+    /// The student's image and the heatmap, when written.
+    pub written: Vec<PathBuf>,
+}
+
+/// The robustness level's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Robustness {
+    pub passed: usize,
+    pub total: usize,
+    pub first_failure: Option<CaseFailure>,
+}
+
+/// Everything the check found about one chapter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChapterVerdict {
+    pub chapter: u8,
+    pub title: &'static str,
+    pub status: Status,
+    pub cases_passed: usize,
+    pub cases_total: usize,
+    pub first_failure: Option<CaseFailure>,
+    /// The chapter's functions found still `todo!()`.
+    pub not_written: Vec<&'static str>,
+    pub image: Option<ImageCheck>,
+    /// `None` until level 1 passes.
+    pub robustness: Option<Robustness>,
+    /// The first earlier chapter that does not pass, with its status.
+    pub needs: Option<(u8, Status)>,
+    /// Problems of the check itself (an unwritable folder, say).
+    pub errors: Vec<String>,
+    /// The lesson file (`chapters/NN_name.md`) and the student's file.
+    pub lesson: String,
+}
+
+impl ChapterVerdict {
+    /// Whether the chapter passes level 1 (robustness is reported apart).
+    pub fn passes(&self) -> bool {
+        self.status == Status::Pass
+    }
+
+    /// Whether it also passes every robustness case.
+    pub fn robust(&self) -> bool {
+        self.passes()
+            && self
+                .robustness
+                .as_ref()
+                .is_some_and(|r| r.passed == r.total)
+    }
+
+    /// The name of the first failing checkpoint case, if any.
+    pub fn failing_case(&self) -> Option<&'static str> {
+        self.first_failure.as_ref().map(|f| f.name)
+    }
+
+    /// The verdict as the student reads it.
+    pub fn text(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "chapter {}: {} - {}",
+            self.chapter,
+            self.title,
+            match self.status {
+                Status::Pass if self.robust() => "pass (robust)".to_string(),
+                Status::Pass => "pass".to_string(),
+                other => other.word(),
+            }
+        );
+        match self.status {
+            Status::NotStarted => {
+                let _ = writeln!(
+                    out,
+                    "  not started: {} still todo!() (the lesson: {})",
+                    self.not_written.join(", "),
+                    self.lesson
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "  checkpoints: {} of {} pass",
+                    self.cases_passed, self.cases_total
+                );
+            }
+        }
+        if let Some(failure) = &self.first_failure {
+            out.push_str(&failure_text(failure));
+        }
+        if let Some((chapter, status)) = self.needs {
+            let _ = writeln!(
+                out,
+                "  chapter {} builds on chapter {chapter}, which is {}: {}",
+                self.chapter,
+                match status {
+                    Status::NotStarted => "not started".to_string(),
+                    Status::Fail => "failing".to_string(),
+                    other => other.word(),
+                },
+                "make it pass first (cargo run --release -- check --chapter {chapter})"
+                    .replace("{chapter}", &chapter.to_string())
+            );
+        }
+        if let Some(image) = &self.image {
+            let m = &image.metrics;
+            if image.passed {
+                let _ = writeln!(
+                    out,
+                    "  image: matches the reference ({}, max difference {} levels)",
+                    if m.max == 0 {
+                        "identical"
+                    } else {
+                        "within rounding"
+                    },
+                    m.max
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "  image: {} of {} pixels differ from the reference by more than {} levels \
+                     (max {}{}, PSNR {} dB)",
+                    m.pixels_over,
+                    m.pixels,
+                    Criteria::default().threshold,
+                    m.max,
+                    m.max_at
+                        .map(|(x, y)| format!(" at x={x}, y={y}"))
+                        .unwrap_or_default(),
+                    m.psnr_text()
+                );
+                for path in &image.written {
+                    let _ = writeln!(
+                        out,
+                        "    wrote {}",
+                        crate::text::terminal_safe(&path.display().to_string())
+                    );
+                }
+            }
+        }
+        if let Some(robustness) = &self.robustness {
+            if robustness.passed == robustness.total {
+                let _ = writeln!(
+                    out,
+                    "  robustness: all {} hard cases pass",
+                    robustness.total
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "  robustness: {} of {} hard cases pass: correct, not yet robust",
+                    robustness.passed, robustness.total
+                );
+                if let Some(failure) = &robustness.first_failure {
+                    out.push_str(&failure_text(failure));
+                }
+            }
+        }
+        for error in &self.errors {
+            let _ = writeln!(out, "  error: {}", crate::text::terminal_safe(error));
+        }
+        out
+    }
+}
+
+fn failure_text(failure: &CaseFailure) -> String {
+    let mut out = String::new();
+    let level = match failure.level {
+        Level::Checkpoint => "checkpoint",
+        Level::Robustness => "hard case",
+    };
+    if failure.name == "image" {
+        let _ = writeln!(out, "  the image could not be rendered:");
+    } else {
+        let _ = writeln!(
+            out,
+            "  {level} {} of {} failed ({}: {}):",
+            failure.number, failure.of, failure.function, failure.name
+        );
+    }
+    let _ = writeln!(out, "    {}", failure.says);
+    let _ = writeln!(out, "    call:     {}", failure.inputs);
+    match &failure.outcome {
+        Outcome::Fail { expected, got } => {
+            let _ = writeln!(out, "    expected: {expected}");
+            let _ = writeln!(out, "    got:      {got}");
+        }
+        Outcome::Todo(panic) => {
+            let _ = writeln!(
+                out,
+                "    got:      todo!() at {} (not written yet)",
+                panic.location.as_deref().unwrap_or("an unknown place")
+            );
+        }
+        Outcome::Panicked(panic) => {
+            let _ = writeln!(
+                out,
+                "    got:      a panic: {}{}",
+                crate::text::terminal_safe(&panic.message),
+                panic
+                    .location
+                    .as_deref()
+                    .map(|l| format!(" (at {l})"))
+                    .unwrap_or_default()
+            );
+        }
+        Outcome::Error(error) => {
+            let _ = writeln!(out, "    the check could not run: {error}");
+        }
+        Outcome::Pass => {}
+    }
+    let _ = writeln!(
+        out,
+        "    hint:     read {}, section \"{}\"",
+        failure.lesson, failure.section
+    );
+    out
+}
+
+/// The verdicts of the chapters checked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckReport {
+    pub verdicts: Vec<ChapterVerdict>,
+}
+
+impl CheckReport {
+    /// 0 when every checked chapter passes, 1 when one fails or is not
+    /// started, 2 when the check could not run.
+    pub fn exit_code(&self) -> i32 {
+        if self
+            .verdicts
+            .iter()
+            .any(|v| v.status == Status::Error || !v.errors.is_empty())
+        {
+            EXIT_ERROR
+        } else if self.verdicts.iter().all(ChapterVerdict::passes) {
+            EXIT_PASS
+        } else {
+            EXIT_FAIL
+        }
+    }
+
+    /// The table printed at the end: chapter, status, cases, robustness,
+    /// image metric.
+    pub fn summary_table(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "{:<8} {:<12} {:<7} {:<12} image",
+            "chapter", "status", "cases", "robustness"
+        );
+        for v in &self.verdicts {
+            let robustness = match &v.robustness {
+                Some(r) if r.passed == r.total => format!("{}/{} robust", r.passed, r.total),
+                Some(r) => format!("{}/{}", r.passed, r.total),
+                None => "-".into(),
+            };
+            let image = match &v.image {
+                Some(image) if image.metrics.max == 0 => "identical".to_string(),
+                Some(image) => format!(
+                    "max {}, {} px over {}",
+                    image.metrics.max,
+                    image.metrics.pixels_over,
+                    Criteria::default().threshold
+                ),
+                None => "-".into(),
+            };
+            let _ = writeln!(
+                out,
+                "{:<8} {:<12} {:<7} {:<12} {image}",
+                v.chapter,
+                v.status.word(),
+                format!("{}/{}", v.cases_passed, v.cases_total),
+                robustness
+            );
+        }
+        out
+    }
+
+    /// Every verdict, then the table.
+    pub fn text(&self) -> String {
+        let mut out = String::new();
+        for verdict in &self.verdicts {
+            out.push_str(&verdict.text());
+            out.push('\n');
+        }
+        out.push_str(&self.summary_table());
+        out
+    }
+}
+
+/// Which chapter's file a panic happened in.
+fn owner(panic: &Panic) -> Option<u8> {
+    let file = panic.file.as_deref()?;
+    CHAPTERS
+        .iter()
+        .find(|info| file.contains(info.file))
+        .map(|info| info.number)
+}
+
+/// Runs `cases` with `C`: how many pass, and the first that does not.
+fn run_cases<C: Chapters>(info: &ChapterInfo, cases: &[Case]) -> (usize, Vec<(usize, Outcome)>) {
+    let mut passed = 0;
+    let mut failures = Vec::new();
+    for (index, case) in cases.iter().enumerate() {
+        match case.run::<C>() {
+            Outcome::Pass => passed += 1,
+            outcome => failures.push((index, outcome)),
+        }
+    }
+    let _ = info;
+    (passed, failures)
+}
+
+fn case_failure(info: &ChapterInfo, cases: &[Case], index: usize, outcome: Outcome) -> CaseFailure {
+    let case = &cases[index];
+    CaseFailure {
+        name: case.name,
+        function: case.function(),
+        level: case.level,
+        number: index + 1,
+        of: cases.len(),
+        says: case.says.clone(),
+        inputs: case.inputs(),
+        outcome,
+        lesson: lesson(info),
+        section: case.section,
+    }
+}
+
+fn lesson(info: &ChapterInfo) -> String {
+    format!("chapters/{}.md", info.file)
+}
+
+/// Chapter `info`'s own verdict (not yet looking at earlier chapters).
+/// `full`: also the image and the robustness cases.
+fn own_verdict<C: Chapters>(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    full: bool,
+) -> ChapterVerdict {
+    let chapter = info.number;
+    let cases = (info.checkpoints)();
+    let (passed, failures) = run_cases::<C>(info, &cases);
+    let mut verdict = ChapterVerdict {
+        chapter,
+        title: info.title,
+        status: Status::Pass,
+        cases_passed: passed,
+        cases_total: cases.len(),
+        first_failure: None,
+        not_written: Vec::new(),
+        image: None,
+        robustness: None,
+        needs: None,
+        errors: Vec::new(),
+        lesson: lesson(info),
+    };
+    let own_todo = |outcome: &Outcome| match outcome {
+        Outcome::Todo(panic) => owner(panic).is_none_or(|o| o >= chapter),
+        _ => false,
+    };
+    for (index, outcome) in &failures {
+        if own_todo(outcome) {
+            let function = cases[*index].function();
+            if !verdict.not_written.contains(&function) {
+                verdict.not_written.push(function);
+            }
+        }
+    }
+    if !cases.is_empty()
+        && failures.len() == cases.len()
+        && failures.iter().all(|(_, o)| own_todo(o))
+    {
+        verdict.status = Status::NotStarted;
+        verdict.not_written = info.functions.to_vec();
+        return verdict;
+    }
+    if let Some((index, outcome)) = failures.into_iter().next() {
+        verdict.status = match &outcome {
+            Outcome::Error(error) => {
+                verdict.errors.push(error.clone());
+                Status::Error
+            }
+            Outcome::Todo(panic) => match owner(panic) {
+                Some(earlier) if earlier < chapter => Status::Blocked { by: earlier },
+                _ => Status::Fail,
+            },
+            _ => Status::Fail,
+        };
+        verdict.first_failure = Some(case_failure(info, &cases, index, outcome));
+        return verdict;
+    }
+    if !full {
+        return verdict;
+    }
+    match check_image::<C>(info, options) {
+        Ok(Ok(image)) => {
+            if !image.passed {
+                verdict.status = Status::Fail;
+            }
+            verdict.image = Some(image);
+        }
+        Ok(Err(error)) => {
+            verdict.status = Status::Error;
+            verdict.errors.push(error);
+        }
+        Err(panic) => {
+            // The chapter's own cases passed, so a todo!() met while
+            // rendering is in an earlier chapter: by its file when the
+            // panic says, else (0) the first earlier chapter not passing.
+            verdict.status = match owner(&panic) {
+                Some(earlier) if panic.is_todo() && earlier < chapter => {
+                    Status::Blocked { by: earlier }
+                }
+                None if panic.is_todo() => Status::Blocked { by: 0 },
+                _ => Status::Fail,
+            };
+            verdict.errors.clear();
+            verdict.first_failure = Some(CaseFailure {
+                name: "image",
+                function: "(the whole stage)",
+                level: Level::Checkpoint,
+                number: cases.len() + 1,
+                of: cases.len() + 1,
+                says: format!(
+                    "rendering the chapter's built-in scene at {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}"
+                ),
+                inputs: format!("raylab render --chapter {chapter}"),
+                outcome: if panic.is_todo() {
+                    Outcome::Todo(panic)
+                } else {
+                    Outcome::Panicked(panic)
+                },
+                lesson: lesson(info),
+                section: "What the picture shows",
+            });
+        }
+    }
+    // A write error of the failure images is reported; the verdict stands.
+    if let Some(image) = &verdict.image
+        && !image.passed
+        && options.write_images
+        && image.written.is_empty()
+    {
+        verdict
+            .errors
+            .push("the failure images could not be written".into());
+    }
+    if verdict.status == Status::Pass {
+        let hard = (info.robustness)();
+        let (passed, failures) = run_cases::<C>(info, &hard);
+        verdict.robustness = Some(Robustness {
+            passed,
+            total: hard.len(),
+            first_failure: failures
+                .into_iter()
+                .next()
+                .map(|(index, outcome)| case_failure(info, &hard, index, outcome)),
+        });
+    }
+    verdict
+}
+
+/// Renders the chapter's scene with `C` (on this thread, so that a panic
+/// is caught here), compares it with the shipped reference, and writes the
+/// failure images. `Err` is a panic in the code under check; `Ok(Err)` a
+/// problem of the check itself.
+fn check_image<C: Chapters>(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+) -> Result<Result<ImageCheck, String>, Panic> {
+    let reference = match Image::decode_png(info.reference_png) {
+        Ok(image) => image,
+        Err(error) => return Ok(Err(format!("the shipped reference image: {error:#}"))),
+    };
+    let scene = match crate::builtin::scene(info.number) {
+        Ok(scene) => scene,
+        Err(error) => return Ok(Err(error.to_string())),
+    };
+    let settings = crate::RenderSettings {
+        width: REFERENCE_WIDTH,
+        height: REFERENCE_HEIGHT,
+        ..scene.render
+    };
+    let stage = match crate::Stage::<C>::with_chapters(&scene, info.number, settings) {
+        Ok(stage) => stage,
+        Err(error) => return Ok(Err(error.to_string())),
+    };
+    let rgb = panics::guarded(|| {
+        // The same loop as render::render_stage, on one thread: each pixel
+        // is computed and encoded exactly as `raylab render` does.
+        let mut tracer = stage.tracer(None);
+        let mut rgb = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT * 3) as usize);
+        for y in 0..REFERENCE_HEIGHT {
+            for x in 0..REFERENCE_WIDTH {
+                let color = tracer.pixel(x, y);
+                rgb.extend(color.to_array().map(crate::output::linear_to_srgb8));
+            }
+        }
+        rgb
+    })?;
+    let student = Image {
+        width: REFERENCE_WIDTH,
+        height: REFERENCE_HEIGHT,
+        rgb,
+    };
+    let comparison = match compare(
+        &student,
+        &reference,
+        Criteria::default(),
+        ("your image", "the reference"),
+    ) {
+        Ok(comparison) => comparison,
+        Err(error) => return Ok(Err(format!("{error:#}"))),
+    };
+    let passed = comparison.passes();
+    let mut written = Vec::new();
+    if !passed && options.write_images {
+        match write_failure_images(info.number, &options.failures_dir, &student, &comparison) {
+            Ok(paths) => written = paths,
+            Err(error) => return Ok(Err(error)),
+        }
+    }
+    Ok(Ok(ImageCheck {
+        metrics: comparison.metrics,
+        passed,
+        written,
+    }))
+}
+
+fn write_failure_images(
+    chapter: u8,
+    folder: &Path,
+    student: &Image,
+    comparison: &crate::diff::Comparison,
+) -> Result<Vec<PathBuf>, String> {
+    let heatmap = comparison
+        .heatmap(student)
+        .map_err(|error| format!("{error:#}"))?;
+    std::fs::create_dir_all(folder).map_err(|error| {
+        format!(
+            "cannot create the folder {}: {error}",
+            crate::text::terminal_safe(&folder.display().to_string())
+        )
+    })?;
+    let image_path = folder.join(format!("chapter-{chapter}.png"));
+    let heatmap_path = folder.join(format!("chapter-{chapter}-heatmap.png"));
+    student
+        .write_png(&image_path)
+        .and_then(|()| heatmap.write_png(&heatmap_path))
+        .map_err(|error| format!("{error:#}"))?;
+    Ok(vec![image_path, heatmap_path])
+}
+
+/// Marks `verdict` with the first of `earlier` that does not pass.
+fn apply_prerequisites(verdict: &mut ChapterVerdict, earlier: &[(u8, Status)]) {
+    if verdict.status == (Status::Blocked { by: 0 })
+        && !earlier.iter().any(|(_, status)| *status != Status::Pass)
+    {
+        // A todo!() nowhere to be found among the earlier chapters: this
+        // chapter's own, in a function its cases do not reach.
+        verdict.status = Status::Fail;
+    }
+    if let Some(&(chapter, status)) = earlier.iter().find(|(_, status)| *status != Status::Pass) {
+        verdict.needs = Some((chapter, status));
+        if matches!(verdict.status, Status::Pass | Status::Blocked { by: 0 }) {
+            verdict.status = Status::Blocked { by: chapter };
+        }
+    }
+}
+
+/// The verdict on chapter `chapter` of the chapters `C`: its cases, its
+/// image, its robustness, and whether the chapters before it pass their
+/// cases. An unknown chapter is an error verdict.
+pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
+    let Some(info) = crate::stage::chapter(chapter) else {
+        return unknown_chapter(chapter);
+    };
+    let mut verdict = own_verdict::<C>(info, options, true);
+    let earlier: Vec<(u8, Status)> = CHAPTERS
+        .iter()
+        .filter(|other| other.number < chapter)
+        .map(|other| (other.number, own_verdict::<C>(other, options, false).status))
+        .collect();
+    apply_prerequisites(&mut verdict, &earlier);
+    verdict
+}
+
+fn unknown_chapter(chapter: u8) -> ChapterVerdict {
+    ChapterVerdict {
+        chapter,
+        title: "",
+        status: Status::Error,
+        cases_passed: 0,
+        cases_total: 0,
+        first_failure: None,
+        not_written: Vec::new(),
+        image: None,
+        robustness: None,
+        needs: None,
+        errors: vec![format!(
+            "there is no chapter {chapter}; chapters are 1 to {}",
+            crate::stage::LAST_CHAPTER
+        )],
+        lesson: String::new(),
+    }
+}
+
+/// Checks chapter `chapters` (with what it builds on), or every chapter.
+/// Chapters are checked in parallel, one thread each: each checks its own
+/// panics, so no panic of student code ever reaches the screen.
+pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> CheckReport {
+    if let Some(chapter) = chapters {
+        return CheckReport {
+            verdicts: vec![check_chapter::<C>(chapter, options)],
+        };
+    }
+    let mut verdicts: Vec<ChapterVerdict> = std::thread::scope(|scope| {
+        let handles: Vec<_> = CHAPTERS
+            .iter()
+            .map(|info| scope.spawn(move || own_verdict::<C>(info, options, true)))
+            .collect();
+        handles
+            .into_iter()
+            .zip(CHAPTERS)
+            .map(|(handle, info)| {
+                // Student panics are caught inside; a panic here would be
+                // raylab's own bug, reported as an error, not a crash.
+                handle.join().unwrap_or_else(|_| {
+                    let mut verdict = unknown_chapter(info.number);
+                    verdict.errors = vec!["the check itself panicked".into()];
+                    verdict.title = info.title;
+                    verdict
+                })
+            })
+            .collect()
+    });
+    let statuses: Vec<(u8, Status)> = verdicts.iter().map(|v| (v.chapter, v.status)).collect();
+    for verdict in &mut verdicts {
+        let earlier: Vec<(u8, Status)> = statuses
+            .iter()
+            .copied()
+            .filter(|(chapter, _)| *chapter < verdict.chapter)
+            .collect();
+        apply_prerequisites(verdict, &earlier);
+    }
+    CheckReport { verdicts }
+}
+
+/// Panics with the verdict's text unless chapter `chapter` (and every
+/// chapter it builds on) passes: a student workspace's `cargo test` has one
+/// test per chapter that calls this.
+pub fn assert_chapter<C: Chapters>(chapter: u8) {
+    let verdict = check_chapter::<C>(chapter, &CheckOptions::default());
+    if !verdict.passes() {
+        panic!("\n{}", verdict.text());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_reference_passes_every_checkpoint_and_hard_case() {
+        for info in CHAPTERS {
+            for case in (info.checkpoints)().iter().chain(&(info.robustness)()) {
+                assert_eq!(
+                    case.run::<crate::Reference>(),
+                    Outcome::Pass,
+                    "chapter {}: {} ({})",
+                    info.number,
+                    case.name,
+                    case.says
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn case_names_are_unique() {
+        let mut names: Vec<&str> = CHAPTERS
+            .iter()
+            .flat_map(|info| {
+                (info.checkpoints)()
+                    .into_iter()
+                    .chain((info.robustness)())
+                    .map(|case| case.name)
+            })
+            .collect();
+        let count = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), count);
+    }
+}

@@ -1,0 +1,594 @@
+//! The proof that `raylab check` is honest: a bug gallery of the classic
+//! mistakes, each planted in the chapter it belongs to, must fail THAT
+//! chapter and name the case that catches it; correct alternatives to the
+//! reference (another formula, another offset rule, another sample order)
+//! must pass. Each variant overrides one function of the reference and
+//! keeps the rest, so the planted bug reaches everything that calls it.
+
+use raylab::check::{ChapterVerdict, CheckOptions, Status, check_all, check_chapter};
+use raylab::course::{Chapters, HitPoint, PhongTerms, TextbookSphere};
+use raylab::render::{RayKind, Tracer};
+use raylab::shapes::SurfacePoint;
+use raylab::{Material, Plane, Ray, Reference, Sampling, Sphere, Vec3};
+
+fn options() -> CheckOptions {
+    CheckOptions {
+        failures_dir: std::env::temp_dir().join("raylab-check-tests"),
+        write_images: false,
+    }
+}
+
+/// Checks `chapter` with `C` and asserts that it fails on case `case`.
+fn assert_caught<C: Chapters>(chapter: u8, case: &str) -> ChapterVerdict {
+    let verdict = check_chapter::<C>(chapter, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), Some(case), "{text}");
+    assert!(text.contains("hint:     read chapters/"), "{text}");
+    // The earlier chapters are the reference's: nothing else to blame.
+    assert_eq!(verdict.needs, None, "{text}");
+    verdict
+}
+
+fn assert_passes<C: Chapters>(chapter: u8) -> ChapterVerdict {
+    let verdict = check_chapter::<C>(chapter, &options());
+    assert!(verdict.passes(), "{}", verdict.text());
+    verdict
+}
+
+// ---------------------------------------------------------------------------
+// The bug gallery.
+
+/// Chapter 4: the shadow test always says "lit".
+struct AlwaysLit;
+impl Chapters for AlwaysLit {
+    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+        false
+    }
+}
+
+#[test]
+fn gallery_shadow_test_always_lit() {
+    assert_caught::<AlwaysLit>(4, "shadow-under-ball");
+}
+
+/// Chapter 2: the quadratic written for unit directions (`a = 1`).
+struct DropsA;
+impl Chapters for DropsA {
+    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let oc = ray.origin - sphere.center();
+        let b = 2.0 * ray.dir.dot(oc);
+        let c = oc.dot(oc) - sphere.radius() * sphere.radius();
+        let discriminant = b * b - 4.0 * c;
+        if discriminant < 0.0 {
+            return None;
+        }
+        let root = discriminant.sqrt();
+        [(-b - root) / 2.0, (-b + root) / 2.0]
+            .into_iter()
+            .find(|&t| t > t_min && t < t_max)
+    }
+}
+
+#[test]
+fn gallery_quadratic_drops_a() {
+    assert_caught::<DropsA>(2, "sphere-direction-not-unit");
+}
+
+/// Chapter 2: the sub-cases mixed up: from outside it takes the far root,
+/// from inside the negative one.
+struct RootMixUp;
+impl Chapters for RootMixUp {
+    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let oc = ray.origin - sphere.center();
+        let a = ray.dir.dot(ray.dir);
+        let b = 2.0 * ray.dir.dot(oc);
+        let c = oc.dot(oc) - sphere.radius() * sphere.radius();
+        let discriminant = b * b - 4.0 * a * c;
+        if discriminant < 0.0 {
+            return None;
+        }
+        let root = discriminant.sqrt();
+        let t = if c > 0.0 {
+            (-b + root) / (2.0 * a)
+        } else {
+            (-b - root) / (2.0 * a)
+        };
+        (t > t_min && t < t_max).then_some(t)
+    }
+}
+
+#[test]
+fn gallery_sphere_root_mix_up() {
+    assert_caught::<RootMixUp>(2, "sphere-nearer-root");
+}
+
+/// Chapter 8: the refracted direction comes out with length n1 / n2.
+struct RefractedNotUnit;
+impl Chapters for RefractedNotUnit {
+    fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+        raylab::refract(d, n, eta).map(|t| t * eta)
+    }
+}
+
+#[test]
+fn gallery_refracted_direction_not_normalised() {
+    assert_caught::<RefractedNotUnit>(8, "refract-normal-incidence");
+}
+
+/// Chapter 6: the mirror mix normalised by 1 / (1 + k) instead of
+/// `(1 - k) local + k reflected`.
+struct OnePlusK;
+impl Chapters for OnePlusK {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Self::shade_phong(tracer, point);
+        let k = point.material.reflectivity;
+        let mut seen = Vec3::ZERO;
+        if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
+            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+            seen = tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
+        }
+        (local.diffuse + local.specular + k * seen) / (1.0 + k)
+    }
+}
+
+#[test]
+fn gallery_reflection_weighted_one_over_one_plus_k() {
+    assert_caught::<OnePlusK>(6, "mirror-sees-sky");
+}
+
+/// Chapter 7: "anti-aliasing" by blurring: the mean of the neighbouring
+/// pixels' centres.
+struct Blur;
+impl Chapters for Blur {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                sum += tracer.sample(x as f32 + 0.5 + dx as f32, y as f32 + 0.5 + dy as f32);
+            }
+        }
+        sum / 9.0
+    }
+}
+
+#[test]
+fn gallery_blur_is_not_anti_aliasing() {
+    let verdict = check_chapter::<Blur>(7, &options());
+    assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
+    let case = verdict.failing_case().unwrap_or_default();
+    assert!(
+        case == "pixel-quarters" || case == "pixel-mean-of-own-samples",
+        "{}",
+        verdict.text()
+    );
+}
+
+/// Chapter 4: shadow acne: the shadow ray starts on the surface itself,
+/// with no offset, and counts hits from t = 0.
+struct Acne;
+impl Chapters for Acne {
+    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+        let origin = point.surface.point;
+        tracer.blocked(&Ray::new(origin, light - origin), 0.0, 1.0, point)
+    }
+}
+
+#[test]
+fn gallery_shadow_acne() {
+    assert_caught::<Acne>(4, "shadow-no-acne");
+}
+
+fn srgb_encode(linear: f32) -> f32 {
+    let v = linear.clamp(0.0, 1.0);
+    if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+fn srgb_decode(encoded: f32) -> f32 {
+    if encoded <= 0.040_45 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Chapter 7: the samples averaged as sRGB codes, not in linear light.
+struct SrgbAverage;
+impl Chapters for SrgbAverage {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        let samples = tracer.samples();
+        let mut sum = Vec3::ZERO;
+        for index in 0..samples {
+            let (dx, dy) = tracer.sample_offset(index, (x, y));
+            let c = tracer.sample(x as f32 + dx, y as f32 + dy);
+            sum += Vec3::new(srgb_encode(c.x), srgb_encode(c.y), srgb_encode(c.z));
+        }
+        let mean = sum / samples as f32;
+        Vec3::new(
+            srgb_decode(mean.x),
+            srgb_decode(mean.y),
+            srgb_decode(mean.z),
+        )
+    }
+}
+
+#[test]
+fn gallery_samples_averaged_in_srgb() {
+    assert_caught::<SrgbAverage>(7, "pixel-quarters");
+}
+
+/// Chapter 5: the normal flipped in the Phong terms.
+struct FlippedNormal;
+impl Chapters for FlippedNormal {
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        raylab::chapters::ch05_phong::phong_terms(
+            material, albedo, -normal, to_light, to_eye, light,
+        )
+    }
+}
+
+#[test]
+fn gallery_flipped_normal() {
+    assert_caught::<FlippedNormal>(5, "phong-diffuse-cosine");
+}
+
+/// Chapter 8's glass mix, with a switch for each planted bug.
+fn glass<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    point: &HitPoint,
+    depth: u32,
+    weight: f32,
+    swap_eta: bool,
+    tir_black: bool,
+) -> Vec3 {
+    let local = C::shade_phong(tracer, point);
+    let material = &point.material;
+    let (k_r, k_t) = (material.reflectivity, material.transparency);
+    let mut color = (1.0 - k_r - k_t) * local.diffuse + local.specular;
+    if depth >= tracer.max_depth() {
+        return color;
+    }
+    let incoming = point.ray.dir;
+    let normal = point.surface.normal;
+    let mut reflected_share = k_r;
+    if tracer.worth_casting(weight, k_t) {
+        let entering = incoming.dot(normal) < 0.0;
+        let eta = if entering != swap_eta {
+            1.0 / material.ior
+        } else {
+            material.ior
+        };
+        match C::refract(incoming, normal, eta) {
+            Some(dir) => {
+                let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+                let through = tracer.trace(RayKind::Refraction, &ray, depth + 1, weight * k_t);
+                color += k_t * material.color * through;
+            }
+            None if tir_black => {}
+            None => reflected_share += k_t,
+        }
+    }
+    if tracer.worth_casting(weight, reflected_share) {
+        let dir = C::reflect(incoming, normal);
+        let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+        let seen = tracer.trace(
+            RayKind::Reflection,
+            &ray,
+            depth + 1,
+            weight * reflected_share,
+        );
+        color += reflected_share * seen;
+    }
+    color
+}
+
+/// Chapter 8: eta = n2 / n1 instead of n1 / n2.
+struct EtaSwapped;
+impl Chapters for EtaSwapped {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        glass(tracer, point, depth, weight, true, false)
+    }
+}
+
+#[test]
+fn gallery_eta_swapped() {
+    assert_caught::<EtaSwapped>(8, "glass-entering");
+}
+
+/// Chapter 8: total internal reflection drawn black (the transmitted share
+/// lost instead of joining the reflected one).
+struct TirBlack;
+impl Chapters for TirBlack {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        glass(tracer, point, depth, weight, false, true)
+    }
+}
+
+#[test]
+fn gallery_total_internal_reflection_as_black() {
+    assert_caught::<TirBlack>(8, "glass-total-internal-reflection");
+}
+
+/// The glass mix above with neither bug is the reference's: the gallery's
+/// two chapter 8 bugs are caught for what they change, nothing else.
+struct GlassRewritten;
+impl Chapters for GlassRewritten {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        glass(tracer, point, depth, weight, false, false)
+    }
+}
+
+#[test]
+fn the_glass_mix_without_the_bugs_passes() {
+    assert_passes::<GlassRewritten>(8);
+}
+
+// ---------------------------------------------------------------------------
+// Correct alternatives: they must pass.
+
+#[test]
+fn alternative_textbook_sphere_is_correct_but_not_robust() {
+    let verdict = assert_passes::<TextbookSphere<Reference>>(2);
+    assert!(!verdict.robust(), "{}", verdict.text());
+    assert!(
+        verdict.text().contains("correct, not yet robust"),
+        "{}",
+        verdict.text()
+    );
+}
+
+/// Chapter 1 written with signed distances: the origin is `s0` from the
+/// plane, each unit of `t` moves `s1` more, so the hit is at `-s0 / s1`.
+struct PlaneBySignedDistance;
+impl Chapters for PlaneBySignedDistance {
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let start = (ray.origin - plane.point()).dot(plane.normal());
+        let rate = ray.dir.dot(plane.normal());
+        if rate == 0.0 || !rate.is_finite() {
+            return None;
+        }
+        let t = -start / rate;
+        (t > t_min && t < t_max).then_some(t)
+    }
+}
+
+#[test]
+fn alternative_plane_by_signed_distance() {
+    assert_passes::<PlaneBySignedDistance>(1);
+}
+
+/// Chapter 4 with another offset rule: twice the length of the error
+/// vector along the normal (at least twice the reference's push).
+struct OffsetTwiceTheError;
+impl Chapters for OffsetTwiceTheError {
+    fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        let side = if dir.dot(surface.normal) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        surface.point + side * 2.0 * surface.error.length() * surface.normal
+    }
+}
+
+#[test]
+fn alternative_offset_rule() {
+    assert_passes::<OffsetTwiceTheError>(4);
+}
+
+/// Chapter 7 summing the samples last to first: another order, the same
+/// mean up to rounding.
+struct ReverseSum;
+impl Chapters for ReverseSum {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        let samples = tracer.samples();
+        let mut sum = Vec3::ZERO;
+        for index in (0..samples).rev() {
+            let (dx, dy) = tracer.sample_offset(index, (x, y));
+            sum += tracer.sample(x as f32 + dx, y as f32 + dy);
+        }
+        sum / samples as f32
+    }
+}
+
+#[test]
+fn alternative_sample_sum_order() {
+    assert_passes::<ReverseSum>(7);
+}
+
+/// Chapter 7's grid samples numbered column by column instead of row by
+/// row (the lesson asks for the cell centres, in no particular order).
+struct GridColumnMajor;
+impl Chapters for GridColumnMajor {
+    fn sample_offset(
+        sampling: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        if sampling == Sampling::Grid {
+            let k = raylab::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+            let cell = 1.0 / k as f32;
+            let (column, row) = ((index / k) as f32, (index % k) as f32);
+            ((column + 0.5) * cell, (row + 0.5) * cell)
+        } else {
+            raylab::chapters::ch07_antialiasing::sample_offset(sampling, count, index, pixel, seed)
+        }
+    }
+}
+
+#[test]
+fn alternative_grid_sample_order() {
+    assert_passes::<GridColumnMajor>(7);
+}
+
+// ---------------------------------------------------------------------------
+// Not started, other panics, and what a chapter builds on.
+
+/// Chapter 3 not written yet.
+struct NearestNotStarted;
+impl Chapters for NearestNotStarted {
+    fn nearest_hit(_: &raylab::Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<raylab::Hit> {
+        todo!()
+    }
+}
+
+#[test]
+fn a_todo_chapter_is_not_started_and_blocks_the_next() {
+    let verdict = check_chapter::<NearestNotStarted>(3, &options());
+    assert_eq!(verdict.status, Status::NotStarted, "{}", verdict.text());
+    assert!(verdict.text().contains("nearest_hit"), "{}", verdict.text());
+    // Chapter 4's own cases pass, but its image needs chapter 3.
+    let next = check_chapter::<NearestNotStarted>(4, &options());
+    assert_eq!(next.status, Status::Blocked { by: 3 }, "{}", next.text());
+    assert!(
+        next.text().contains("builds on chapter 3"),
+        "{}",
+        next.text()
+    );
+}
+
+/// A chapter 1 that panics for another reason.
+struct PlanePanics;
+impl Chapters for PlanePanics {
+    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        let empty: Vec<f32> = Vec::new();
+        empty
+            .first()
+            .copied()
+            .map(Some)
+            .unwrap_or_else(|| panic!("no roots at all"))
+    }
+}
+
+#[test]
+fn another_panic_is_a_failure_with_its_message() {
+    let verdict = check_chapter::<PlanePanics>(1, &options());
+    assert_eq!(verdict.status, Status::Fail);
+    assert!(
+        verdict.text().contains("a panic: no roots at all"),
+        "{}",
+        verdict.text()
+    );
+}
+
+/// Every function still `todo!()`: a fresh student workspace.
+struct NothingWritten;
+impl Chapters for NothingWritten {
+    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
+    fn intersect_sphere(_: &Sphere, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
+    fn nearest_hit(_: &raylab::Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<raylab::Hit> {
+        todo!()
+    }
+    fn offset_origin(_: &SurfacePoint, _: Vec3) -> Vec3 {
+        todo!()
+    }
+    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+        todo!()
+    }
+    fn shade_flat(_: &mut Tracer<Self>, _: &HitPoint) -> Vec3 {
+        todo!()
+    }
+    fn phong_terms(_: &Material, _: Vec3, _: Vec3, _: Vec3, _: Vec3, _: Vec3) -> PhongTerms {
+        todo!()
+    }
+    fn shade_phong(_: &mut Tracer<Self>, _: &HitPoint) -> PhongTerms {
+        todo!()
+    }
+    fn reflect(_: Vec3, _: Vec3) -> Vec3 {
+        todo!()
+    }
+    fn shade_mirror(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+        todo!()
+    }
+    fn sample_offset(_: Sampling, _: u32, _: u32, _: (u32, u32), _: u64) -> (f32, f32) {
+        todo!()
+    }
+    fn pixel_color(_: &mut Tracer<Self>, _: u32, _: u32) -> Vec3 {
+        todo!()
+    }
+    fn refract(_: Vec3, _: Vec3, _: f32) -> Option<Vec3> {
+        todo!()
+    }
+    fn shade_glass(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+        todo!()
+    }
+}
+
+#[test]
+fn a_fresh_workspace_is_eight_chapters_not_started() {
+    let report = check_all::<NothingWritten>(None, &options());
+    let statuses: Vec<Status> = report.verdicts.iter().map(|v| v.status).collect();
+    assert_eq!(statuses, vec![Status::NotStarted; 8], "{}", report.text());
+    assert_eq!(report.exit_code(), 1);
+    assert!(!report.text().contains("panicked at"), "{}", report.text());
+}
+
+#[test]
+fn the_reference_passes_every_chapter_at_both_levels() {
+    let report = check_all::<Reference>(None, &options());
+    assert_eq!(report.exit_code(), 0, "{}", report.text());
+    assert!(
+        report.verdicts.iter().all(ChapterVerdict::robust),
+        "{}",
+        report.text()
+    );
+}
+
+#[test]
+fn a_failing_image_is_written_with_its_heatmap() {
+    let folder = std::env::temp_dir().join(format!("raylab-check-images-{}", std::process::id()));
+    let options = CheckOptions {
+        failures_dir: folder.clone(),
+        write_images: true,
+    };
+    // A bug only the picture shows (no checkpoint of chapter 1 is further
+    // than t = 10): the floor clipped beyond t = 100.
+    let verdict = check_chapter::<FarClip>(1, &options);
+    assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
+    assert_eq!(verdict.failing_case(), None, "{}", verdict.text());
+    let written = verdict
+        .image
+        .as_ref()
+        .map(|i| i.written.clone())
+        .unwrap_or_default();
+    assert_eq!(
+        written,
+        vec![
+            folder.join("chapter-1.png"),
+            folder.join("chapter-1-heatmap.png")
+        ]
+    );
+    assert!(written.iter().all(|path| path.is_file()));
+    assert!(
+        verdict.text().contains("chapter-1-heatmap.png"),
+        "{}",
+        verdict.text()
+    );
+    let _ = std::fs::remove_dir_all(&folder);
+}
+
+/// Chapter 1 that drops hits beyond t = 100.
+struct FarClip;
+impl Chapters for FarClip {
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        raylab::chapters::ch01_plane::intersect_plane(plane, ray, t_min, t_max.min(100.0))
+    }
+}
