@@ -737,12 +737,12 @@ fn parse(text: &str) -> Result<Scene, String> {
 
 /// The point where `ray` meets object `object`, by the reference tests (the
 /// case's inputs do not depend on the code under check).
-fn point_on<C: Chapters>(
+fn point_on<'a, C: Chapters>(
     scene: &Scene,
-    tracer: &Tracer<'_, C>,
+    tracer: &Tracer<'a, C>,
     object: usize,
     ray: &Ray,
-) -> Result<HitPoint, String> {
+) -> Result<HitPoint<'a>, String> {
     match crate::nearest_hit(&scene.shapes, ray, 0.0, f32::INFINITY) {
         Some(hit) if hit.object == object => Ok(tracer.hit_point(object, ray, hit.t)),
         other => Err(format!(

@@ -765,6 +765,12 @@ material = {{ color = [0.8, 0.2, 0.2], ambient = 0.2, diffuse = 0.6 }}
     )
 }
 
+/// One tilted floor, its point not representable in binary: the plane
+/// where a shadow ray without an offset shows acne.
+const TILTED_FLOOR: &str = "[camera]\nposition = [0.0, 2.0, -6.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+                            [[lights]]\nposition = [-4.0, 6.0, -3.0]\n\
+                            [[objects]]\nplane = { point = [0.3, 0.1, 0.7], normal = [0.01, 1.0, 0.02] }\n";
+
 const LIGHT_ABOVE: &str = "[[lights]]\nposition = [0.0, 10.0, 0.0]\n";
 const TWO_LIGHTS: &str = "[[lights]]\nposition = [0.0, 10.0, 0.0]\n\
                           [[lights]]\nposition = [10.0, 0.5, 0.0]\nintensity = 0.5\n";
@@ -916,6 +922,22 @@ pub fn chapter_4() -> Vec<Case> {
             v(-4.0, 6.0, -3.0),
             false,
             LIGHT_ABOVE,
+        ),
+        Case::new(
+            "shadow-no-acne-plane",
+            SHADOW_RAYS_4,
+            "64 rays from the light at (-4, 6, -3) to a floor through (0.3, 0.1, 0.7), tilted to \
+             the normal (0.01, 1, 0.02): every point they reach sees the light, so none may be in \
+             shadow. A tilted plane's points are rounded in every coordinate, so a shadow ray \
+             started exactly on it meets it again just past its origin (chapter 2's stable \
+             sphere test hides this on balls; the offset is what keeps planes clean)",
+            CaseKind::Shadow {
+                scene: TILTED_FLOOR.to_string(),
+                object: 0,
+                rays: rays_from_light(v(-4.0, 6.0, -3.0), v(0.3, 0.1, 0.7), 2.0),
+                light: v(-4.0, 6.0, -3.0),
+                expect: false,
+            },
         ),
         flat(
             "flat-lit",
