@@ -26,6 +26,9 @@ pub struct ChapterInfo {
     /// chapters and pinned by the snapshot tests: what a student's render is
     /// compared with, never rendered by the code under test.
     pub reference_png: &'static [u8],
+    /// The text of the chapter's reference file (`chapters/NN_name.rs`):
+    /// `raylab new` derives a workspace's skeletons and answer key from it.
+    pub source: &'static str,
 }
 
 impl ChapterInfo {
@@ -49,6 +52,7 @@ macro_rules! chapter {
             functions: &[$($function),*],
             scene: include_str!(concat!("../chapters/scenes/chapter-", $number, ".toml")),
             reference_png: include_bytes!(concat!("../snapshots/chapter-", $number, ".png")),
+            source: include_str!(concat!("../chapters/", $file, ".rs")),
         }
     };
 }

@@ -7,6 +7,7 @@ mod cost;
 mod crosscheck;
 mod diff;
 mod grade;
+mod new;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -42,6 +43,9 @@ pub enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Show what one ray hits: each shape, our nearest hit, and Embree's.
     Probe(crosscheck::ProbeArgs),
+    /// Create a student workspace: a crate where you write each chapter,
+    /// with `render`, `check` and every other command running your code.
+    New(new::NewArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -92,6 +96,7 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
         Command::Grade(args) => grade::grade(&args),
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
+        Command::New(args) => new::new(&args),
     };
     match result {
         Ok(status) => status,
