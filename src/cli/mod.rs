@@ -7,6 +7,7 @@ mod cost;
 mod crosscheck;
 mod diff;
 mod grade;
+mod guard;
 mod new;
 mod render;
 
@@ -86,6 +87,12 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
             return if error.use_stderr() { EXIT_ERROR } else { 0 };
         }
     };
+    // A chapter still `todo!()`, or a panic in a student's code, becomes a
+    // verdict or an error message, never a backtrace.
+    guard::run(|| run::<C>(cli))
+}
+
+fn run<C: crate::Chapters>(cli: Cli) -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::render::<C>(&args),
         Command::Chapters => render::chapters(),
