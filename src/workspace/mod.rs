@@ -269,6 +269,10 @@ fn lib_rs(solutions: bool) -> String {
 //! `src/chapters/` holds one file per chapter ({whose}). raylab's renderer,
 //! command line and checks reach them through [`{STUDENT_TYPE}`].
 
+// raylab writes `!(x > y)` for "not greater, or NaN" on purpose (the lessons
+// explain it); clippy would ask for `partial_cmp` instead.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod chapters;
 
 /// Your chapters: the type raylab runs (`raylab::cli::main_with::<{STUDENT_TYPE}>()` in
@@ -316,7 +320,11 @@ fn chapters_mod_rs() -> Result<String> {
     out.push('\n');
     // The trait's own imports, so that its signatures read the same here.
     // Not every one is used by the methods below.
-    for line in course_imports()? {
+    // rustfmt keeps the order of groups apart: the types of src/course.rs
+    // itself, then its imports.
+    let (own, imports) = course_imports()?;
+    let _ = writeln!(out, "#[allow(unused_imports)]\n{own}\n");
+    for line in imports {
         let _ = writeln!(out, "#[allow(unused_imports)]\n{line}");
     }
     let _ = writeln!(
@@ -380,9 +388,9 @@ fn trait_methods() -> Result<Vec<(String, String)>> {
     Ok(out)
 }
 
-/// The `use` lines of `src/course.rs`, as a workspace writes them, and the
-/// public types `src/course.rs` defines itself.
-fn course_imports() -> Result<Vec<String>> {
+/// An import of the public types `src/course.rs` defines itself, and its
+/// `use` lines as a workspace writes them.
+fn course_imports() -> Result<(String, Vec<String>)> {
     let src = COURSE_SOURCE;
     let items = scan::items(src).map_err(|error| anyhow::anyhow!("src/course.rs: {error}"))?;
     let mut lines = Vec::new();
@@ -404,8 +412,10 @@ fn course_imports() -> Result<Vec<String>> {
         .filter_map(|item| item.name.as_deref())
         .collect();
     own.sort_unstable();
-    lines.push(format!("use raylab::course::{{{}}};", own.join(", ")));
-    Ok(lines)
+    Ok((
+        format!("use raylab::course::{{{}}};", own.join(", ")),
+        lines,
+    ))
 }
 
 /// One chapter's file in the workspace, cut from the reference.
@@ -460,6 +470,7 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
         );
     }
     let mut uses = Vec::new();
+    let mut reexports = Vec::new();
     let mut code = Vec::new();
     for item in &items {
         let text = &src[item.range.clone()];
@@ -489,7 +500,7 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
             | ItemKind::Union
             | ItemKind::Trait
             | ItemKind::TypeAlias => {
-                uses.push(format!("pub use raylab::chapters::{module}::{name};"));
+                reexports.push(format!("pub use raylab::chapters::{module}::{name};"));
             }
             // Methods of those types are raylab's too.
             ItemKind::Impl => {}
@@ -502,9 +513,15 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
         }
     }
     out.push('\n');
-    for line in uses {
-        out.push_str(&line);
-        out.push('\n');
+    // Separate groups, which rustfmt leaves in this order.
+    for group in [uses, reexports] {
+        if !group.is_empty() && !out.ends_with("\n\n") {
+            out.push('\n');
+        }
+        for line in group {
+            out.push_str(&line);
+            out.push('\n');
+        }
     }
     for block in code {
         out.push('\n');
