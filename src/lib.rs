@@ -57,6 +57,7 @@ pub mod scene;
 pub mod shapes;
 pub mod stage;
 pub mod text;
+pub mod workspace;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;

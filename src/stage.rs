@@ -33,6 +33,9 @@ pub struct ChapterInfo {
     /// Its hard cases (level 2, reported apart): only a numerically robust
     /// implementation answers them.
     pub robustness: fn() -> Vec<crate::check::Case>,
+    /// The text of the chapter's reference file (`chapters/NN_name.rs`):
+    /// `raylab new` derives a workspace's skeletons and answer key from it.
+    pub source: &'static str,
 }
 
 impl ChapterInfo {
@@ -59,6 +62,7 @@ macro_rules! chapter {
             reference_png: include_bytes!(concat!("../snapshots/chapter-", $number, ".png")),
             checkpoints: $checkpoints,
             robustness: $robustness,
+            source: include_str!(concat!("../chapters/", $file, ".rs")),
         }
     };
 }

@@ -8,6 +8,8 @@ mod cost;
 mod crosscheck;
 mod diff;
 mod grade;
+mod guard;
+mod new;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -44,6 +46,9 @@ pub enum Command {
     /// Show what one ray hits: each shape, our nearest hit, and Embree's.
     Probe(crosscheck::ProbeArgs),
     Check(check::CheckArgs),
+    /// Create a student workspace: a crate where you write each chapter,
+    /// with `render`, `check` and every other command running your code.
+    New(new::NewArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -84,6 +89,12 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
             return if error.use_stderr() { EXIT_ERROR } else { 0 };
         }
     };
+    // A chapter still `todo!()`, or a panic in a student's code, becomes a
+    // verdict or an error message, never a backtrace.
+    guard::run(|| run::<C>(cli))
+}
+
+fn run<C: crate::Chapters>(cli: Cli) -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::render::<C>(&args),
         Command::Chapters => render::chapters(),
@@ -95,6 +106,7 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
         Command::Check(args) => check::check::<C>(&args),
+        Command::New(args) => new::new(&args),
     };
     match result {
         Ok(status) => status,

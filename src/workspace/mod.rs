@@ -1,0 +1,723 @@
+//! `raylab new`: a student workspace, generated from the reference chapters.
+//!
+//! A workspace is a small crate that depends on this raylab checkout: one
+//! file per chapter of [`crate::stage::CHAPTERS`] where the student writes
+//! that chapter's functions, a type `Mine` that implements
+//! [`crate::course::Chapters`] with them, a three-line `main` that runs
+//! raylab's command line with `Mine`, and a test per chapter that runs
+//! raylab's checks.
+//!
+//! The skeletons are cut from the reference chapter files themselves (one
+//! source of truth): each function the registry lists keeps its doc comment
+//! and signature, and its body becomes `todo!("chapter N: name")`, the text
+//! [`crate::cli`] recognises to report "chapter N not started". The
+//! lesson's helpers (constants, helper functions) are left out for the
+//! student to write as they like; the answer key (`--solutions`) keeps the
+//! whole reference file but its tests and its lesson include.
+
+pub mod scan;
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+
+use crate::stage::{CHAPTERS, ChapterInfo};
+use scan::ItemKind;
+
+/// The raylab checkout this binary was built from: the workspace's path
+/// dependency.
+pub const RAYLAB_DIR: &str = env!("CARGO_MANIFEST_DIR");
+
+/// raylab's lock file: a workspace starts from it so that it resolves to the
+/// same versions, offline.
+const RAYLAB_LOCK: &str = include_str!("../../Cargo.lock");
+
+/// The trait a workspace implements, read for its signatures.
+const COURSE_SOURCE: &str = include_str!("../course.rs");
+
+/// The student's type, in the workspace's `src/lib.rs`.
+pub const STUDENT_TYPE: &str = "Mine";
+
+/// Names cargo or the workspace itself cannot use as a package name.
+const RESERVED: &[&str] = &[
+    "raylab",
+    "test",
+    "std",
+    "core",
+    "alloc",
+    "proc_macro",
+    "as",
+    "async",
+    "await",
+    "box",
+    "break",
+    "const",
+    "continue",
+    "crate",
+    "dyn",
+    "else",
+    "enum",
+    "extern",
+    "false",
+    "fn",
+    "for",
+    "gen",
+    "if",
+    "impl",
+    "in",
+    "let",
+    "loop",
+    "match",
+    "mod",
+    "move",
+    "mut",
+    "pub",
+    "ref",
+    "return",
+    "self",
+    "static",
+    "struct",
+    "super",
+    "trait",
+    "true",
+    "try",
+    "type",
+    "unsafe",
+    "use",
+    "where",
+    "while",
+    "yield",
+];
+
+/// The package name for a workspace in folder `folder`: its letters and
+/// digits, lowercase, other characters as `-`, and a prefix or suffix when
+/// that alone is not a valid name (empty, leading digit, a keyword, or
+/// `raylab`, which the workspace depends on).
+pub fn package_name(folder: &str) -> String {
+    let mut name = String::new();
+    for c in folder.chars() {
+        if c.is_ascii_alphanumeric() {
+            name.push(c.to_ascii_lowercase());
+        } else if c == '_' || !name.ends_with(['-', '_']) && !name.is_empty() {
+            name.push(if c == '_' { '_' } else { '-' });
+        }
+    }
+    let name = name.trim_end_matches(['-', '_']).to_string();
+    if name.is_empty() || name.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("raytracer-{name}")
+            .trim_end_matches('-')
+            .to_string()
+    } else if RESERVED.contains(&name.replace('-', "_").as_str()) {
+        format!("{name}-course")
+    } else {
+        name
+    }
+}
+
+/// The workspace's files, as (path relative to the workspace, contents).
+#[derive(Debug, Clone)]
+pub struct Files(pub Vec<(String, String)>);
+
+impl Files {
+    /// The contents of `path`, if the workspace has it.
+    pub fn get(&self, path: &str) -> Option<&str> {
+        self.0
+            .iter()
+            .find(|(name, _)| name == path)
+            .map(|(_, text)| text.as_str())
+    }
+}
+
+/// The files of a workspace whose package is `package`, depending on the
+/// raylab at `raylab_dir`: with `todo!()` bodies, or the reference bodies
+/// when `solutions` is set.
+pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files> {
+    let lib = package.replace('-', "_");
+    let raylab_dir_text = raylab_dir
+        .to_str()
+        .context("the raylab folder's path is not valid UTF-8")?;
+    let mut files = vec![
+        (
+            "Cargo.toml".to_string(),
+            cargo_toml(package, raylab_dir_text),
+        ),
+        ("Cargo.lock".to_string(), RAYLAB_LOCK.to_string()),
+        (".gitignore".to_string(), "/target\n".to_string()),
+        (
+            "README.md".to_string(),
+            readme(package, raylab_dir_text, solutions),
+        ),
+        (
+            "src/main.rs".to_string(),
+            format!(
+                "fn main() {{\n    std::process::exit(raylab::cli::main_with::<{lib}::{STUDENT_TYPE}>())\n}}\n"
+            ),
+        ),
+        ("src/lib.rs".to_string(), lib_rs(solutions)),
+        ("src/chapters/mod.rs".to_string(), chapters_mod_rs()?),
+        ("tests/check.rs".to_string(), check_tests(&lib)),
+    ];
+    for info in CHAPTERS {
+        let text = chapter_file(info, raylab_dir_text, solutions)
+            .with_context(|| format!("cannot cut chapters/{}.rs into a skeleton", info.file))?;
+        files.push((format!("src/chapters/{}.rs", info.module()), text));
+    }
+    Ok(Files(files))
+}
+
+fn cargo_toml(package: &str, raylab_dir: &str) -> String {
+    // A TOML string, escaped: a path may hold quotes or backslashes.
+    let path = toml::Value::String(raylab_dir.to_string());
+    format!(
+        r#"[package]
+name = "{package}"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[dependencies]
+# The raylab this workspace was made from. A class can share one copy
+# instead (path = "/opt/raylab"), or use a tagged release
+# (git = "https://example.org/raylab.git", tag = "v0.1.0"): see raylab's
+# README, "Take the course".
+raylab = {{ path = {path} }}
+# The reference solutions of chapters 2 and 8 use it (exact ldexp, asin).
+libm = "0.2"
+
+# This crate is its own workspace, even inside another project's folder.
+[workspace]
+
+# Renders in debug builds take seconds rather than minutes, and the images
+# are the same bit for bit (Rust never reorders float arithmetic).
+[profile.dev]
+opt-level = 1
+
+[profile.dev.package."*"]
+opt-level = 2
+"#
+    )
+}
+
+fn readme(package: &str, raylab_dir: &str, solutions: bool) -> String {
+    let mut chapters = String::new();
+    for info in CHAPTERS {
+        let _ = writeln!(
+            chapters,
+            "| {} | {} | `src/chapters/{}.rs` | {} |",
+            info.number,
+            info.title,
+            info.module(),
+            info.functions
+                .iter()
+                .map(|f| format!("`{f}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let state = if solutions {
+        "This copy holds raylab's reference solutions: it is the answer key, \
+         for instructors. A student's copy comes from `raylab new DIR` without \
+         `--solutions`."
+    } else {
+        "Every function starts as `todo!()`: a chapter you have not started \
+         is reported as \"not started\", never as a crash."
+    };
+    format!(
+        r#"# {package}: your ray tracer
+
+Made by `raylab new`. You write each chapter of the raylab course here, and
+raylab renders and checks your code. {state}
+
+## The loop
+
+```sh
+cargo run --release -- render --chapter 1      # writes chapter-1.png with your code
+cargo run --release -- check --chapter 1       # the verdict: cases, image, robustness
+cargo test                                     # the same checks, one test per chapter
+```
+
+Chapter N's image needs your chapters 1 to N. The binary has every
+subcommand of `raylab` (`render`, `diff`, `bench`, `probe`, ...), all
+running your code: `cargo run --release -- --help`.
+
+## The chapters
+
+| chapter | title | your file | functions |
+|---|---|---|---|
+{chapters}
+Each lesson is `chapters/NN_name.md` in raylab ({raylab_dir}), and in
+`cargo doc --open` under `raylab::chapters`. Start each file by reading its
+lesson's "Your turn".
+
+`src/chapters/mod.rs` connects raylab to your functions; you should not need
+to edit it, `src/main.rs` or `tests/check.rs`. Helpers of your own (constants,
+small functions) go in your chapter files.
+"#
+    )
+}
+
+fn lib_rs(solutions: bool) -> String {
+    let whose = if solutions {
+        "raylab's reference solutions (the answer key)"
+    } else {
+        "your code"
+    };
+    format!(
+        r#"//! Your ray tracer: the chapters of the raylab course, as you write them.
+//!
+//! `src/chapters/` holds one file per chapter ({whose}). raylab's renderer,
+//! command line and checks reach them through [`{STUDENT_TYPE}`].
+
+// raylab writes `!(x > y)` for "not greater, or NaN" on purpose (the lessons
+// explain it); clippy would ask for `partial_cmp` instead.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod chapters;
+
+/// Your chapters: the type raylab runs (`raylab::cli::main_with::<{STUDENT_TYPE}>()` in
+/// `src/main.rs`, `raylab::check::assert_chapter::<{STUDENT_TYPE}>(n)` in `tests/check.rs`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct {STUDENT_TYPE};
+"#
+    )
+}
+
+fn check_tests(lib: &str) -> String {
+    let mut out = format!(
+        "//! `cargo test` runs raylab's checks on your chapters, one test per\n\
+         //! chapter: the same verdict as `cargo run --release -- check --chapter N`.\n\n\
+         use {lib}::{STUDENT_TYPE};\n"
+    );
+    for info in CHAPTERS {
+        let name = info
+            .file
+            .split_once('_')
+            .map_or(info.file, |(_, name)| name);
+        let _ = write!(
+            out,
+            "\n#[test]\nfn chapter_{}_{name}() {{\n    raylab::check::assert_chapter::<{STUDENT_TYPE}>({});\n}}\n",
+            info.number, info.number
+        );
+    }
+    out
+}
+
+/// `src/chapters/mod.rs`: the chapter modules, and `Chapters` for the
+/// student's type, each method sending its arguments to the function of the
+/// same name in the chapter that the registry says writes it. The
+/// signatures are the trait's own, read from `src/course.rs`.
+fn chapters_mod_rs() -> Result<String> {
+    let methods = trait_methods()?;
+    let mut out = String::from(
+        "//! Connects raylab to your chapters (made by `raylab new`; you should not\n\
+         //! need to edit it). raylab calls the methods of `raylab::course::Chapters`;\n\
+         //! each one here calls the function of the same name in your chapter file.\n\n",
+    );
+    for info in CHAPTERS {
+        let _ = writeln!(out, "pub mod {};", info.module());
+    }
+    out.push('\n');
+    // The trait's own imports, so that its signatures read the same here.
+    // Not every one is used by the methods below.
+    // rustfmt keeps the order of groups apart: the types of src/course.rs
+    // itself, then its imports.
+    let (own, imports) = course_imports()?;
+    let _ = writeln!(out, "#[allow(unused_imports)]\n{own}\n");
+    for line in imports {
+        let _ = writeln!(out, "#[allow(unused_imports)]\n{line}");
+    }
+    let _ = writeln!(
+        out,
+        "\nimpl raylab::course::Chapters for crate::{STUDENT_TYPE} {{"
+    );
+    let mut first = true;
+    for info in CHAPTERS {
+        for &function in info.functions {
+            let Some((_, signature)) = methods.iter().find(|(name, _)| name == function) else {
+                bail!(
+                    "chapter {} lists `{function}`, which is not a method of Chapters",
+                    info.number
+                );
+            };
+            let arguments = scan::parameter_names(signature)
+                .map_err(|error| anyhow::anyhow!("`{function}`'s signature: {error}"))?;
+            if !first {
+                out.push('\n');
+            }
+            first = false;
+            let _ = writeln!(
+                out,
+                "    {signature} {{\n        {}::{function}({})\n    }}",
+                info.module(),
+                arguments.join(", ")
+            );
+        }
+    }
+    out.push_str("}\n");
+    Ok(out)
+}
+
+/// Every method of `Chapters` in `src/course.rs`, as (name, signature from
+/// `fn` to just before its body).
+fn trait_methods() -> Result<Vec<(String, String)>> {
+    let src = COURSE_SOURCE;
+    let items = scan::items(src).map_err(|error| anyhow::anyhow!("src/course.rs: {error}"))?;
+    let body = items
+        .iter()
+        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
+        .and_then(|item| {
+            // A trait's block is its last `{ ... }`: the item ends there.
+            src[item.header..item.range.end]
+                .find('{')
+                .map(|open| item.header + open + 1..item.range.end - 1)
+        })
+        .context("src/course.rs has no trait Chapters")?;
+    let inner = &src[body];
+    let methods = scan::items(inner).map_err(|error| anyhow::anyhow!("trait Chapters: {error}"))?;
+    let mut out = Vec::new();
+    for method in methods.iter().filter(|item| item.kind == ItemKind::Fn) {
+        let signature_end = method
+            .body
+            .as_ref()
+            .map_or(method.range.end, |body| body.start);
+        let signature = inner[method.header..signature_end].trim_end();
+        let name = method.name.clone().context("a method without a name")?;
+        out.push((name, signature.to_string()));
+    }
+    Ok(out)
+}
+
+/// An import of the public types `src/course.rs` defines itself, and its
+/// `use` lines as a workspace writes them.
+fn course_imports() -> Result<(String, Vec<String>)> {
+    let src = COURSE_SOURCE;
+    let items = scan::items(src).map_err(|error| anyhow::anyhow!("src/course.rs: {error}"))?;
+    let mut lines = Vec::new();
+    for item in items.iter().filter(|item| item.kind == ItemKind::Use) {
+        let line = &src[item.header..item.range.end];
+        // The chapter modules it names are raylab's; the workspace has its own.
+        if !line.contains("crate::chapters") {
+            lines.push(scan::crate_paths_to_raylab(line));
+        }
+    }
+    let mut own: Vec<&str> = items
+        .iter()
+        .filter(|item| {
+            matches!(
+                item.kind,
+                ItemKind::Struct | ItemKind::Enum | ItemKind::Trait
+            ) && item.is_pub(src)
+        })
+        .filter_map(|item| item.name.as_deref())
+        .collect();
+    own.sort_unstable();
+    Ok((
+        format!("use raylab::course::{{{}}};", own.join(", ")),
+        lines,
+    ))
+}
+
+/// One chapter's file in the workspace, cut from the reference.
+pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Result<String> {
+    let src = info.source;
+    let items = scan::items(src).map_err(|error| anyhow::anyhow!("{error}"))?;
+    for &function in info.functions {
+        if !items
+            .iter()
+            .any(|item| item.kind == ItemKind::Fn && item.name.as_deref() == Some(function))
+        {
+            bail!("it has no function `{function}`");
+        }
+    }
+    let module = info.module();
+    let lesson = Path::new(raylab_dir)
+        .join("chapters")
+        .join(format!("{}.md", info.file));
+    let functions = info
+        .functions
+        .iter()
+        .map(|f| format!("`{f}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut out = format!("//! Chapter {}: {}.\n//!\n", info.number, info.title);
+    if solutions {
+        let _ = writeln!(
+            out,
+            "//! raylab's reference solution of {functions} (the answer key)."
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "//! Your turn: write {functions} below, replacing each `todo!()`."
+        );
+    }
+    let _ = write!(
+        out,
+        "//!\n\
+         //! The lesson: {}\n\
+         //! (also in `cargo doc --open`: [`raylab::chapters::{module}`]).\n\
+         //! Check your work: `cargo run --release -- check --chapter {}`.\n",
+        lesson.display(),
+        info.number
+    );
+    if !solutions {
+        out.push_str(
+            "\n// The imports are the ones the reference solution uses. Until the\n\
+             // bodies are written, some of them and the arguments are unused: this\n\
+             // keeps the compiler quiet about it. Delete it once you are done.\n\
+             #![allow(unused_imports, unused_variables)]\n",
+        );
+    }
+    let mut uses = Vec::new();
+    let mut reexports = Vec::new();
+    let mut code = Vec::new();
+    for item in &items {
+        let text = &src[item.range.clone()];
+        let name = item.name.as_deref().unwrap_or_default();
+        match item.kind {
+            // The lesson include and the tests stay in raylab.
+            ItemKind::InnerAttribute | ItemKind::Mod => {}
+            ItemKind::Use => {
+                let line = scan::crate_paths_to_raylab(text);
+                // A workspace depends on raylab (and libm) only: imports of
+                // other crates served the types re-exported below.
+                let root = line
+                    .trim_start_matches("pub ")
+                    .trim_start_matches("use ")
+                    .split("::")
+                    .next()
+                    .unwrap_or_default()
+                    .trim_start_matches("::");
+                if matches!(root, "raylab" | "std" | "core" | "alloc" | "libm") {
+                    uses.push(line);
+                }
+            }
+            // A type the chapter defines is raylab's, and the trait's
+            // signatures name raylab's: the workspace uses that one.
+            ItemKind::Struct
+            | ItemKind::Enum
+            | ItemKind::Union
+            | ItemKind::Trait
+            | ItemKind::TypeAlias => {
+                reexports.push(format!("pub use raylab::chapters::{module}::{name};"));
+            }
+            // Methods of those types are raylab's too.
+            ItemKind::Impl => {}
+            ItemKind::Fn if info.functions.contains(&name) => {
+                code.push(student_function(info, src, item, &lesson, solutions));
+            }
+            _ if solutions => code.push(scan::crate_paths_to_raylab(text)),
+            // The lesson's helpers are the student's to write, or not.
+            _ => {}
+        }
+    }
+    out.push('\n');
+    // Separate groups, which rustfmt leaves in this order.
+    for group in [uses, reexports] {
+        if !group.is_empty() && !out.ends_with("\n\n") {
+            out.push('\n');
+        }
+        for line in group {
+            out.push_str(&line);
+            out.push('\n');
+        }
+    }
+    for block in code {
+        out.push('\n');
+        out.push_str(&block);
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// A function the student writes: its doc comment, a pointer to the lesson,
+/// its signature, and `todo!()` or the reference body.
+fn student_function(
+    info: &ChapterInfo,
+    src: &str,
+    item: &scan::Item,
+    lesson: &Path,
+    solutions: bool,
+) -> String {
+    let name = item.name.as_deref().unwrap_or_default();
+    let see = format!(
+        "///\n/// Lesson: {} ([`raylab::chapters::{}`]).",
+        lesson.display(),
+        info.module()
+    );
+    // The lesson line goes after the doc comment (before any attribute).
+    let split = item.doc_end.unwrap_or(item.range.start);
+    let docs = &src[item.range.start..split];
+    let rest = match (&item.body, solutions) {
+        (Some(body), false) => format!(
+            "{} {{\n    todo!(\"chapter {}: {name}\")\n}}",
+            src[split..body.start].trim_end(),
+            info.number
+        ),
+        _ => src[split..item.range.end].to_string(),
+    };
+    let text = if docs.is_empty() {
+        format!("{}\n{}", see.trim_start_matches("///\n"), rest.trim_start())
+    } else {
+        format!("{docs}\n{see}{rest}")
+    };
+    scan::crate_paths_to_raylab(&text)
+}
+
+/// Creates the workspace in `dir`, which must not exist or be an empty
+/// folder, all or nothing: the files are written in a temporary folder
+/// beside it, then moved in place. Returns the package name.
+pub fn create(dir: &Path, solutions: bool) -> Result<String> {
+    let raylab_dir = Path::new(RAYLAB_DIR);
+    if !raylab_dir.join("Cargo.toml").is_file() {
+        bail!(
+            "this raylab was built from {}, which is no longer there; a workspace depends on \
+             that checkout: rebuild raylab where it now is",
+            raylab_dir.display()
+        );
+    }
+    let dir =
+        std::path::absolute(dir).with_context(|| format!("cannot resolve {}", dir.display()))?;
+    let existing_empty = match std::fs::read_dir(&dir) {
+        Ok(mut entries) => {
+            if entries.next().is_some() {
+                bail!(
+                    "{} exists and is not empty: choose a new folder",
+                    dir.display()
+                );
+            }
+            true
+        }
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => false,
+        Err(_) if dir.exists() && !dir.is_dir() => {
+            bail!("{} exists and is not a folder", dir.display())
+        }
+        Err(error) => {
+            return Err(error).with_context(|| format!("cannot read {}", dir.display()));
+        }
+    };
+    // The folder's own name (for `.`, the current folder's).
+    let resolved = if existing_empty {
+        dir.canonicalize()
+            .with_context(|| format!("cannot resolve {}", dir.display()))?
+    } else {
+        dir.clone()
+    };
+    let folder = resolved
+        .file_name()
+        .and_then(|name| name.to_str())
+        .context("the folder needs a name in UTF-8")?;
+    let package = package_name(folder);
+    let files = files(&package, raylab_dir, solutions)?;
+    let parent = resolved
+        .parent()
+        .context("cannot make a workspace at the root of the file system")?;
+    std::fs::create_dir_all(parent)
+        .with_context(|| format!("cannot create {}", parent.display()))?;
+    let staging = tempfile::Builder::new()
+        .prefix(".raylab-new-")
+        .tempdir_in(parent)
+        .with_context(|| format!("cannot write in {}", parent.display()))?;
+    for (path, text) in &files.0 {
+        let path = staging.path().join(path);
+        if let Some(folder) = path.parent() {
+            std::fs::create_dir_all(folder)
+                .with_context(|| format!("cannot create {}", folder.display()))?;
+        }
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    if existing_empty {
+        move_into(staging.path(), &resolved)?;
+    } else {
+        std::fs::rename(staging.path(), &resolved)
+            .with_context(|| format!("cannot create {}", resolved.display()))?;
+        // Renamed: nothing left for the guard to remove.
+        let _ = staging.keep();
+    }
+    Ok(package)
+}
+
+/// Moves the entries of `staging` into the empty folder `dir` (which may be
+/// the current folder, so it is not replaced), undoing the moves if one fails.
+fn move_into(staging: &Path, dir: &Path) -> Result<()> {
+    let entries: Vec<PathBuf> = std::fs::read_dir(staging)
+        .with_context(|| format!("cannot read {}", staging.display()))?
+        .map(|entry| entry.map(|entry| entry.path()))
+        .collect::<std::io::Result<_>>()
+        .with_context(|| format!("cannot read {}", staging.display()))?;
+    let mut moved = Vec::new();
+    for from in entries {
+        let Some(name) = from.file_name() else {
+            continue;
+        };
+        let to = dir.join(name);
+        if let Err(error) = std::fs::rename(&from, &to) {
+            for (from, to) in moved.iter().rev() {
+                let _ = std::fs::rename(to, from);
+            }
+            return Err(error).with_context(|| format!("cannot write {}", to.display()));
+        }
+        moved.push((from, to));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn package_names_are_valid() {
+        assert_eq!(package_name("s"), "s");
+        assert_eq!(package_name("My Tracer"), "my-tracer");
+        assert_eq!(package_name("alice_2024"), "alice_2024");
+        assert_eq!(package_name("2024"), "raytracer-2024");
+        assert_eq!(package_name("élève"), "l-ve");
+        assert_eq!(package_name("..."), "raytracer");
+        assert_eq!(package_name("raylab"), "raylab-course");
+        assert_eq!(package_name("test"), "test-course");
+    }
+
+    #[test]
+    fn every_registry_function_has_a_method_and_a_plain_signature() {
+        let methods = trait_methods().expect("the trait scans");
+        for info in CHAPTERS {
+            for function in info.functions {
+                let (_, signature) = methods
+                    .iter()
+                    .find(|(name, _)| name == function)
+                    .unwrap_or_else(|| panic!("no method {function}"));
+                assert!(
+                    signature.starts_with(&format!("fn {function}")),
+                    "{signature}"
+                );
+                scan::parameter_names(signature).expect("plain parameters");
+            }
+        }
+    }
+
+    #[test]
+    fn skeletons_keep_signatures_and_drop_bodies_helpers_and_tests() {
+        for info in CHAPTERS {
+            let todo = chapter_file(info, "/r", false).expect("cuts");
+            let answer = chapter_file(info, "/r", true).expect("cuts");
+            for text in [&todo, &answer] {
+                assert!(!text.contains("#![doc"), "{}", info.file);
+                assert!(!text.contains("#[cfg(test)]"), "{}", info.file);
+                assert!(!text.contains("crate::"), "{}", info.file);
+                assert!(text.contains(&format!("/r/chapters/{}.md", info.file)));
+            }
+            for function in info.functions {
+                assert!(todo.contains(&format!("todo!(\"chapter {}: {function}\")", info.number)));
+                assert!(todo.contains(&format!("pub fn {function}")));
+                assert!(answer.contains(&format!("pub fn {function}")));
+            }
+            assert!(!answer.contains("todo!("));
+        }
+        let plane = chapter_file(&CHAPTERS[0], "/r", false).expect("cuts");
+        assert!(!plane.contains("PARALLEL_TOLERANCE"));
+        let plane_answer = chapter_file(&CHAPTERS[0], "/r", true).expect("cuts");
+        assert!(plane_answer.contains("pub const PARALLEL_TOLERANCE"));
+    }
+}

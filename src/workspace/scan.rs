@@ -1,0 +1,617 @@
+//! A small scanner for Rust source: enough to cut a chapter file into its
+//! top-level items (with their doc comments and attributes) and to find a
+//! function's body, without a parser dependency.
+//!
+//! It knows exactly what can hide a brace or a semicolon: comments (nested
+//! block comments too), string literals (escaped, raw with any number of
+//! `#`, byte and C strings), and character literals, told apart from
+//! lifetimes. Everything else is words, brackets and punctuation. Brackets
+//! must balance; anything it does not understand is an error, never a
+//! silently wrong cut.
+
+use std::ops::Range;
+
+/// What a token is, as far as cutting items goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tok {
+    Open(u8),
+    Close(u8),
+    Semi,
+    Comma,
+    Colon,
+    Pound,
+    Bang,
+    /// An identifier or keyword (raw identifiers included).
+    Word,
+    /// A comment; `doc` for the outer doc forms `///` and `/** */`.
+    Comment {
+        doc: bool,
+    },
+    /// A string, byte string or character literal.
+    Literal,
+    /// A number, a lifetime, or any other punctuation.
+    Other,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Token {
+    pub kind: Tok,
+    pub start: usize,
+    pub end: usize,
+}
+
+/// Splits `src` into tokens. Errors name the byte offset of an unterminated
+/// comment or literal.
+pub fn lex(src: &str) -> Result<Vec<Token>, String> {
+    let bytes = src.as_bytes();
+    let mut tokens = Vec::new();
+    let mut i = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        let start = i;
+        let kind = match c {
+            _ if c.is_ascii_whitespace() => {
+                i += 1;
+                continue;
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'/') => {
+                i = src[i..].find('\n').map_or(bytes.len(), |n| i + n);
+                let text = &src[start..i];
+                Tok::Comment {
+                    doc: text.starts_with("///") && !text.starts_with("////"),
+                }
+            }
+            b'/' if bytes.get(i + 1) == Some(&b'*') => {
+                let mut depth = 0usize;
+                loop {
+                    if i + 1 >= bytes.len() {
+                        return Err(format!("unterminated block comment at byte {start}"));
+                    }
+                    match (bytes[i], bytes[i + 1]) {
+                        (b'/', b'*') => {
+                            depth += 1;
+                            i += 2;
+                        }
+                        (b'*', b'/') => {
+                            depth -= 1;
+                            i += 2;
+                            if depth == 0 {
+                                break;
+                            }
+                        }
+                        _ => i += 1,
+                    }
+                }
+                let text = &src[start..i];
+                Tok::Comment {
+                    doc: text.starts_with("/**") && !text.starts_with("/***") && text != "/**/",
+                }
+            }
+            b'"' => {
+                i = end_of_string(bytes, i + 1)
+                    .ok_or_else(|| format!("unterminated string at byte {start}"))?;
+                Tok::Literal
+            }
+            b'\'' => match char_literal_end(src, i) {
+                Some(end) => {
+                    i = end;
+                    Tok::Literal
+                }
+                None => {
+                    // A lifetime or label: the quote and the name after it.
+                    i += 1;
+                    while i < bytes.len() && is_word_byte(bytes[i]) {
+                        i += 1;
+                    }
+                    Tok::Other
+                }
+            },
+            _ if c.is_ascii_digit() => {
+                while i < bytes.len()
+                    && (is_word_byte(bytes[i])
+                        || (bytes[i] == b'.' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit)))
+                {
+                    i += 1;
+                }
+                Tok::Other
+            }
+            _ if is_word_byte(c) => {
+                while i < bytes.len() && is_word_byte(bytes[i]) {
+                    i += 1;
+                }
+                let word = &src[start..i];
+                let next = bytes.get(i).copied();
+                match (word, next) {
+                    // b"..", c"..": an escaped string with a prefix.
+                    ("b" | "c", Some(b'"')) => {
+                        i = end_of_string(bytes, i + 1)
+                            .ok_or_else(|| format!("unterminated string at byte {start}"))?;
+                        Tok::Literal
+                    }
+                    ("b", Some(b'\'')) => {
+                        i = char_literal_end(src, i)
+                            .ok_or_else(|| format!("bad byte literal at byte {start}"))?;
+                        Tok::Literal
+                    }
+                    // r"..", r#".."#, br"..", cr"..": raw strings.
+                    ("r" | "br" | "cr", Some(b'"' | b'#')) => {
+                        let hashes = bytes[i..].iter().take_while(|&&b| b == b'#').count();
+                        if bytes.get(i + hashes) == Some(&b'"') {
+                            let closing = format!("\"{}", "#".repeat(hashes));
+                            let body = i + hashes + 1;
+                            let end = src[body..].find(&closing).ok_or_else(|| {
+                                format!("unterminated raw string at byte {start}")
+                            })?;
+                            i = body + end + closing.len();
+                            Tok::Literal
+                        } else if word == "r" && hashes == 1 {
+                            // A raw identifier, r#type.
+                            i += 1;
+                            while i < bytes.len() && is_word_byte(bytes[i]) {
+                                i += 1;
+                            }
+                            Tok::Word
+                        } else {
+                            Tok::Word
+                        }
+                    }
+                    _ => Tok::Word,
+                }
+            }
+            _ => {
+                i += 1;
+                match c {
+                    b'(' | b'[' | b'{' => Tok::Open(c),
+                    b')' | b']' | b'}' => Tok::Close(c),
+                    b';' => Tok::Semi,
+                    b',' => Tok::Comma,
+                    b':' => Tok::Colon,
+                    b'#' => Tok::Pound,
+                    b'!' => Tok::Bang,
+                    _ => Tok::Other,
+                }
+            }
+        };
+        tokens.push(Token {
+            kind,
+            start,
+            end: i,
+        });
+    }
+    Ok(tokens)
+}
+
+fn is_word_byte(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b == b'_' || b >= 0x80
+}
+
+/// The end of an escaped string whose body starts at `from` (just after
+/// the opening quote).
+fn end_of_string(bytes: &[u8], from: usize) -> Option<usize> {
+    let mut i = from;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'\\' => i += 2,
+            b'"' => return Some(i + 1),
+            _ => i += 1,
+        }
+    }
+    None
+}
+
+/// The end of a character literal starting with the quote at `at`, or
+/// `None` when the quote starts a lifetime instead: `'a'` and `'\n'` are
+/// characters, `'a` and `'static` are not.
+fn char_literal_end(src: &str, at: usize) -> Option<usize> {
+    let bytes = src.as_bytes();
+    if bytes.get(at + 1) == Some(&b'\\') {
+        // An escape: '\n', '\'', '\u{1F600}'. The closing quote is the
+        // first one after the escaped character.
+        let from = at + 3;
+        return src.get(from..)?.find('\'').map(|n| from + n + 1);
+    }
+    let c = src.get(at + 1..)?.chars().next()?;
+    let after = at + 1 + c.len_utf8();
+    (bytes.get(after) == Some(&b'\'')).then_some(after + 1)
+}
+
+/// For each opening bracket token, the index of its closing one (and the
+/// reverse), or an error when they do not balance.
+pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>, String> {
+    let mut partner = vec![None; tokens.len()];
+    let mut open: Vec<usize> = Vec::new();
+    for (index, token) in tokens.iter().enumerate() {
+        match token.kind {
+            Tok::Open(_) => open.push(index),
+            Tok::Close(c) => {
+                let Some(opening) = open.pop() else {
+                    return Err(format!("unmatched `{}` at byte {}", c as char, token.start));
+                };
+                let expected = match tokens[opening].kind {
+                    Tok::Open(b'(') => b')',
+                    Tok::Open(b'[') => b']',
+                    _ => b'}',
+                };
+                if c != expected {
+                    return Err(format!(
+                        "`{}` at byte {} closes `{}` at byte {}",
+                        c as char,
+                        token.start,
+                        &src[tokens[opening].start..tokens[opening].end],
+                        tokens[opening].start
+                    ));
+                }
+                partner[opening] = Some(index);
+                partner[index] = Some(opening);
+            }
+            _ => {}
+        }
+    }
+    match open.pop() {
+        Some(index) => Err(format!("unclosed bracket at byte {}", tokens[index].start)),
+        None => Ok(partner),
+    }
+}
+
+/// What kind of item an [`Item`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ItemKind {
+    /// `#![...]` at the top of a file or block.
+    InnerAttribute,
+    Use,
+    Fn,
+    Const,
+    Static,
+    Struct,
+    Enum,
+    Union,
+    Trait,
+    Impl,
+    TypeAlias,
+    Mod,
+    MacroRules,
+    ExternCrate,
+    /// Anything else, such as a macro invocation at item level.
+    Other,
+}
+
+/// One top-level item, as byte ranges into the scanned text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Item {
+    pub kind: ItemKind,
+    /// The item's name (`None` for `impl`, `use` and the like).
+    pub name: Option<String>,
+    /// From its first comment or attribute to its closing `}` or `;`.
+    pub range: Range<usize>,
+    /// Where the item proper begins, after its comments and attributes.
+    pub header: usize,
+    /// The end of the last outer doc comment before `header`, if any.
+    pub doc_end: Option<usize>,
+    /// A function's body, braces included.
+    pub body: Option<Range<usize>>,
+}
+
+impl Item {
+    /// Whether the item is declared `pub` (in any form).
+    pub fn is_pub(&self, src: &str) -> bool {
+        src[self.header..].starts_with("pub")
+    }
+}
+
+/// The items of `src` in order. Comments after the last item are dropped.
+pub fn items(src: &str) -> Result<Vec<Item>, String> {
+    let tokens = lex(src)?;
+    let partner = match_brackets(src, &tokens)?;
+    let closing = |index: usize| partner[index].ok_or_else(|| "unbalanced brackets".to_string());
+    let word = |index: usize| {
+        tokens
+            .get(index)
+            .filter(|token| token.kind == Tok::Word)
+            .map(|token| &src[token.start..token.end])
+    };
+    let mut items = Vec::new();
+    let mut i = 0;
+    'items: while i < tokens.len() {
+        let start = tokens[i].start;
+        let mut doc_end = None;
+        // Leading comments and attributes.
+        loop {
+            let Some(token) = tokens.get(i) else {
+                break 'items;
+            };
+            match token.kind {
+                Tok::Comment { doc } => {
+                    if doc {
+                        doc_end = Some(token.end);
+                    }
+                    i += 1;
+                }
+                Tok::Pound
+                    if tokens.get(i + 1).map(|t| t.kind) == Some(Tok::Bang)
+                        && tokens.get(i + 2).map(|t| t.kind) == Some(Tok::Open(b'[')) =>
+                {
+                    let end = closing(i + 2)?;
+                    items.push(Item {
+                        kind: ItemKind::InnerAttribute,
+                        name: None,
+                        range: start..tokens[end].end,
+                        header: token.start,
+                        doc_end,
+                        body: None,
+                    });
+                    i = end + 1;
+                    continue 'items;
+                }
+                Tok::Pound if tokens.get(i + 1).map(|t| t.kind) == Some(Tok::Open(b'[')) => {
+                    i = closing(i + 1)? + 1;
+                }
+                _ => break,
+            }
+        }
+        let header = tokens[i].start;
+        // The keyword, past visibility and qualifiers.
+        let mut j = i;
+        let (kind, name) = loop {
+            let Some(token) = tokens.get(j) else {
+                return Err(format!("item at byte {header} never ends"));
+            };
+            let text = &src[token.start..token.end];
+            match (token.kind, text) {
+                (Tok::Word, "pub") => {
+                    j += 1;
+                    if tokens.get(j).map(|t| t.kind) == Some(Tok::Open(b'(')) {
+                        j = closing(j)? + 1;
+                    }
+                }
+                (Tok::Word, "const")
+                    if !matches!(word(j + 1), Some("fn" | "unsafe" | "async" | "extern")) =>
+                {
+                    break (ItemKind::Const, word(j + 1));
+                }
+                (Tok::Word, "extern") if word(j + 1) == Some("crate") => {
+                    break (ItemKind::ExternCrate, word(j + 2));
+                }
+                (Tok::Word, "const" | "unsafe" | "async" | "extern" | "default" | "safe")
+                | (Tok::Literal, _) => j += 1,
+                (Tok::Word, "fn") => break (ItemKind::Fn, word(j + 1)),
+                (Tok::Word, "static") => {
+                    let name_at = if word(j + 1) == Some("mut") {
+                        j + 2
+                    } else {
+                        j + 1
+                    };
+                    break (ItemKind::Static, word(name_at));
+                }
+                (Tok::Word, "struct") => break (ItemKind::Struct, word(j + 1)),
+                (Tok::Word, "enum") => break (ItemKind::Enum, word(j + 1)),
+                (Tok::Word, "union") => break (ItemKind::Union, word(j + 1)),
+                (Tok::Word, "trait") => break (ItemKind::Trait, word(j + 1)),
+                (Tok::Word, "type") => break (ItemKind::TypeAlias, word(j + 1)),
+                (Tok::Word, "mod") => break (ItemKind::Mod, word(j + 1)),
+                (Tok::Word, "use") => break (ItemKind::Use, None),
+                (Tok::Word, "impl") => break (ItemKind::Impl, None),
+                (Tok::Word, "macro_rules") => break (ItemKind::MacroRules, word(j + 2)),
+                _ => break (ItemKind::Other, None),
+            }
+        };
+        // Its end: a `;` outside brackets, or, for the items that have one,
+        // the block that closes it. A constant's value may hold a block
+        // (`Foo { x: 1 }`), so for those only the `;` counts.
+        let block_ends = !matches!(
+            kind,
+            ItemKind::Const
+                | ItemKind::Static
+                | ItemKind::TypeAlias
+                | ItemKind::Use
+                | ItemKind::ExternCrate
+        );
+        let mut k = j;
+        let (end, body) = loop {
+            let Some(token) = tokens.get(k) else {
+                return Err(format!("item at byte {header} never ends"));
+            };
+            match token.kind {
+                Tok::Semi => break (k, None),
+                Tok::Open(b'{') if block_ends => {
+                    let end = closing(k)?;
+                    break (end, Some(token.start..tokens[end].end));
+                }
+                Tok::Open(_) => k = closing(k)? + 1,
+                Tok::Close(_) => return Err(format!("item at byte {header} is cut short")),
+                _ => k += 1,
+            }
+        };
+        items.push(Item {
+            kind,
+            name: name.map(str::to_string),
+            range: start..tokens[end].end,
+            header,
+            doc_end,
+            body: if kind == ItemKind::Fn { body } else { None },
+        });
+        i = end + 1;
+    }
+    Ok(items)
+}
+
+/// The names of a function's parameters, in order, from its signature
+/// (`fn f<C: X>(a: &A, mut b: (u32, u32)) -> R`). Patterns other than a
+/// plain name (with `mut`) are an error.
+pub fn parameter_names(signature: &str) -> Result<Vec<String>, String> {
+    let tokens = lex(signature)?;
+    let partner = match_brackets(signature, &tokens)?;
+    let fn_at = tokens
+        .iter()
+        .position(|t| t.kind == Tok::Word && &signature[t.start..t.end] == "fn")
+        .ok_or("no `fn` in the signature")?;
+    // The first `(` after the name outside the generics' angle brackets.
+    let mut angle = 0i32;
+    let mut open = None;
+    for (index, token) in tokens.iter().enumerate().skip(fn_at + 2) {
+        let text = &signature[token.start..token.end];
+        match token.kind {
+            Tok::Other if text == "<" => angle += 1,
+            Tok::Other if text == ">" && !signature[..token.start].ends_with('-') => angle -= 1,
+            Tok::Open(b'(') if angle == 0 => {
+                open = Some(index);
+                break;
+            }
+            _ => {}
+        }
+    }
+    let open = open.ok_or("no parameter list")?;
+    let close = partner[open].ok_or("unbalanced parameter list")?;
+    let mut names = Vec::new();
+    let mut k = open + 1;
+    while k < close {
+        // One parameter: its name, `:`, then its type up to a `,` outside
+        // brackets.
+        let mut name_tokens = Vec::new();
+        while k < close && tokens[k].kind != Tok::Colon {
+            name_tokens.push(&signature[tokens[k].start..tokens[k].end]);
+            k += 1;
+        }
+        match name_tokens.as_slice() {
+            [name] | ["mut", name]
+                if !name.contains(|c: char| !(c.is_alphanumeric() || c == '_')) =>
+            {
+                names.push((*name).to_string())
+            }
+            _ => {
+                return Err(format!(
+                    "parameter `{}` is not a plain name",
+                    name_tokens.join(" ")
+                ));
+            }
+        }
+        while k < close && tokens[k].kind != Tok::Comma {
+            k = match tokens[k].kind {
+                Tok::Open(_) => partner[k].ok_or("unbalanced type")? + 1,
+                _ => k + 1,
+            };
+        }
+        k += 1;
+    }
+    Ok(names)
+}
+
+/// `text` with every path `crate::` replaced by `raylab::`: the chapter
+/// files live inside raylab, where `crate` is raylab, but a workspace's
+/// copy lives in the student's crate.
+pub fn crate_paths_to_raylab(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find("crate::") {
+        let before = rest[..at].chars().next_back();
+        let part_of_word =
+            before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '$' || c == ':');
+        out.push_str(&rest[..at]);
+        out.push_str(if part_of_word { "crate::" } else { "raylab::" });
+        rest = &rest[at + "crate::".len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kinds_and_names(src: &str) -> Vec<(ItemKind, Option<String>)> {
+        items(src)
+            .expect("scans")
+            .into_iter()
+            .map(|item| (item.kind, item.name))
+            .collect()
+    }
+
+    #[test]
+    fn braces_in_strings_chars_and_comments_do_not_count() {
+        let src = r####"
+/// A brace in a doc comment: {
+pub fn a() -> char { let _s = "}{"; let _r = r#"}"}"#; '}' }
+/* nested /* } */ still a comment { */
+fn b<'a>(x: &'a str) -> &'a str { let _c = '\''; let _d = b'{'; x }
+// }
+const C: Point = Point { x: 1 };
+"####;
+        assert_eq!(
+            kinds_and_names(src),
+            vec![
+                (ItemKind::Fn, Some("a".into())),
+                (ItemKind::Fn, Some("b".into())),
+                (ItemKind::Const, Some("C".into())),
+            ]
+        );
+        let b = &items(src).expect("scans")[1];
+        // The block comment before `b` belongs to it; its body is exact.
+        assert!(src[b.range.clone()].starts_with("/* nested"));
+        let body = b.body.clone().expect("a body");
+        assert_eq!(&src[body], "{ let _c = '\\''; let _d = b'{'; x }");
+    }
+
+    #[test]
+    fn docs_attributes_and_headers() {
+        let src = "#![doc = include_str!(\"x.md\")]\n\nuse a::{b, c};\n\n/// Doc.\n#[inline]\npub(crate) const fn f() {}\n\n#[cfg(test)]\nmod tests {\n    fn g() {}\n}\n";
+        let found = items(src).expect("scans");
+        let kinds: Vec<_> = found.iter().map(|item| item.kind).collect();
+        assert_eq!(
+            kinds,
+            [
+                ItemKind::InnerAttribute,
+                ItemKind::Use,
+                ItemKind::Fn,
+                ItemKind::Mod
+            ]
+        );
+        let f = &found[2];
+        assert_eq!(f.name.as_deref(), Some("f"));
+        assert_eq!(&src[f.header..f.range.end], "pub(crate) const fn f() {}");
+        assert_eq!(&src[f.range.start..f.doc_end.expect("doc")], "/// Doc.");
+        assert!(f.is_pub(src));
+        assert!(src[found[3].range.clone()].starts_with("#[cfg(test)]"));
+    }
+
+    #[test]
+    fn lifetimes_are_not_characters() {
+        let src = "fn f<'a, 'b: 'a>(x: &'a u8, y: &'b u8) -> &'a u8 { 'outer: loop { break 'outer x; } }\nstruct S;";
+        assert_eq!(
+            kinds_and_names(src),
+            vec![
+                (ItemKind::Fn, Some("f".into())),
+                (ItemKind::Struct, Some("S".into()))
+            ]
+        );
+    }
+
+    #[test]
+    fn unbalanced_or_unterminated_text_is_an_error() {
+        assert!(items("fn f() { ").is_err());
+        assert!(items("fn f() { \"} ").is_err());
+        assert!(items("fn f() ) {}").is_err());
+        assert!(items("fn f() { /* }").is_err());
+        assert!(items("fn f() (}").is_err());
+    }
+
+    #[test]
+    fn parameter_names_skip_generics_and_tuple_types() {
+        let names = parameter_names(
+            "fn f<C: Chapters, F: Fn(u32) -> u32>(tracer: &mut Tracer<C>, mut pixel: (u32, u32), seed: u64) -> Vec3",
+        )
+        .expect("parses");
+        assert_eq!(names, ["tracer", "pixel", "seed"]);
+        assert_eq!(
+            parameter_names("fn g()").expect("parses"),
+            Vec::<String>::new()
+        );
+        assert!(parameter_names("fn h((a, b): (u8, u8))").is_err());
+    }
+
+    #[test]
+    fn crate_paths_become_raylab_paths() {
+        assert_eq!(
+            crate_paths_to_raylab("crate::unit_vector(n); x::crate::y; $crate::z; [`crate::a`]"),
+            "raylab::unit_vector(n); x::crate::y; $crate::z; [`raylab::a`]"
+        );
+    }
+}

@@ -1,0 +1,252 @@
+//! `raylab new`: a student workspace is generated from the registry, builds
+//! offline against this checkout, reports unwritten chapters as "not
+//! started" (never a backtrace), and its answer key renders exactly what
+//! raylab renders.
+//!
+//! Building a workspace is slow (it compiles raylab as a dependency), so the
+//! two workspaces, `todo` and `answer`, are built once, by two cargo
+//! invocations into this test's own target folder (raylab's dependencies
+//! are already there), and shared by the tests below.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+use common::{raylab, stderr};
+use raylab::stage::CHAPTERS;
+
+struct Workspaces {
+    root: PathBuf,
+    todo: PathBuf,
+    answer: PathBuf,
+    /// The target folder the workspaces were built into.
+    target: PathBuf,
+}
+
+/// This test's target folder: the raylab binary is `<target>/<profile>/raylab`.
+fn target_dir() -> PathBuf {
+    let binary = Path::new(env!("CARGO_BIN_EXE_raylab"));
+    binary
+        .parent()
+        .and_then(Path::parent)
+        .expect("the raylab binary is in <target>/<profile>/")
+        .to_path_buf()
+}
+
+fn workspaces() -> &'static Workspaces {
+    static BUILT: OnceLock<Workspaces> = OnceLock::new();
+    BUILT.get_or_init(|| {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("workspace-test");
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(&root).expect("create the test folder");
+        let todo = root.join("student-todo");
+        let answer = root.join("student-answer");
+        for (dir, extra) in [(&todo, None), (&answer, Some("--solutions"))] {
+            let mut args = vec!["new", dir.to_str().expect("UTF-8 path")];
+            args.extend(extra);
+            let output = raylab(&args, &root);
+            assert!(output.status.success(), "raylab new: {}", stderr(&output));
+        }
+        let target = target_dir();
+        for dir in [&todo, &answer] {
+            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+            let output = Command::new(cargo)
+                .args(["build", "--offline", "--quiet"])
+                .current_dir(dir)
+                .env("CARGO_TARGET_DIR", &target)
+                .output()
+                .expect("run cargo");
+            assert!(
+                output.status.success(),
+                "building {} offline failed:\n{}",
+                dir.display(),
+                stderr(&output)
+            );
+        }
+        Workspaces {
+            root,
+            todo,
+            answer,
+            target,
+        }
+    })
+}
+
+/// Runs a workspace's binary (named after its package) in `dir`, with no
+/// RUST_BACKTRACE so that what a student sees by default is tested.
+fn run_student(binary: &str, args: &[&str], dir: &Path) -> Output {
+    let path = workspaces().target.join("debug").join(binary);
+    Command::new(&path)
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .unwrap_or_else(|error| panic!("run {}: {error}", path.display()))
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|error| panic!("{}: {error}", path.display()))
+}
+
+#[test]
+fn the_workspace_has_a_file_per_chapter_and_a_todo_per_function() {
+    let ws = workspaces();
+    let main = read(&ws.todo.join("src/main.rs"));
+    assert_eq!(main.lines().count(), 3, "{main}");
+    assert!(main.contains("raylab::cli::main_with::<student_todo::Mine>()"));
+    let manifest = read(&ws.todo.join("Cargo.toml"));
+    assert!(
+        manifest.contains(&format!(
+            "raylab = {{ path = \"{}\" }}",
+            env!("CARGO_MANIFEST_DIR")
+        )),
+        "{manifest}"
+    );
+    let lock = read(&ws.todo.join("Cargo.lock"));
+    assert!(lock.contains("name = \"raylab\""));
+    let chapter_files: Vec<_> = std::fs::read_dir(ws.todo.join("src/chapters"))
+        .expect("list")
+        .map(|entry| {
+            entry
+                .expect("entry")
+                .file_name()
+                .into_string()
+                .expect("UTF-8")
+        })
+        .filter(|name| name != "mod.rs")
+        .collect();
+    assert_eq!(chapter_files.len(), CHAPTERS.len(), "{chapter_files:?}");
+    let checks = read(&ws.todo.join("tests/check.rs"));
+    for info in CHAPTERS {
+        let file = format!("src/chapters/{}.rs", info.module());
+        let todo = read(&ws.todo.join(&file));
+        let answer = read(&ws.answer.join(&file));
+        for function in info.functions {
+            assert!(
+                todo.contains(&format!("pub fn {function}")),
+                "{file}: {function}"
+            );
+            assert!(
+                todo.contains(&format!("todo!(\"chapter {}: {function}\")", info.number)),
+                "{file}: {function}"
+            );
+            assert!(
+                answer.contains(&format!("pub fn {function}")),
+                "{file}: {function}"
+            );
+        }
+        assert!(!answer.contains("todo!("), "{file}");
+        assert!(
+            todo.contains(&format!("chapters/{}.md", info.file)),
+            "{file}"
+        );
+        assert!(
+            checks.contains(&format!("assert_chapter::<Mine>({})", info.number)),
+            "{checks}"
+        );
+    }
+}
+
+#[test]
+fn an_unwritten_chapter_is_not_started_not_a_backtrace() {
+    let ws = workspaces();
+    let out = ws.root.join("todo-out");
+    std::fs::create_dir_all(&out).expect("create");
+    for args in [
+        &["render", "--chapter", "1"][..],
+        &[
+            "bench",
+            "--chapter",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--runs",
+            "1",
+        ],
+    ] {
+        let output = run_student("student-todo", args, &out);
+        let text = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {text}");
+        assert!(
+            text.contains(
+                "chapter 1 not started: write intersect_plane in src/chapters/ch01_plane.rs"
+            ),
+            "{args:?}: {text}"
+        );
+        assert!(!text.contains("panicked at"), "{args:?}: {text}");
+        assert!(!text.contains("backtrace"), "{args:?}: {text}");
+    }
+    // Nothing half-written.
+    assert!(!out.join("chapter-1.png").exists());
+}
+
+#[test]
+fn the_answer_key_renders_what_raylab_renders_bit_for_bit() {
+    let ws = workspaces();
+    let out = ws.root.join("answer-out");
+    std::fs::create_dir_all(&out).expect("create");
+    let args = |output: &'static str| {
+        [
+            "render",
+            "--chapter",
+            "8",
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--output",
+            output,
+        ]
+    };
+    let student = run_student("student-answer", &args("student.png"), &out);
+    assert!(student.status.success(), "{}", stderr(&student));
+    let reference = raylab(&args("raylab.png"), &out);
+    assert!(reference.status.success(), "{}", stderr(&reference));
+    let student = std::fs::read(out.join("student.png")).expect("read");
+    let reference = std::fs::read(out.join("raylab.png")).expect("read");
+    assert!(
+        student == reference,
+        "the answer key's chapter 8 differs from raylab's"
+    );
+}
+
+#[test]
+fn new_refuses_a_folder_that_is_not_empty_and_fills_an_empty_one() {
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("workspace-new");
+    let _ = std::fs::remove_dir_all(&root);
+    let taken = root.join("taken");
+    std::fs::create_dir_all(&taken).expect("create");
+    std::fs::write(taken.join("notes.txt"), "mine").expect("write");
+    let output = raylab(&["new", "taken"], &root);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("is not empty"),
+        "{}",
+        stderr(&output)
+    );
+    let left: Vec<_> = std::fs::read_dir(&taken).expect("list").collect();
+    assert_eq!(left.len(), 1, "the folder was changed");
+
+    let empty = root.join("empty");
+    std::fs::create_dir_all(&empty).expect("create");
+    let output = raylab(&["new", "."], &empty);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(empty.join("src/chapters/ch01_plane.rs").is_file());
+    assert!(read(&empty.join("Cargo.toml")).contains("name = \"empty\""));
+    // No staging folder is left beside.
+    let staging: Vec<_> = std::fs::read_dir(&root)
+        .expect("list")
+        .filter_map(|entry| entry.ok())
+        .filter(|entry| {
+            entry
+                .file_name()
+                .to_string_lossy()
+                .starts_with(".raylab-new-")
+        })
+        .collect();
+    assert!(staging.is_empty());
+}
