@@ -355,3 +355,117 @@ fn hostile_names_are_escaped_in_markdown_terminal_and_html() {
     assert!(!html.contains("<img src=x"), "raw markup in the report");
     assert!(html.contains("&lt;img src=x onerror=alert(2)&gt;"));
 }
+
+/// Chapter 1 as a student might break it in raylab's own
+/// `chapters/01_plane.rs`: every ray is tested mirrored in the horizon, so
+/// the floor is drawn in the sky. A raylab rebuilt with it has this as its
+/// "reference" chapters.
+struct FloorInTheSky;
+
+impl raylab::Chapters for FloorInTheSky {
+    fn intersect_plane(
+        plane: &raylab::Plane,
+        ray: &raylab::Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        let mirrored = raylab::Ray::new(
+            ray.origin,
+            raylab::Vec3::new(ray.dir.x, -ray.dir.y, ray.dir.z),
+        );
+        raylab::chapters::ch01_plane::intersect_plane(plane, &mirrored, t_min, t_max)
+    }
+}
+
+fn render_with<C: raylab::Chapters>(chapter: u8, width: u32, height: u32) -> raylab::Rendered {
+    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+    let settings = raylab::RenderSettings {
+        width,
+        height,
+        ..scene.render
+    };
+    raylab::render_with::<C>(&scene, chapter, &settings, None).expect("renders")
+}
+
+/// Grades `class` as a raylab built with the chapters `C` would.
+fn grade_as<C: raylab::Chapters>(class: &Path) -> raylab::grade::Grade {
+    raylab::grade::grade_with(
+        class,
+        &mut raylab::grade::References::<C>::new(None),
+        raylab::diff::Criteria::default(),
+        None,
+    )
+    .expect("grades")
+}
+
+/// Issue 11's false PASS: a student broke chapter 1 in their raylab
+/// checkout, rebuilt, rendered and graded with that same raylab. Its
+/// reference chapters are the student's code, so a reference rendered with
+/// them matched the hand-in bit for bit (PASS, max difference 0). Now the
+/// hand-in fails at the shipped size, and at any other size the modified
+/// chapters are caught before they render a reference.
+#[test]
+fn a_hand_in_from_modified_reference_chapters_never_passes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    let hand_in = class.join("chapter-1.png");
+    let broken = render_with::<FloorInTheSky>(1, 160, 120);
+    assert_ne!(
+        broken.rgb,
+        render_with::<raylab::Reference>(1, 160, 120).rgb,
+        "the planted bug changes the picture"
+    );
+
+    // (a) At 640x480, `raylab render`'s default size: refused.
+    save(&hand_in, &render_with::<FloorInTheSky>(1, 640, 480));
+    let grade = grade_as::<FloorInTheSky>(&class);
+    assert!(
+        grade.graded.iter().all(|g| g.chapter != 1),
+        "chapter 1 graded against the student's own code: {:?}",
+        grade
+            .graded
+            .first()
+            .map(|g| (&g.reference_source, g.passes()))
+    );
+    let refused = grade
+        .unreadable
+        .iter()
+        .find(|u| u.chapter == 1)
+        .expect("chapter 1 listed as not graded");
+    assert!(
+        refused.reason.contains(
+            "this raylab's chapters differ from the shipped references; grade at 160x120 or \
+             use an unmodified raylab"
+        ),
+        "{}",
+        refused.reason
+    );
+    assert!(!grade.all_pass());
+
+    // (b) At 160x120: compared with the shipped image, and fails.
+    save(&hand_in, &broken);
+    let grade = grade_as::<FloorInTheSky>(&class);
+    let graded = grade
+        .graded
+        .iter()
+        .find(|g| g.chapter == 1)
+        .expect("chapter 1 graded");
+    assert!(!graded.passes(), "{:?}", graded.comparison.metrics);
+    assert!(graded.comparison.metrics.max > 0);
+    assert!(
+        graded.reference_source.contains("shipped"),
+        "{}",
+        graded.reference_source
+    );
+
+    // The same hand-ins from unmodified chapters pass, graded by them.
+    save(&hand_in, &render_with::<raylab::Reference>(1, 640, 480));
+    let grade = grade_as::<raylab::Reference>(&class);
+    assert_eq!(grade.passed(), 1, "{:?}", grade.unreadable);
+    assert!(
+        grade.graded[0]
+            .reference_source
+            .contains("rendered at 640x480")
+    );
+}

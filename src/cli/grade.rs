@@ -13,9 +13,13 @@ use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
 /// The folder holds one PNG per chapter, named `chapter-N.png` (N from 1 to
 /// 8, lower case, no leading zero), each rendered from the chapter's
 /// built-in scene with default settings (`raylab render --chapter N`, any
-/// --width/--height). Each is compared with a reference of its size: the
-/// `chapter-N.png` of the --against folder when its size matches, otherwise
-/// the built-in scene rendered now at the student's width and height.
+/// --width/--height). Each is compared with a reference of its size, never
+/// rendered by code that can be the student's: the `chapter-N.png` of the
+/// --against folder when its size matches; at 160x120, the reference image
+/// shipped inside raylab; at any other size, the built-in scene rendered by
+/// raylab's reference chapters, only once they have reproduced the shipped
+/// 160x120 image bit for bit (if not, the hand-in is not graded: "this
+/// raylab's chapters differ from the shipped references").
 ///
 /// Writes one self-contained HTML report (images inlined) with, per chapter,
 /// the student image, the reference, a heatmap, the metrics and pass/fail,
@@ -35,8 +39,9 @@ pub struct GradeArgs {
     /// The folder of student PNGs.
     #[arg(value_name = "DIR")]
     pub folder: PathBuf,
-    /// The folder of reference PNGs named chapter-N.png [default: snapshots/
-    /// if it exists; without it every reference is rendered].
+    /// A folder of your own reference PNGs named chapter-N.png, used where
+    /// their size is the hand-in's [default: the references shipped inside
+    /// raylab].
     #[arg(long, value_name = "FOLDER")]
     pub against: Option<PathBuf>,
     /// Where to write the HTML report [default: DIR/report.html].
@@ -55,7 +60,7 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
             bail!("--against {}: not a folder", folder.display())
         }
         Some(folder) => Some(folder),
-        None => Some(Path::new("snapshots")).filter(|folder| folder.is_dir()),
+        None => None,
     };
     let report = args
         .report
