@@ -12,6 +12,12 @@
 //! raylab's reference chapters, once they are shown to reproduce the shipped
 //! images bit for bit. Anything else in the folder is listed as ignored,
 //! never fatal.
+//!
+//! [`class`] grades a folder of students (one subfolder each), and their
+//! workspaces' `check` with `--code`.
+
+pub mod class;
+pub mod code;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
