@@ -1,17 +1,27 @@
-//! Build script. Without the `embree` feature it does nothing (and the
-//! default build needs neither Embree nor libclang).
+//! Build script. It does two things.
 //!
-//! With the feature, it tells the linker where `libembree4` is, because
-//! `embree4-sys` only says `-lembree4` and reads no variable:
-//! - the Embree folder is `$RAYLAB_EMBREE_DIR` if set and non-empty, else
-//!   `<crate>/.embree`, which `scripts/setup-embree.sh` fills from the pinned
-//!   `embreex` wheel on distributions without Embree 4;
-//! - its library folder is `<dir>/lib` if that exists, else `<dir>`;
-//! - if that folder holds `libembree4.so` (or `.dylib`), we add it to the
-//!   link search path and as an rpath, so binaries, tests and doctests run
-//!   without `LD_LIBRARY_PATH`;
-//! - otherwise we rely on the system's linker path (`libembree-dev` on
-//!   Debian 13 / Ubuntu 24.04, Homebrew's embree on macOS).
+//! 1. The lessons (`chapters/*.md`) link their images relatively
+//!    (`../snapshots/chapter-2.png`, `../docs/images/...`), which is right
+//!    on GitHub and in an editor but broken in `cargo doc`, whose pages live
+//!    under target/doc. So each lesson is copied to `$OUT_DIR/lessons/` with
+//!    every local image inlined as a `data:` URI, and the chapter modules
+//!    take their docs from there (`#![doc = include_str!(concat!(env!(
+//!    "OUT_DIR"), "/lessons/NN_name.md"))]`). An image that cannot be read is
+//!    left as it was, with a warning; tests/lesson_images.rs fails on it.
+//!
+//! 2. Without the `embree` feature, nothing else (the default build needs
+//!    neither Embree nor libclang). With the feature, it tells the linker
+//!    where `libembree4` is, because `embree4-sys` only says `-lembree4`
+//!    and reads no variable:
+//!    - the Embree folder is `$RAYLAB_EMBREE_DIR` if set and non-empty,
+//!      else `<crate>/.embree`, which `scripts/setup-embree.sh` fills from
+//!      the pinned `embreex` wheel on distributions without Embree 4;
+//!    - its library folder is `<dir>/lib` if that exists, else `<dir>`;
+//!    - if that folder holds `libembree4.so` (or `.dylib`), we add it to
+//!      the link search path and as an rpath, so binaries, tests and
+//!      doctests run without `LD_LIBRARY_PATH`;
+//!    - otherwise we rely on the system's linker path (`libembree-dev` on
+//!      Debian 13 / Ubuntu 24.04, Homebrew's embree on macOS).
 //!
 //! See docs/embree.md.
 use std::env;
@@ -19,6 +29,7 @@ use std::path::{Path, PathBuf};
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
+    inline_lesson_images();
     if env::var_os("CARGO_FEATURE_EMBREE").is_none() {
         return;
     }
@@ -75,4 +86,115 @@ fn main() {
              (or set RAYLAB_EMBREE_DIR), see docs/embree.md"
         );
     }
+}
+
+/// Writes every `chapters/*.md` to `$OUT_DIR/lessons/` with its local images
+/// inlined (see the top of this file).
+fn inline_lesson_images() {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
+    let chapters = manifest.join("chapters");
+    let out = PathBuf::from(env::var_os("OUT_DIR").unwrap_or_default()).join("lessons");
+    println!("cargo:rerun-if-changed={}", chapters.display());
+    if let Err(error) = std::fs::create_dir_all(&out) {
+        println!("cargo:warning=cannot create {}: {error}", out.display());
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(&chapters) else {
+        println!("cargo:warning=cannot read {}", chapters.display());
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.extension().is_none_or(|extension| extension != "md") {
+            continue;
+        }
+        println!("cargo:rerun-if-changed={}", path.display());
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            println!("cargo:warning=cannot read {}", path.display());
+            continue;
+        };
+        let inlined = inline_images(&text, &chapters);
+        let target = out.join(entry.file_name());
+        if let Err(error) = std::fs::write(&target, inlined) {
+            println!("cargo:warning=cannot write {}: {error}", target.display());
+        }
+    }
+}
+
+/// `markdown` with each `![alt](local/path)` image replaced by a `data:`
+/// URI of the file, `local/path` taken relative to `folder`. Web addresses,
+/// `data:` URIs and unreadable files are left as they are.
+fn inline_images(markdown: &str, folder: &Path) -> String {
+    let mut out = String::with_capacity(markdown.len());
+    let mut rest = markdown;
+    while let Some(start) = rest.find("![") {
+        // The `(` right after the alt text's `]`, and the closing `)`.
+        // On the same line: `#![allow(...)]` in a code block is no image.
+        let line_end = rest[start..].find('\n').map_or(rest.len(), |at| start + at);
+        let Some(close) = rest[start..line_end].find("](").map(|at| start + at) else {
+            out.push_str(&rest[..start + 2]);
+            rest = &rest[start + 2..];
+            continue;
+        };
+        let target_start = close + 2;
+        let Some(target_end) = rest[target_start..].find(')').map(|at| target_start + at) else {
+            break;
+        };
+        out.push_str(&rest[..target_start]);
+        let target = &rest[target_start..target_end];
+        out.push_str(&inline_one(target, folder).unwrap_or_else(|| target.to_string()));
+        rest = &rest[target_end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The `data:` URI of the local image `target` (relative to `folder`), or
+/// `None` to leave it alone.
+fn inline_one(target: &str, folder: &Path) -> Option<String> {
+    if target.contains(':') || target.contains(char::is_whitespace) || target.is_empty() {
+        return None;
+    }
+    let path = folder.join(target);
+    println!("cargo:rerun-if-changed={}", path.display());
+    let mime = match path.extension()?.to_str()? {
+        "png" => "image/png",
+        "svg" => "image/svg+xml",
+        "jpg" | "jpeg" => "image/jpeg",
+        "gif" => "image/gif",
+        _ => return None,
+    };
+    match std::fs::read(&path) {
+        Ok(bytes) => Some(format!("data:{mime};base64,{}", base64(&bytes))),
+        Err(error) => {
+            println!(
+                "cargo:warning=lesson image {} cannot be read: {error}",
+                path.display()
+            );
+            None
+        }
+    }
+}
+
+/// Standard base64 with padding (RFC 4648), written here so the build
+/// script needs no dependency.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for (index, shift) in [18, 12, 6, 0].into_iter().enumerate() {
+            if index <= chunk.len() {
+                out.push(char::from(ALPHABET[((n >> shift) & 63) as usize]));
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
 }

@@ -1,4 +1,4 @@
-#![doc = include_str!("01_plane.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/01_plane.md"))]
 
 use raylab::{Plane, Ray};
 

@@ -1,4 +1,4 @@
-#![doc = include_str!("02_sphere.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/02_sphere.md"))]
 
 use raylab::{Ray, Sphere, Vec3};
 

@@ -1,4 +1,4 @@
-#![doc = include_str!("03_nearest.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/03_nearest.md"))]
 
 use raylab::Ray;
 use raylab::course::{Chapters, Hit, Objects};

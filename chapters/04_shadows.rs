@@ -1,4 +1,4 @@
-#![doc = include_str!("04_shadows.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/04_shadows.md"))]
 
 use raylab::course::{Chapters, HitPoint};
 use raylab::render::Tracer;

@@ -1,4 +1,4 @@
-#![doc = include_str!("05_phong.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/05_phong.md"))]
 
 use raylab::course::{Chapters, HitPoint, PhongTerms};
 use raylab::render::Tracer;

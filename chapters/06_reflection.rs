@@ -1,4 +1,4 @@
-#![doc = include_str!("06_reflection.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/06_reflection.md"))]
 
 use raylab::course::{Chapters, HitPoint};
 use raylab::render::{RayKind, Tracer};

@@ -1,4 +1,4 @@
-#![doc = include_str!("07_antialiasing.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/07_antialiasing.md"))]
 
 use raylab::Vec3;
 use raylab::course::Chapters;

@@ -1,4 +1,4 @@
-#![doc = include_str!("08_refraction.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/08_refraction.md"))]
 
 use raylab::course::{Chapters, HitPoint};
 use raylab::render::{RayKind, Tracer};

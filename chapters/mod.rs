@@ -1,4 +1,4 @@
-#![doc = include_str!("README.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/README.md"))]
 
 #[path = "01_plane.rs"]
 pub mod ch01_plane;

@@ -4,10 +4,20 @@
 //! Students hand in one PNG per chapter named `chapter-N.png` (N from 1 to
 //! 8, lower case, no leading zero), rendered from the chapter's built-in
 //! scene with its default settings, at any size. Each is compared (see
-//! [`crate::diff`]) with a reference of the same size: the committed
-//! snapshot `chapter-N.png` of the reference folder when its size matches,
-//! otherwise the built-in scene rendered here at the student's width and
-//! height. Anything else in the folder is listed as ignored, never fatal.
+//! [`crate::diff`]) with a reference of the same size, never one rendered by
+//! code that can be the student's (see [`References`]): an `--against`
+//! folder's `chapter-N.png` of that size if one is given, else the reference
+//! image shipped inside raylab ([`crate::stage::ChapterInfo::reference_png`],
+//! 160x120), else the built-in scene rendered at the student's size by
+//! raylab's reference chapters, once they are shown to reproduce the shipped
+//! images bit for bit. Anything else in the folder is listed as ignored,
+//! never fatal.
+//!
+//! [`class`] grades a folder of students (one subfolder each), and their
+//! workspaces' `check` with `--code`.
+
+pub mod class;
+pub mod code;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -15,8 +25,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use base64::Engine as _;
 
+use crate::course::Chapters;
 use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
-use crate::stage::LAST_CHAPTER;
+use crate::stage::{LAST_CHAPTER, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 
 /// One chapter compared with its reference.
 #[derive(Debug, Clone)]
@@ -79,13 +90,32 @@ pub fn chapter_of(name: &str) -> Result<u8, String> {
     }
 }
 
-/// Grades the PNGs in `folder` against `references` (a folder of
-/// `chapter-N.png`, typically `snapshots/`; `None`, or a chapter missing
-/// there, renders the reference). `skip` names a file not to list at all
-/// (the report itself, when it is written into the folder).
+/// Grades the PNGs in `folder` against raylab's references ([`References`]
+/// with raylab's own chapters; `against` is an optional folder of
+/// `chapter-N.png` used where its size is the hand-in's). `skip` names a
+/// file not to list at all (the report itself, when it is written into the
+/// folder).
 pub fn grade(
     folder: &Path,
-    references: Option<&Path>,
+    against: Option<&Path>,
+    criteria: Criteria,
+    skip: Option<&Path>,
+) -> Result<Grade> {
+    grade_with(
+        folder,
+        &mut References::<crate::Reference>::new(against),
+        criteria,
+        skip,
+    )
+}
+
+/// [`grade`] with the references of `references`, whose chapters `R`
+/// render a reference at a size raylab ships none for. Only tests use
+/// chapters other than raylab's own: to plant a modified "reference" and
+/// show that it cannot pass a hand-in made by the same code.
+pub fn grade_with<R: Chapters>(
+    folder: &Path,
+    references: &mut References<R>,
     criteria: Criteria,
     skip: Option<&Path>,
 ) -> Result<Grade> {
@@ -168,15 +198,15 @@ pub fn grade(
 const SYMBOLIC_LINK_REFUSED: &str = "refused: a symbolic link; a hand-in must be a regular \
      file inside the folder (links are never followed)";
 
-/// The smallest hand-in graded, per side. The reference is rendered at the
-/// student's size, so without a floor a 1x1 image (one pixel centre, easy
-/// to match) would pass any chapter.
+/// The smallest hand-in graded, per side. A reference can be rendered at
+/// the student's size, so without a floor a 1x1 image (one pixel centre,
+/// easy to match) would pass any chapter.
 pub const MIN_SIDE: u32 = 16;
 
-fn grade_chapter(
+fn grade_chapter<R: Chapters>(
     chapter: u8,
     file: &Path,
-    references: Option<&Path>,
+    references: &mut References<R>,
     criteria: Criteria,
 ) -> Result<Graded> {
     // Only a regular file, not a link (even one created after the folder
@@ -191,12 +221,13 @@ fn grade_chapter(
     if student.width < MIN_SIDE || student.height < MIN_SIDE {
         anyhow::bail!(
             "too small to grade: {}x{}; hand in at least {MIN_SIDE}x{MIN_SIDE} pixels \
-             (the references are 160x120)",
+             (the references are {REFERENCE_WIDTH}x{REFERENCE_HEIGHT})",
             student.width,
             student.height
         );
     }
-    let (reference, reference_source) = reference_for(chapter, &student, references)?;
+    let (reference, reference_source) =
+        references.reference(chapter, student.width, student.height)?;
     let comparison = compare(&student, &reference, criteria, ("student", "reference"))?;
     Ok(Graded {
         chapter,
@@ -208,39 +239,149 @@ fn grade_chapter(
     })
 }
 
-/// The committed reference when it has the student's size, else a fresh
-/// render of the built-in scene at that size.
-fn reference_for(
-    chapter: u8,
-    student: &Image,
-    references: Option<&Path>,
-) -> Result<(Image, String)> {
-    let size = format!("{}x{}", student.width, student.height);
-    let why_render = match references.map(|folder| folder.join(format!("chapter-{chapter}.png"))) {
-        None => "no reference folder".to_string(),
-        Some(path) if !path.exists() => format!("no {}", path.display()),
-        Some(path) => match Image::load_png(&path) {
-            Ok(image) if (image.width, image.height) == (student.width, student.height) => {
-                return Ok((image, path.display().to_string()));
+/// Why a reference is not rendered when this raylab's chapters do not
+/// reproduce the shipped images.
+pub const MODIFIED_CHAPTERS: &str = "this raylab's chapters differ from the shipped references; \
+     grade at 160x120 or use an unmodified raylab";
+
+/// Where the reference for a hand-in comes from, never from code that can
+/// be the student's.
+///
+/// A student who edits raylab's own chapter files and rebuilds gets a
+/// `raylab` whose "reference" chapters are their own code: rendering the
+/// reference with it would make any hand-in from that code pass, bit for
+/// bit. So the references are, in order:
+/// 1. the `against` folder's `chapter-N.png`, when there is one of the
+///    hand-in's size (the instructor's own images);
+/// 2. at 160x120, the image shipped inside raylab
+///    ([`crate::stage::ChapterInfo::reference_png`], pinned by the snapshot
+///    tests);
+/// 3. at any other size, the built-in scene rendered by the chapters `R`,
+///    but only after `R` has rendered the chapter's scene at 160x120 and
+///    matched the shipped image bit for bit; otherwise the hand-in is not
+///    graded ([`MODIFIED_CHAPTERS`]).
+///
+/// The check is done once per chapter and kept, so grading a class renders
+/// each chapter's check once.
+pub struct References<R: Chapters = crate::Reference> {
+    against: Option<PathBuf>,
+    /// Per chapter checked so far: `Ok` when `R` reproduces its shipped
+    /// image, else why not.
+    checked: Vec<(u8, Result<(), String>)>,
+    chapters: std::marker::PhantomData<R>,
+}
+
+impl<R: Chapters> References<R> {
+    pub fn new(against: Option<&Path>) -> References<R> {
+        References {
+            against: against.map(Path::to_path_buf),
+            checked: Vec::new(),
+            chapters: std::marker::PhantomData,
+        }
+    }
+
+    /// The reference for chapter `chapter` at `width` x `height`, and where
+    /// it came from, for people.
+    pub fn reference(&mut self, chapter: u8, width: u32, height: u32) -> Result<(Image, String)> {
+        let size = format!("{width}x{height}");
+        let mut why_not_against = None;
+        if let Some(folder) = &self.against {
+            let path = folder.join(format!("chapter-{chapter}.png"));
+            why_not_against = Some(if !path.exists() {
+                format!("no {}", path.display())
+            } else {
+                match Image::load_png(&path) {
+                    Ok(image) if (image.width, image.height) == (width, height) => {
+                        return Ok((image, path.display().to_string()));
+                    }
+                    Ok(image) => format!("{} is {}x{}", path.display(), image.width, image.height),
+                    Err(error) => format!("{error:#}"),
+                }
+            });
+        }
+        let shipped = shipped_reference(chapter)?;
+        if (width, height) == (shipped.width, shipped.height) {
+            return Ok((
+                shipped,
+                format!("raylab's shipped reference snapshots/chapter-{chapter}.png"),
+            ));
+        }
+        self.check_chapters(chapter, &shipped)?;
+        let scene = crate::builtin::scene(chapter)?;
+        let settings = crate::RenderSettings {
+            width,
+            height,
+            ..scene.render
+        };
+        settings
+            .validate()
+            .map_err(|message| anyhow::anyhow!("cannot render a reference at {size}: {message}"))?;
+        let rendered = crate::render_with::<R>(&scene, chapter, &settings, None)?;
+        let why = match why_not_against {
+            Some(why) => format!("; {why}"),
+            None => String::new(),
+        };
+        Ok((
+            rendered.into(),
+            format!(
+                "built-in scene rendered at {size} by raylab's reference chapters, checked to \
+                 reproduce the shipped {}x{} image{why}",
+                shipped.width, shipped.height
+            ),
+        ))
+    }
+
+    /// Fails with [`MODIFIED_CHAPTERS`] unless the chapters `R` render
+    /// chapter `chapter`'s built-in scene at the shipped image's size
+    /// exactly as `shipped`. The render of a chapter runs the functions of
+    /// every chapter up to it, so this covers all the code that renders the
+    /// reference.
+    fn check_chapters(&mut self, chapter: u8, shipped: &Image) -> Result<()> {
+        let verdict = match self.checked.iter().find(|(c, _)| *c == chapter) {
+            Some((_, verdict)) => verdict.clone(),
+            None => {
+                let verdict = reproduces::<R>(chapter, shipped)?;
+                self.checked.push((chapter, verdict.clone()));
+                verdict
             }
-            Ok(image) => format!("{} is {}x{}", path.display(), image.width, image.height),
-            Err(error) => format!("{error:#}"),
-        },
-    };
+        };
+        verdict.map_err(|why| anyhow::anyhow!("not graded: {MODIFIED_CHAPTERS} ({why})"))
+    }
+}
+
+/// `Ok(Ok(()))` when the chapters `R` draw chapter `chapter`'s built-in
+/// scene at the size of `shipped` exactly as `shipped`, `Ok(Err(why))` when
+/// not.
+fn reproduces<R: Chapters>(chapter: u8, shipped: &Image) -> Result<Result<(), String>> {
     let scene = crate::builtin::scene(chapter)?;
     let settings = crate::RenderSettings {
-        width: student.width,
-        height: student.height,
+        width: shipped.width,
+        height: shipped.height,
         ..scene.render
     };
-    settings
-        .validate()
-        .map_err(|message| anyhow::anyhow!("cannot render a reference at {size}: {message}"))?;
-    let rendered = crate::render(&scene, chapter, &settings, None)?;
-    Ok((
-        rendered.into(),
-        format!("built-in scene rendered at {size} ({why_render})"),
-    ))
+    let rendered = crate::render_with::<R>(&scene, chapter, &settings, None)?;
+    if rendered.rgb == shipped.rgb {
+        return Ok(Ok(()));
+    }
+    let differing = rendered
+        .rgb
+        .chunks(3)
+        .zip(shipped.rgb.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    Ok(Err(format!(
+        "their chapter {chapter} render at {}x{} differs from the shipped image in {differing} \
+         pixels",
+        shipped.width, shipped.height
+    )))
+}
+
+/// Chapter `chapter`'s reference image as shipped inside raylab.
+pub fn shipped_reference(chapter: u8) -> Result<Image> {
+    let info = crate::stage::chapter(chapter)
+        .ok_or_else(|| anyhow::anyhow!("there is no chapter {chapter}"))?;
+    Image::decode_png(info.reference_png)
+        .with_context(|| format!("raylab's shipped reference of chapter {chapter}"))
 }
 
 impl Graded {

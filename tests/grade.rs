@@ -355,3 +355,325 @@ fn hostile_names_are_escaped_in_markdown_terminal_and_html() {
     assert!(!html.contains("<img src=x"), "raw markup in the report");
     assert!(html.contains("&lt;img src=x onerror=alert(2)&gt;"));
 }
+
+/// Chapter 1 as a student might break it in raylab's own
+/// `chapters/01_plane.rs`: every ray is tested mirrored in the horizon, so
+/// the floor is drawn in the sky. A raylab rebuilt with it has this as its
+/// "reference" chapters.
+struct FloorInTheSky;
+
+impl raylab::Chapters for FloorInTheSky {
+    fn intersect_plane(
+        plane: &raylab::Plane,
+        ray: &raylab::Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        let mirrored = raylab::Ray::new(
+            ray.origin,
+            raylab::Vec3::new(ray.dir.x, -ray.dir.y, ray.dir.z),
+        );
+        raylab::chapters::ch01_plane::intersect_plane(plane, &mirrored, t_min, t_max)
+    }
+}
+
+fn render_with<C: raylab::Chapters>(chapter: u8, width: u32, height: u32) -> raylab::Rendered {
+    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+    let settings = raylab::RenderSettings {
+        width,
+        height,
+        ..scene.render
+    };
+    raylab::render_with::<C>(&scene, chapter, &settings, None).expect("renders")
+}
+
+/// Grades `class` as a raylab built with the chapters `C` would.
+fn grade_as<C: raylab::Chapters>(class: &Path) -> raylab::grade::Grade {
+    raylab::grade::grade_with(
+        class,
+        &mut raylab::grade::References::<C>::new(None),
+        raylab::diff::Criteria::default(),
+        None,
+    )
+    .expect("grades")
+}
+
+/// Issue 11's false PASS: a student broke chapter 1 in their raylab
+/// checkout, rebuilt, rendered and graded with that same raylab. Its
+/// reference chapters are the student's code, so a reference rendered with
+/// them matched the hand-in bit for bit (PASS, max difference 0). Now the
+/// hand-in fails at the shipped size, and at any other size the modified
+/// chapters are caught before they render a reference.
+#[test]
+fn a_hand_in_from_modified_reference_chapters_never_passes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    let hand_in = class.join("chapter-1.png");
+    let broken = render_with::<FloorInTheSky>(1, 160, 120);
+    assert_ne!(
+        broken.rgb,
+        render_with::<raylab::Reference>(1, 160, 120).rgb,
+        "the planted bug changes the picture"
+    );
+
+    // (a) At 640x480, `raylab render`'s default size: refused.
+    save(&hand_in, &render_with::<FloorInTheSky>(1, 640, 480));
+    let grade = grade_as::<FloorInTheSky>(&class);
+    assert!(
+        grade.graded.iter().all(|g| g.chapter != 1),
+        "chapter 1 graded against the student's own code: {:?}",
+        grade
+            .graded
+            .first()
+            .map(|g| (&g.reference_source, g.passes()))
+    );
+    let refused = grade
+        .unreadable
+        .iter()
+        .find(|u| u.chapter == 1)
+        .expect("chapter 1 listed as not graded");
+    assert!(
+        refused.reason.contains(
+            "this raylab's chapters differ from the shipped references; grade at 160x120 or \
+             use an unmodified raylab"
+        ),
+        "{}",
+        refused.reason
+    );
+    assert!(!grade.all_pass());
+
+    // (b) At 160x120: compared with the shipped image, and fails.
+    save(&hand_in, &broken);
+    let grade = grade_as::<FloorInTheSky>(&class);
+    let graded = grade
+        .graded
+        .iter()
+        .find(|g| g.chapter == 1)
+        .expect("chapter 1 graded");
+    assert!(!graded.passes(), "{:?}", graded.comparison.metrics);
+    assert!(graded.comparison.metrics.max > 0);
+    assert!(
+        graded.reference_source.contains("shipped"),
+        "{}",
+        graded.reference_source
+    );
+
+    // The same hand-ins from unmodified chapters pass, graded by them.
+    save(&hand_in, &render_with::<raylab::Reference>(1, 640, 480));
+    let grade = grade_as::<raylab::Reference>(&class);
+    assert_eq!(grade.passed(), 1, "{:?}", grade.unreadable);
+    assert!(
+        grade.graded[0]
+            .reference_source
+            .contains("rendered at 640x480")
+    );
+}
+
+/// `raylab grade CLASS/`: one folder per student, one report and one CSV.
+/// A linked student's folder is refused unread; a hostile folder name is
+/// escaped everywhere and defused in the CSV.
+#[test]
+fn a_class_is_graded_into_one_report_and_a_csv() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    for student in ["alice", "bob", "<i>eve", "=SUM(1+1)"] {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    // alice: everything right, at 48x36.
+    for chapter in 1..=raylab::stage::LAST_CHAPTER {
+        save(
+            &class.join(format!("alice/chapter-{chapter}.png")),
+            &render(chapter, 48, 36, |_| {}),
+        );
+    }
+    // bob: chapter 1 at the shipped size, chapter 6 with one bounce.
+    save(
+        &class.join("bob/chapter-1.png"),
+        &render(1, 160, 120, |_| {}),
+    );
+    save(
+        &class.join("bob/chapter-6.png"),
+        &render(6, 48, 36, |s| s.max_depth = 1),
+    );
+    std::fs::write(class.join("<i>eve/chapter-2.png"), "not a PNG").expect("write");
+    // mallory's folder is a link to alice's: never followed.
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(class.join("alice"), class.join("mallory")).expect("symlink");
+    std::fs::write(class.join("notes.txt"), "x").expect("write");
+
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    let line = |student: &str| -> String {
+        md.lines()
+            .find(|line| line.starts_with(&format!("| {student} |")))
+            .unwrap_or_else(|| panic!("no row for {student} in:\n{md}"))
+            .to_string()
+    };
+    assert!(line("alice").ends_with("| 8 of 8 pass |"), "{md}");
+    let bob = line("bob");
+    assert!(
+        bob.starts_with("| bob | pass | missing | missing | missing | missing | **fail** |"),
+        "{bob}"
+    );
+    assert!(line("\\<i\\>eve").contains("| unreadable |"), "{md}");
+    #[cfg(unix)]
+    assert!(
+        line("mallory")
+            .contains("refused: a symbolic link; a student's folder must be a real folder"),
+        "{md}"
+    );
+    assert!(md.contains("- notes.txt: not a student's folder"), "{md}");
+    assert!(md.contains("**1 of "), "{md}");
+
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV written");
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        rows[0],
+        "student,chapter,status,max,mean,rmse,psnr_db,pixels_over,percent_over,size,detail"
+    );
+    assert!(
+        csv.contains(
+            "alice,3,pass,0,0.000000,0.000000,inf,0,0.0000,48x36,\"built-in scene rendered at 48x36"
+        ),
+        "{csv}"
+    );
+    assert!(
+        csv.contains("bob,1,pass,0,0.000000,0.000000,inf,0,0.0000,160x120,raylab's shipped reference snapshots/chapter-1.png"),
+        "{csv}"
+    );
+    assert!(csv.contains("bob,6,fail,"), "{csv}");
+    assert!(csv.contains("bob,2,missing,"), "{csv}");
+    assert!(csv.contains("<i>eve,2,unreadable,"), "{csv}");
+    // A spreadsheet would run this name as a formula without the quote.
+    assert!(csv.contains("'=SUM(1+1),1,missing,"), "{csv}");
+    #[cfg(unix)]
+    assert!(csv.contains("mallory,all,refused,"), "{csv}");
+    assert_eq!(
+        csv.lines().filter(|l| l.starts_with("alice,")).count(),
+        8,
+        "one row per chapter"
+    );
+
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    assert!(!html.contains("<i>eve"), "a name became markup");
+    assert!(html.contains("&lt;i&gt;eve"));
+    assert!(!html.contains("http"));
+    // Images only for the failing chapter: bob's chapter 6.
+    let images = inlined_images(&html);
+    assert_eq!(
+        images.len(),
+        3,
+        "student, reference and heatmap of bob's chapter 6"
+    );
+    assert_eq!((images[0].width(), images[0].height()), (48, 36));
+
+    // Grading again lists neither the report nor the CSV.
+    let again = raylab(&["grade", "class"], dir.path());
+    assert_eq!(stdout(&again), md);
+}
+
+/// A fake student workspace: a Cargo project whose binary ignores its
+/// arguments, runs `body` and exits (the real `check` prints its table and
+/// exits 0, 1 or 2).
+fn fake_workspace(class: &Path, student: &str, body: &str) -> PathBuf {
+    let folder = class.join(student);
+    std::fs::create_dir_all(folder.join("src")).expect("mkdir");
+    std::fs::write(
+        folder.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"student-{}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n[workspace]\n",
+            student.to_lowercase()
+        ),
+    )
+    .expect("write");
+    std::fs::write(folder.join("src/main.rs"), body).expect("write");
+    folder
+}
+
+/// `raylab grade --code CLASS/` runs each workspace's `check`, sorting the
+/// outcomes by exit status and table, and kills a run past its time limit,
+/// with everything it started.
+#[cfg(unix)]
+#[test]
+fn code_mode_runs_each_workspace_check_with_a_time_limit() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let table = |rows: &str, code: i32| {
+        format!(
+            "fn main() {{\n    println!(\"chapter | status\\n{rows}\");\n    std::process::exit({code});\n}}\n"
+        )
+    };
+    fake_workspace(&class, "ada", &table("1 | pass\\n2 | pass", 0));
+    fake_workspace(&class, "ben", &table("1 | pass\\n2 | FAIL", 1));
+    fake_workspace(&class, "cy", &table("1 | not started\\n2 | not started", 1));
+    fake_workspace(&class, "dee", "fn main() { this is not Rust }\n");
+    fake_workspace(&class, "eli", &table("error: cannot read the scene", 2));
+    let pid_file = dir.path().join("sleeper.pid");
+    let sleeper = fake_workspace(
+        &class,
+        "fay",
+        &format!(
+            "fn main() {{\n    let mut child = std::process::Command::new(\"sleep\").arg(\"3600\").spawn().unwrap();\n    std::fs::write({:?}, child.id().to_string()).unwrap();\n    let _ = child.wait();\n}}\n",
+            pid_file.display().to_string()
+        ),
+    );
+    std::fs::create_dir(class.join("gus")).expect("mkdir");
+    // Built beforehand, so that the time limit falls while the binary runs
+    // (a build past the limit would be killed the same way).
+    let target = dir.path().join("target");
+    let built = std::process::Command::new(env!("CARGO"))
+        .args(["build", "--release", "--offline", "--quiet"])
+        .current_dir(&sleeper)
+        .env("CARGO_TARGET_DIR", &target)
+        .status()
+        .expect("cargo build");
+    assert!(built.success());
+
+    let mut command = common::command(&["grade", "--code", "class", "--timeout", "5"], dir.path());
+    // Every workspace builds into one target folder, as a class sharing
+    // raylab's build would; they run one at a time.
+    command.env("CARGO_TARGET_DIR", &target);
+    let out = common::output_or_blocked(command);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    for (student, verdict) in [
+        ("ada", "pass"),
+        ("ben", "fail"),
+        ("cy", "not started"),
+        ("dee", "build error"),
+        ("eli", "error"),
+        ("fay", "timed out"),
+        ("gus", "refused: not a workspace: no Cargo.toml"),
+    ] {
+        let row = format!("| {student} | {verdict}");
+        assert!(md.contains(&row), "{row:?} not in:\n{md}");
+    }
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
+    assert!(csv.contains("ada,all,pass,"), "{csv}");
+    assert!(csv.contains("ben,all,fail,"), "{csv}");
+    assert!(csv.contains("2 | FAIL"), "the check's table is kept: {csv}");
+    assert!(csv.contains("cy,all,not started,"), "{csv}");
+    assert!(csv.contains("dee,all,build error,"), "{csv}");
+    assert!(csv.contains("fay,all,timed out,"), "{csv}");
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    assert!(html.contains("1 | pass\n2 | FAIL"), "{html}");
+    assert!(html.contains("timed out after 5 s"), "{html}");
+
+    // What the student's binary started was killed with it, as a group
+    // (cargo execs the binary, so killing cargo alone would kill the binary
+    // but leave its child running).
+    let pid = std::fs::read_to_string(&pid_file).expect("the sleeper started");
+    let status = std::fs::read_to_string(format!("/proc/{}/status", pid.trim()));
+    if let Ok(status) = status {
+        let state = status
+            .lines()
+            .find(|line| line.starts_with("State:"))
+            .unwrap_or("");
+        assert!(
+            state.contains('Z'),
+            "the sleeper's child is still running: {state}"
+        );
+    }
+}

@@ -1,92 +1,212 @@
-//! `raylab grade`: compare a folder of student renders with the references.
+//! `raylab grade`: compare student renders with the references, one
+//! student or a class, or run a class's workspaces' checks.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::cli::diff::CriteriaArgs;
 use crate::cli::{EXIT_FAILED_CHECK, render::write_text_atomic};
+use crate::grade::References;
+use crate::grade::code::MAX_TIMEOUT_SECONDS;
 
-/// Grade a folder of student renders (chapter-N.png) into an HTML report.
+/// Grade student renders (chapter-N.png), one student or a whole class,
+/// into an HTML report; or, with --code, students' workspaces.
 ///
-/// The folder holds one PNG per chapter, named `chapter-N.png` (N from 1 to
-/// 8, lower case, no leading zero), each rendered from the chapter's
-/// built-in scene with default settings (`raylab render --chapter N`, any
-/// --width/--height). Each is compared with a reference of its size: the
-/// `chapter-N.png` of the --against folder when its size matches, otherwise
-/// the built-in scene rendered now at the student's width and height.
+/// One student: DIR holds one PNG per chapter, named `chapter-N.png` (N
+/// from 1 to 8, lower case, no leading zero), each rendered from the
+/// chapter's built-in scene with default settings (`raylab render
+/// --chapter N`, any --width/--height from 16). A class: DIR holds one
+/// folder per student, each like the above (DIR is a class when none of its
+/// entries is named chapter-N.png and one is a folder).
 ///
-/// Writes one self-contained HTML report (images inlined) with, per chapter,
-/// the student image, the reference, a heatmap, the metrics and pass/fail,
-/// and prints a Markdown summary. Missing chapters, unreadable files and
-/// other entries of the folder are listed, not fatal. A hand-in must be a
-/// regular file in the folder: a symbolic link is refused (never followed,
-/// read or shown), and so is a FIFO or a device. Images are read up to
-/// 16384 pixels a side and 40,000,000 pixels in all. See `raylab diff
+/// Each image is compared with a reference of its size, never rendered by
+/// code that can be the student's: the `chapter-N.png` of the --against
+/// folder when its size matches; at 160x120, the reference image shipped
+/// inside raylab; at any other size, the built-in scene rendered by
+/// raylab's reference chapters, only once they have reproduced the shipped
+/// 160x120 image bit for bit (if they do not, the hand-in is not graded:
+/// "this raylab's chapters differ from the shipped references").
+///
+/// Writes one self-contained HTML report (images inlined) and prints a
+/// Markdown summary; a class also gets a CSV (student, chapter, status,
+/// metrics). Missing chapters, unreadable files and other entries are
+/// listed, not fatal. A hand-in must be a regular file in the folder and a
+/// student's folder a real folder: symbolic links are refused (never
+/// followed, read or shown), and so are FIFOs and devices. Images are read
+/// up to 16384 pixels a side and 40,000,000 pixels in all. See `raylab diff
 /// --help` for the metrics and the threshold.
 ///
-/// Exit status: 0 when all 8 chapters are present and pass; 1 when any
-/// fails, is missing or unreadable; 2 on an error (the folder cannot be
-/// read, the report cannot be written, --against is not a folder).
+/// With --code, each folder of DIR is a student workspace (made by `raylab
+/// new`): `cargo run --release --offline -- check` runs in it, one student
+/// at a time, within --timeout seconds (then every process of the run is
+/// killed). Each student is reported as pass, fail, not started, timed
+/// out, build error or error, with the check's summary table. This runs the
+/// students' code with your rights: see docs/instructors.md.
+///
+/// Exit status: 0 when every chapter (of every student) is present and
+/// passes; 1 when any fails, is missing, unreadable or refused; 2 on an
+/// error (the folder cannot be read, the report cannot be written,
+/// --against is not a folder).
 #[derive(Debug, Args)]
 #[command(long_about)]
 pub struct GradeArgs {
-    /// The folder of student PNGs.
+    /// One student's folder of PNGs, or a class's folder of students.
     #[arg(value_name = "DIR")]
     pub folder: PathBuf,
-    /// The folder of reference PNGs named chapter-N.png [default: snapshots/
-    /// if it exists; without it every reference is rendered].
+    /// A folder of your own reference PNGs named chapter-N.png, used where
+    /// their size is the hand-in's [default: the references shipped inside
+    /// raylab].
     #[arg(long, value_name = "FOLDER")]
     pub against: Option<PathBuf>,
     /// Where to write the HTML report [default: DIR/report.html].
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
+    /// Where to write the CSV of a class [default: DIR/grades.csv; one
+    /// student's folder gets one only when asked].
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Each folder of DIR is a student workspace: run its `check`.
+    #[arg(long)]
+    pub code: bool,
+    /// With --code, the time limit of each student's build and check, in
+    /// seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 600, value_parser = parse_timeout)]
+    pub timeout: u64,
     #[command(flatten)]
     pub criteria: CriteriaArgs,
+}
+
+fn parse_timeout(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<u64>() {
+        Ok(seconds @ 1..) if seconds <= MAX_TIMEOUT_SECONDS => Ok(seconds),
+        _ => Err(format!(
+            "the time limit must be a whole number of seconds from 1 to {MAX_TIMEOUT_SECONDS}"
+        )),
+    }
 }
 
 pub fn grade(args: &GradeArgs) -> Result<i32> {
     if !args.folder.is_dir() {
         bail!("{}: not a folder", args.folder.display());
     }
-    let references: Option<&Path> = match &args.against {
+    let against: Option<&Path> = match &args.against {
         Some(folder) if !folder.is_dir() => {
             bail!("--against {}: not a folder", folder.display())
         }
         Some(folder) => Some(folder),
-        None => Some(Path::new("snapshots")).filter(|folder| folder.is_dir()),
+        None => None,
     };
+    let class = args.code || crate::grade::class::is_class(&args.folder)?;
     let report = args
         .report
         .clone()
         .unwrap_or_else(|| args.folder.join("report.html"));
-    // The report must not replace a hand-in (or a reference): anything in
-    // the folders but an earlier HTML report counts as an input.
+    let csv = args
+        .csv
+        .clone()
+        .or_else(|| class.then(|| args.folder.join("grades.csv")));
+    // The outputs must not replace a hand-in (or a reference): anything in
+    // the folders but an earlier report or CSV counts as an input.
     let mut inputs = files_in(&args.folder)?;
-    inputs.retain(|path| {
-        !path
-            .extension()
-            .is_some_and(|extension| extension.eq_ignore_ascii_case("html"))
-    });
-    if let Some(folder) = references {
+    if class {
+        for student in folders_in(&args.folder)? {
+            inputs.extend(files_in(&student)?);
+        }
+    }
+    let outputs_of_before = |path: &PathBuf| {
+        path.extension().is_some_and(|extension| {
+            extension.eq_ignore_ascii_case("html") || extension.eq_ignore_ascii_case("csv")
+        })
+    };
+    inputs.retain(|path| !outputs_of_before(path));
+    if let Some(folder) = against {
         inputs.extend(files_in(folder)?);
     }
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_outputs(&inputs, &[("--report", &report)], false)?;
+    let mut outputs: Vec<(&str, &Path)> = vec![("--report", &report)];
+    if let Some(csv) = &csv {
+        outputs.push(("--csv", csv));
+    }
+    crate::output::check_outputs(&inputs, &outputs, false)?;
+    if class {
+        let skip: Vec<&Path> = outputs.iter().map(|(_, path)| *path).collect();
+        let graded = if args.code {
+            crate::grade::class::grade_class_code(
+                &args.folder,
+                Duration::from_secs(args.timeout),
+                &skip,
+                &mut |student| {
+                    eprintln!(
+                        "checking {}",
+                        crate::text::terminal_safe(
+                            &args.folder.join(student).display().to_string()
+                        )
+                    )
+                },
+            )?
+        } else {
+            crate::grade::class::grade_class(
+                &args.folder,
+                &mut References::<crate::Reference>::new(against),
+                args.criteria.criteria(),
+                &skip,
+            )?
+        };
+        let csv = csv.unwrap_or_else(|| args.folder.join("grades.csv"));
+        let html = graded.html()?;
+        let table = graded.csv();
+        crate::output::write_files(&[(&report, html.as_bytes()), (&csv, table.as_bytes())])?;
+        print!(
+            "{}",
+            crate::text::terminal_safe(&graded.markdown(&report, &csv))
+        );
+        return Ok(if graded.all_pass() {
+            0
+        } else {
+            EXIT_FAILED_CHECK
+        });
+    }
     let grade = crate::grade::grade(
         &args.folder,
-        references,
+        against,
         args.criteria.criteria(),
         Some(&report),
     )?;
-    write_text_atomic(&report, &grade.html()?)?;
+    let html = grade.html()?;
+    match &csv {
+        Some(csv) => {
+            let single = crate::grade::class::Class::of_one(grade.clone());
+            crate::output::write_files(&[
+                (&report, html.as_bytes()),
+                (csv, single.csv().as_bytes()),
+            ])?;
+        }
+        None => write_text_atomic(&report, &html)?,
+    }
     print!("{}", crate::text::terminal_safe(&grade.markdown(&report)));
     Ok(if grade.all_pass() {
         0
     } else {
         EXIT_FAILED_CHECK
     })
+}
+
+/// The real folders (not links) directly in `folder`.
+fn folders_in(folder: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(folder)
+        .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+    let mut folders = Vec::new();
+    for entry in entries {
+        let entry =
+            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        if entry.file_type().is_ok_and(|kind| kind.is_dir()) {
+            folders.push(entry.path());
+        }
+    }
+    Ok(folders)
 }
 
 /// The files (not folders) directly in `folder`.

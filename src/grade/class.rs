@@ -1,0 +1,640 @@
+//! Grading a whole class (`raylab grade CLASS/`): one subfolder per student,
+//! each graded like a single student's folder, or with `--code` each a
+//! student workspace whose `check` is run. One HTML report and one CSV for
+//! the class.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use base64::Engine as _;
+
+use super::code::{CodeRun, CodeStatus, last_lines, run_check};
+use super::{
+    Grade, Graded, Ignored, References, STYLE, chapter_of, grade_with, html_escape, markdown_escape,
+};
+use crate::course::Chapters;
+use crate::diff::{Criteria, psnr_text};
+use crate::stage::LAST_CHAPTER;
+
+/// What grading one student gave.
+#[derive(Debug, Clone)]
+pub enum Outcome {
+    /// Their renders, graded.
+    Renders(Box<Grade>),
+    /// Their workspace's `check`, run.
+    Code(Box<CodeRun>),
+    /// Not graded at all, and why (a symbolic link, no Cargo.toml, ...).
+    Refused(String),
+}
+
+/// One student of the class.
+#[derive(Debug, Clone)]
+pub struct Student {
+    /// The subfolder's name.
+    pub name: String,
+    pub folder: PathBuf,
+    pub outcome: Outcome,
+}
+
+/// A graded class.
+#[derive(Debug, Clone)]
+pub struct Class {
+    pub folder: PathBuf,
+    pub criteria: Criteria,
+    pub students: Vec<Student>,
+    /// Entries of the class folder that are not a student's folder.
+    pub ignored: Vec<Ignored>,
+}
+
+/// Why a symbolic link in the class folder is not graded.
+pub const LINKED_STUDENT_REFUSED: &str = "refused: a symbolic link; a student's folder must be \
+     a real folder inside the class folder (links are never followed)";
+
+/// Whether `folder` holds a class (students' subfolders) rather than one
+/// student's renders: no entry is named like a chapter's PNG, and at least
+/// one is a folder (or a link to one, which is then refused).
+pub fn is_class(folder: &Path) -> Result<bool> {
+    let mut has_folder = false;
+    for entry in read_folder(folder)? {
+        let entry =
+            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        if chapter_of(&entry.file_name().to_string_lossy()).is_ok() {
+            return Ok(false);
+        }
+        // `path.is_dir()` follows a link: a linked student's folder still
+        // makes this a class, and is refused there.
+        has_folder |= entry.path().is_dir();
+    }
+    Ok(has_folder)
+}
+
+fn read_folder(folder: &Path) -> Result<std::fs::ReadDir> {
+    std::fs::read_dir(folder)
+        .with_context(|| format!("cannot read the folder {}", folder.display()))
+}
+
+/// The students' subfolders of `folder`, sorted by name, with links
+/// refused, and the other entries (files) listed as ignored. `skip` lists
+/// files not to list at all (the report and the CSV).
+fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignored>)> {
+    let skip: Vec<PathBuf> = skip.iter().filter_map(|p| p.canonicalize().ok()).collect();
+    let mut students = Vec::new();
+    let mut ignored = Vec::new();
+    for entry in read_folder(folder)? {
+        let entry =
+            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if path.canonicalize().is_ok_and(|p| skip.contains(&p)) {
+            continue;
+        }
+        let kind = entry
+            .file_type()
+            .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        if kind.is_symlink() {
+            // A link could lead to another student's folder, or anywhere:
+            // it is never followed.
+            students.push(Student {
+                name,
+                folder: path,
+                outcome: Outcome::Refused(LINKED_STUDENT_REFUSED.into()),
+            });
+        } else if kind.is_dir() {
+            students.push(Student {
+                name,
+                folder: path,
+                outcome: Outcome::Refused(String::new()),
+            });
+        } else {
+            ignored.push(Ignored {
+                name,
+                reason: "not a student's folder".into(),
+            });
+        }
+    }
+    students.sort_by(|a, b| a.name.cmp(&b.name));
+    ignored.sort_by(|a, b| a.name.cmp(&b.name));
+    Ok((students, ignored))
+}
+
+/// Grades every student's renders in `folder` (see [`super::grade_with`]).
+pub fn grade_class<R: Chapters>(
+    folder: &Path,
+    references: &mut References<R>,
+    criteria: Criteria,
+    skip: &[&Path],
+) -> Result<Class> {
+    let (mut students, ignored) = students_in(folder, skip)?;
+    for student in &mut students {
+        if matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
+            student.outcome = match grade_with(&student.folder, references, criteria, None) {
+                Ok(grade) => Outcome::Renders(Box::new(grade)),
+                Err(error) => Outcome::Refused(format!("{error:#}")),
+            };
+        }
+    }
+    Ok(Class {
+        folder: folder.to_path_buf(),
+        criteria,
+        students,
+        ignored,
+    })
+}
+
+/// Runs every student workspace's `check` in `folder`, one at a time, each
+/// within `timeout`. `progress` hears of each student before their run
+/// (runs can be long: the first build of a workspace compiles raylab).
+pub fn grade_class_code(
+    folder: &Path,
+    timeout: Duration,
+    skip: &[&Path],
+    progress: &mut dyn FnMut(&str),
+) -> Result<Class> {
+    let (mut students, ignored) = students_in(folder, skip)?;
+    for student in &mut students {
+        if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
+            continue;
+        }
+        let manifest = student.folder.join("Cargo.toml");
+        let is_file = std::fs::symlink_metadata(&manifest).is_ok_and(|m| m.is_file());
+        student.outcome = if !is_file {
+            Outcome::Refused("not a workspace: no Cargo.toml (make one with raylab new)".into())
+        } else {
+            progress(&student.name);
+            match run_check(&student.folder, timeout) {
+                Ok(run) => Outcome::Code(Box::new(run)),
+                Err(error) => Outcome::Refused(format!("{error:#}")),
+            }
+        };
+    }
+    Ok(Class {
+        folder: folder.to_path_buf(),
+        criteria: Criteria::default(),
+        students,
+        ignored,
+    })
+}
+
+/// A chapter's status in a student's grade: `pass`, `fail`, `missing` or
+/// `unreadable`, with the grading if there is one, or the reason.
+enum ChapterStatus<'a> {
+    Graded(&'a Graded),
+    Missing,
+    Unreadable(&'a str),
+}
+
+fn chapter_status(grade: &Grade, chapter: u8) -> ChapterStatus<'_> {
+    if let Some(graded) = grade.graded.iter().find(|g| g.chapter == chapter) {
+        ChapterStatus::Graded(graded)
+    } else if let Some(unreadable) = grade.unreadable.iter().find(|u| u.chapter == chapter) {
+        ChapterStatus::Unreadable(&unreadable.reason)
+    } else {
+        ChapterStatus::Missing
+    }
+}
+
+impl ChapterStatus<'_> {
+    fn name(&self) -> &'static str {
+        match self {
+            ChapterStatus::Graded(g) if g.passes() => "pass",
+            ChapterStatus::Graded(_) => "fail",
+            ChapterStatus::Missing => "missing",
+            ChapterStatus::Unreadable(_) => "unreadable",
+        }
+    }
+}
+
+/// How many lines of a `check`'s output the report and the CSV keep.
+const SUMMARY_LINES: usize = 40;
+
+impl Student {
+    /// Everything graded passes.
+    pub fn passes(&self) -> bool {
+        match &self.outcome {
+            Outcome::Renders(grade) => grade.all_pass(),
+            Outcome::Code(run) => run.status == CodeStatus::Pass,
+            Outcome::Refused(_) => false,
+        }
+    }
+
+    /// The student's verdict in a word or two.
+    pub fn verdict(&self) -> String {
+        match &self.outcome {
+            Outcome::Renders(grade) => format!("{} of {LAST_CHAPTER} pass", grade.passed()),
+            Outcome::Code(run) => run.status.name().to_string(),
+            Outcome::Refused(_) => "refused".to_string(),
+        }
+    }
+
+    /// What a `--code` run printed that the report shows: the check's
+    /// summary table (the end of its output), or the compiler's errors.
+    fn code_summary(run: &CodeRun) -> String {
+        match run.status {
+            CodeStatus::TimedOut => {
+                let mut text = format!(
+                    "timed out after {} s; every process of the run was killed",
+                    run.timeout.as_secs()
+                );
+                let out = last_lines(&run.stdout, SUMMARY_LINES);
+                if !out.is_empty() {
+                    text.push_str("\noutput so far:\n");
+                    text.push_str(&out);
+                }
+                text
+            }
+            CodeStatus::BuildError | CodeStatus::Error if run.stdout.trim().is_empty() => {
+                last_lines(&run.stderr, SUMMARY_LINES)
+            }
+            CodeStatus::Error => format!(
+                "{}\n{}",
+                last_lines(&run.stdout, SUMMARY_LINES),
+                last_lines(&run.stderr, 10)
+            ),
+            _ => last_lines(&run.stdout, SUMMARY_LINES),
+        }
+    }
+}
+
+impl Class {
+    /// One student's grade as a class of one (for the CSV of `raylab grade
+    /// DIR --csv FILE`), named after the folder.
+    pub fn of_one(grade: Grade) -> Class {
+        let name = grade
+            .folder
+            .file_name()
+            .map(|name| name.to_string_lossy().into_owned())
+            .unwrap_or_else(|| grade.folder.display().to_string());
+        Class {
+            folder: grade.folder.clone(),
+            criteria: grade.criteria,
+            students: vec![Student {
+                name,
+                folder: grade.folder.clone(),
+                outcome: Outcome::Renders(Box::new(grade)),
+            }],
+            ignored: Vec::new(),
+        }
+    }
+
+    pub fn all_pass(&self) -> bool {
+        !self.students.is_empty() && self.students.iter().all(Student::passes)
+    }
+
+    pub fn passed(&self) -> usize {
+        self.students.iter().filter(|s| s.passes()).count()
+    }
+
+    /// One row per student and chapter (per student with `--code`, chapter
+    /// `all`): student, chapter, status, then the metrics of a comparison.
+    pub fn csv(&self) -> String {
+        let mut csv = String::from(
+            "student,chapter,status,max,mean,rmse,psnr_db,pixels_over,percent_over,size,detail\n",
+        );
+        let mut row = |fields: &[String]| {
+            let cells: Vec<String> = fields.iter().map(|f| csv_field(f)).collect();
+            csv.push_str(&cells.join(","));
+            csv.push('\n');
+        };
+        for student in &self.students {
+            let name = student.name.clone();
+            let blank = || vec![String::new(); 7];
+            match &student.outcome {
+                Outcome::Refused(why) => {
+                    let mut fields = vec![name, "all".into(), "refused".into()];
+                    fields.extend(blank());
+                    fields.push(why.clone());
+                    row(&fields);
+                }
+                Outcome::Code(run) => {
+                    let mut fields = vec![name, "all".into(), run.status.name().into()];
+                    fields.extend(blank());
+                    fields.push(Student::code_summary(run));
+                    row(&fields);
+                }
+                Outcome::Renders(grade) => {
+                    for chapter in 1..=LAST_CHAPTER {
+                        let status = chapter_status(grade, chapter);
+                        let mut fields =
+                            vec![name.clone(), chapter.to_string(), status.name().into()];
+                        match &status {
+                            ChapterStatus::Graded(g) => {
+                                let m = &g.comparison.metrics;
+                                fields.extend([
+                                    m.max.to_string(),
+                                    format!("{:.6}", m.mean),
+                                    format!("{:.6}", m.rmse),
+                                    psnr_text(m.psnr_db),
+                                    m.pixels_over.to_string(),
+                                    format!("{:.4}", m.percent_over()),
+                                    format!("{}x{}", m.width, m.height),
+                                    g.reference_source.clone(),
+                                ]);
+                            }
+                            ChapterStatus::Missing => {
+                                fields.extend(blank());
+                                fields.push(format!("no chapter-{chapter}.png"));
+                            }
+                            ChapterStatus::Unreadable(why) => {
+                                fields.extend(blank());
+                                fields.push((*why).to_string());
+                            }
+                        }
+                        row(&fields);
+                    }
+                }
+            }
+        }
+        csv
+    }
+
+    /// The Markdown summary printed by `raylab grade CLASS/`.
+    pub fn markdown(&self, report: &Path, csv: &Path) -> String {
+        let mut md = String::new();
+        let _ = writeln!(
+            md,
+            "# raylab grade: {} (a class)\n",
+            markdown_escape(&self.folder.display().to_string())
+        );
+        let code = self
+            .students
+            .iter()
+            .any(|s| matches!(s.outcome, Outcome::Code(_)));
+        if code {
+            md.push_str("| student | result |\n|---|---|\n");
+        } else {
+            md.push_str("| student |");
+            for chapter in 1..=LAST_CHAPTER {
+                let _ = write!(md, " {chapter} |");
+            }
+            md.push_str(" result |\n|---|");
+            for _ in 1..=LAST_CHAPTER {
+                md.push_str("---|");
+            }
+            md.push_str("---|\n");
+        }
+        for student in &self.students {
+            let _ = write!(md, "| {} |", markdown_escape(&student.name));
+            if let Outcome::Renders(grade) = &student.outcome {
+                for chapter in 1..=LAST_CHAPTER {
+                    let status = chapter_status(grade, chapter).name();
+                    let _ = write!(
+                        md,
+                        " {} |",
+                        if status == "fail" { "**fail**" } else { status }
+                    );
+                }
+            } else if !code {
+                for _ in 1..=LAST_CHAPTER {
+                    md.push_str(" |");
+                }
+            }
+            let verdict = match &student.outcome {
+                Outcome::Refused(why) => format!("refused: {}", markdown_escape(why)),
+                _ => student.verdict(),
+            };
+            let _ = writeln!(md, " {verdict} |");
+        }
+        md.push('\n');
+        if !self.ignored.is_empty() {
+            md.push_str("Ignored:\n");
+            for i in &self.ignored {
+                let _ = writeln!(
+                    md,
+                    "- {}: {}",
+                    markdown_escape(&i.name),
+                    markdown_escape(&i.reason)
+                );
+            }
+            md.push('\n');
+        }
+        let _ = writeln!(
+            md,
+            "**{} of {} students pass everything.** Report: {}; CSV: {}",
+            self.passed(),
+            self.students.len(),
+            markdown_escape(&report.display().to_string()),
+            markdown_escape(&csv.display().to_string())
+        );
+        md
+    }
+
+    /// The self-contained HTML report: an overview, then one section per
+    /// student. Images are inlined only for the chapters that fail (the
+    /// student's, the reference, the heatmap); a passing chapter is one row
+    /// of figures, so that the report of a class of 30 at 640x480 stays a
+    /// few megabytes instead of a few hundred.
+    pub fn html(&self) -> Result<String> {
+        let mut h = String::new();
+        let title = format!("raylab grade: {} (a class)", self.folder.display());
+        let _ = write!(
+            h,
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+            html_escape(&title),
+            html_escape(&title)
+        );
+        let _ = writeln!(
+            h,
+            "<p class=\"verdict {}\"><strong>{} of {} students pass everything.</strong></p>",
+            if self.all_pass() { "pass" } else { "fail" },
+            self.passed(),
+            self.students.len()
+        );
+        let code = self
+            .students
+            .iter()
+            .any(|s| matches!(s.outcome, Outcome::Code(_)));
+        if !code {
+            let c = &self.criteria;
+            let _ = writeln!(
+                h,
+                "<p>A pixel is <em>over</em> when one of its R, G, B values differs from the reference by more than {} levels (of 255); a chapter passes when {}.</p>",
+                c.threshold,
+                super::allowance_text(c)
+            );
+        }
+        h.push_str("<table class=\"summary\">\n<tr><th>student</th>");
+        if !code {
+            for chapter in 1..=LAST_CHAPTER {
+                let _ = write!(h, "<th>{chapter}</th>");
+            }
+        }
+        h.push_str("<th>result</th></tr>\n");
+        for (index, student) in self.students.iter().enumerate() {
+            let _ = write!(
+                h,
+                "<tr><td><a href=\"#student-{index}\">{}</a></td>",
+                html_escape(&student.name)
+            );
+            if !code {
+                for chapter in 1..=LAST_CHAPTER {
+                    match &student.outcome {
+                        Outcome::Renders(grade) => {
+                            let status = chapter_status(grade, chapter).name();
+                            let class = if status == "pass" { "pass" } else { "fail" };
+                            let _ = write!(h, "<td class=\"{class}\">{status}</td>");
+                        }
+                        _ => h.push_str("<td></td>"),
+                    }
+                }
+            }
+            let _ = writeln!(
+                h,
+                "<td class=\"{}\">{}</td></tr>",
+                if student.passes() { "pass" } else { "fail" },
+                html_escape(&student.verdict())
+            );
+        }
+        h.push_str("</table>\n");
+        if !self.ignored.is_empty() {
+            h.push_str("<section class=\"problems\">\n<p><strong>Ignored:</strong></p>\n<ul>\n");
+            for i in &self.ignored {
+                let _ = writeln!(
+                    h,
+                    "<li><code>{}</code>: {}</li>",
+                    html_escape(&i.name),
+                    html_escape(&i.reason)
+                );
+            }
+            h.push_str("</ul>\n</section>\n");
+        }
+        for (index, student) in self.students.iter().enumerate() {
+            let _ = writeln!(
+                h,
+                "<section class=\"chapter {}\" id=\"student-{index}\">\n<h2>{} <span class=\"badge\">{}</span></h2>",
+                if student.passes() { "pass" } else { "fail" },
+                html_escape(&student.name),
+                html_escape(&student.verdict())
+            );
+            match &student.outcome {
+                Outcome::Refused(why) => {
+                    let _ = writeln!(h, "<p>{}</p>", html_escape(why));
+                }
+                Outcome::Code(run) => {
+                    let exit = run
+                        .exit_code
+                        .map(|code| format!("exit status {code}"))
+                        .unwrap_or_else(|| "no exit status".into());
+                    let _ = writeln!(
+                        h,
+                        "<p><code>cargo run --release --offline -- check</code>: {}, {}</p>\n<pre>{}</pre>",
+                        html_escape(run.status.name()),
+                        html_escape(&exit),
+                        html_escape(&Student::code_summary(run))
+                    );
+                }
+                Outcome::Renders(grade) => student_renders_html(&mut h, grade)?,
+            }
+            h.push_str("</section>\n");
+        }
+        h.push_str("</body>\n</html>\n");
+        Ok(h)
+    }
+}
+
+/// One student's chapters in the class report.
+fn student_renders_html(h: &mut String, grade: &Grade) -> Result<()> {
+    h.push_str("<table>\n<tr><th>chapter</th><th>result</th><th>size</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th><th>detail</th></tr>\n");
+    for chapter in 1..=LAST_CHAPTER {
+        let status = chapter_status(grade, chapter);
+        let name = status.name();
+        let class = if name == "pass" { "pass" } else { "fail" };
+        match &status {
+            ChapterStatus::Graded(g) => {
+                let m = &g.comparison.metrics;
+                let _ = writeln!(
+                    h,
+                    "<tr><td>{chapter}</td><td class=\"{class}\">{name}</td><td>{}x{}</td><td>{}</td><td>{}</td><td>{} ({:.3}%)</td><td>{}</td></tr>",
+                    m.width,
+                    m.height,
+                    m.max,
+                    psnr_text(m.psnr_db),
+                    m.pixels_over,
+                    m.percent_over(),
+                    html_escape(&format!("reference: {}", g.reference_source))
+                );
+            }
+            ChapterStatus::Missing => {
+                let _ = writeln!(
+                    h,
+                    "<tr><td>{chapter}</td><td class=\"{class}\">{name}</td><td colspan=\"5\">no chapter-{chapter}.png</td></tr>"
+                );
+            }
+            ChapterStatus::Unreadable(why) => {
+                let _ = writeln!(
+                    h,
+                    "<tr><td>{chapter}</td><td class=\"{class}\">{name}</td><td colspan=\"5\">{}</td></tr>",
+                    html_escape(why)
+                );
+            }
+        }
+    }
+    h.push_str("</table>\n");
+    if !grade.ignored.is_empty() {
+        h.push_str("<p>Ignored:</p>\n<ul>\n");
+        for i in &grade.ignored {
+            let _ = writeln!(
+                h,
+                "<li><code>{}</code>: {}</li>",
+                html_escape(&i.name),
+                html_escape(&i.reason)
+            );
+        }
+        h.push_str("</ul>\n");
+    }
+    for g in grade.graded.iter().filter(|g| !g.passes()) {
+        let heatmap = g.comparison.heatmap(&g.student)?;
+        let _ = writeln!(
+            h,
+            "<h3>Chapter {} <span class=\"badge\">FAIL</span></h3>\n<div class=\"images\">",
+            g.chapter
+        );
+        for (caption, image) in [
+            ("student".to_string(), &g.student),
+            (format!("reference: {}", g.reference_source), &g.reference),
+            ("heatmap".to_string(), &heatmap),
+        ] {
+            let _ = writeln!(
+                h,
+                "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
+                html_escape(&caption),
+                base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
+                html_escape(&caption)
+            );
+        }
+        h.push_str("</div>\n");
+    }
+    Ok(())
+}
+
+/// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a
+/// line break. A field a spreadsheet would run as a formula (a student's
+/// folder named `=HYPERLINK(...)`) is prefixed with `'`.
+fn csv_field(text: &str) -> String {
+    let text = if text.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{text}")
+    } else {
+        text.to_string()
+    };
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_fields_are_quoted_and_formulas_defused() {
+        assert_eq!(csv_field("alice"), "alice");
+        assert_eq!(csv_field("a,b"), "\"a,b\"");
+        assert_eq!(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
+        assert_eq!(csv_field("=1+1"), "'=1+1");
+        assert_eq!(csv_field("-2"), "'-2");
+    }
+}

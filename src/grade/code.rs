@@ -1,0 +1,287 @@
+//! Running a student workspace's `check` (`raylab grade --code`).
+//!
+//! A workspace made by `raylab new` is a Cargo project whose binary is the
+//! student's raylab: `cargo run --release --offline -- check` builds it and
+//! runs every chapter's checks, then prints a summary table and exits 0
+//! (every chapter passes), 1 (a chapter fails or is not started) or 2 (an
+//! error). [`run_check`] runs that command with a time limit, keeps the end
+//! of its output, and sorts the outcome into a [`CodeStatus`].
+//!
+//! The student's code runs with the grader's rights: see
+//! docs/instructors.md before grading code you have not read.
+
+use std::io::Read;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+
+/// The outcome of one workspace's `check`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CodeStatus {
+    /// `check` exited 0: every chapter passes.
+    Pass,
+    /// `check` exited 1 and a chapter fails.
+    Fail,
+    /// `check` exited 1 and no chapter fails: some are still `todo!()`.
+    NotStarted,
+    /// Still running when the time limit came; every process it started
+    /// was killed.
+    TimedOut,
+    /// Cargo could not compile the workspace.
+    BuildError,
+    /// Anything else: `check` exited 2, crashed, or was killed by a signal.
+    Error,
+}
+
+impl CodeStatus {
+    /// The status as the report and the CSV write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CodeStatus::Pass => "pass",
+            CodeStatus::Fail => "fail",
+            CodeStatus::NotStarted => "not started",
+            CodeStatus::TimedOut => "timed out",
+            CodeStatus::BuildError => "build error",
+            CodeStatus::Error => "error",
+        }
+    }
+}
+
+/// What running a workspace's `check` gave.
+#[derive(Debug, Clone)]
+pub struct CodeRun {
+    pub status: CodeStatus,
+    /// The exit status, when the process exited by itself.
+    pub exit_code: Option<i32>,
+    /// The end of what it wrote (at most [`KEPT_OUTPUT`] bytes of each).
+    pub stdout: String,
+    pub stderr: String,
+    /// The time limit, for the report of a run that hit it.
+    pub timeout: Duration,
+}
+
+/// How much of each output stream is kept: the end, where the summary table
+/// and the compiler's errors are. A student's code can print without end;
+/// the grader's memory must not grow with it.
+pub const KEPT_OUTPUT: usize = 64 * 1024;
+
+/// The longest time limit `--timeout` accepts: a day.
+pub const MAX_TIMEOUT_SECONDS: u64 = 24 * 60 * 60;
+
+/// After the process ends (or is killed), how long to wait for the rest of
+/// its output. A process that left the group (`setsid`) and kept the pipe
+/// open would otherwise block the grading of the whole class.
+const OUTPUT_GRACE: Duration = Duration::from_secs(5);
+
+/// Runs `cargo run --release --offline -- check` in `workspace` (the cargo
+/// of `$CARGO` if set, else `cargo` from the PATH), killing it and all it
+/// started when `timeout` passes. An error only when the command cannot be
+/// started at all.
+pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut command = Command::new(&cargo);
+    command
+        .args(["run", "--release", "--offline", "--", "check"])
+        .current_dir(workspace)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // Its own process group, so that on a timeout the compiler, the
+    // student's binary and whatever that started die together: killing
+    // cargo alone would leave the student's binary running.
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        command.process_group(0);
+    }
+    let mut child = command.spawn().with_context(|| {
+        format!(
+            "cannot run {} in {}",
+            std::path::Path::new(&cargo).display(),
+            workspace.display()
+        )
+    })?;
+    let (sender, receiver) = mpsc::channel();
+    let readers = [
+        child
+            .stdout
+            .take()
+            .map(|out| Box::new(out) as Box<dyn Read + Send>),
+        child
+            .stderr
+            .take()
+            .map(|err| Box::new(err) as Box<dyn Read + Send>),
+    ];
+    for (index, reader) in readers.into_iter().enumerate() {
+        let sender = sender.clone();
+        std::thread::spawn(move || {
+            let tail = reader.map(read_tail).unwrap_or_default();
+            let _ = sender.send((index, tail));
+        });
+    }
+    drop(sender);
+
+    let deadline = Instant::now() + timeout;
+    let mut timed_out = false;
+    let exit = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) => {}
+            Err(_) => break None,
+        }
+        if Instant::now() >= deadline {
+            timed_out = true;
+            kill_group(&mut child);
+            break child.wait().ok();
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    // Whatever the run left behind in its group (a background process of
+    // the student's) goes too.
+    kill_group(&mut child);
+
+    let mut outputs = [String::new(), String::new()];
+    let grace_end = Instant::now() + OUTPUT_GRACE;
+    for _ in 0..2 {
+        let left = grace_end.saturating_duration_since(Instant::now());
+        match receiver.recv_timeout(left) {
+            Ok((index, text)) => outputs[index] = text,
+            Err(_) => break,
+        }
+    }
+    let [stdout, stderr] = outputs;
+    let exit_code = exit.and_then(|status| status.code());
+    let status = if timed_out {
+        CodeStatus::TimedOut
+    } else {
+        classify(exit_code, &stdout, &stderr)
+    };
+    Ok(CodeRun {
+        status,
+        exit_code: if timed_out { None } else { exit_code },
+        stdout,
+        stderr,
+        timeout,
+    })
+}
+
+/// Sorts a finished run. `check` says 1 both for a failing chapter and for
+/// one not started; its table tells them apart, and a run with any failing
+/// chapter counts as failing.
+pub fn classify(exit_code: Option<i32>, stdout: &str, stderr: &str) -> CodeStatus {
+    match exit_code {
+        Some(0) => CodeStatus::Pass,
+        Some(1) => {
+            let lower = stdout.to_lowercase();
+            let words: Vec<&str> = lower
+                .split(|c: char| !c.is_alphanumeric())
+                .filter(|word| !word.is_empty())
+                .collect();
+            let fails = words
+                .iter()
+                .any(|word| matches!(*word, "fail" | "fails" | "failed" | "failing"));
+            let not_started = words.windows(2).any(|pair| pair == ["not", "started"]);
+            if not_started && !fails {
+                CodeStatus::NotStarted
+            } else {
+                CodeStatus::Fail
+            }
+        }
+        // Cargo's own status for a failed build (101) is also a panic's, so
+        // the build error is told by cargo's message.
+        _ if stderr.contains("could not compile") => CodeStatus::BuildError,
+        _ => CodeStatus::Error,
+    }
+}
+
+/// Everything `reader` gives until it closes, keeping the last
+/// [`KEPT_OUTPUT`] bytes, as text.
+fn read_tail(mut reader: Box<dyn Read + Send>) -> String {
+    let mut kept: Vec<u8> = Vec::new();
+    let mut dropped = false;
+    let mut buffer = [0u8; 8192];
+    loop {
+        match reader.read(&mut buffer) {
+            Ok(0) => break,
+            Ok(n) => {
+                kept.extend_from_slice(&buffer[..n]);
+                if kept.len() > 2 * KEPT_OUTPUT {
+                    kept.drain(..kept.len() - KEPT_OUTPUT);
+                    dropped = true;
+                }
+            }
+            Err(error) if error.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(_) => break,
+        }
+    }
+    if kept.len() > KEPT_OUTPUT {
+        kept.drain(..kept.len() - KEPT_OUTPUT);
+        dropped = true;
+    }
+    let text = String::from_utf8_lossy(&kept).into_owned();
+    if dropped {
+        format!("[... earlier output dropped ...]\n{text}")
+    } else {
+        text
+    }
+}
+
+/// Kills the child's whole process group (the child is its leader).
+fn kill_group(child: &mut std::process::Child) {
+    #[cfg(unix)]
+    {
+        if let Ok(group) = libc::pid_t::try_from(child.id()) {
+            // SAFETY: killpg with a group this process created; an already
+            // empty group only makes it return ESRCH.
+            unsafe {
+                libc::killpg(group, libc::SIGKILL);
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = child.kill();
+    }
+}
+
+/// The last `lines` lines of `text`, trimmed: a run's summary for the
+/// report and the CSV (the check prints its table last, cargo its errors).
+pub fn last_lines(text: &str, lines: usize) -> String {
+    let all: Vec<&str> = text.trim_end().lines().collect();
+    all[all.len().saturating_sub(lines)..].join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_are_sorted_by_exit_status_and_table() {
+        assert_eq!(classify(Some(0), "", ""), CodeStatus::Pass);
+        let table = "| 1 | pass |\n| 2 | FAIL |\n| 3 | not started |";
+        assert_eq!(classify(Some(1), table, ""), CodeStatus::Fail);
+        let table = "| 1 | pass |\n| 2 | not started |";
+        assert_eq!(classify(Some(1), table, ""), CodeStatus::NotStarted);
+        assert_eq!(classify(Some(1), "", ""), CodeStatus::Fail);
+        assert_eq!(classify(Some(2), "", ""), CodeStatus::Error);
+        assert_eq!(
+            classify(Some(101), "", "error: could not compile `student`"),
+            CodeStatus::BuildError
+        );
+        assert_eq!(classify(Some(101), "", "panicked"), CodeStatus::Error);
+        assert_eq!(classify(None, "", ""), CodeStatus::Error);
+    }
+
+    #[test]
+    fn only_the_end_of_a_long_output_is_kept() {
+        let long = "x".repeat(5 * KEPT_OUTPUT) + "the table";
+        let kept = read_tail(Box::new(std::io::Cursor::new(long.into_bytes())));
+        assert!(kept.ends_with("the table"));
+        assert!(kept.starts_with("[... earlier output dropped ...]"));
+        assert!(kept.len() < KEPT_OUTPUT + 100);
+        assert_eq!(last_lines("a\nb\nc\n", 2), "b\nc");
+    }
+}
