@@ -278,6 +278,14 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                 }
             }
             Knob::Offset => {
+                // With the textbook sphere test: the stable one rejects a
+                // root within its own error bound of the origin, which hides
+                // most acne by itself (lesson 4), and would leave this sweep
+                // nothing to show about the offset.
+                let base = RenderSettings {
+                    sphere_formula: SphereFormula::Textbook,
+                    ..base
+                };
                 for epsilon in EPSILONS {
                     let settings = RenderSettings {
                         ray_offset: OffsetRule::Fixed,
