@@ -14,11 +14,16 @@
 //! | 7 | [`chapters::ch07_antialiasing`] | anti-aliasing by supersampling |
 //! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
 //!
-//! Render any stage with `raylab render --chapter N`. The scaffolding that
-//! is not a lesson lives beside: [`scene`] (TOML scene files),
-//! [`camera`], [`mod@render`] (the image loop and the tracer that calls the
-//! chapters), [`output`] (sRGB, PNG, hashes), [`stage`] (which chapter
-//! enables what). For instructors, [`diff`] and [`grade`] compare student
+//! Render any stage with `raylab render --chapter N`. The seam between the
+//! lessons and the rest is one trait, [`course::Chapters`]: every function a
+//! student writes, chapter by chapter, with raylab's answers as
+//! [`Reference`]. The renderer is generic over it, so it runs raylab's
+//! chapters or a student's (`raylab new` makes a workspace, [`check`] gives
+//! the verdict per chapter). The scaffolding that is not a lesson lives
+//! beside: [`scene`] (TOML scene files), [`shapes`] (the primitives' data),
+//! [`camera`], [`mod@render`] (the image loop and the tracer the chapters
+//! drive), [`output`] (sRGB, PNG, hashes), [`stage`] (the chapter registry
+//! and which chapter enables what). For instructors, [`diff`] and [`grade`] compare student
 //! renders with the references (`raylab diff`, `raylab grade`). With the
 //! `embree` feature, [`crosscheck`] compares our
 //! intersections with Embree's on every ray a render casts (docs/embree.md).
