@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
+#[allow(unused_imports)] // not every test file uses every function
 pub use raylab::check::exact::{angle, reflect, refract, sphere_roots};
 
 #[derive(Debug, Clone, Copy)]
