@@ -6,6 +6,7 @@
 //! here plus its files.
 
 use crate::Scene;
+use crate::scene::FresnelModel;
 
 /// One chapter of the course.
 #[derive(Debug, Clone, Copy)]
@@ -111,6 +112,19 @@ pub const CHAPTERS: &[ChapterInfo] = &[
         "refraction",
         ["refract", "shade_glass"]
     ),
+    chapter!(
+        9,
+        "09_glass",
+        "Glass done right",
+        "Fresnel reflectance, nested media, absorption",
+        [
+            "fresnel",
+            "schlick",
+            "transmittance",
+            "crossing",
+            "shade_dielectric"
+        ]
+    ),
 ];
 
 /// The last chapter: rendering "with everything".
@@ -153,6 +167,14 @@ pub struct Effects {
     pub reflection: bool,
     pub antialiasing: bool,
     pub refraction: bool,
+    /// Chapter 9: each ray knows the media it travels through, so every
+    /// crossing has the right pair of indices.
+    pub nested_media: bool,
+    /// Chapter 9: reflection and transmission weighted by Fresnel (exact
+    /// or Schlick) rather than chapter 8's constants.
+    pub fresnel: bool,
+    /// Chapter 9: Beer-Lambert absorption inside solids.
+    pub absorption: bool,
 }
 
 impl Effects {
@@ -172,6 +194,9 @@ impl Effects {
             reflection: chapter >= 6,
             antialiasing: chapter >= 7,
             refraction: chapter >= 8,
+            nested_media: chapter >= 9,
+            fresnel: chapter >= 9,
+            absorption: chapter >= 9,
         }
     }
 
@@ -207,6 +232,17 @@ impl Effects {
                 && any(&|m| m.reflectivity > 0.0 || (refraction && m.transparency > 0.0)),
             refraction,
             antialiasing: self.antialiasing && samples > 1,
+            // Media only matter to rays that cross surfaces; Fresnel only
+            // splits the light of transparent materials (an opaque one has
+            // no transmitted share to weigh), and absorption only happens
+            // inside a transparent solid that absorbs.
+            nested_media: self.nested_media && refraction,
+            fresnel: self.fresnel
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.fresnel != FresnelModel::None),
+            absorption: self.absorption
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.absorption != crate::Vec3::ZERO),
             ..self
         }
     }
@@ -229,6 +265,9 @@ impl Effects {
         add(self.reflection, "reflection");
         add(self.antialiasing, "antialiasing");
         add(self.refraction, "refraction");
+        add(self.nested_media, "nested-media");
+        add(self.fresnel, "fresnel");
+        add(self.absorption, "absorption");
         names
     }
 }
