@@ -16,6 +16,8 @@ pub mod ch06_reflection;
 pub mod ch07_antialiasing;
 #[path = "08_refraction.rs"]
 pub mod ch08_refraction;
+#[path = "09_glass.rs"]
+pub mod ch09_glass;
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.

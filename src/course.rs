@@ -15,8 +15,9 @@
 
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
-    ch07_antialiasing, ch08_refraction,
+    ch07_antialiasing, ch08_refraction, ch09_glass,
 };
+use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
 use crate::shapes::{Plane, Shape, Sphere, SurfacePoint};
 use crate::{Material, Ray, Sampling, Vec3};
@@ -142,6 +143,46 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         ch08_refraction::shade_glass(tracer, point, depth, weight)
     }
+
+    /// Chapter 9: the exact unpolarised Fresnel reflectance of a ray
+    /// meeting, at an angle of cosine `cos_i`, the surface from a medium of
+    /// index `n1` into one of index `n2`.
+    #[inline(always)]
+    fn fresnel(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        ch09_glass::fresnel(cos_i, n1, n2)
+    }
+
+    /// Chapter 9: Schlick's approximation of [`Chapters::fresnel`].
+    #[inline(always)]
+    fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        ch09_glass::schlick(cos_i, n1, n2)
+    }
+
+    /// Chapter 9: the share of light, per channel, that crosses `distance`
+    /// of a medium with `absorption` (Beer-Lambert).
+    #[inline(always)]
+    fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
+        ch09_glass::transmittance(absorption, distance)
+    }
+
+    /// Chapter 9: the media on both sides of the surface at `point`, for a
+    /// ray that travelled through `media`.
+    #[inline(always)]
+    fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
+        ch09_glass::crossing(media, point)
+    }
+
+    /// Chapter 9: local light, reflection and transmission weighted by
+    /// Fresnel, between the right pair of media, with absorption.
+    #[inline(always)]
+    fn shade_dielectric(
+        tracer: &mut Tracer<Self>,
+        point: &HitPoint,
+        depth: u32,
+        weight: f32,
+    ) -> Vec3 {
+        ch09_glass::shade_dielectric(tracer, point, depth, weight)
+    }
 }
 
 /// The chapters `C` with chapter 2's textbook quadratic formula instead of
@@ -186,6 +227,18 @@ impl<C: Chapters> Chapters for TextbookSphere<C> {
     }
     fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
         C::refract(d, n, eta)
+    }
+    fn fresnel(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        C::fresnel(cos_i, n1, n2)
+    }
+    fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        C::schlick(cos_i, n1, n2)
+    }
+    fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
+        C::transmittance(absorption, distance)
+    }
+    fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
+        C::crossing(media, point)
     }
 }
 

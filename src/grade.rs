@@ -721,7 +721,7 @@ mod tests {
         assert_eq!(chapter_of("chapter-3.png"), Ok(3));
         assert_eq!(chapter_of("chapter-8.png"), Ok(8));
         for bad in [
-            "chapter-9.png",
+            "chapter-99.png",
             "chapter-0.png",
             "chapter-03.png",
             "chapter-x.png",
@@ -734,9 +734,9 @@ mod tests {
             assert!(chapter_of(bad).is_err(), "{bad}");
         }
         assert!(
-            chapter_of("chapter-9.png")
+            chapter_of("chapter-99.png")
                 .unwrap_err()
-                .contains("no chapter 9")
+                .contains("no chapter 99")
         );
     }
 

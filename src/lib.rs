@@ -13,6 +13,7 @@
 //! | 6 | [`chapters::ch06_reflection`] | recursive mirror reflection |
 //! | 7 | [`chapters::ch07_antialiasing`] | anti-aliasing by supersampling |
 //! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
+//! | 9 | [`chapters::ch09_glass`] | Fresnel reflectance, nested media, absorption |
 //!
 //! Render any stage with `raylab render --chapter N`. The seam between the
 //! lessons and the rest is one trait, [`course::Chapters`]: every function a
@@ -55,7 +56,9 @@ pub mod diff;
 pub mod embree;
 pub mod grade;
 pub mod input;
+pub mod medium;
 pub mod output;
+pub mod plots;
 pub mod ray;
 pub mod render;
 pub mod scene;
@@ -71,6 +74,7 @@ pub use chapters::Reference;
 pub use chapters::ch06_reflection::reflect;
 pub use chapters::ch07_antialiasing::Sampling;
 pub use chapters::ch08_refraction::refract;
+pub use chapters::ch09_glass::{fresnel, schlick};
 pub use course::{Chapters, Hit, HitPoint, Objects, first_hit, nearest_hit};
 pub use ray::{Ray, unit_vector};
 pub use render::{

@@ -11,7 +11,12 @@
 //! stage 5     chapter 5's Phong sum                     (shade_phong)
 //! stage 6-7   chapter 6's mirror mix, recursive         (shade_mirror)
 //! stage 8     chapter 8's glass mix, recursive          (shade_glass)
+//! stage 9     chapter 9's Fresnel glass, nested media   (shade_dielectric)
 //! ```
+//!
+//! From chapter 9 on, the tracer also knows the media the current ray
+//! travels through ([`crate::medium::MediumStack`]): chapter 9 traces a ray
+//! inside other media with [`Tracer::trace_in`].
 //!
 //! A pixel is one ray through its centre, or from chapter 7 on chapter 7's
 //! own sample loop ([`Chapters::pixel_color`]).
@@ -24,6 +29,7 @@ use rayon::prelude::*;
 use crate::camera::Camera;
 use crate::chapters::Reference;
 use crate::course::{Chapters, Hit, HitPoint, Objects};
+use crate::medium::MediumStack;
 use crate::output::linear_to_srgb8;
 use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula};
 use crate::shapes::SurfacePoint;
@@ -269,6 +275,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             objects: self.objects(),
             counts: RayCounts::default(),
             recorder,
+            media: MediumStack::EMPTY,
         }
     }
 }
@@ -287,6 +294,18 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     objects: Objects<'a, C>,
     counts: RayCounts,
     recorder: Option<&'a mut dyn RayLog>,
+    /// The media the ray being traced travels through (chapter 9): empty
+    /// (air) for camera rays, set by [`Tracer::trace_in`] for the others.
+    media: MediumStack,
+}
+
+/// What [`Tracer::trace_in`] saw along a ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Traced {
+    pub color: Vec3,
+    /// How far the ray went before it met something, in the scene's units
+    /// (not in units of the direction); infinite when it met nothing.
+    pub distance: f32,
 }
 
 impl<'a, C: Chapters> Tracer<'a, C> {
@@ -374,8 +393,48 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// refraction when chapters 6 and 8 call it). `depth` counts the bounces
     /// so far and `weight` is the ray's share of the pixel.
     pub fn trace(&mut self, kind: RayKind, ray: &Ray, depth: u32, weight: f32) -> Vec3 {
+        self.trace_hit(kind, ray, depth, weight).0
+    }
+
+    /// The media the ray being shaded travelled through to reach its point
+    /// (chapter 9): the solids it is inside, the last entered current.
+    #[inline]
+    pub fn media(&self) -> &MediumStack {
+        &self.media
+    }
+
+    /// [`Tracer::trace`] for a ray that travels inside `media` (chapter 9):
+    /// the point it meets is shaded knowing them, and the answer says how
+    /// far the ray went, for absorption. The tracer's own media are the
+    /// same afterwards: each ray carries its own, nothing leaks to the next.
+    pub fn trace_in(
+        &mut self,
+        media: &MediumStack,
+        kind: RayKind,
+        ray: &Ray,
+        depth: u32,
+        weight: f32,
+    ) -> Traced {
+        let outer = std::mem::replace(&mut self.media, *media);
+        let (color, t) = self.trace_hit(kind, ray, depth, weight);
+        self.media = outer;
+        Traced {
+            color,
+            // t counts lengths of the direction; a miss went on for ever.
+            distance: t.map_or(f32::INFINITY, |t| t * ray.dir.length()),
+        }
+    }
+
+    /// The colour seen along `ray`, and the `t` of what it met.
+    fn trace_hit(
+        &mut self,
+        kind: RayKind,
+        ray: &Ray,
+        depth: u32,
+        weight: f32,
+    ) -> (Vec3, Option<f32>) {
         if depth > DEPTH_LIMIT {
-            return Vec3::ZERO;
+            return (Vec3::ZERO, None);
         }
         self.log(kind, ray, 0.0, f32::INFINITY);
         let hit = if self.stage.effects.nearest_hit {
@@ -384,11 +443,13 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             self.objects.first_hit(ray, 0.0, f32::INFINITY)
         };
         let Some(Hit { object, t }) = hit else {
-            return self.stage.scene.background;
+            return (self.stage.scene.background, None);
         };
         let point = self.hit_point(object, ray, t);
         let effects = self.stage.effects;
-        if effects.refraction {
+        let color = if effects.nested_media {
+            C::shade_dielectric(self, &point, depth, weight)
+        } else if effects.refraction {
             C::shade_glass(self, &point, depth, weight)
         } else if effects.reflection {
             C::shade_mirror(self, &point, depth, weight)
@@ -401,7 +462,8 @@ impl<'a, C: Chapters> Tracer<'a, C> {
                     light.diffuse + light.specular
                 }
             }
-        }
+        };
+        (color, Some(t))
     }
 
     /// The colour of one camera ray through the image point `(x, y)` (in

@@ -178,6 +178,29 @@ pub struct Material {
     pub ior: f32,
     /// An optional second colour laid out in squares.
     pub checker: Option<Checker>,
+    /// How the transparent share splits between reflection and
+    /// transmission at each crossing (chapter 9): `"none"` keeps chapter
+    /// 8's constant `reflectivity` and `transparency`.
+    pub fresnel: FresnelModel,
+    /// Beer-Lambert absorption inside the solid, per unit length and per
+    /// channel (chapter 9): light crossing a thickness `d` keeps
+    /// `exp(-absorption d)`. Zero is clear.
+    #[serde(deserialize_with = "number::vec3")]
+    pub absorption: Vec3,
+}
+
+/// How a transparent material reflects (chapter 9).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FresnelModel {
+    /// Chapter 8's constants: `reflectivity` reflects, `transparency` goes
+    /// through, whatever the angle (total internal reflection aside).
+    #[default]
+    None,
+    /// Schlick's approximation of the Fresnel reflectance.
+    Schlick,
+    /// The exact unpolarised Fresnel reflectance of a dielectric.
+    Exact,
 }
 
 impl Default for Material {
@@ -192,6 +215,8 @@ impl Default for Material {
             transparency: 0.0,
             ior: 1.5,
             checker: None,
+            fresnel: FresnelModel::None,
+            absorption: Vec3::ZERO,
         }
     }
 }
@@ -639,6 +664,13 @@ fn check_albedo(what: &str, value: Vec3) -> Result<(), String> {
     Ok(())
 }
 
+/// The largest absorption coefficient, per unit length. `exp(-a d)` is
+/// already below the smallest normal `f32` (1.2e-38) once `a d > 87.3`, so
+/// at 1e6 any path longer than 1e-4 units is black; larger values would
+/// only risk `a d` overflowing to infinity for long paths (harmless, but
+/// no scene needs them).
+pub const MAX_ABSORPTION: f32 = 1e6;
+
 fn check_coefficient(what: &str, value: f32, max: f32) -> Result<(), String> {
     if !(value >= 0.0 && value <= max) {
         return Err(format!("{what} = {value}: must be between 0 and {max}"));
@@ -781,6 +813,17 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
             "{} = {}: an index of refraction must be a finite number > 0",
             field("ior"),
             material.ior
+        ));
+    }
+    check_finite(&field("absorption"), material.absorption)?;
+    if !(material.absorption.min_element() >= 0.0
+        && material.absorption.max_element() <= MAX_ABSORPTION)
+    {
+        return Err(format!(
+            "{} = {}: absorption is per unit length, each component between 0 and \
+             {MAX_ABSORPTION:e} (0 is clear glass)",
+            field("absorption"),
+            material.absorption
         ));
     }
     if let Some(checker) = material.checker {

@@ -7,6 +7,7 @@
 
 use crate::Scene;
 use crate::check::catalog;
+use crate::scene::FresnelModel;
 
 /// One chapter of the course.
 #[derive(Debug, Clone, Copy)]
@@ -141,6 +142,21 @@ pub const CHAPTERS: &[ChapterInfo] = &[
         catalog::chapter_8,
         catalog::chapter_8_robustness
     ),
+    chapter!(
+        9,
+        "09_glass",
+        "Glass done right",
+        "Fresnel reflectance, nested media, absorption",
+        [
+            "fresnel",
+            "schlick",
+            "transmittance",
+            "crossing",
+            "shade_dielectric"
+        ],
+        catalog::chapter_9,
+        catalog::chapter_9_robustness
+    ),
 ];
 
 /// The last chapter: rendering "with everything".
@@ -183,6 +199,14 @@ pub struct Effects {
     pub reflection: bool,
     pub antialiasing: bool,
     pub refraction: bool,
+    /// Chapter 9: each ray knows the media it travels through, so every
+    /// crossing has the right pair of indices.
+    pub nested_media: bool,
+    /// Chapter 9: reflection and transmission weighted by Fresnel (exact
+    /// or Schlick) rather than chapter 8's constants.
+    pub fresnel: bool,
+    /// Chapter 9: Beer-Lambert absorption inside solids.
+    pub absorption: bool,
 }
 
 impl Effects {
@@ -202,6 +226,9 @@ impl Effects {
             reflection: chapter >= 6,
             antialiasing: chapter >= 7,
             refraction: chapter >= 8,
+            nested_media: chapter >= 9,
+            fresnel: chapter >= 9,
+            absorption: chapter >= 9,
         }
     }
 
@@ -237,6 +264,17 @@ impl Effects {
                 && any(&|m| m.reflectivity > 0.0 || (refraction && m.transparency > 0.0)),
             refraction,
             antialiasing: self.antialiasing && samples > 1,
+            // Media only matter to rays that cross surfaces; Fresnel only
+            // splits the light of transparent materials (an opaque one has
+            // no transmitted share to weigh), and absorption only happens
+            // inside a transparent solid that absorbs.
+            nested_media: self.nested_media && refraction,
+            fresnel: self.fresnel
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.fresnel != FresnelModel::None),
+            absorption: self.absorption
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.absorption != crate::Vec3::ZERO),
             ..self
         }
     }
@@ -259,6 +297,9 @@ impl Effects {
         add(self.reflection, "reflection");
         add(self.antialiasing, "antialiasing");
         add(self.refraction, "refraction");
+        add(self.nested_media, "nested-media");
+        add(self.fresnel, "fresnel");
+        add(self.absorption, "absorption");
         names
     }
 }

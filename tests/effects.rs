@@ -23,6 +23,11 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
     let scene = raylab::builtin::scene(5).expect("built-in scene");
     let settings = small(&scene, 1);
     let at_5 = raylab::render(&scene, 5, &settings, None).expect("renders");
+    // Chapter 9 too: no media, Fresnel or absorption without glass.
+    let at_9 = raylab::render(&scene, 9, &settings, None).expect("renders");
+    assert!(at_5.rgb == at_9.rgb, "the images of stages 5 and 9 differ");
+    assert_eq!(at_5.rays, at_9.rays);
+    assert_eq!(names(&at_5), names(&at_9));
     let at_8 = raylab::render(&scene, 8, &settings, None).expect("renders");
     assert_eq!(at_8.rays.reflection, 0);
     assert_eq!(at_8.rays.refraction, 0);

@@ -70,7 +70,7 @@ fn a_mixed_folder_is_graded_and_reported() {
     // Things that are not a chapter's render.
     std::fs::write(students.join("notes.txt"), "hello").expect("write");
     std::fs::create_dir(students.join("drafts")).expect("mkdir");
-    std::fs::write(students.join("chapter-9.png"), &bytes).expect("write");
+    std::fs::write(students.join("chapter-99.png"), &bytes).expect("write");
     std::fs::write(students.join("chapter-x.png"), &bytes).expect("write");
     std::fs::write(students.join("chapter-3.PNG"), &bytes).expect("write");
 
@@ -120,13 +120,15 @@ fn a_mixed_folder_is_graded_and_reported() {
     );
     assert!(row_6.contains("| **FAIL** |"), "{row_6}");
     assert!(
-        md.contains("Missing: chapter-3.png, chapter-5.png, chapter-7.png, chapter-8.png"),
+        md.contains(
+            "Missing: chapter-3.png, chapter-5.png, chapter-7.png, chapter-8.png, chapter-9.png"
+        ),
         "{md}"
     );
     assert!(md.contains("- chapter-4.png: corrupted PNG"), "{md}");
     for ignored in [
         "- chapter-3.PNG: the extension must be .png in lower case",
-        "- chapter-9.png: there is no chapter 9",
+        "- chapter-99.png: there is no chapter 99",
         "- chapter-x.png: not named chapter-N.png",
         "- drafts: a folder",
         "- notes.txt: not a .png file",
@@ -134,7 +136,7 @@ fn a_mixed_folder_is_graded_and_reported() {
         assert!(md.contains(ignored), "{ignored:?} not in:\n{md}");
     }
     assert!(
-        md.contains("**2 of 8 chapters pass** (3 compared, 4 missing, 1 unreadable)"),
+        md.contains("**2 of 9 chapters pass** (3 compared, 5 missing, 1 unreadable)"),
         "{md}"
     );
 
@@ -218,12 +220,12 @@ fn a_complete_correct_folder_passes() {
     );
     let md = stdout(&out);
     assert!(
-        md.contains("**8 of 8 chapters pass** (8 compared, 0 missing, 0 unreadable)"),
+        md.contains("**9 of 9 chapters pass** (9 compared, 0 missing, 0 unreadable)"),
         "{md}"
     );
     assert!(!md.contains("Ignored"), "{md}");
     let html = std::fs::read_to_string(&report).expect("report");
-    assert_eq!(inlined_images(&html).len(), 24);
+    assert_eq!(inlined_images(&html).len(), 27);
     assert!(!dir.path().join("class/report.html").exists());
 }
 
@@ -238,7 +240,7 @@ fn a_tiny_hand_in_is_not_graded() {
     let out = raylab(&["grade", "class"], dir.path());
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let md = stdout(&out);
-    assert!(md.contains("0 compared, 7 missing, 1 unreadable"), "{md}");
+    assert!(md.contains("0 compared, 8 missing, 1 unreadable"), "{md}");
     assert!(md.contains("too small to grade: 4x3"), "{md}");
 }
 
@@ -306,7 +308,7 @@ fn links_fifos_and_devices_among_hand_ins_are_refused_unread() {
     let out = common::raylab_unblocked(&["grade", "class", "--against", "against"], dir.path());
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let md = stdout(&out);
-    assert!(md.contains("1 compared, 4 missing, 3 unreadable"), "{md}");
+    assert!(md.contains("1 compared, 5 missing, 3 unreadable"), "{md}");
     assert!(
         md.contains("- chapter-8.png: refused: a symbolic link; a hand-in must be a regular file inside the folder"),
         "{md}"

@@ -169,6 +169,11 @@ fn chapter_8_refraction() {
 }
 
 #[test]
+fn chapter_9_glass() {
+    check_chapter(9);
+}
+
+#[test]
 fn each_chapter_changes_the_picture() {
     // A stage that renders the same image as the one before teaches nothing.
     let hashes: Vec<u64> = (1..=raylab::stage::LAST_CHAPTER)

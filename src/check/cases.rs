@@ -57,6 +57,8 @@ pub enum Shading {
     Mirror,
     /// Chapter 8's `shade_glass`.
     Glass,
+    /// Chapter 9's `shade_dielectric`.
+    Dielectric,
 }
 
 impl Shading {
@@ -66,6 +68,7 @@ impl Shading {
             Shading::Phong => 5,
             Shading::Mirror => 6,
             Shading::Glass => 8,
+            Shading::Dielectric => 9,
         }
     }
 }
@@ -167,6 +170,18 @@ pub enum CaseKind {
     },
     /// `refract(d, n, eta)`: expected the exact unit direction, or `None`.
     Refract { d: Vec3, n: Vec3, eta: f32 },
+    /// `fresnel(cos_i, n1, n2)` (or `schlick`, when `schlick` is set):
+    /// expected the `f64` value of the formula, within `1e-6` absolute.
+    Reflectance {
+        schlick: bool,
+        cos_i: f32,
+        n1: f32,
+        n2: f32,
+        expect: f64,
+    },
+    /// `transmittance(absorption, distance)`: expected `exp(-a d)` per
+    /// channel, within `1e-6` relative.
+    Transmittance { absorption: Vec3, distance: f32 },
 }
 
 /// One checkpoint: a question, its expected answer and its tolerance, with
@@ -228,12 +243,16 @@ impl Case {
                 Shading::Phong => "shade_phong",
                 Shading::Mirror => "shade_mirror",
                 Shading::Glass => "shade_glass",
+                Shading::Dielectric => "shade_dielectric",
             },
             CaseKind::PhongTerms { .. } => "phong_terms",
             CaseKind::Reflect { .. } => "reflect",
             CaseKind::SampleOffsets { .. } => "sample_offset",
             CaseKind::PixelColor { .. } => "pixel_color",
             CaseKind::Refract { .. } => "refract",
+            CaseKind::Reflectance { schlick: false, .. } => "fresnel",
+            CaseKind::Reflectance { schlick: true, .. } => "schlick",
+            CaseKind::Transmittance { .. } => "transmittance",
         }
     }
 
@@ -315,7 +334,9 @@ impl Case {
                 self.function(),
                 ray_text(ray),
                 match shading {
-                    Shading::Mirror | Shading::Glass => format!(", depth {depth}, weight 1"),
+                    Shading::Mirror | Shading::Glass | Shading::Dielectric => {
+                        format!(", depth {depth}, weight 1")
+                    }
                     _ => String::new(),
                 }
             ),
@@ -360,6 +381,27 @@ impl Case {
             CaseKind::Refract { d, n, eta } => {
                 format!("refract({}, {}, eta = {})", vec(*d), vec(*n), num(*eta))
             }
+            CaseKind::Reflectance {
+                schlick,
+                cos_i,
+                n1,
+                n2,
+                ..
+            } => format!(
+                "{}(cos_i = {}, n1 = {}, n2 = {})",
+                if *schlick { "schlick" } else { "fresnel" },
+                num(*cos_i),
+                num(*n1),
+                num(*n2)
+            ),
+            CaseKind::Transmittance {
+                absorption,
+                distance,
+            } => format!(
+                "transmittance(absorption {}, distance {})",
+                vec(*absorption),
+                num(*distance)
+            ),
         }
     }
 
@@ -661,6 +703,42 @@ impl Case {
                     },
                 }
             }
+            CaseKind::Reflectance {
+                schlick,
+                cos_i,
+                n1,
+                n2,
+                expect,
+            } => {
+                let got = if *schlick {
+                    C::schlick(*cos_i, *n1, *n2)
+                } else {
+                    C::fresnel(*cos_i, *n1, *n2)
+                };
+                // A reflectance is a share in [0, 1]: 1e-6 absolute is a few
+                // f32 roundings of it, far below what any image shows.
+                let pass = (f64::from(got) - expect).abs() <= 1e-6;
+                verdict(pass, num64(*expect), num(got))
+            }
+            CaseKind::Transmittance {
+                absorption,
+                distance,
+            } => {
+                let got = C::transmittance(*absorption, *distance);
+                let want = wide(*absorption).map(|a| {
+                    if a == 0.0 {
+                        1.0
+                    } else {
+                        (-a * f64::from(*distance)).exp()
+                    }
+                });
+                let pass = got.is_finite()
+                    && (wide(got) - want)
+                        .abs()
+                        .cmple(want.abs() * 1e-6 + DVec3::splat(1e-30))
+                        .all();
+                verdict(pass, vec64(want), vec(got))
+            }
         }
     }
 }
@@ -798,6 +876,15 @@ fn shade<C: Chapters>(shading: Shading, scene: &str, ray: &Ray, depth: u32) -> O
         Shading::Glass => (
             vec![C::shade_glass(&mut tracer, &point, depth, 1.0)],
             vec![Reference::shade_glass(
+                &mut reference_tracer,
+                &point,
+                depth,
+                1.0,
+            )],
+        ),
+        Shading::Dielectric => (
+            vec![C::shade_dielectric(&mut tracer, &point, depth, 1.0)],
+            vec![Reference::shade_dielectric(
                 &mut reference_tracer,
                 &point,
                 depth,

@@ -16,8 +16,9 @@ const DEFAULT_HEIGHT: u32 = 120;
 
 #[derive(Debug, Args)]
 pub struct CostArgs {
-    /// Chapter whose knobs to sweep (2 to 8): 2 adds the sphere formula, 4
-    /// the secondary-ray offset, 6 the reflection depth, 7 the samples.
+    /// Chapter whose knobs to sweep (2 on): 2 adds the sphere formula, 4
+    /// the secondary-ray offset, 6 the reflection depth, 7 the samples, 9
+    /// the Fresnel model.
     #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.
@@ -64,7 +65,7 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     if knobs.is_empty() {
         bail!(
             "chapter {chapter} has no accuracy knob to sweep: the sphere formula comes with \
-             chapter 2, the ray offset with 4, depth with 6, samples with 7"
+             chapter 2, the ray offset with 4, depth with 6, samples with 7, fresnel with 9"
         );
     }
     if args.threads == Some(0) {
