@@ -1748,27 +1748,6 @@ pub fn chapter_8_robustness() -> Vec<Case> {
     ])
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_expected_hit_has_an_exact_value() {
-        for case in chapter_1()
-            .into_iter()
-            .chain(chapter_1_robustness())
-            .chain(chapter_2())
-            .chain(chapter_2_robustness())
-        {
-            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
-                if let ExpectT::Hit(t) = expect {
-                    assert!(t.is_finite(), "{}: the exact reference misses", case.name);
-                }
-            }
-        }
-    }
-}
-
 // ---------------------------------------------------------------------------
 // Chapter 9: glass done right.
 
@@ -2007,4 +1986,25 @@ pub fn chapter_9_robustness() -> Vec<Case> {
             },
         ),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_expected_hit_has_an_exact_value() {
+        for case in chapter_1()
+            .into_iter()
+            .chain(chapter_1_robustness())
+            .chain(chapter_2())
+            .chain(chapter_2_robustness())
+        {
+            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
+                if let ExpectT::Hit(t) = expect {
+                    assert!(t.is_finite(), "{}: the exact reference misses", case.name);
+                }
+            }
+        }
+    }
 }
