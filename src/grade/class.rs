@@ -49,7 +49,7 @@ pub struct Class {
 }
 
 /// Why a symbolic link in the class folder is not graded.
-pub const LINKED_STUDENT_REFUSED: &str = "refused: a symbolic link; a student's folder must be \
+pub const LINKED_STUDENT_REFUSED: &str = "a symbolic link; a student's folder must be \
      a real folder inside the class folder (links are never followed)";
 
 /// Whether `folder` holds a class (students' subfolders) rather than one
