@@ -197,6 +197,16 @@ pub fn chapter_1() -> Vec<Case> {
             E::Miss,
         ),
         p(
+            "plane-before-t-min",
+            EQUATION_1,
+            "a ray from (0, 1, 0) straight down meets the floor at t = 1, before t_min = 2 (the \
+             caller wants hits beyond 2 only): expected no hit",
+            floor,
+            (v(0.0, 1.0, 0.0), -Vec3::Y),
+            (2.0, INF),
+            E::Miss,
+        ),
+        p(
             "plane-origin-on-it",
             EQUATION_1,
             "a ray starting on the floor, from (0, 0, 0) along (0, -1, 0), meets it at t = 0, \

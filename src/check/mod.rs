@@ -363,7 +363,7 @@ impl CheckReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "{:<8} {:<12} {:<7} {:<12} image",
+            "{:<8} {:<12} {:<7} {:<14} image",
             "chapter", "status", "cases", "robustness"
         );
         for v in &self.verdicts {
@@ -384,7 +384,7 @@ impl CheckReport {
             };
             let _ = writeln!(
                 out,
-                "{:<8} {:<12} {:<7} {:<12} {image}",
+                "{:<8} {:<12} {:<7} {:<14} {image}",
                 v.chapter,
                 v.status.word(),
                 format!("{}/{}", v.cases_passed, v.cases_total),
@@ -638,12 +638,26 @@ fn check_image<C: Chapters>(
             Ok(paths) => written = paths,
             Err(error) => return Ok(Err(error)),
         }
+    } else if passed && options.write_images {
+        // The images of an earlier failure would now mislead: the chapter
+        // draws right. Only raylab's own two names are removed.
+        for name in failure_image_names(info.number) {
+            let _ = std::fs::remove_file(options.failures_dir.join(name));
+        }
     }
     Ok(Ok(ImageCheck {
         metrics: comparison.metrics,
         passed,
         written,
     }))
+}
+
+/// The names of the student's image and its heatmap in the failures folder.
+fn failure_image_names(chapter: u8) -> [String; 2] {
+    [
+        format!("chapter-{chapter}.png"),
+        format!("chapter-{chapter}-heatmap.png"),
+    ]
 }
 
 fn write_failure_images(
@@ -661,8 +675,9 @@ fn write_failure_images(
             crate::text::terminal_safe(&folder.display().to_string())
         )
     })?;
-    let image_path = folder.join(format!("chapter-{chapter}.png"));
-    let heatmap_path = folder.join(format!("chapter-{chapter}-heatmap.png"));
+    let [image_name, heatmap_name] = failure_image_names(chapter);
+    let image_path = folder.join(image_name);
+    let heatmap_path = folder.join(heatmap_name);
     student
         .write_png(&image_path)
         .and_then(|()| heatmap.write_png(&heatmap_path))
