@@ -197,6 +197,16 @@ pub fn chapter_1() -> Vec<Case> {
             E::Miss,
         ),
         p(
+            "plane-at-t-max",
+            EQUATION_1,
+            "a ray from (0, 1, 0) straight down meets the floor at t = 1 exactly, and t must be \
+             strictly less than t_max = 1: expected no hit",
+            floor,
+            (v(0.0, 1.0, 0.0), -Vec3::Y),
+            (0.0, 1.0),
+            E::Miss,
+        ),
+        p(
             "plane-before-t-min",
             EQUATION_1,
             "a ray from (0, 1, 0) straight down meets the floor at t = 1, before t_min = 2 (the \

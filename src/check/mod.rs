@@ -780,12 +780,19 @@ pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> C
     CheckReport { verdicts }
 }
 
+/// Set to `1`, [`assert_chapter`] also demands the robustness level: what
+/// `scripts/mutation-score.sh` sets, so that a mutant only the hard cases
+/// notice counts as caught.
+pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
+
 /// Panics with the verdict's text unless chapter `chapter` (and every
 /// chapter it builds on) passes: a student workspace's `cargo test` has one
-/// test per chapter that calls this.
+/// test per chapter that calls this. Robustness is reported apart, as by
+/// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
 pub fn assert_chapter<C: Chapters>(chapter: u8) {
     let verdict = check_chapter::<C>(chapter, &CheckOptions::default());
-    if !verdict.passes() {
+    let require_robust = std::env::var_os(REQUIRE_ROBUST_VAR).is_some_and(|v| v == "1");
+    if !verdict.passes() || (require_robust && !verdict.robust()) {
         panic!("\n{}", verdict.text());
     }
 }
