@@ -1,4 +1,4 @@
-#![doc = include_str!("09_glass.md")]
+#![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/09_glass.md"))]
 
 use raylab::course::{Chapters, HitPoint};
 use raylab::medium::{Crossing, Medium, MediumStack};

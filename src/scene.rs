@@ -616,9 +616,12 @@ pub const MAX_SHAPE_COORDINATE: f32 = 1e6;
 fn check_coordinates(what: &str, value: Vec3) -> Result<(), String> {
     if value.abs().max_element() > MAX_SHAPE_COORDINATE {
         return Err(format!(
-            "{what} = {value}: shape coordinates must be within {MAX_SHAPE_COORDINATE:e} of the \
-             origin; f32 resolves a surface there to 0.06 units, and beyond that the picture \
-             degrades (use a plane for a floor that should look infinite)"
+            "{what} = [{}, {}, {}]: shape coordinates must be within {MAX_SHAPE_COORDINATE:e} of \
+             the origin; f32 resolves a surface there to 0.06 units, and beyond that the picture \
+             degrades (use a plane for a floor that should look infinite)",
+            readable(value.x),
+            readable(value.y),
+            readable(value.z)
         ));
     }
     Ok(())
@@ -746,7 +749,7 @@ impl ObjectSpec {
     fn shape(&self, label: &str) -> Result<Shape, String> {
         match (&self.plane, &self.sphere) {
             (Some(plane), None) => {
-                check_point(&format!("{label}: plane.point"), plane.point)?;
+                check_finite(&format!("{label}: plane.point"), plane.point)?;
                 check_finite(&format!("{label}: plane.normal"), plane.normal)?;
                 check_coordinates(&format!("{label}: plane.point"), plane.point)?;
                 if plane.normal.abs().max_element() == 0.0 {
@@ -758,7 +761,7 @@ impl ObjectSpec {
                 Ok(Plane::new(plane.point, plane.normal).into())
             }
             (None, Some(sphere)) => {
-                check_point(&format!("{label}: sphere.center"), sphere.center)?;
+                check_finite(&format!("{label}: sphere.center"), sphere.center)?;
                 if !(sphere.radius > 0.0 && sphere.radius.is_finite()) {
                     return Err(format!(
                         "{label}: sphere.radius = {}: must be a finite number > 0",
