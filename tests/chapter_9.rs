@@ -689,3 +689,24 @@ fn schlick_plot() {
         .fold(0.0, f64::max);
     assert!((0.03..0.037).contains(&worst), "{worst}");
 }
+
+/// Asserts that `raylab check` fails chapter 9 of the chapters `C` on the
+/// case named `case` (the bug gallery of the course, as for chapters 1-8 in
+/// tests/check.rs).
+fn caught_by_check<C: Chapters>(case: &str) {
+    let options = raylab::check::CheckOptions {
+        failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),
+        write_images: false,
+    };
+    let verdict = raylab::check::check_chapter::<C>(9, &options);
+    let text = verdict.text();
+    assert_eq!(verdict.status, raylab::check::Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), Some(case), "{text}");
+}
+
+#[test]
+fn check_names_each_chapter_9_bug() {
+    caught_by_check::<SchlickSwapped>("schlick-leaving-glass");
+    caught_by_check::<SchlickNoTir>("schlick-past-the-critical-angle");
+    caught_by_check::<AirOutside>("dielectric-nested-balls");
+}

@@ -633,58 +633,6 @@ fn gallery_plane_ignoring_t_min() {
     assert_caught::<IgnoresTMin>(1, "plane-before-t-min");
 }
 
-// Chapter 9's gallery: each bug fails chapter 9 on the case that names it.
-
-/// Schlick with n1 and n2 swapped: the cosine of the wrong side.
-struct SchlickSwapped;
-impl Chapters for SchlickSwapped {
-    fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
-        raylab::schlick(cos_i, n2, n1)
-    }
-}
-
-/// Schlick leaving a denser medium with `cos t = sqrt(1 - sin^2 t)` and no
-/// test for total internal reflection: NaN past the critical angle.
-struct SchlickNoTir;
-impl Chapters for SchlickNoTir {
-    fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
-        let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
-        let c = if n1 <= n2 {
-            cos_i
-        } else {
-            let sin2_t = (n1 / n2).powi(2) * (1.0 - cos_i * cos_i);
-            (1.0 - sin2_t).sqrt()
-        };
-        r0 + (1.0 - r0) * (1.0 - c).powi(5)
-    }
-}
-
-/// Air assumed outside every solid: water inside glass crossed as from air.
-struct AirOutside;
-impl Chapters for AirOutside {
-    fn crossing(media: &raylab::medium::MediumStack, point: &HitPoint) -> raylab::medium::Crossing {
-        let right = raylab::chapters::ch09_glass::crossing(media, point);
-        let ior = point.material.ior;
-        let (n1, n2) = if right.entering {
-            (1.0, ior)
-        } else {
-            (ior, 1.0)
-        };
-        raylab::medium::Crossing { n1, n2, ..right }
-    }
-}
-
-#[test]
-fn gallery_schlick_with_n1_and_n2_swapped() {
-    assert_caught::<SchlickSwapped>(9, "schlick-leaving-glass");
-}
-
-#[test]
-fn gallery_transmitted_cosine_under_total_internal_reflection() {
-    assert_caught::<SchlickNoTir>(9, "schlick-past-the-critical-angle");
-}
-
-#[test]
-fn gallery_air_assumed_outside_every_solid() {
-    assert_caught::<AirOutside>(9, "dielectric-nested-balls");
-}
+// Chapter 9's gallery (Schlick with n1 and n2 swapped, the transmitted
+// cosine under total internal reflection, air outside every solid) is in
+// tests/chapter_9.rs, beside its hand-computed values.
