@@ -207,18 +207,14 @@ pub fn shade_dielectric<C: Chapters>(
                 let transmitted_share = k_t * (1.0 - reflectance);
                 if tracer.worth_casting(weight, transmitted_share) {
                     let refracted = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
-                    let seen = tracer.trace_in(
+                    let through = seen_through::<C>(
+                        tracer,
                         &crossing.beyond,
                         RayKind::Refraction,
                         &refracted,
                         depth + 1,
                         weight * transmitted_share,
                     );
-                    let mut through = seen.color;
-                    let absorption = crossing.beyond.current().absorption;
-                    if absorption != Vec3::ZERO {
-                        through *= C::transmittance(absorption, seen.distance);
-                    }
                     color += transmitted_share * material.color * through;
                 }
             }
@@ -229,21 +225,37 @@ pub fn shade_dielectric<C: Chapters>(
     if tracer.worth_casting(weight, reflected_share) {
         let dir = C::reflect(incoming, normal);
         let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
-        let seen = tracer.trace_in(
+        let seen = seen_through::<C>(
+            tracer,
             &crossing.before,
             RayKind::Reflection,
             &reflected,
             depth + 1,
             weight * reflected_share,
         );
-        let mut seen_color = seen.color;
-        let absorption = crossing.before.current().absorption;
-        if absorption != Vec3::ZERO {
-            seen_color *= C::transmittance(absorption, seen.distance);
-        }
-        color += reflected_share * seen_color;
+        color += reflected_share * seen;
     }
     color
+}
+
+/// What `ray` sees, travelling inside `media`, dimmed by the absorption of
+/// the medium it crosses over the distance it goes (none where that medium
+/// absorbs nothing): the same for the refracted ray and the reflected one.
+fn seen_through<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    media: &MediumStack,
+    kind: RayKind,
+    ray: &Ray,
+    depth: u32,
+    weight: f32,
+) -> Vec3 {
+    let seen = tracer.trace_in(media, kind, ray, depth, weight);
+    let absorption = media.current().absorption;
+    if absorption == Vec3::ZERO {
+        seen.color
+    } else {
+        seen.color * C::transmittance(absorption, seen.distance)
+    }
 }
 
 #[cfg(test)]
