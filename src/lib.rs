@@ -44,6 +44,7 @@ extern crate self as raylab;
 pub mod chapters;
 
 pub mod builtin;
+pub mod bvh;
 pub mod camera;
 pub mod check;
 pub mod cleanup;

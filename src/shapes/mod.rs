@@ -57,6 +57,21 @@ impl Shape {
         }
     }
 
+    /// The smallest axis-aligned box around the shape, `None` for a shape
+    /// no box holds (a plane): chapter 11 keeps those outside its tree.
+    pub fn bounds(&self) -> Option<crate::bvh::Aabb> {
+        match self {
+            Shape::Plane(_) => None,
+            Shape::Sphere(sphere) => {
+                let reach = Vec3::splat(sphere.radius());
+                Some(crate::bvh::Aabb::new(
+                    sphere.center() - reach,
+                    sphere.center() + reach,
+                ))
+            }
+        }
+    }
+
     pub fn is_sphere(&self) -> bool {
         matches!(self, Shape::Sphere(_))
     }
