@@ -18,6 +18,8 @@ pub mod ch07_antialiasing;
 pub mod ch08_refraction;
 #[path = "09_glass.rs"]
 pub mod ch09_glass;
+#[path = "10_triangles.rs"]
+pub mod ch10_triangles;
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.

@@ -104,7 +104,7 @@ pub const FRESNEL_MODELS: [FresnelModel; 3] = [
 /// transmitted share for Fresnel to split).
 pub fn with_fresnel(scene: &Scene, model: FresnelModel) -> Scene {
     let mut scene = scene.clone();
-    for material in &mut scene.materials {
+    for material in scene.materials_mut() {
         if material.transparency > 0.0 {
             material.fresnel = model;
         }

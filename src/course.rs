@@ -15,11 +15,11 @@
 
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
-    ch07_antialiasing, ch08_refraction, ch09_glass,
+    ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles,
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
-use crate::shapes::{Plane, Shape, Sphere, SurfacePoint};
+use crate::shapes::{Plane, Shape, Sphere, SurfacePoint, Triangle};
 use crate::{Material, Ray, Sampling, Vec3};
 
 /// Which object a ray met, and where along the ray.
@@ -183,23 +183,86 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     ) -> Vec3 {
         ch09_glass::shade_dielectric(tracer, point, depth, weight)
     }
+
+    /// Chapter 10: the nearest `t` with `t_min < t < t_max` where `ray` meets
+    /// `triangle`, with no ray lost between two triangles sharing an edge.
+    #[inline(always)]
+    fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch10_triangles::intersect_triangle(triangle, ray, t_min, t_max)
+    }
+
+    /// Chapter 10: the barycentric coordinates of `point` in `triangle`.
+    #[inline(always)]
+    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        ch10_triangles::barycentric(triangle, point)
+    }
+
+    /// Chapter 10: the vertex normals blended at `point`, unit length.
+    #[inline(always)]
+    fn smooth_normal(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        ch10_triangles::smooth_normal(triangle, normals, point)
+    }
+
+    /// Chapter 10: where shadow rays leave a smooth triangle at `point`.
+    #[inline(always)]
+    fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        ch10_triangles::terminator_point(triangle, normals, point)
+    }
+
+    /// Chapter 10: `point`, on a triangle with vertex normals `normals`, as
+    /// smooth shading sees it.
+    #[inline(always)]
+    fn smooth_hit_point<'a>(
+        point: HitPoint<'a>,
+        triangle: &Triangle,
+        normals: &[Vec3; 3],
+    ) -> HitPoint<'a> {
+        ch10_triangles::smooth_hit_point::<Self>(point, triangle, normals)
+    }
 }
 
-/// The chapters `C` with chapter 2's textbook quadratic formula instead of
-/// `C`'s sphere test: the comparison setting `sphere_formula = "textbook"`.
-pub struct TextbookSphere<C>(std::marker::PhantomData<C>);
+/// The chapters `C` with the textbook tests in place of `C`'s where asked:
+/// chapter 2's quadratic formula when `SPHERE` (the comparison setting
+/// `sphere_formula = "textbook"`), chapter 10's Moller-Trumbore test when
+/// `TRIANGLE` (`triangle_test = "moller-trumbore"`).
+pub struct Textbook<C, const SPHERE: bool, const TRIANGLE: bool>(std::marker::PhantomData<C>);
 
-impl<C: Chapters> Chapters for TextbookSphere<C> {
+/// The chapters `C` with chapter 2's textbook quadratic formula.
+pub type TextbookSphere<C> = Textbook<C, true, false>;
+
+impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
+    for Textbook<C, SPHERE, TRIANGLE>
+{
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         C::intersect_plane(plane, ray, t_min, t_max)
     }
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        ch02_sphere::intersect_sphere_textbook(sphere, ray, t_min, t_max)
+        if SPHERE {
+            ch02_sphere::intersect_sphere_textbook(sphere, ray, t_min, t_max)
+        } else {
+            C::intersect_sphere(sphere, ray, t_min, t_max)
+        }
+    }
+    fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        if TRIANGLE {
+            ch10_triangles::intersect_triangle_moller_trumbore(triangle, ray, t_min, t_max)
+        } else {
+            C::intersect_triangle(triangle, ray, t_min, t_max)
+        }
+    }
+    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        C::barycentric(triangle, point)
+    }
+    fn smooth_normal(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        C::smooth_normal(triangle, normals, point)
+    }
+    fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        C::terminator_point(triangle, normals, point)
     }
     // The functions below take `Self`'s tracer, which `C`'s cannot accept:
     // each runs the reference code with this type, so a student's textbook
-    // render uses the reference from chapter 3 on. Only the comparison of
-    // the two sphere formulas (raylab cost, the lesson of chapter 2) uses it.
+    // render uses the reference from chapter 3 on. Only the comparisons of
+    // the formulas (raylab cost, the lessons of chapters 2 and 10) use it.
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         C::offset_origin(surface, dir)
     }

@@ -66,6 +66,8 @@ pub enum Primitive {
     },
     /// Four corners in order around the edge: triangles (0, 1, 2), (0, 2, 3).
     Quad([Vec3; 4]),
+    /// Three corners, in the triangle's winding.
+    Triangle([Vec3; 3]),
 }
 
 /// The quad standing in for one of our planes.
@@ -105,6 +107,11 @@ pub fn scene_size(scene: &Scene) -> f32 {
         match shape {
             Shape::Plane(plane) => include(plane.point(), 0.0),
             Shape::Sphere(sphere) => include(sphere.center(), sphere.radius()),
+            Shape::Triangle(triangle) => {
+                for corner in triangle.corners() {
+                    include(corner, 0.0);
+                }
+            }
         }
     }
     (high - low).max_element().max(1.0)
@@ -169,6 +176,7 @@ pub fn primitives(shapes: &[Shape], scene: &Scene) -> (Vec<Primitive>, Vec<Optio
                 let quad = plane_quad(plane, scene.camera.position, half_side);
                 (Primitive::Quad(quad.corners), Some(quad))
             }
+            Shape::Triangle(triangle) => (Primitive::Triangle(triangle.corners()), None),
         })
         .unzip()
 }
@@ -354,6 +362,7 @@ impl Reference<'_> {
                 (reach >= quad.half_side * (1.0 - QUAD_EDGE_MARGIN) || !reach.is_finite())
                     .then_some(Boundary::BeyondQuad)
             }
+            Shape::Triangle(_) => None,
         }
     }
 }
@@ -388,6 +397,18 @@ pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
             let to_point = (plane.point() - ray.origin).as_dvec3().length();
             let distance = f64::from(t) * length;
             let cosine = cosine_to_normal(plane, ray);
+            (to_point + distance) / cosine
+        }
+        Shape::Triangle(triangle) => {
+            // As for the triangle's plane through its farthest corner.
+            let to_point = triangle
+                .corners()
+                .iter()
+                .map(|corner| (*corner - ray.origin).as_dvec3().length())
+                .fold(0.0, f64::max);
+            let distance = f64::from(t) * length;
+            let normal = triangle.geometric_normal().as_dvec3();
+            let cosine = (normal.dot(ray.dir.as_dvec3()).abs() / length).max(1e-12);
             (to_point + distance) / cosine
         }
     };

@@ -160,7 +160,7 @@ impl EmbreeScene {
     fn attach(&self, id: u32, primitive: &Primitive) -> Result<(), EmbreeError> {
         let kind = match primitive {
             Primitive::Sphere { .. } => sys::RTCGeometryType::SPHERE_POINT,
-            Primitive::Quad(_) => sys::RTCGeometryType::TRIANGLE,
+            Primitive::Quad(_) | Primitive::Triangle(_) => sys::RTCGeometryType::TRIANGLE,
         };
         // SAFETY: `device` is live.
         let geometry = unsafe { sys::rtcNewGeometry(self.device, kind) };
@@ -192,6 +192,23 @@ impl EmbreeScene {
                         sys::RTCBufferType::INDEX,
                         sys::RTCFormat::UINT3,
                         &triangles,
+                    )
+                })
+            }
+            Primitive::Triangle(corners) => {
+                let vertices = corners.map(|corner| corner.to_array());
+                self.fill(
+                    geometry,
+                    sys::RTCBufferType::VERTEX,
+                    sys::RTCFormat::FLOAT3,
+                    &vertices,
+                )
+                .and_then(|()| {
+                    self.fill(
+                        geometry,
+                        sys::RTCBufferType::INDEX,
+                        sys::RTCFormat::UINT3,
+                        &[[0u32, 1, 2]],
                     )
                 })
             }

@@ -31,10 +31,10 @@ use crate::chapters::Reference;
 use crate::course::{Chapters, Hit, HitPoint, Objects};
 use crate::medium::MediumStack;
 use crate::output::linear_to_srgb8;
-use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula};
+use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula, TriangleTest};
 use crate::shapes::SurfacePoint;
 use crate::stage::{Effects, LAST_CHAPTER, Lighting};
-use crate::{Material, Ray, Scene, Shape, Vec3};
+use crate::{Ray, Scene, Shape, Vec3};
 
 /// The kinds of ray a render casts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -165,12 +165,11 @@ pub enum RenderError {
 /// A scene prepared for one chapter's stage: what every thread shares.
 pub struct Stage<'a, C: Chapters = Reference> {
     scene: &'a Scene,
-    /// The shapes this stage can intersect (chapter 1 knows no spheres), with
-    /// their materials, index for index.
+    /// The shapes this stage can intersect (chapter 1 knows no spheres).
     shapes: Vec<Shape>,
-    materials: Vec<Material>,
-    /// For each of `shapes`, its index in the scene (for its name).
-    scene_indices: Vec<usize>,
+    /// For each of `shapes`, its object in the scene (for its material and
+    /// name).
+    owners: Vec<u32>,
     offset: RayOffset,
     camera: Camera,
     pub effects: Effects,
@@ -211,24 +210,20 @@ impl<'a, C: Chapters> Stage<'a, C> {
             1
         };
         let effects = stage.needed_by(scene, samples);
-        let scene_indices: Vec<usize> = (0..scene.shapes.len())
-            .filter(|&index| {
-                if scene.shapes[index].is_sphere() {
-                    effects.spheres
-                } else {
-                    effects.planes
-                }
-            })
-            .collect();
-        let (shapes, materials) = scene_indices
+        let (shapes, owners) = scene
+            .shapes
             .iter()
-            .map(|&index| (scene.shapes[index], scene.materials[index]))
+            .zip(&scene.owners)
+            .filter(|(shape, _)| match shape {
+                _ if shape.is_sphere() => effects.spheres,
+                _ if shape.is_triangle() => effects.triangles,
+                _ => effects.planes,
+            })
             .unzip();
         Ok(Stage {
             scene,
             shapes,
-            materials,
-            scene_indices,
+            owners,
             offset: settings.offset(),
             camera: Camera::new(&scene.camera, settings.width, settings.height),
             effects,
@@ -259,8 +254,8 @@ impl<'a, C: Chapters> Stage<'a, C> {
     /// The name of `object` (an index into [`Stage::shapes`]) in the scene,
     /// or `None` when there is no such object.
     pub fn name(&self, object: usize) -> Option<&str> {
-        let index = *self.scene_indices.get(object)?;
-        self.scene.names.get(index).map(String::as_str)
+        let owner = *self.owners.get(object)? as usize;
+        self.scene.objects.get(owner).map(|o| o.name.as_str())
     }
 
     pub fn camera(&self) -> &Camera {
@@ -324,7 +319,18 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     #[inline]
     pub fn hit_point(&self, object: usize, ray: &Ray, t: f32) -> HitPoint<'a> {
         let shape = &self.stage.shapes[object];
-        HitPoint::new(object, shape, &self.stage.materials[object], ray, t)
+        let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
+        let point = HitPoint::new(object, shape, material, ray, t);
+        if self.stage.effects.smooth_shading {
+            let smooth = shape.as_triangle().and_then(|triangle| {
+                let normals = self.stage.scene.vertex_normals.get(triangle.normals()?)?;
+                Some((triangle, normals))
+            });
+            if let Some((triangle, normals)) = smooth {
+                return C::smooth_hit_point(point, triangle, normals);
+            }
+        }
+        point
     }
 
     /// The scene's point lights.
@@ -556,22 +562,38 @@ pub fn render(
 }
 
 /// [`render`] with the chapters `C` (a student's, say). The comparison
-/// setting `sphere_formula = "textbook"` swaps in the textbook sphere test.
+/// settings `sphere_formula = "textbook"` and `triangle_test =
+/// "moller-trumbore"` swap in the textbook tests.
 pub fn render_with<C: Chapters>(
     scene: &Scene,
     chapter: u8,
     settings: &RenderSettings,
     progress: Option<&indicatif::ProgressBar>,
 ) -> Result<Rendered, RenderError> {
-    match settings.sphere_formula {
-        SphereFormula::Stable => render_stage(
+    use crate::course::Textbook;
+    fn run<C: Chapters>(
+        scene: &Scene,
+        chapter: u8,
+        settings: &RenderSettings,
+        progress: Option<&indicatif::ProgressBar>,
+    ) -> Result<Rendered, RenderError> {
+        render_stage(
             &Stage::<C>::with_chapters(scene, chapter, *settings)?,
             progress,
-        ),
-        SphereFormula::Textbook => render_stage(
-            &Stage::<crate::course::TextbookSphere<C>>::with_chapters(scene, chapter, *settings)?,
-            progress,
-        ),
+        )
+    }
+    let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
+    match (settings.sphere_formula, textbook_triangle) {
+        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, progress),
+        (SphereFormula::Textbook, false) => {
+            run::<Textbook<C, true, false>>(scene, chapter, settings, progress)
+        }
+        (SphereFormula::Stable, true) => {
+            run::<Textbook<C, false, true>>(scene, chapter, settings, progress)
+        }
+        (SphereFormula::Textbook, true) => {
+            run::<Textbook<C, true, true>>(scene, chapter, settings, progress)
+        }
     }
 }
 

@@ -315,6 +315,18 @@ pub struct RenderSettings {
     /// The distance used by `ray_offset = "fixed"`.
     #[serde(deserialize_with = "number::f32")]
     pub fixed_epsilon: f32,
+    /// How ray-triangle hits are found: `"watertight"` (chapter 10's test,
+    /// no ray lost on a shared edge) or `"moller-trumbore"` (for comparison).
+    pub triangle_test: TriangleTest,
+}
+
+/// How ray-triangle intersections are found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum TriangleTest {
+    #[default]
+    Watertight,
+    MollerTrumbore,
 }
 
 /// How ray-sphere intersections are solved.
@@ -348,6 +360,7 @@ impl Default for RenderSettings {
             sphere_formula: SphereFormula::Stable,
             ray_offset: OffsetRule::Scaled,
             fixed_epsilon: 1e-4,
+            triangle_test: TriangleTest::Watertight,
         }
     }
 }
@@ -365,6 +378,7 @@ impl RenderSettings {
             seed: _,
             sphere_formula: _,
             ray_offset: _,
+            triangle_test: _,
             fixed_epsilon,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
@@ -494,10 +508,25 @@ pub struct Scene {
     pub background: Vec3,
     pub ambient_light: Vec3,
     pub lights: Vec<Light>,
-    /// The objects' shapes, materials and names, index for index.
+    /// Every primitive the renderer intersects: each plane and sphere, and
+    /// each triangle of each mesh.
     pub shapes: Vec<Shape>,
-    pub materials: Vec<Material>,
-    pub names: Vec<String>,
+    /// The objects the scene lists, with their names and materials: a mesh
+    /// is one object of many triangles.
+    pub objects: Vec<SceneObject>,
+    /// For each of `shapes`, the index of its object in `objects`.
+    pub owners: Vec<u32>,
+    /// The vertex normals of smooth triangles, three per triangle
+    /// ([`crate::shapes::Triangle::normals`] is an index into this).
+    pub vertex_normals: Vec<[Vec3; 3]>,
+}
+
+/// One object of a scene: its name and its material, shared by all its
+/// primitives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneObject {
+    pub name: String,
+    pub material: Material,
 }
 
 /// Why a scene could not be loaded.
@@ -552,9 +581,46 @@ impl Scene {
         })
     }
 
-    /// Number of objects.
+    /// Number of primitives (every triangle of a mesh counts).
     pub fn len(&self) -> usize {
         self.shapes.len()
+    }
+
+    /// The material of primitive `shape`.
+    pub fn material(&self, shape: usize) -> &Material {
+        &self.objects[self.owners[shape] as usize].material
+    }
+
+    /// The name of the object primitive `shape` belongs to, if there is
+    /// such a primitive.
+    pub fn name(&self, shape: usize) -> Option<&str> {
+        let owner = *self.owners.get(shape)? as usize;
+        self.objects.get(owner).map(|object| object.name.as_str())
+    }
+
+    /// The objects' materials, one per object.
+    pub fn materials(&self) -> impl Iterator<Item = &Material> {
+        self.objects.iter().map(|object| &object.material)
+    }
+
+    /// The objects' materials, to change them all (the cost sweeps do).
+    pub fn materials_mut(&mut self) -> impl Iterator<Item = &mut Material> {
+        self.objects.iter_mut().map(|object| &mut object.material)
+    }
+
+    /// Adds an object made of `shapes`.
+    pub fn add_object(
+        &mut self,
+        name: String,
+        material: Material,
+        shapes: impl IntoIterator<Item = Shape>,
+    ) {
+        let owner = self.objects.len() as u32;
+        self.objects.push(SceneObject { name, material });
+        for shape in shapes {
+            self.shapes.push(shape);
+            self.owners.push(owner);
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -723,8 +789,9 @@ impl SceneFile {
             ambient_light: self.ambient_light,
             lights: self.lights,
             shapes: Vec::new(),
-            materials: Vec::new(),
-            names: Vec::new(),
+            objects: Vec::new(),
+            owners: Vec::new(),
+            vertex_normals: Vec::new(),
         };
         for (index, object) in self.objects.into_iter().enumerate() {
             let name = object
@@ -737,9 +804,7 @@ impl SceneFile {
             };
             let shape = object.shape(&label)?;
             check_material(&label, &object.material)?;
-            scene.shapes.push(shape);
-            scene.materials.push(object.material);
-            scene.names.push(name);
+            scene.add_object(name, object.material, [shape]);
         }
         Ok(scene)
     }

@@ -207,6 +207,11 @@ pub struct Effects {
     pub fresnel: bool,
     /// Chapter 9: Beer-Lambert absorption inside solids.
     pub absorption: bool,
+    /// Chapter 10: triangles (meshes).
+    pub triangles: bool,
+    /// Chapter 10: vertex normals blended across smooth triangles, and
+    /// their shadow rays lifted off the terminator.
+    pub smooth_shading: bool,
 }
 
 impl Effects {
@@ -229,6 +234,8 @@ impl Effects {
             nested_media: chapter >= 9,
             fresnel: chapter >= 9,
             absorption: chapter >= 9,
+            triangles: chapter >= 10,
+            smooth_shading: chapter >= 10,
         }
     }
 
@@ -251,7 +258,7 @@ impl Effects {
     /// sampling) is a guess, since a thin object can pass between them.
     /// raylab does neither: with `samples = N`, every pixel takes N samples.
     pub fn needed_by(self, scene: &Scene, samples: u32) -> Effects {
-        let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials.iter().any(test);
+        let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials().any(test);
         let lit = !scene.lights.is_empty();
         let refraction = self.refraction && any(&|m| m.transparency > 0.0);
         Effects {
@@ -275,6 +282,13 @@ impl Effects {
             absorption: self.absorption
                 && refraction
                 && any(&|m| m.transparency > 0.0 && m.absorption != crate::Vec3::ZERO),
+            // Only triangles that carry vertex normals are shaded smooth.
+            smooth_shading: self.smooth_shading
+                && self.triangles
+                && scene
+                    .shapes
+                    .iter()
+                    .any(|shape| shape.as_triangle().is_some_and(|t| t.normals().is_some())),
             ..self
         }
     }
@@ -300,6 +314,8 @@ impl Effects {
         add(self.nested_media, "nested-media");
         add(self.fresnel, "fresnel");
         add(self.absorption, "absorption");
+        add(self.triangles, "triangles");
+        add(self.smooth_shading, "smooth-shading");
         names
     }
 }

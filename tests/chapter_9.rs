@@ -486,7 +486,7 @@ fn effects_name_fresnel_and_absorption_only_where_a_transparent_material_has_the
     }
     // Fresnel and absorption on an opaque material are no work at all.
     let mut opaque = scene.clone();
-    for material in &mut opaque.materials {
+    for material in opaque.materials_mut() {
         material.transparency = 0.0;
     }
     let names = raylab::render(&opaque, 9, &settings, None)

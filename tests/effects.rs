@@ -170,7 +170,7 @@ material = { checker = { color = [0.1, 0.1, 0.3], size = 1.0 } }
 #[test]
 fn glass_that_does_not_reflect_still_casts_total_internal_reflection_rays() {
     let scene = Scene::parse(UNDER_WATER, "under water").expect("valid scene");
-    assert!(scene.materials.iter().all(|m| m.reflectivity == 0.0));
+    assert!(scene.materials().all(|m| m.reflectivity == 0.0));
     let rendered = raylab::render(&scene, 8, &scene.render, None).expect("renders");
     assert!(rendered.rays.refraction > 0);
     assert!(rendered.rays.reflection > 0);

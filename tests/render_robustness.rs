@@ -96,7 +96,7 @@ impl RayLog for AcneLog<'_> {
                 let outward = ray.origin.as_dvec3() - s.center().as_dvec3();
                 ray.dir.as_dvec3().dot(outward) < 0.0
             }
-            Shape::Plane(_) => false,
+            Shape::Plane(_) | Shape::Triangle(_) => false,
         };
         if !into_itself && shape.intersect(ray, t_min, t_max).is_some() {
             self.self_hits += 1;

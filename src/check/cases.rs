@@ -1040,6 +1040,10 @@ fn shape_text(shape: &Shape) -> String {
         Shape::Sphere(sphere) => {
             format!("sphere {} r {}", vec(sphere.center()), num(sphere.radius()))
         }
+        Shape::Triangle(triangle) => {
+            let [a, b, c] = triangle.corners();
+            format!("triangle {} {} {}", vec(a), vec(b), vec(c))
+        }
     }
 }
 

@@ -113,6 +113,10 @@ pub fn probe<C: Chapters>(args: &ProbeArgs) -> Result<i32> {
                 Some((near, far)) => format!("sphere, roots t = {near} and {far}"),
                 None => "sphere, no root (the line misses it)".into(),
             },
+            Shape::Triangle(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
+                Some(t) => format!("triangle, t = {t}"),
+                None => "triangle, no hit ahead".into(),
+            },
         };
         println!("  {object}: {name:<16} {answer}");
     }

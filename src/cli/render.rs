@@ -89,6 +89,10 @@ pub struct SettingsOverrides {
     /// [default: the scene's, else stable].
     #[arg(long, value_enum)]
     pub sphere_formula: Option<crate::scene::SphereFormula>,
+    /// How ray-triangle hits are found, for comparing the two tests, from
+    /// chapter 10 on [default: the scene's, else watertight].
+    #[arg(long, value_enum)]
+    pub triangle_test: Option<crate::scene::TriangleTest>,
     /// Where secondary rays start, from chapter 4 on: scaled to the hit's
     /// rounding error, or a fixed --epsilon along the ray (for comparison)
     /// [default: fixed if --epsilon is given, else the scene's, else scaled].
@@ -124,6 +128,7 @@ impl SettingsOverrides {
             sphere_formula: self.sphere_formula.unwrap_or(base.sphere_formula),
             ray_offset,
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
+            triangle_test: self.triangle_test.unwrap_or(base.triangle_test),
         };
         settings
             .validate()
@@ -201,6 +206,12 @@ impl SettingsOverrides {
             "--sphere-formula".into(),
             2,
             "spheres are drawn",
+        );
+        before(
+            self.triangle_test.is_some(),
+            "--triangle-test".into(),
+            10,
+            "triangles are drawn",
         );
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {

@@ -9,9 +9,11 @@
 
 mod plane;
 mod sphere;
+mod triangle;
 
 pub use plane::Plane;
 pub use sphere::Sphere;
+pub use triangle::Triangle;
 
 use crate::course::Chapters;
 use crate::{Ray, Vec3, unit_vector};
@@ -21,6 +23,7 @@ use crate::{Ray, Vec3, unit_vector};
 pub enum Shape {
     Plane(Plane),
     Sphere(Sphere),
+    Triangle(Triangle),
 }
 
 /// How many `f32::EPSILON`s (each `2u`, `u = 2^-24`) of the coordinates
@@ -35,7 +38,8 @@ pub const SURFACE_ERROR_EPSILONS: f32 = 4.0;
 pub struct SurfacePoint {
     /// The hit point, projected back onto the surface.
     pub point: Vec3,
-    /// The geometric unit normal: outward for spheres, as given for planes.
+    /// The geometric unit normal: outward for spheres, as given for planes,
+    /// by the winding for triangles.
     pub normal: Vec3,
     /// A bound on the absolute error of each coordinate of `point`.
     pub error: Vec3,
@@ -54,6 +58,7 @@ impl Shape {
         match self {
             Shape::Plane(plane) => C::intersect_plane(plane, ray, t_min, t_max),
             Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
+            Shape::Triangle(triangle) => C::intersect_triangle(triangle, ray, t_min, t_max),
         }
     }
 
@@ -69,6 +74,10 @@ impl Shape {
                     sphere.center() + reach,
                 ))
             }
+            Shape::Triangle(triangle) => {
+                let [a, b, c] = triangle.corners();
+                Some(crate::bvh::Aabb::new(a.min(b).min(c), a.max(b).max(c)))
+            }
         }
     }
 
@@ -76,16 +85,29 @@ impl Shape {
         matches!(self, Shape::Sphere(_))
     }
 
+    pub fn is_triangle(&self) -> bool {
+        matches!(self, Shape::Triangle(_))
+    }
+
+    /// The triangle, when this shape is one.
+    pub fn as_triangle(&self) -> Option<&Triangle> {
+        match self {
+            Shape::Triangle(triangle) => Some(triangle),
+            _ => None,
+        }
+    }
+
     /// The sphere, when this shape is one.
     pub fn as_sphere(&self) -> Option<&Sphere> {
         match self {
             Shape::Sphere(sphere) => Some(sphere),
-            Shape::Plane(_) => None,
+            Shape::Plane(_) | Shape::Triangle(_) => None,
         }
     }
 
     /// Coordinates in which a checker pattern is laid out: the plane's own 2D
-    /// coordinates, or the 3D offset from a sphere's centre.
+    /// coordinates, the 3D offset from a sphere's centre, or the point itself
+    /// on a triangle.
     pub fn pattern_coordinates(&self, point: Vec3) -> Vec3 {
         match self {
             Shape::Plane(plane) => {
@@ -94,6 +116,9 @@ impl Shape {
                 Vec3::new(local.dot(u), local.dot(v), 0.0)
             }
             Shape::Sphere(sphere) => point - sphere.center(),
+            // A mesh is laid out in the scene's own coordinates, so that the
+            // squares run on across its triangles.
+            Shape::Triangle(_) => point,
         }
     }
 
@@ -134,6 +159,18 @@ impl Shape {
                     error: Vec3::splat(scale * magnitude),
                 }
             }
+            Shape::Triangle(triangle) => {
+                // As for a plane: the triangle's plane, through corner `a`.
+                let normal = triangle.geometric_normal();
+                let a = triangle.a();
+                let point = on_ray - normal * (on_ray - a).dot(normal);
+                let magnitude = point.abs().max_element() + a.abs().max_element();
+                SurfacePoint {
+                    point,
+                    normal,
+                    error: Vec3::splat(scale * magnitude),
+                }
+            }
         }
     }
 }
@@ -147,6 +184,12 @@ pub fn surface_point(shape: &Shape, ray: &Ray, t: f32) -> SurfacePoint {
 impl From<Plane> for Shape {
     fn from(plane: Plane) -> Self {
         Shape::Plane(plane)
+    }
+}
+
+impl From<Triangle> for Shape {
+    fn from(triangle: Triangle) -> Self {
+        Shape::Triangle(triangle)
     }
 }
 
