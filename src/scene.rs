@@ -13,6 +13,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use crate::chapters::ch07_antialiasing::Sampling;
+use crate::shapes::Triangle;
 use crate::{Plane, Sphere, Vec3};
 
 /// Reading the numbers of a scene file. TOML numbers are `f64` (or `i64`);
@@ -138,10 +139,15 @@ pub const MAX_SAMPLES: u32 = 4_096;
 pub const MAX_IMAGE_SAMPLES: u64 = 1 << 30;
 /// Largest accepted recursion depth.
 pub const MAX_DEPTH: u32 = 64;
-/// Most objects a scene may have. Every ray tests every object (no
-/// acceleration structure: the course is about the intersections), so
-/// 100,000 objects at 640x480 are already minutes of rendering.
+/// Most objects a scene file may list. Before chapter 11 every ray tests
+/// every object, so 100,000 of them at 640x480 are already minutes of
+/// rendering; a mesh counts as one object here (its triangles are bounded
+/// by [`MAX_PRIMITIVES`]).
 pub const MAX_OBJECTS: usize = 100_000;
+/// Most primitives (planes, spheres and every triangle of every mesh) a
+/// scene may have: 8 million triangles are about 350 MB of shapes, plus
+/// their tree in chapter 11.
+pub const MAX_PRIMITIVES: usize = 8_000_000;
 /// Largest accepted Phong exponent.
 pub const MAX_SHININESS: u32 = 100_000;
 
@@ -478,8 +484,46 @@ struct ObjectSpec {
     name: Option<String>,
     plane: Option<PlaneSpec>,
     sphere: Option<SphereSpec>,
+    triangle: Option<TriangleSpec>,
+    mesh: Option<MeshSpec>,
     #[serde(default)]
     material: Material,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TriangleSpec {
+    #[serde(deserialize_with = "number::vec3")]
+    a: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    b: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    c: Vec3,
+}
+
+/// `mesh = { obj = "model.obj", ... }` or `mesh = { generated = N, ... }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshSpec {
+    /// A Wavefront OBJ file, relative to the scene file.
+    obj: Option<String>,
+    /// Or raylab's procedural closed model of about this many triangles
+    /// (`raylab mesh`), so that a scene needs no file.
+    generated: Option<u64>,
+    #[serde(default, deserialize_with = "number::vec3")]
+    translate: Vec3,
+    #[serde(default = "one", deserialize_with = "number::f32")]
+    scale: f32,
+    #[serde(default, deserialize_with = "number::vec3")]
+    rotate_degrees: Vec3,
+    /// Shade with the model's vertex normals where it has them (`false`
+    /// shows the facets).
+    #[serde(default = "yes")]
+    smooth: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 #[derive(Debug, Deserialize)]
@@ -551,11 +595,24 @@ impl Scene {
             path: path.display().to_string(),
             message: format!("{error:#}"),
         })?;
-        Scene::parse(&text, &format!("scene file {}", path.display()))
+        let folder = path.parent().unwrap_or(Path::new(""));
+        Scene::parse_in(
+            &text,
+            &format!("scene file {}", path.display()),
+            Some(folder),
+        )
     }
 
     /// Parses and checks scene text; `origin` names it in error messages.
+    /// Text with no file can name no OBJ file (`mesh = { generated = N }`
+    /// needs none).
     pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        Scene::parse_in(text, origin, None)
+    }
+
+    /// [`Scene::parse`] for the text of a file in `folder`, where the OBJ
+    /// files it names are looked for.
+    pub fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Scene, SceneError> {
         let deserializer = toml::Deserializer::new(text);
         let file: SceneFile = serde_path_to_error::deserialize(deserializer).map_err(|error| {
             let field = error.path().to_string();
@@ -575,10 +632,11 @@ impl Scene {
                 message: format!("{location}{field}{}", inner.message().trim_end()),
             }
         })?;
-        file.into_scene().map_err(|message| SceneError::Invalid {
-            origin: origin.to_string(),
-            message,
-        })
+        file.into_scene(folder)
+            .map_err(|message| SceneError::Invalid {
+                origin: origin.to_string(),
+                message,
+            })
     }
 
     /// Number of primitives (every triangle of a mesh counts).
@@ -748,7 +806,9 @@ fn check_coefficient(what: &str, value: f32, max: f32) -> Result<(), String> {
 }
 
 impl SceneFile {
-    fn into_scene(self) -> Result<Scene, String> {
+    /// `folder` is where the scene file is, for the OBJ files it names
+    /// (`None` for a built-in scene or text with no file).
+    fn into_scene(self, folder: Option<&Path>) -> Result<Scene, String> {
         self.render
             .validate()
             .map_err(|e| format!("[render] {e}"))?;
@@ -802,16 +862,121 @@ impl SceneFile {
                 Some(given) => format!("object {} (\"{given}\")", index + 1),
                 None => format!("object {}", index + 1),
             };
-            let shape = object.shape(&label)?;
             check_material(&label, &object.material)?;
+            if let Some(mesh) = &object.mesh {
+                if object.plane.is_some() || object.sphere.is_some() || object.triangle.is_some() {
+                    return Err(format!(
+                        "{label}: has a `mesh` and another shape; give exactly one shape per object"
+                    ));
+                }
+                let triangles = mesh.load(&label, folder, &mut scene.vertex_normals)?;
+                if scene.shapes.len() + triangles.len() > MAX_PRIMITIVES {
+                    return Err(format!(
+                        "{label}: {} triangles would make more than {MAX_PRIMITIVES} primitives \
+                         in the scene",
+                        triangles.len()
+                    ));
+                }
+                scene.add_object(name, object.material, triangles);
+                continue;
+            }
+            let shape = object.shape(&label)?;
             scene.add_object(name, object.material, [shape]);
         }
         Ok(scene)
     }
 }
 
+impl MeshSpec {
+    /// The mesh's triangles, placed in the scene; their vertex normals (when
+    /// the model has them and `smooth` is on) are appended to `normals`.
+    fn load(
+        &self,
+        label: &str,
+        folder: Option<&Path>,
+        normals: &mut Vec<[Vec3; 3]>,
+    ) -> Result<Vec<Shape>, String> {
+        check_point(&format!("{label}: mesh.translate"), self.translate)?;
+        check_finite(
+            &format!("{label}: mesh.rotate_degrees"),
+            self.rotate_degrees,
+        )?;
+        if !(self.scale > 0.0 && self.scale <= MAX_SHAPE_COORDINATE) {
+            return Err(format!(
+                "{label}: mesh.scale = {}: must be a number > 0 and at most {MAX_SHAPE_COORDINATE:e}",
+                self.scale
+            ));
+        }
+        let transform = crate::mesh::MeshTransform {
+            translate: self.translate,
+            scale: self.scale,
+            rotate_degrees: self.rotate_degrees,
+        };
+        let mesh = match (&self.obj, self.generated) {
+            (Some(obj), None) => {
+                let Some(folder) = folder else {
+                    return Err(format!(
+                        "{label}: mesh.obj = \"{obj}\": OBJ files are found next to the scene \
+                         file, and this scene has none (a built-in scene can use \
+                         `generated = N` instead)"
+                    ));
+                };
+                crate::mesh::load_obj(&folder.join(obj), &transform)
+                    .map_err(|error| format!("{label}: {error}"))?
+            }
+            (None, Some(count)) => {
+                let count = usize::try_from(count).unwrap_or(usize::MAX);
+                let mut mesh = crate::mesh::generate_closed_mesh(count)
+                    .map_err(|error| format!("{label}: mesh.generated = {count}: {error}"))?;
+                transform.apply(&mut mesh);
+                mesh
+            }
+            _ => {
+                return Err(format!(
+                    "{label}: a mesh needs exactly one of `obj = \"file.obj\"` and \
+                     `generated = N`"
+                ));
+            }
+        };
+        let mut shapes = Vec::with_capacity(mesh.triangles.len());
+        for (index, triangle) in mesh.triangles.iter().enumerate() {
+            let [a, b, c] = triangle.map(|vertex| mesh.positions[vertex as usize]);
+            for corner in [a, b, c] {
+                check_coordinates(&format!("{label}: a vertex of the mesh"), corner)?;
+            }
+            let smooth = match &mesh.triangle_normals {
+                Some(indices) if self.smooth => Some(indices[index]),
+                _ => None,
+            };
+            let shape = match smooth {
+                Some(indices) => {
+                    let entry = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
+                    normals.push(indices.map(|n| mesh.normals[n as usize]));
+                    Triangle::with_normals(a, b, c, entry)
+                }
+                None => Triangle::new(a, b, c),
+            };
+            shapes.push(shape.into());
+        }
+        Ok(shapes)
+    }
+}
+
 impl ObjectSpec {
     fn shape(&self, label: &str) -> Result<Shape, String> {
+        if let Some(triangle) = &self.triangle {
+            if self.plane.is_some() || self.sphere.is_some() {
+                return Err(format!(
+                    "{label}: has a `triangle` and another shape; give exactly one shape per object"
+                ));
+            }
+            for (corner, value) in [("a", triangle.a), ("b", triangle.b), ("c", triangle.c)] {
+                let what = format!("{label}: triangle.{corner}");
+                check_finite(&what, value)?;
+                check_coordinates(&what, value)?;
+            }
+            return Ok(Triangle::new(triangle.a, triangle.b, triangle.c).into());
+        }
         match (&self.plane, &self.sphere) {
             (Some(plane), None) => {
                 check_finite(&format!("{label}: plane.point"), plane.point)?;
@@ -848,8 +1013,9 @@ impl ObjectSpec {
                 "{label}: has both `plane` and `sphere`; give exactly one shape per object"
             )),
             (None, None) => Err(format!(
-                "{label}: has no shape; give it `plane = {{ point = [..], normal = [..] }}` \
-                 or `sphere = {{ center = [..], radius = .. }}`"
+                "{label}: has no shape; give it `plane = {{ point = [..], normal = [..] }}`, \
+                 `sphere = {{ center = [..], radius = .. }}`, `triangle = {{ a = [..], b = [..], \
+                 c = [..] }}` or `mesh = {{ obj = \"file.obj\" }}`"
             )),
         }
     }

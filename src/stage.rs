@@ -157,6 +157,21 @@ pub const CHAPTERS: &[ChapterInfo] = &[
         catalog::chapter_9,
         catalog::chapter_9_robustness
     ),
+    chapter!(
+        10,
+        "10_triangles",
+        "Triangle meshes",
+        "triangles, OBJ meshes, smooth shading",
+        [
+            "intersect_triangle",
+            "barycentric",
+            "smooth_normal",
+            "terminator_point",
+            "smooth_hit_point"
+        ],
+        catalog::chapter_10,
+        catalog::chapter_10_robustness
+    ),
 ];
 
 /// The last chapter: rendering "with everything".

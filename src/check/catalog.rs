@@ -2028,3 +2028,13 @@ mod tests {
         }
     }
 }
+
+/// Chapter 10's checkpoint cases.
+pub fn chapter_10() -> Vec<Case> {
+    Vec::new()
+}
+
+/// Chapter 10's hard cases.
+pub fn chapter_10_robustness() -> Vec<Case> {
+    Vec::new()
+}
