@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 use anyhow::Result;
 
 use crate::render::Rendered;
-use crate::scene::{FresnelModel, OffsetRule, SphereFormula};
+use crate::scene::{FresnelModel, OffsetRule, SphereFormula, TriangleTest};
 use crate::stage::Effects;
 use crate::{RenderSettings, Sampling, Scene};
 
@@ -37,15 +37,18 @@ pub enum Knob {
     SphereFormula,
     /// Fresnel on every transparent material: none (chapter 8's constants), Schlick, exact (chapter 9).
     Fresnel,
+    /// Moller-Trumbore against the watertight triangle test (chapter 10).
+    TriangleTest,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 5] = [
+    pub const ALL: [Knob; 6] = [
         Knob::Samples,
         Knob::Depth,
         Knob::Offset,
         Knob::SphereFormula,
         Knob::Fresnel,
+        Knob::TriangleTest,
     ];
 
     /// The chapter that introduces this knob.
@@ -56,6 +59,7 @@ impl Knob {
             Knob::Depth => 6,
             Knob::Samples => 7,
             Knob::Fresnel => 9,
+            Knob::TriangleTest => 10,
         }
     }
 
@@ -67,6 +71,7 @@ impl Knob {
             Knob::Offset => "offset",
             Knob::SphereFormula => "sphere-formula",
             Knob::Fresnel => "fresnel",
+            Knob::TriangleTest => "triangle-test",
         }
     }
 
@@ -132,6 +137,7 @@ pub fn reference_settings(base: &RenderSettings) -> RenderSettings {
         min_contribution: 0.0,
         ray_offset: OffsetRule::Scaled,
         sphere_formula: SphereFormula::Stable,
+        triangle_test: TriangleTest::Watertight,
         ..*base
     }
 }
@@ -371,6 +377,18 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                         fresnel: Some(model),
                         ..job(*knob, label.into(), base)
                     });
+                }
+            }
+            Knob::TriangleTest => {
+                for (test, label) in [
+                    (TriangleTest::MollerTrumbore, "moller-trumbore"),
+                    (TriangleTest::Watertight, "watertight"),
+                ] {
+                    let settings = RenderSettings {
+                        triangle_test: test,
+                        ..base
+                    };
+                    jobs.push(job(*knob, label.into(), settings));
                 }
             }
         }
@@ -783,6 +801,7 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
             RGBColor(44, 160, 44),
             RGBColor(214, 39, 40),
             RGBColor(148, 103, 189),
+            RGBColor(140, 86, 75),
         ];
         for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
             let points: Vec<(f64, f64)> = rows
@@ -902,7 +921,8 @@ mod tests {
             vec![Knob::Depth, Knob::Offset, Knob::SphereFormula]
         );
         assert_eq!(Knob::of_chapter(8), Knob::ALL[..4].to_vec());
-        assert_eq!(Knob::of_chapter(9), Knob::ALL.to_vec());
+        assert_eq!(Knob::of_chapter(9), Knob::ALL[..5].to_vec());
+        assert_eq!(Knob::of_chapter(10), Knob::ALL.to_vec());
     }
 
     #[test]

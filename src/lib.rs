@@ -57,6 +57,7 @@ pub mod diff;
 pub mod embree;
 pub mod grade;
 pub mod input;
+pub mod leaks;
 pub mod medium;
 pub mod mesh;
 pub mod output;

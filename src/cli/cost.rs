@@ -18,7 +18,8 @@ const DEFAULT_HEIGHT: u32 = 120;
 pub struct CostArgs {
     /// Chapter whose knobs to sweep (2 on): 2 adds the sphere formula, 4
     /// the secondary-ray offset, 6 the reflection depth, 7 the samples, 9
-    /// the Fresnel model.
+    /// the Fresnel model, 10 the triangle test (and counts the rays that
+    /// leak through a closed mesh).
     #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.
@@ -65,7 +66,8 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     if knobs.is_empty() {
         bail!(
             "chapter {chapter} has no accuracy knob to sweep: the sphere formula comes with \
-             chapter 2, the ray offset with 4, depth with 6, samples with 7, fresnel with 9"
+             chapter 2, the ray offset with 4, depth with 6, samples with 7, fresnel with 9, \
+             the triangle test with 10"
         );
     }
     if args.threads == Some(0) {
@@ -129,8 +131,22 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         bar.finish_and_clear();
     }
 
+    let leaks = if knobs.contains(&Knob::TriangleTest) {
+        let counts = overrides.in_pool(|| {
+            crate::leaks::LEAK_MESH_SIZES
+                .iter()
+                .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
+                .collect::<Result<Vec<_>>>()
+        })??;
+        leak_table(&counts)
+    } else {
+        String::new()
+    };
     let command = report.command(&knobs, args.out.as_ref().and_then(|p| p.to_str()));
-    let markdown = format!("{}\nReproduce with `{command}`.\n", report.markdown());
+    let markdown = format!(
+        "{}{leaks}\nReproduce with `{command}`.\n",
+        report.markdown()
+    );
     let svg = report.svg()?;
     // All or nothing: a full disk must not leave a table without its plot.
     let csv = report.csv();
@@ -146,4 +162,25 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         safe(&out.display().to_string())
     );
     Ok(0)
+}
+
+/// The leak counts of chapter 10, as a Markdown section.
+fn leak_table(counts: &[[crate::leaks::LeakCount; 2]]) -> String {
+    let mut table = String::from(
+        "\nRays from the centre of raylab's generated closed model toward every vertex and \
+         every edge midpoint, which must all hit it (one thread, median of the repeats, each \
+         ray tested against every triangle):\n\n\
+         | triangles | rays | test | escaped | time (s) |\n|---:|---:|---|---:|---:|\n",
+    );
+    for count in counts.iter().flatten() {
+        let test = match count.test {
+            crate::scene::TriangleTest::MollerTrumbore => "moller-trumbore",
+            crate::scene::TriangleTest::Watertight => "watertight",
+        };
+        table.push_str(&format!(
+            "| {} | {} | {test} | {} | {:.3} |\n",
+            count.triangles, count.rays, count.escaped, count.seconds
+        ));
+    }
+    table
 }

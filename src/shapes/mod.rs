@@ -2,7 +2,10 @@
 //!
 //! Each shape has its own file with its data; this file is the one place
 //! that lists them. Adding a shape is a new file and one variant here, with
-//! its arm in each `match` below: nothing else in raylab matches on shapes.
+//! its arm in each `match` below; the compiler then names the few other
+//! places that must learn it, all outside the renderer: the Embree
+//! cross-check (`crosscheck`, which hands each shape to Embree and knows its
+//! rounding error), `raylab probe`, and the checker's descriptions.
 //! How a ray meets each shape is a chapter's lesson, which is why
 //! [`Shape::intersect_with`] asks the running [`Chapters`] rather than the
 //! shape itself.
