@@ -18,6 +18,8 @@ pub mod ch07_antialiasing;
 pub mod ch08_refraction;
 #[path = "09_glass.rs"]
 pub mod ch09_glass;
+#[path = "11_bvh.rs"]
+pub mod ch11_bvh;
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.
