@@ -351,9 +351,9 @@ fn partition(objects: &mut [u32], goes_left: impl Fn(u32) -> bool) -> usize {
 /// How many nodes the traversal keeps waiting on the stack without
 /// allocating. The traversal descends into one child and leaves at most
 /// its sibling waiting, so the stack never holds more entries than the tree
-/// is deep: SAH trees over millions of objects are 30 to 50 deep. A
-/// degenerate tree can be deeper; the excess goes to a `Vec`, allocated
-/// only then.
+/// is deep, and a balanced tree over `n` objects is about
+/// `log2(n / max_leaf)` deep (20 for a million). A degenerate tree can be
+/// deeper; the excess goes to a `Vec`, allocated only then.
 pub const TRAVERSAL_STACK: usize = 64;
 
 /// The nodes waiting to be visited, each with the distance at which the
