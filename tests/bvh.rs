@@ -398,3 +398,93 @@ fn infinite_and_nan_boxes_stay_in_the_loop() {
         assert_eq!(bvh.unbounded, vec![1, 3, 4]);
     }
 }
+
+/// A small deterministic generator (xorshift), so the test needs no seed.
+struct Numbers(u64);
+
+impl Numbers {
+    /// Uniform in `[low, high)`.
+    fn between(&mut self, low: f32, high: f32) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        let unit = (self.0 >> 40) as f32 / (1u64 << 24) as f32;
+        low + unit * (high - low)
+    }
+}
+
+/// The slab interval of `ray` and `bounds` in `f64`, where `plane - origin`
+/// is exact and the division nearly so: the exact answer, to compare the
+/// `f32` one with.
+fn exact_interval(bounds: &Aabb, ray: &Ray) -> (f64, f64) {
+    let (mut entry, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+    for axis in 0..3 {
+        let (o, d) = (f64::from(ray.origin[axis]), f64::from(ray.dir[axis]));
+        let a = (f64::from(bounds.min[axis]) - o) / d;
+        let b = (f64::from(bounds.max[axis]) - o) / d;
+        entry = entry.max(a.min(b));
+        exit = exit.min(a.max(b));
+    }
+    (entry, exit)
+}
+
+/// Rays aimed at points on a box's edges pass through the box along a
+/// sliver or miss it by a hair. Whenever the exact ray meets the box,
+/// `hit_box` must say so: rounding may only make it generous (the `2 γ3`
+/// widening), never miss.
+#[test]
+fn hit_box_never_misses_a_box_the_exact_ray_meets() {
+    let mut numbers = Numbers(0x2545_f491_4f6c_dd1d);
+    let mut grazing = 0;
+    for _ in 0..200_000 {
+        let min = Vec3::new(
+            numbers.between(-3.0, 1.0),
+            numbers.between(-3.0, 1.0),
+            numbers.between(-3.0, 1.0),
+        );
+        let size = Vec3::new(
+            numbers.between(0.1, 3.0),
+            numbers.between(0.1, 3.0),
+            numbers.between(0.1, 3.0),
+        );
+        let bounds = Aabb::new(min, min + size);
+        // A point on one of the box's twelve edges.
+        let edge_axis = (numbers.between(0.0, 3.0) as usize).min(2);
+        let mut aim = Vec3::ZERO;
+        for axis in 0..3 {
+            aim[axis] = if axis == edge_axis {
+                numbers.between(bounds.min[axis], bounds.max[axis])
+            } else if numbers.between(0.0, 1.0) < 0.5 {
+                bounds.min[axis]
+            } else {
+                bounds.max[axis]
+            };
+        }
+        let origin = Vec3::new(
+            numbers.between(-10.0, 10.0),
+            numbers.between(-10.0, 10.0),
+            numbers.between(-10.0, 10.0),
+        );
+        let ray = Ray::new(origin, aim - origin);
+        let (entry, exit) = exact_interval(&bounds, &ray);
+        if !(exit >= entry.max(0.0)) {
+            continue;
+        }
+        if exit - entry < 1e-6 * exit.abs() {
+            grazing += 1;
+        }
+        let hit = raylab::chapters::ch11_bvh::hit_box(
+            &bounds,
+            ray.origin,
+            ray.dir.recip(),
+            0.0,
+            f32::INFINITY,
+        );
+        assert!(
+            hit.is_some(),
+            "{ray:?} meets {bounds:?} over [{entry}, {exit}], hit_box says no"
+        );
+    }
+    // The test is about the rays where rounding decides: there must be some.
+    assert!(grazing > 1000, "only {grazing} grazing rays");
+}
