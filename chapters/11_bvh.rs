@@ -75,9 +75,9 @@ pub fn hit_box(
 /// The estimated cost of visiting an inner node (testing its two child
 /// boxes), in units of the cost of testing one object. A box test is a few
 /// subtractions, products and comparisons, about the price of the first
-/// half of a sphere test; two of them, plus the stack, cost about one whole
-/// object test. Only the ratio matters, and `raylab cost --chapter 11`
-/// measures what it buys.
+/// half of a sphere test; we estimate two of them, plus the stack, at about
+/// one whole object test. Only the ratio matters, and
+/// `raylab cost --chapter 11` measures what the choice buys.
 pub const TRAVERSAL_COST: f64 = 1.0;
 
 /// How many `f32::EPSILON`s of its largest coordinate each object's box is
@@ -86,10 +86,18 @@ pub const TRAVERSAL_COST: f64 = 1.0;
 /// sphere test may report a hit a few roundings outside the exact sphere,
 /// where the exact box would refuse the ray. The same allowance as the
 /// error of a surface point ([`raylab::shapes::SURFACE_ERROR_EPSILONS`]).
+///
+/// It covers errors that scale with the shape's coordinates. Part of a
+/// sphere test's error scales with the ray's distance to the sphere
+/// instead, so a ray from far away grazing a sphere exactly where it
+/// touches its box could in principle be reported by chapter 3 and refused
+/// by the padded box; the random comparisons in `tests/bvh.rs` have not
+/// met one.
 pub const BOX_PADDING_EPSILONS: f32 = 4.0;
 
-/// The most bins the SAH build sorts centroids into; more would cost time
-/// and memory per node for no measurable gain.
+/// The most bins the SAH build sorts centroids into: the bins are allocated
+/// per node, and a cap keeps a careless `bins = 4e9` from asking for
+/// gigabytes.
 pub const MAX_BINS: u32 = 1024;
 
 /// Builds a BVH over the objects whose boxes are `bounds` (object `i` has
@@ -352,8 +360,9 @@ fn partition(objects: &mut [u32], goes_left: impl Fn(u32) -> bool) -> usize {
 /// allocating. The traversal descends into one child and leaves at most
 /// its sibling waiting, so the stack never holds more entries than the tree
 /// is deep, and a balanced tree over `n` objects is about
-/// `log2(n / max_leaf)` deep (20 for a million). A degenerate tree can be
-/// deeper; the excess goes to a `Vec`, allocated only then.
+/// `log2(n / max_leaf)` deep (20 for a million objects, one per leaf). A
+/// degenerate tree can be deeper; the excess goes to a `Vec`, allocated
+/// only then.
 pub const TRAVERSAL_STACK: usize = 64;
 
 /// The nodes waiting to be visited, each with the distance at which the

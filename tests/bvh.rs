@@ -467,7 +467,9 @@ fn hit_box_never_misses_a_box_the_exact_ray_meets() {
         );
         let ray = Ray::new(origin, aim - origin);
         let (entry, exit) = exact_interval(&bounds, &ray);
-        if !(exit >= entry.max(0.0)) {
+        // (NaN, from a zero direction component, counts as a miss.)
+        let meets = exit >= entry.max(0.0);
+        if !meets {
             continue;
         }
         if exit - entry < 1e-6 * exit.abs() {
