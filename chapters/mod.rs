@@ -20,6 +20,8 @@ pub mod ch08_refraction;
 pub mod ch09_glass;
 #[path = "10_triangles.rs"]
 pub mod ch10_triangles;
+#[path = "11_bvh.rs"]
+pub mod ch11_bvh;
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.

@@ -59,3 +59,130 @@ impl Aabb {
         size.x * size.y + size.y * size.z + size.z * size.x
     }
 }
+
+/// One node of a [`Bvh`], in a flat array.
+///
+/// `count == 0` marks an inner node: its children are nodes `first` and
+/// `first + 1` (always allocated side by side, so one index names both).
+/// `count > 0` marks a leaf: its objects are
+/// `Bvh::primitives[first..first + count]`. No node is both, and a leaf is
+/// never empty.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BvhNode {
+    /// Holds every object below this node.
+    pub bounds: Aabb,
+    pub first: u32,
+    pub count: u32,
+}
+
+impl BvhNode {
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+
+    /// The indices of the two children of an inner node, `None` for a leaf.
+    pub fn children(&self) -> Option<(usize, usize)> {
+        (!self.is_leaf()).then(|| (self.first as usize, self.first as usize + 1))
+    }
+
+    /// The range of [`Bvh::primitives`] a leaf holds (empty for an inner node).
+    pub fn primitive_range(&self) -> std::ops::Range<usize> {
+        if self.is_leaf() {
+            self.first as usize..self.first as usize + self.count as usize
+        } else {
+            0..0
+        }
+    }
+}
+
+/// A bounding volume hierarchy over a list of objects, by index.
+///
+/// The root is `nodes[0]`; `nodes` is empty when no object has a box.
+/// Every object index appears exactly once, in `primitives` (under a leaf)
+/// or in `unbounded` (no box could hold it: planes, and anything whose box
+/// is not finite). Indices are `u32` to halve the tree's memory: a scene of
+/// more than four billion objects would not fit in memory anyway.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    /// Object indices, grouped so that each leaf's objects are contiguous.
+    pub primitives: Vec<u32>,
+    /// Object indices that are tested by a plain loop, outside the tree.
+    pub unbounded: Vec<u32>,
+}
+
+impl Bvh {
+    /// How many nodes, inner and leaves.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn leaf_count(&self) -> usize {
+        self.nodes.iter().filter(|node| node.is_leaf()).count()
+    }
+
+    /// The number of nodes on the longest path from the root to a leaf (1
+    /// for a tree that is a single leaf, 0 for an empty tree).
+    ///
+    /// Walks with an explicit stack: a tree built from degenerate input can
+    /// be as deep as it has objects.
+    pub fn depth(&self) -> usize {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        let mut deepest = 0;
+        let mut stack = vec![(0usize, 1usize)];
+        while let Some((index, depth)) = stack.pop() {
+            deepest = deepest.max(depth);
+            let Some(node) = self.nodes.get(index) else {
+                continue;
+            };
+            if let Some((left, right)) = node.children() {
+                stack.push((left, depth + 1));
+                stack.push((right, depth + 1));
+            }
+        }
+        deepest
+    }
+
+    /// The bytes the tree's arrays hold (their lengths, not capacities).
+    pub fn memory_bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<BvhNode>()
+            + (self.primitives.len() + self.unbounded.len()) * std::mem::size_of::<u32>()
+    }
+}
+
+/// How [`build_bvh`](crate::chapters::ch11_bvh::build_bvh) chooses where to
+/// cut a node in two.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SplitRule {
+    /// The surface-area heuristic, evaluated at the bin boundaries.
+    #[default]
+    Sah,
+    /// The middle of the node's centroids along their widest axis.
+    Midpoint,
+}
+
+/// The knobs of the build.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BvhOptions {
+    pub split: SplitRule,
+    /// How many bins the centroids are sorted into along the split axis
+    /// (values below 2 count as 2).
+    pub bins: u32,
+    /// A node with this many objects or fewer becomes a leaf without trying
+    /// a split (values below 1 count as 1). A larger node can still become
+    /// a leaf when no split is cheaper (SAH) or none is possible (every
+    /// centroid in the same place).
+    pub max_leaf: u32,
+}
+
+impl Default for BvhOptions {
+    fn default() -> Self {
+        BvhOptions {
+            split: SplitRule::Sah,
+            bins: 16,
+            max_leaf: 4,
+        }
+    }
+}

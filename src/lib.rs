@@ -45,6 +45,7 @@ pub mod chapters;
 
 pub mod builtin;
 pub mod bvh;
+pub mod bvh_measure;
 pub mod camera;
 pub mod check;
 pub mod cleanup;

@@ -1,0 +1,228 @@
+//! What chapter 11's tree costs and saves, measured: build time and trace
+//! time of brute force (chapter 3's loop) against BVHs built with each split
+//! rule and several leaf sizes, on the same shapes and rays.
+//!
+//! Each figure is the median of several runs, single-threaded, so that it
+//! measures the algorithm rather than the scheduler. Nothing here prints:
+//! [`measure`] returns the numbers, and formatting them is the caller's
+//! business (`raylab cost --chapter 11`).
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use crate::bvh::{Bvh, BvhOptions, SplitRule};
+use crate::chapters::ch03_nearest::nearest_hit;
+use crate::chapters::ch11_bvh::{build_bvh, nearest_hit_bvh};
+use crate::course::{Hit, Objects};
+use crate::{Ray, Reference, Shape};
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasureOptions {
+    /// Runs per figure; the median is kept (0 counts as 1).
+    pub runs: u32,
+    /// The `max_leaf` of each tree built, for each split rule.
+    pub leaf_sizes: Vec<u32>,
+    pub split_rules: Vec<SplitRule>,
+    /// The SAH's bin count.
+    pub bins: u32,
+    /// Every ray is traced for its nearest hit with `t_min < t < infinity`.
+    pub t_min: f32,
+}
+
+impl Default for MeasureOptions {
+    fn default() -> Self {
+        MeasureOptions {
+            runs: 5,
+            leaf_sizes: vec![1, 2, 4, 8],
+            split_rules: vec![SplitRule::Sah, SplitRule::Midpoint],
+            bins: BvhOptions::default().bins,
+            t_min: 0.0,
+        }
+    }
+}
+
+/// How the nearest hits were found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Chapter 3's loop over every object.
+    BruteForce,
+    /// Chapter 11's traversal of a tree built with these options.
+    Bvh(BvhOptions),
+}
+
+/// The shape of a tree ([`Bvh`]'s statistics).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TreeStats {
+    pub nodes: usize,
+    pub leaves: usize,
+    pub depth: usize,
+    pub memory_bytes: usize,
+    /// Objects outside the tree, tested by a loop on every ray.
+    pub unbounded: usize,
+}
+
+impl TreeStats {
+    pub fn of(bvh: &Bvh) -> TreeStats {
+        TreeStats {
+            nodes: bvh.node_count(),
+            leaves: bvh.leaf_count(),
+            depth: bvh.depth(),
+            memory_bytes: bvh.memory_bytes(),
+            unbounded: bvh.unbounded.len(),
+        }
+    }
+}
+
+/// The figures of one method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measurement {
+    pub method: Method,
+    /// Median build time (zero for brute force, which builds nothing).
+    pub build: Duration,
+    /// Median time to trace every ray.
+    pub trace: Duration,
+    /// The tree's shape (`None` for brute force).
+    pub tree: Option<TreeStats>,
+    /// How many rays hit something.
+    pub hits: usize,
+    /// How many rays' nearest hit (object or `t`) differs from brute
+    /// force's: 0 unless chapter 11 is wrong.
+    pub mismatches: usize,
+}
+
+/// Every method's figures on one set of shapes and rays; brute force first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measurements {
+    pub objects: usize,
+    pub rays: usize,
+    pub runs: u32,
+    pub results: Vec<Measurement>,
+}
+
+/// Measures brute force, then a BVH for each split rule and leaf size of
+/// `options`, tracing every ray of `rays` among `shapes` (the reference
+/// chapters' intersection tests).
+pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Measurements {
+    let runs = options.runs.max(1);
+    let objects = Objects::<Reference>::new(shapes);
+    let t_min = options.t_min;
+
+    let mut brute_hits = Vec::new();
+    let brute_trace = median(runs, || {
+        let start = Instant::now();
+        brute_hits = rays
+            .iter()
+            .map(|ray| black_box(nearest_hit(&objects, ray, t_min, f32::INFINITY)))
+            .collect();
+        start.elapsed()
+    });
+    let mut results = vec![Measurement {
+        method: Method::BruteForce,
+        build: Duration::ZERO,
+        trace: brute_trace,
+        tree: None,
+        hits: count_hits(&brute_hits),
+        mismatches: 0,
+    }];
+
+    let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
+    for &split in &options.split_rules {
+        for &max_leaf in &options.leaf_sizes {
+            let bvh_options = BvhOptions {
+                split,
+                bins: options.bins,
+                max_leaf,
+            };
+            let mut bvh = Bvh::default();
+            let build = median(runs, || {
+                let start = Instant::now();
+                bvh = black_box(build_bvh(&bounds, &bvh_options));
+                start.elapsed()
+            });
+            let mut hits = Vec::new();
+            let trace = median(runs, || {
+                let start = Instant::now();
+                hits = rays
+                    .iter()
+                    .map(|ray| {
+                        black_box(nearest_hit_bvh(&bvh, &objects, ray, t_min, f32::INFINITY))
+                    })
+                    .collect();
+                start.elapsed()
+            });
+            let mismatches = hits
+                .iter()
+                .zip(&brute_hits)
+                .filter(|(bvh_hit, brute_hit)| bvh_hit != brute_hit)
+                .count();
+            results.push(Measurement {
+                method: Method::Bvh(bvh_options),
+                build,
+                trace,
+                tree: Some(TreeStats::of(&bvh)),
+                hits: count_hits(&hits),
+                mismatches,
+            });
+        }
+    }
+    Measurements {
+        objects: shapes.len(),
+        rays: rays.len(),
+        runs,
+        results,
+    }
+}
+
+fn count_hits(hits: &[Option<Hit>]) -> usize {
+    hits.iter().filter(|hit| hit.is_some()).count()
+}
+
+/// The median of `runs` calls of `time` (the mean of the middle two for an
+/// even count).
+fn median(runs: u32, mut time: impl FnMut() -> Duration) -> Duration {
+    let mut times: Vec<Duration> = (0..runs.max(1)).map(|_| time()).collect();
+    times.sort();
+    let middle = times.len() / 2;
+    if times.len() % 2 == 1 {
+        times[middle]
+    } else {
+        (times[middle - 1] + times[middle]) / 2
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Plane, Sphere, Vec3};
+
+    #[test]
+    fn every_method_agrees_with_brute_force_on_a_small_scene() {
+        let mut shapes: Vec<Shape> = vec![Plane::new(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).into()];
+        for i in 0..40 {
+            let x = (i % 8) as f32 * 2.0 - 7.0;
+            let z = (i / 8) as f32 * 2.0 + 5.0;
+            shapes.push(Sphere::new(Vec3::new(x, 0.0, z), 0.8).into());
+        }
+        let rays: Vec<Ray> = (0..200)
+            .map(|i| {
+                let x = (i % 20) as f32 / 10.0 - 1.0;
+                let y = (i / 20) as f32 / 10.0 - 0.5;
+                Ray::new(Vec3::new(0.0, 1.0, 0.0), Vec3::new(x, y, 1.0))
+            })
+            .collect();
+        let options = MeasureOptions {
+            runs: 2,
+            ..MeasureOptions::default()
+        };
+        let measured = measure(&shapes, &rays, &options);
+        assert_eq!(measured.results.len(), 1 + 2 * 4);
+        assert_eq!(measured.results[0].method, Method::BruteForce);
+        let hits = measured.results[0].hits;
+        assert!(hits > 50, "{hits}");
+        for result in &measured.results {
+            assert_eq!(result.mismatches, 0, "{:?}", result.method);
+            assert_eq!(result.hits, hits);
+        }
+    }
+}
