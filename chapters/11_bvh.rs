@@ -465,7 +465,7 @@ pub fn nearest_hit_bvh<C: Chapters>(
     };
     let inverse = ray.dir.recip();
     let mut stack = NodeStack::new();
-    if let Some(entry) = hit_box(&root.bounds, ray.origin, inverse, t_min, nearest.closest()) {
+    if let Some(entry) = C::hit_box(&root.bounds, ray.origin, inverse, t_min, nearest.closest()) {
         stack.push(0, entry);
     }
     while let Some((index, entry)) = stack.pop() {
@@ -482,7 +482,7 @@ pub fn nearest_hit_bvh<C: Chapters>(
         };
         let closest = nearest.closest();
         let enter = |child: usize| {
-            hit_box(
+            C::hit_box(
                 &bvh.nodes[child].bounds,
                 ray.origin,
                 inverse,
@@ -531,8 +531,9 @@ pub fn any_hit_bvh<C: Chapters>(
         return Some(found);
     }
     let inverse = ray.dir.recip();
-    let enters =
-        |node: usize| hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, t_max).is_some();
+    let enters = |node: usize| {
+        C::hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, t_max).is_some()
+    };
     let mut stack = NodeStack::new();
     if !bvh.nodes.is_empty() && enters(0) {
         stack.push(0, t_min);

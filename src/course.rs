@@ -13,9 +13,10 @@
 //! reach the scene, and call the other chapters' functions as the running
 //! `Chapters` wrote them.
 
+use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
-    ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles,
+    ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh,
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
@@ -219,6 +220,50 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     ) -> HitPoint<'a> {
         ch10_triangles::smooth_hit_point::<Self>(point, triangle, normals)
     }
+
+    /// Chapter 11: where a ray enters `bounds` with `t_min <= t <= t_max`
+    /// (the slab test), `inverse_direction` being `1 / dir` per axis.
+    #[inline(always)]
+    fn hit_box(
+        bounds: &Aabb,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        ch11_bvh::hit_box(bounds, origin, inverse_direction, t_min, t_max)
+    }
+
+    /// Chapter 11: a tree over the objects whose boxes are `bounds` (`None`
+    /// for a plane).
+    #[inline(always)]
+    fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
+        ch11_bvh::build_bvh(bounds, options)
+    }
+
+    /// Chapter 11: chapter 3's nearest hit, found through the tree.
+    #[inline(always)]
+    fn nearest_hit_bvh(
+        bvh: &Bvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        ch11_bvh::nearest_hit_bvh(bvh, objects, ray, t_min, t_max)
+    }
+
+    /// Chapter 11: any hit, for shadow rays, found through the tree.
+    #[inline(always)]
+    fn any_hit_bvh(
+        bvh: &Bvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        ch11_bvh::any_hit_bvh(bvh, objects, ray, t_min, t_max)
+    }
 }
 
 /// The chapters `C` with the textbook tests in place of `C`'s where asked:
@@ -258,6 +303,18 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
         C::terminator_point(triangle, normals, point)
+    }
+    fn hit_box(
+        bounds: &Aabb,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        C::hit_box(bounds, origin, inverse_direction, t_min, t_max)
+    }
+    fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
+        C::build_bvh(bounds, options)
     }
     // The functions below take `Self`'s tracer, which `C`'s cannot accept:
     // each runs the reference code with this type, so a student's textbook

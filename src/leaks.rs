@@ -52,9 +52,9 @@ pub fn leak_targets(mesh: &Mesh) -> Vec<Vec3> {
             edges.insert((p.min(q), p.max(q)));
         }
     }
-    let midpoints = edges.into_iter().map(|(p, q)| {
-        0.5 * (mesh.positions[p as usize] + mesh.positions[q as usize])
-    });
+    let midpoints = edges
+        .into_iter()
+        .map(|(p, q)| 0.5 * (mesh.positions[p as usize] + mesh.positions[q as usize]));
     mesh.positions.iter().copied().chain(midpoints).collect()
 }
 

@@ -26,6 +26,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::bvh::{Bvh, BvhOptions};
 use crate::camera::Camera;
 use crate::chapters::Reference;
 use crate::course::{Chapters, Hit, HitPoint, Objects};
@@ -170,6 +171,8 @@ pub struct Stage<'a, C: Chapters = Reference> {
     /// For each of `shapes`, its object in the scene (for its material and
     /// name).
     owners: Vec<u32>,
+    /// Chapter 11's tree over `shapes`, when the stage uses one.
+    bvh: Option<Bvh>,
     offset: RayOffset,
     camera: Camera,
     pub effects: Effects,
@@ -210,7 +213,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             1
         };
         let effects = stage.needed_by(scene, samples);
-        let (shapes, owners) = scene
+        let (shapes, owners): (Vec<Shape>, Vec<u32>) = scene
             .shapes
             .iter()
             .zip(&scene.owners)
@@ -220,10 +223,15 @@ impl<'a, C: Chapters> Stage<'a, C> {
                 _ => effects.planes,
             })
             .unzip();
+        let bvh = effects.bvh.then(|| {
+            let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
+            C::build_bvh(&bounds, &BvhOptions::default())
+        });
         Ok(Stage {
             scene,
             shapes,
             owners,
+            bvh,
             offset: settings.offset(),
             camera: Camera::new(&scene.camera, settings.width, settings.height),
             effects,
@@ -381,7 +389,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     #[inline]
     pub fn blocked(&mut self, ray: &Ray, t_min: f32, t_max: f32, from: &HitPoint) -> bool {
         self.log(RayKind::Shadow, ray, t_min, t_max);
-        match self.objects.first_hit(ray, t_min, t_max) {
+        let blocker = match &self.stage.bvh {
+            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, ray, t_min, t_max),
+            None => self.objects.first_hit(ray, t_min, t_max),
+        };
+        match blocker {
             Some(blocker) => {
                 // Planes and spheres are convex, and lights outside a sphere
                 // seen from inside it are skipped before any ray: a shadow
@@ -443,7 +455,9 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             return (Vec3::ZERO, None);
         }
         self.log(kind, ray, 0.0, f32::INFINITY);
-        let hit = if self.stage.effects.nearest_hit {
+        let hit = if let Some(bvh) = &self.stage.bvh {
+            C::nearest_hit_bvh(bvh, &self.objects, ray, 0.0, f32::INFINITY)
+        } else if self.stage.effects.nearest_hit {
             C::nearest_hit(&self.objects, ray, 0.0, f32::INFINITY)
         } else {
             self.objects.first_hit(ray, 0.0, f32::INFINITY)

@@ -172,6 +172,15 @@ pub const CHAPTERS: &[ChapterInfo] = &[
         catalog::chapter_10,
         catalog::chapter_10_robustness
     ),
+    chapter!(
+        11,
+        "11_bvh",
+        "Bounding volume hierarchy",
+        "a tree of boxes: hits among thousands of objects in a few dozen tests",
+        ["hit_box", "build_bvh", "nearest_hit_bvh", "any_hit_bvh"],
+        catalog::chapter_11,
+        catalog::chapter_11_robustness
+    ),
 ];
 
 /// The last chapter: rendering "with everything".
@@ -227,7 +236,17 @@ pub struct Effects {
     /// Chapter 10: vertex normals blended across smooth triangles, and
     /// their shadow rays lifted off the terminator.
     pub smooth_shading: bool,
+    /// Chapter 11: rays find their hits through a bounding volume
+    /// hierarchy instead of testing every object.
+    pub bvh: bool,
 }
+
+/// From how many objects with a box (spheres, triangles) chapter 11 builds
+/// a tree. Below, the loop of chapter 3 is faster: a tree costs a build, and
+/// each ray pays for its box tests before it reaches the objects. Measured
+/// by `raylab cost --chapter 11` (its crossover table: loop against tree on
+/// the same rays, for a few objects to a few dozen); see lesson 11.
+pub const BVH_MIN_OBJECTS: usize = 8;
 
 impl Effects {
     /// Everything chapters `1..=chapter` teach.
@@ -251,6 +270,7 @@ impl Effects {
             absorption: chapter >= 9,
             triangles: chapter >= 10,
             smooth_shading: chapter >= 10,
+            bvh: chapter >= 11,
         }
     }
 
@@ -304,6 +324,13 @@ impl Effects {
                     .shapes
                     .iter()
                     .any(|shape| shape.as_triangle().is_some_and(|t| t.normals().is_some())),
+            bvh: self.bvh
+                && scene
+                    .shapes
+                    .iter()
+                    .filter(|shape| shape.bounds().is_some())
+                    .count()
+                    >= BVH_MIN_OBJECTS,
             ..self
         }
     }
@@ -331,6 +358,7 @@ impl Effects {
         add(self.absorption, "absorption");
         add(self.triangles, "triangles");
         add(self.smooth_shading, "smooth-shading");
+        add(self.bvh, "bvh");
         names
     }
 }

@@ -2038,3 +2038,13 @@ pub fn chapter_10() -> Vec<Case> {
 pub fn chapter_10_robustness() -> Vec<Case> {
     Vec::new()
 }
+
+/// Chapter 11's checkpoint cases.
+pub fn chapter_11() -> Vec<Case> {
+    Vec::new()
+}
+
+/// Chapter 11's hard cases.
+pub fn chapter_11_robustness() -> Vec<Case> {
+    Vec::new()
+}
