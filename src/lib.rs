@@ -58,6 +58,7 @@ pub mod embree;
 pub mod grade;
 pub mod input;
 pub mod medium;
+pub mod mesh;
 pub mod output;
 pub mod plots;
 pub mod ray;
