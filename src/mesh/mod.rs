@@ -45,7 +45,8 @@ pub const MAX_MESH_VERTICES: usize = 3 * MAX_MESH_TRIANGLES;
 /// seen from outside (the side the geometric normal
 /// `(b - a) x (c - a)` points to). When every triangle of the model has a
 /// vertex normal at each corner, `triangle_normals[t]` holds three indices
-/// into `normals` (unit length) for smooth shading; otherwise
+/// into `normals` for smooth shading (every normal so used is unit
+/// length); otherwise
 /// `triangle_normals` is `None`, `normals` is empty, and the mesh is shaded
 /// flat with each triangle's geometric normal. Every index is in range.
 #[derive(Debug, Clone, Default, PartialEq)]

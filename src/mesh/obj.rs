@@ -34,9 +34,9 @@ use crate::scene::MAX_SHAPE_COORDINATE;
 /// faces is refused too. Triangles without area are kept (see
 /// [`Mesh::degenerate_triangle_count`]).
 ///
-/// Vertex normals are kept when every face gives one at every corner and
-/// each can be normalised; otherwise the mesh is flat-shaded
-/// (`triangle_normals` is `None`).
+/// Vertex normals are kept when every face gives one at every corner;
+/// otherwise the mesh is flat-shaded (`triangle_normals` is `None`). A
+/// corner whose normal is zero gets its triangle's own normal instead.
 pub fn load_obj(path: &Path, transform: &MeshTransform) -> Result<Mesh, MeshError> {
     transform.validate().map_err(MeshError::Transform)?;
     let mut bytes = read_bounded(path, MAX_OBJ_BYTES, "OBJ file", Links::Follow)
@@ -114,13 +114,6 @@ fn scan(bytes: &mut [u8], place: &dyn Fn(Vec3) -> Vec3) -> Result<Scan, (usize, 
     {
         bom.fill(b' ');
     }
-    if let Err(error) = std::str::from_utf8(bytes) {
-        let line = line_of(bytes, error.valid_up_to());
-        return Err((
-            line,
-            "not UTF-8 text: an OBJ file is text (UTF-16 and binary files are not read)".into(),
-        ));
-    }
     let mut counts = Counts::default();
     let mut scan = Scan {
         positions: 0,
@@ -128,7 +121,6 @@ fn scan(bytes: &mut [u8], place: &dyn Fn(Vec3) -> Vec3) -> Result<Scan, (usize, 
         triangles: 0,
         all_corners_have_normals: true,
     };
-    let mut to_blank = Vec::new();
     let mut start = 0;
     let mut number = 0;
     while start < bytes.len() {
@@ -137,25 +129,34 @@ fn scan(bytes: &mut [u8], place: &dyn Fn(Vec3) -> Vec3) -> Result<Scan, (usize, 
             .iter()
             .position(|&b| b == b'\n')
             .map_or(bytes.len(), |offset| start + offset);
-        let raw = &bytes[start..end];
+        let raw = &mut bytes[start..end];
         if raw.contains(&0) {
             return Err((
                 number,
-                "a NUL byte: this is a binary file, not OBJ text".into(),
+                "a NUL byte: this is a binary file (or UTF-16 text), not OBJ text".into(),
             ));
         }
-        // Whole-buffer UTF-8 was checked, and '\n' is never inside a character.
+        if std::str::from_utf8(raw).is_err() {
+            // Exporters write names (groups, materials, comments) in
+            // Latin-1 and the like: harmless where raylab ignores the text,
+            // so such bytes become '?'. A number is never anything but ASCII.
+            let keyword = raw
+                .split(|b| b.is_ascii_whitespace())
+                .find(|word| !word.is_empty());
+            if matches!(keyword, Some(b"v" | b"vn" | b"vt" | b"f")) {
+                return Err((number, "not UTF-8 text".into()));
+            }
+            replace_invalid_utf8(raw);
+        }
         let line = std::str::from_utf8(raw).map_err(|_| (number, "not UTF-8 text".to_string()))?;
+        let indent = line.len() - line.trim_start().len();
         match check_line(line, place, &mut counts, &mut scan) {
-            Ok(true) => to_blank.push(start + line.len() - line.trim_start().len()),
+            // '#' makes the line a comment; the keyword's first byte is ASCII.
+            Ok(true) => raw[indent] = b'#',
             Ok(false) => {}
             Err(message) => return Err((number, message)),
         }
         start = end + 1;
-    }
-    for offset in to_blank {
-        // '#' makes the line a comment; the keyword's first byte is ASCII.
-        bytes[offset] = b'#';
     }
     Ok(scan)
 }
@@ -243,12 +244,15 @@ fn count_one(count: usize, what: &str) -> Result<usize, String> {
     Ok(count + 1)
 }
 
-/// The 1-based line holding byte `offset`.
-fn line_of(bytes: &[u8], offset: usize) -> usize {
-    1 + bytes[..offset.min(bytes.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
+/// Replaces each byte that is not part of valid UTF-8 with '?', in place.
+fn replace_invalid_utf8(mut bytes: &mut [u8]) {
+    while let Err(error) = std::str::from_utf8(bytes) {
+        let bad = error.valid_up_to();
+        // None: a sequence cut short by the end of the line.
+        let length = error.error_len().unwrap_or(bytes.len() - bad);
+        bytes[bad..bad + length].fill(b'?');
+        bytes = &mut bytes[bad + length..];
+    }
 }
 
 /// `N` numbers from `words` (more are ignored, as `tobj` does).
@@ -302,6 +306,11 @@ fn vertex(words: &mut std::str::SplitWhitespace) -> Result<Vec3, String> {
 /// Checks one face corner (`v`, `v/vt`, `v//vn`, `v/vt/vn`) against the
 /// elements declared so far; returns whether it names a normal.
 fn corner(word: &str, counts: &Counts) -> Result<bool, String> {
+    if word.split('/').count() > 3 {
+        return Err(format!(
+            "face corner {word:?}: at most three indices (v/vt/vn)"
+        ));
+    }
     let mut parts = word.split('/');
     let kinds = [
         ("vertex", counts.v),
@@ -334,11 +343,6 @@ fn corner(word: &str, counts: &Counts) -> Result<bool, String> {
             ));
         }
         has_normal = slot == 2;
-    }
-    if parts.next().is_some() {
-        return Err(format!(
-            "face corner {word:?}: at most three indices (v/vt/vn)"
-        ));
     }
     Ok(has_normal)
 }
@@ -385,11 +389,9 @@ fn assemble(
         }
         if smooth {
             for n in source.normals.chunks_exact(3) {
-                let normal = transform.normal(Vec3::new(n[0], n[1], n[2]));
-                // A zero normal (some exporters write them for degenerate
-                // faces) cannot shade: fall back to flat shading.
-                smooth &= normal != Vec3::ZERO;
-                mesh.normals.push(normal);
+                // Zero if it cannot be normalised; replaced below.
+                mesh.normals
+                    .push(transform.normal(Vec3::new(n[0], n[1], n[2])));
             }
             let count = source.normals.len() / 3;
             if source.normal_indices.len() != source.indices.len() {
@@ -415,11 +417,41 @@ fn assemble(
         ));
     }
     if smooth && corner_normals.len() == mesh.triangles.len() {
+        replace_zero_normals(&mut mesh, &mut corner_normals)?;
         mesh.triangle_normals = Some(corner_normals);
     } else {
         mesh.normals = Vec::new();
     }
     Ok(mesh)
+}
+
+/// Points each corner whose normal is zero (some exporters write
+/// `vn 0 0 0`, e.g. spider.obj once in 747) at a new normal: its
+/// triangle's own, so that the rest of the model stays smooth. A triangle
+/// without area has no normal either; it is never hit, so any unit vector
+/// serves. The zero normals stay in the list, unused.
+fn replace_zero_normals(mesh: &mut Mesh, corner_normals: &mut [[u32; 3]]) -> Result<(), String> {
+    for (t, corners) in corner_normals.iter_mut().enumerate() {
+        let mut own = None;
+        for corner in corners.iter_mut() {
+            if mesh.normals[*corner as usize] != Vec3::ZERO {
+                continue;
+            }
+            let index = match own {
+                Some(index) => index,
+                None => {
+                    let [a, b, c] = mesh.corners(t);
+                    let normal = (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::Y);
+                    let index = u32::try_from(mesh.normals.len())
+                        .map_err(|_| "too many normals".to_string())?;
+                    mesh.normals.push(normal);
+                    *own.insert(index)
+                }
+            };
+            *corner = index;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
