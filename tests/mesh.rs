@@ -10,11 +10,14 @@ use raylab::Vec3;
 use raylab::mesh::{MAX_MESH_TRIANGLES, MAX_OBJ_BYTES, Mesh, MeshError, MeshTransform, load_obj};
 
 /// Where Debian's `assimp-testmodels` puts its models (scripts/test.sh
-/// installs it where it can).
+/// installs it where it can). `RAYLAB_ASSIMP_MODELS` names another folder
+/// (a copy elsewhere, or a missing one to try the fallback).
 const ASSIMP_MODELS: &str = "/usr/share/assimp/models";
 
 fn assimp_folder(name: &str) -> Option<PathBuf> {
-    let folder = Path::new(ASSIMP_MODELS).join(name);
+    let root = std::env::var_os("RAYLAB_ASSIMP_MODELS")
+        .map_or_else(|| PathBuf::from(ASSIMP_MODELS), PathBuf::from);
+    let folder = root.join(name);
     if folder.is_dir() {
         Some(folder)
     } else {
