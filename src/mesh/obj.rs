@@ -479,6 +479,13 @@ mod tests {
     }
 
     #[test]
+    fn vertices_normals_and_texture_coordinates_are_counted_up_to_the_limit() {
+        assert_eq!(count_one(MAX_MESH_VERTICES - 1, "v"), Ok(MAX_MESH_VERTICES));
+        let message = count_one(MAX_MESH_VERTICES, "vertices (v lines)").expect_err("over");
+        assert!(message.contains("more than 12000000 vertices"), "{message}");
+    }
+
+    #[test]
     fn lines_and_material_lines_are_blanked_for_the_second_pass() {
         let mut bytes = b"v 0 0 0\n  l 1 1\nusemtl x\nmtllib a b.mtl\n".to_vec();
         scan(&mut bytes, &|p| p).expect("valid");

@@ -148,6 +148,19 @@ mod tests {
                 assert!((*a - b).abs().max_element() < 1e-6, "triangle {t}: {a} {b}");
             }
         }
+        // Without vertex normals: plain `f a b c` lines.
+        let flat = Mesh {
+            normals: Vec::new(),
+            triangle_normals: None,
+            ..mesh.clone()
+        };
+        write_obj_file(&path, &flat).expect("write");
+        let loaded = load_obj(&path, &MeshTransform::default()).expect("load");
+        assert!(loaded.triangle_normals.is_none());
+        assert_eq!(loaded.triangles.len(), flat.triangles.len());
+        for t in 0..flat.triangles.len() {
+            assert_eq!(loaded.corners(t), flat.corners(t), "triangle {t}");
+        }
         // A second run may replace raylab's own file, not someone else's.
         check_obj_output("-o", &path, false).expect("raylab's own file");
         std::fs::write(&path, "v 0 0 0\n").expect("write");
