@@ -25,8 +25,9 @@ pub use generate::{MAX_GENERATED_TRIANGLES, closed_mesh_triangle_count, generate
 pub use obj::load_obj;
 pub use write::{check_obj_output, is_raylab_obj, write_obj, write_obj_file};
 
-/// The largest OBJ file read, in bytes (256 MiB: about 3.5 million triangles
-/// as `raylab mesh` writes them).
+/// The largest OBJ file read, in bytes (256 MiB: about 3.3 million triangles
+/// as `raylab mesh` writes them, 82 bytes a triangle with its share of
+/// vertices and normals).
 pub const MAX_OBJ_BYTES: u64 = 256 << 20;
 
 /// The most triangles a loaded model may have (after polygons are split

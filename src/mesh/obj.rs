@@ -39,7 +39,7 @@ use crate::scene::MAX_SHAPE_COORDINATE;
 /// corner whose normal is zero gets its triangle's own normal instead.
 pub fn load_obj(path: &Path, transform: &MeshTransform) -> Result<Mesh, MeshError> {
     transform.validate().map_err(MeshError::Transform)?;
-    let mut bytes = read_bounded(path, MAX_OBJ_BYTES, "OBJ file", Links::Follow)
+    let mut bytes = read_bounded(path, MAX_OBJ_BYTES, "Wavefront OBJ file", Links::Follow)
         .map_err(|error| MeshError::Read(format!("{error:#}")))?;
     if bytes.is_empty() {
         return Err(MeshError::Empty {
