@@ -54,18 +54,15 @@ pub fn load_obj(path: &Path, transform: &MeshTransform) -> Result<Mesh, MeshErro
     let compiled = transform.compile();
     let scan = scan(&mut bytes, &|p| compiled.point(p))
         .map_err(|(line, message)| parse_error(line, message))?;
+    // Every face has at least three corners (the scan checked), so no
+    // triangles means no faces.
     if scan.triangles == 0 {
-        let detail = if scan.faces > 0 {
-            "its faces are all blank".to_string()
-        } else {
-            format!(
-                "it has {} vertices and no faces (f lines); points and lines are not drawn",
-                scan.positions
-            )
-        };
         return Err(MeshError::NoTriangles {
             path: path.to_path_buf(),
-            detail,
+            detail: format!(
+                "it has {} vertices and no faces (f lines); points and lines are not drawn",
+                scan.positions
+            ),
         });
     }
     let invalid = |message: String| MeshError::Invalid {
