@@ -9,6 +9,7 @@ mod crosscheck;
 mod diff;
 mod grade;
 mod guard;
+mod mesh;
 mod new;
 mod render;
 
@@ -49,6 +50,7 @@ pub enum Command {
     /// Create a student workspace: a crate where you write each chapter,
     /// with `render`, `check` and every other command running your code.
     New(new::NewArgs),
+    Mesh(mesh::MeshArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -107,6 +109,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::Probe(args) => crosscheck::probe::<C>(&args),
         Command::Check(args) => check::check::<C>(&args),
         Command::New(args) => new::new(&args),
+        Command::Mesh(args) => mesh::mesh(&args),
     };
     match result {
         Ok(status) => status,
