@@ -928,7 +928,13 @@ impl MeshSpec {
                 let count = usize::try_from(count).unwrap_or(usize::MAX);
                 let mut mesh = crate::mesh::generate_closed_mesh(count)
                     .map_err(|error| format!("{label}: mesh.generated = {count}: {error}"))?;
-                transform.apply(&mut mesh);
+                let placed = transform.compile();
+                for position in &mut mesh.positions {
+                    *position = placed.point(*position);
+                }
+                for normal in &mut mesh.normals {
+                    *normal = placed.normal(*normal);
+                }
                 mesh
             }
             _ => {
