@@ -50,7 +50,7 @@ fn moller_trumbore(
     // The textbook's culling test: a negative determinant is a ray
     // travelling along the winding's normal, meeting the back.
     let rejected = if cull_back_faces {
-        !(determinant > 1e-8)
+        determinant.is_nan() || determinant <= 1e-8
     } else {
         !(determinant != 0.0)
     };
