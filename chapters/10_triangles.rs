@@ -93,7 +93,7 @@ pub fn intersect_triangle_moller_trumbore(
     let inverse = 1.0 / determinant;
     let s = ray.origin - a;
     let beta = s.dot(p) * inverse;
-    if !(beta >= 0.0 && beta <= 1.0) {
+    if !(0.0..=1.0).contains(&beta) {
         return None;
     }
     let q = s.cross(edge_1);

@@ -226,6 +226,66 @@ fn the_answer_key_renders_what_raylab_renders_bit_for_bit() {
     );
 }
 
+/// Chapter 10 is the first whose functions take a generic parameter no
+/// argument names (`smooth_hit_point<'a, C: Chapters>`) and whose file
+/// keeps a helper beside them (`intersect_triangle_moller_trumbore`): the
+/// skeleton and the answer key must still build and check as any chapter.
+#[test]
+fn chapter_10_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
+    let ws = workspaces();
+    let file = "src/chapters/ch10_triangles.rs";
+    let todo = read(&ws.todo.join(file));
+    assert!(
+        todo.contains("pub fn smooth_hit_point<'a, C: Chapters>("),
+        "{todo}"
+    );
+    assert!(
+        !todo.contains("intersect_triangle_moller_trumbore"),
+        "{todo}"
+    );
+    let answer = read(&ws.answer.join(file));
+    assert!(
+        answer.contains("pub fn intersect_triangle_moller_trumbore("),
+        "{answer}"
+    );
+    let forwarding = read(&ws.todo.join("src/chapters/mod.rs"));
+    assert!(
+        forwarding.contains("ch10_triangles::smooth_hit_point::<Self>(point, triangle, normals)"),
+        "{forwarding}"
+    );
+
+    let out = ws.root.join("check-10");
+    std::fs::create_dir_all(&out).expect("create");
+    let args = ["check", "--chapter", "10"];
+    let output = run_student("student-todo", &args, &out);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(1), "{text}{}", stderr(&output));
+    assert!(
+        text.contains("chapter 10: Triangle meshes - not started"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "not started: intersect_triangle, barycentric, smooth_normal, terminator_point, \
+             smooth_hit_point still todo!()"
+        ),
+        "{text}"
+    );
+    assert!(
+        !stderr(&output).contains("panicked at"),
+        "{}",
+        stderr(&output)
+    );
+
+    let output = run_student("student-answer", &args, &out);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{text}{}", stderr(&output));
+    assert!(
+        text.contains("chapter 10: Triangle meshes - pass (robust)"),
+        "{text}"
+    );
+}
+
 #[test]
 fn new_refuses_a_folder_that_is_not_empty_and_fills_an_empty_one() {
     let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("workspace-new");

@@ -12,7 +12,7 @@ use super::exact::{self, U, wide};
 use super::panics::{Panic, guarded};
 use crate::course::{Chapters, HitPoint, PhongTerms};
 use crate::render::{Stage, Tracer};
-use crate::shapes::SurfacePoint;
+use crate::shapes::{SurfacePoint, Triangle};
 use crate::{Material, Plane, Ray, Reference, Sampling, Scene, Shape, Sphere};
 
 /// Which level a case belongs to: a checkpoint every correct formula meets,
@@ -182,6 +182,43 @@ pub enum CaseKind {
     /// `transmittance(absorption, distance)`: expected `exp(-a d)` per
     /// channel, within `1e-6` relative.
     Transmittance { absorption: Vec3, distance: f32 },
+    /// `intersect_triangle` on each of `triangles` (one, or a few sharing
+    /// edges and corners): the nearest of their hits is judged, so a ray
+    /// through a shared edge passes when at least one triangle claims it.
+    Triangles {
+        triangles: Vec<[Vec3; 3]>,
+        ray: Ray,
+        t_min: f32,
+        t_max: f32,
+        expect: ExpectT,
+    },
+    /// `barycentric(triangle, point)`: expected the exact weights (ratios
+    /// of areas, in `f64`).
+    Barycentric { corners: [Vec3; 3], point: Vec3 },
+    /// `smooth_normal(triangle, normals, point)`: expected the exact unit
+    /// blend.
+    SmoothNormal {
+        corners: [Vec3; 3],
+        normals: [Vec3; 3],
+        point: Vec3,
+    },
+    /// `terminator_point(triangle, normals, point)`: expected the exact
+    /// lifted point.
+    Terminator {
+        corners: [Vec3; 3],
+        normals: [Vec3; 3],
+        point: Vec3,
+    },
+    /// `smooth_hit_point` at the point where `ray` meets the triangle (by
+    /// the reference test), on a material that is opaque or fully
+    /// transparent: expected the blended normal turned toward the ray, and
+    /// the lifted point (the point itself when transparent).
+    SmoothHit {
+        corners: [Vec3; 3],
+        normals: [Vec3; 3],
+        ray: Ray,
+        transparent: bool,
+    },
 }
 
 /// One checkpoint: a question, its expected answer and its tolerance, with
@@ -253,6 +290,11 @@ impl Case {
             CaseKind::Reflectance { schlick: false, .. } => "fresnel",
             CaseKind::Reflectance { schlick: true, .. } => "schlick",
             CaseKind::Transmittance { .. } => "transmittance",
+            CaseKind::Triangles { .. } => "intersect_triangle",
+            CaseKind::Barycentric { .. } => "barycentric",
+            CaseKind::SmoothNormal { .. } => "smooth_normal",
+            CaseKind::Terminator { .. } => "terminator_point",
+            CaseKind::SmoothHit { .. } => "smooth_hit_point",
         }
     }
 
@@ -401,6 +443,64 @@ impl Case {
                 "transmittance(absorption {}, distance {})",
                 vec(*absorption),
                 num(*distance)
+            ),
+            CaseKind::Triangles {
+                triangles,
+                ray,
+                t_min,
+                t_max,
+                ..
+            } => {
+                let listed: Vec<String> = triangles.iter().map(|c| corners_text(*c)).collect();
+                if let [one] = listed.as_slice() {
+                    format!(
+                        "intersect_triangle({one}, {}, {})",
+                        ray_text(ray),
+                        range(*t_min, *t_max)
+                    )
+                } else {
+                    format!(
+                        "intersect_triangle on each of [{}], {}, {}; the nearest hit",
+                        listed.join(", "),
+                        ray_text(ray),
+                        range(*t_min, *t_max)
+                    )
+                }
+            }
+            CaseKind::Barycentric { corners, point } => {
+                format!("barycentric({}, {})", corners_text(*corners), vec(*point))
+            }
+            CaseKind::SmoothNormal {
+                corners,
+                normals,
+                point,
+            }
+            | CaseKind::Terminator {
+                corners,
+                normals,
+                point,
+            } => format!(
+                "{}({}, normals {}, {})",
+                self.function(),
+                corners_text(*corners),
+                normals_text(normals),
+                vec(*point)
+            ),
+            CaseKind::SmoothHit {
+                corners,
+                normals,
+                ray,
+                transparent,
+            } => format!(
+                "smooth_hit_point(the point where {} meets {}, {}, normals {})",
+                ray_text(ray),
+                corners_text(*corners),
+                if *transparent {
+                    "transparent material"
+                } else {
+                    "opaque material"
+                },
+                normals_text(normals)
             ),
         }
     }
@@ -739,8 +839,157 @@ impl Case {
                         .all();
                 verdict(pass, vec64(want), vec(got))
             }
+            CaseKind::Triangles {
+                triangles,
+                ray,
+                t_min,
+                t_max,
+                expect,
+            } => {
+                let hits: Vec<(usize, f32)> = triangles
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(index, &[a, b, c])| {
+                        C::intersect_triangle(&Triangle::new(a, b, c), ray, *t_min, *t_max)
+                            .map(|t| (index, t))
+                    })
+                    .collect();
+                // A NaN or infinite t is wrong however it compares: it is
+                // the one judged, never hidden behind a finite hit.
+                let nearest = hits
+                    .iter()
+                    .copied()
+                    .find(|(_, t)| !t.is_finite())
+                    .or_else(|| hits.iter().copied().min_by(|x, y| x.1.total_cmp(&y.1)));
+                let judged = triangles[nearest.map_or(0, |(index, _)| index)].map(wide);
+                let normal = (judged[1] - judged[0])
+                    .cross(judged[2] - judged[0])
+                    .normalize();
+                let on_surface = |p: DVec3| (p - judged[0]).dot(normal).abs();
+                let scale = triangles
+                    .iter()
+                    .flatten()
+                    .map(|corner| max_abs(wide(*corner)))
+                    .fold(0.0, f64::max);
+                judge_t(
+                    nearest.map(|(_, t)| t),
+                    *expect,
+                    ray,
+                    robust,
+                    scale,
+                    normal,
+                    on_surface,
+                )
+            }
+            CaseKind::Barycentric { corners, point } => {
+                let [a, b, c] = *corners;
+                let got = C::barycentric(&Triangle::new(a, b, c), *point);
+                let want = exact::barycentric(corners.map(wide), wide(*point));
+                // Weights of a point inside are at most 1: an absolute
+                // tolerance is a relative one.
+                let pass = got.is_finite()
+                    && (wide(got) - want).abs().max_element()
+                        <= CHECKPOINT_TOLERANCE * max_abs(want).max(1.0);
+                verdict(pass, vec64(want), vec(got))
+            }
+            CaseKind::SmoothNormal {
+                corners,
+                normals,
+                point,
+            } => {
+                let [a, b, c] = *corners;
+                let got = C::smooth_normal(&Triangle::new(a, b, c), normals, *point);
+                let want = exact::smooth_normal(corners.map(wide), normals.map(wide), wide(*point));
+                verdict(
+                    unit_toward(got, want),
+                    format!("{} (unit length)", vec64(want)),
+                    format!("{} (length {})", vec(got), num64(wide(got).length())),
+                )
+            }
+            CaseKind::Terminator {
+                corners,
+                normals,
+                point,
+            } => {
+                let [a, b, c] = *corners;
+                let got = C::terminator_point(&Triangle::new(a, b, c), normals, *point);
+                let want =
+                    exact::terminator_point(corners.map(wide), normals.map(wide), wide(*point));
+                verdict(point_close(got, want), vec64(want), vec(got))
+            }
+            CaseKind::SmoothHit {
+                corners,
+                normals,
+                ray,
+                transparent,
+            } => {
+                let [a, b, c] = *corners;
+                let triangle = Triangle::new(a, b, c);
+                let shape = Shape::Triangle(triangle);
+                // The point comes from the reference test: the case's input
+                // does not depend on the code under check.
+                let Some(t) = shape.intersect(ray, 0.0, f32::INFINITY) else {
+                    return Outcome::Error(format!(
+                        "the case's ray {} misses its triangle",
+                        ray_text(ray)
+                    ));
+                };
+                let material = Material {
+                    transparency: if *transparent { 1.0 } else { 0.0 },
+                    ..Material::default()
+                };
+                let point = HitPoint::new(0, &shape, &material, ray, t);
+                let got = C::smooth_hit_point(point, &triangle, normals);
+                // The vertex normals turned to the side the ray came from.
+                let outward: DVec3 = normals.iter().map(|n| wide(*n)).sum();
+                let side = if outward.dot(-wide(ray.dir)) < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
+                let facing = normals.map(|n| side * wide(n));
+                let at = wide(point.surface.point);
+                let want_normal = exact::smooth_normal(corners.map(wide), facing, at);
+                let want_point = if *transparent {
+                    at
+                } else {
+                    exact::terminator_point(corners.map(wide), facing, at)
+                };
+                let pass = unit_toward(got.normal, want_normal)
+                    && point_close(got.surface.point, want_point);
+                verdict(
+                    pass,
+                    format!(
+                        "normal {} (unit length), point {}",
+                        vec64(want_normal),
+                        vec64(want_point)
+                    ),
+                    format!(
+                        "normal {} (length {}), point {}",
+                        vec(got.normal),
+                        num64(wide(got.normal).length()),
+                        vec(got.surface.point)
+                    ),
+                )
+            }
         }
     }
+}
+
+/// Whether `got` is a unit vector along `want` (unit), within the
+/// checkpoint tolerance in length and in angle.
+fn unit_toward(got: Vec3, want: DVec3) -> bool {
+    let g = wide(got);
+    got.is_finite()
+        && (g.length() - 1.0).abs() <= CHECKPOINT_TOLERANCE
+        && exact::angle(g, want) <= CHECKPOINT_TOLERANCE
+}
+
+/// Whether the point `got` is `want` within the checkpoint tolerance,
+/// relative to the size of its coordinates.
+fn point_close(got: Vec3, want: DVec3) -> bool {
+    got.is_finite()
+        && (wide(got) - want).abs().max_element() <= CHECKPOINT_TOLERANCE * max_abs(want).max(1.0)
 }
 
 fn verdict(pass: bool, expected: String, got: String) -> Outcome {
@@ -1028,6 +1277,14 @@ fn vec64(v: DVec3) -> String {
 
 fn ray_text(ray: &Ray) -> String {
     format!("ray from {} along {}", vec(ray.origin), vec(ray.dir))
+}
+
+fn corners_text([a, b, c]: [Vec3; 3]) -> String {
+    format!("triangle {} {} {}", vec(a), vec(b), vec(c))
+}
+
+fn normals_text(normals: &[Vec3; 3]) -> String {
+    normals.map(vec).join(" ")
 }
 
 fn shape_text(shape: &Shape) -> String {

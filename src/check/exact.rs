@@ -73,3 +73,59 @@ pub fn refract(d: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
 pub fn angle(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
 }
+
+/// Twice the signed area of `(p, q, r)` seen along `normal`: positive when
+/// they turn counter-clockwise about it.
+fn signed_area(p: DVec3, q: DVec3, r: DVec3, normal: DVec3) -> f64 {
+    (q - p).cross(r - p).dot(normal)
+}
+
+/// The barycentric coordinates of `point` (on the plane of `corners`) as
+/// ratios of areas: each corner's weight is the area of the triangle the
+/// point makes with the opposite edge, over the whole area. Not the
+/// reference's two-equation solve, so that a shared mistake cannot hide.
+pub fn barycentric(corners: [DVec3; 3], point: DVec3) -> DVec3 {
+    let [a, b, c] = corners;
+    let normal = (b - a).cross(c - a);
+    let whole = signed_area(a, b, c, normal);
+    DVec3::new(
+        signed_area(point, b, c, normal),
+        signed_area(a, point, c, normal),
+        signed_area(a, b, point, normal),
+    ) / whole
+}
+
+/// Where the line `o + t d` meets the triangle `corners`, with `t` in
+/// `(t_min, t_max)`: the plane's `t`, kept when the point's weights are all
+/// at least `-1e-9` (a point on an edge, rounded in `f64`, is on it).
+/// `None` for a degenerate triangle or a line in its plane.
+pub fn triangle(corners: [DVec3; 3], o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    let [a, b, c] = corners;
+    let normal = (b - a).cross(c - a);
+    if normal == DVec3::ZERO || !normal.is_finite() {
+        return None;
+    }
+    let t = plane(a, normal, o, d, t_min, t_max)?;
+    let weights = barycentric(corners, o + t * d);
+    (weights.min_element() >= -1e-9).then_some(t)
+}
+
+/// The vertex normals blended with the weights of `point`, unit length.
+pub fn smooth_normal(corners: [DVec3; 3], normals: [DVec3; 3], point: DVec3) -> DVec3 {
+    let w = barycentric(corners, point);
+    (w.x * normals[0] + w.y * normals[1] + w.z * normals[2]).normalize()
+}
+
+/// Hanika's lifted point: `point` pushed up onto each corner's tangent
+/// plane it lies below, the three pushes weighted by the point's
+/// barycentric coordinates.
+pub fn terminator_point(corners: [DVec3; 3], normals: [DVec3; 3], point: DVec3) -> DVec3 {
+    let w = barycentric(corners, point).to_array();
+    let mut lifted = point;
+    for i in 0..3 {
+        let unit = normals[i].normalize();
+        let below = (corners[i] - point).dot(unit).max(0.0);
+        lifted += w[i] * below * unit;
+    }
+    lifted
+}

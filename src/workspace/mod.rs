@@ -346,9 +346,10 @@ fn chapters_mod_rs() -> Result<String> {
                 out.push('\n');
             }
             first = false;
+            let type_arguments = forwarded_type_arguments(info, function)?;
             let _ = writeln!(
                 out,
-                "    {signature} {{\n        {}::{function}({})\n    }}",
+                "    {signature} {{\n        {}::{function}{type_arguments}({})\n    }}",
                 info.module(),
                 arguments.join(", ")
             );
@@ -356,6 +357,42 @@ fn chapters_mod_rs() -> Result<String> {
     }
     out.push_str("}\n");
     Ok(out)
+}
+
+/// The turbofish a forwarding call to chapter function `function` needs:
+/// none when the arguments tell its type parameters (`in_shadow<C:
+/// Chapters>(tracer: &mut Tracer<C>, ..)`), else `::<Self>`, the student's
+/// type, for each (`smooth_hit_point<'a, C: Chapters>` calls `C`'s other
+/// functions but takes no argument of `C`'s).
+fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String> {
+    let src = info.source;
+    let items = scan::items(src).map_err(|error| anyhow::anyhow!("{}: {error}", info.file))?;
+    let item = items
+        .iter()
+        .find(|item| item.kind == ItemKind::Fn && item.name.as_deref() == Some(function))
+        .with_context(|| format!("{} has no function `{function}`", info.file))?;
+    let signature_end = item.body.as_ref().map_or(item.range.end, |body| body.start);
+    let parameters = scan::type_parameters(&src[item.header..signature_end])
+        .map_err(|error| anyhow::anyhow!("`{function}`'s generics: {error}"))?;
+    if parameters.iter().all(|parameter| parameter.in_parameters) {
+        return Ok(String::new());
+    }
+    let mut arguments = Vec::new();
+    for parameter in &parameters {
+        if !parameter
+            .bounds
+            .split(['+', ' '])
+            .any(|bound| bound == "Chapters" || bound.ends_with("::Chapters"))
+        {
+            bail!(
+                "`{function}`'s type parameter `{}` is not the chapters (`Chapters`), and a \
+                 workspace cannot name it",
+                parameter.name
+            );
+        }
+        arguments.push("Self");
+    }
+    Ok(format!("::<{}>", arguments.join(", ")))
 }
 
 /// Every method of `Chapters` in `src/course.rs`, as (name, signature from

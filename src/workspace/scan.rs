@@ -495,6 +495,98 @@ pub fn parameter_names(signature: &str) -> Result<Vec<String>, String> {
     Ok(names)
 }
 
+/// A type parameter of a function's generics.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TypeParameter {
+    pub name: String,
+    /// Its bounds as written after the `:` (empty when it has none).
+    pub bounds: String,
+    /// Whether a parameter's type names it, so that a call can infer it.
+    pub in_parameters: bool,
+}
+
+/// The type parameters of the function `signature` (from `fn` to its
+/// body), in order; lifetimes are left out (a call never names them).
+/// `const` parameters are an error: no chapter function has one.
+pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
+    let tokens = lex(signature)?;
+    let partner = match_brackets(signature, &tokens)?;
+    let fn_at = tokens
+        .iter()
+        .position(|t| t.kind == Tok::Word && &signature[t.start..t.end] == "fn")
+        .ok_or("no `fn` in the signature")?;
+    let text = |index: usize| &signature[tokens[index].start..tokens[index].end];
+    let generics_open = fn_at + 2;
+    // Each parameter's tokens, split at the commas of the generics' top
+    // level; `<>` of a bound (`Fn(u32) -> u32`, `Tracer<C>`) nest.
+    let mut params: Vec<Vec<usize>> = Vec::new();
+    let mut after_generics = generics_open;
+    if tokens
+        .get(generics_open)
+        .is_some_and(|_| text(generics_open) == "<")
+    {
+        let mut angle = 0i32;
+        let mut current = Vec::new();
+        let mut k = generics_open + 1;
+        loop {
+            let Some(token) = tokens.get(k) else {
+                return Err("unclosed generics".into());
+            };
+            let word = text(k);
+            let arrow = signature[..token.start].ends_with('-');
+            match token.kind {
+                Tok::Other if word == "<" => angle += 1,
+                Tok::Other if word == ">" && !arrow && angle == 0 => break,
+                Tok::Other if word == ">" && !arrow => angle -= 1,
+                Tok::Comma if angle == 0 => {
+                    params.push(std::mem::take(&mut current));
+                    k += 1;
+                    continue;
+                }
+                Tok::Open(_) => {
+                    let close = partner[k].ok_or("unbalanced generics")?;
+                    current.extend(k..=close);
+                    k = close + 1;
+                    continue;
+                }
+                _ => {}
+            }
+            current.push(k);
+            k += 1;
+        }
+        params.push(current);
+        after_generics = k + 1;
+    }
+    let open = (after_generics..tokens.len())
+        .find(|&k| tokens[k].kind == Tok::Open(b'('))
+        .ok_or("no parameter list")?;
+    let close = partner[open].ok_or("unbalanced parameter list")?;
+    let mut out = Vec::new();
+    for param in params.iter().filter(|param| !param.is_empty()) {
+        let first = text(param[0]);
+        if first.starts_with('\'') {
+            continue;
+        }
+        if first == "const" {
+            return Err("a `const` generic parameter".into());
+        }
+        let bounds = match param.iter().position(|&k| tokens[k].kind == Tok::Colon) {
+            Some(colon) if colon + 1 < param.len() => signature
+                [tokens[param[colon + 1]].start..tokens[*param.last().unwrap_or(&0)].end]
+                .to_string(),
+            _ => String::new(),
+        };
+        let in_parameters =
+            (open + 1..close).any(|k| tokens[k].kind == Tok::Word && text(k) == first);
+        out.push(TypeParameter {
+            name: first.to_string(),
+            bounds,
+            in_parameters,
+        });
+    }
+    Ok(out)
+}
+
 /// `text` with every path `crate::` replaced by `raylab::`: the chapter
 /// files live inside raylab, where `crate` is raylab, but a workspace's
 /// copy lives in the student's crate.
@@ -605,6 +697,27 @@ const C: Point = Point { x: 1 };
             Vec::<String>::new()
         );
         assert!(parameter_names("fn h((a, b): (u8, u8))").is_err());
+    }
+
+    #[test]
+    fn type_parameters_skip_lifetimes_and_say_whether_a_call_infers_them() {
+        let found = type_parameters(
+            "pub fn f<'a, C: Chapters, F: Fn(u32) -> Vec<u32>>(p: HitPoint<'a>, g: F) -> HitPoint<'a>",
+        )
+        .expect("parses");
+        let summary: Vec<_> = found
+            .iter()
+            .map(|p| (p.name.as_str(), p.bounds.as_str(), p.in_parameters))
+            .collect();
+        assert_eq!(
+            summary,
+            [("C", "Chapters", false), ("F", "Fn(u32) -> Vec<u32>", true)]
+        );
+        let tracer =
+            type_parameters("fn g<C: Chapters>(tracer: &mut Tracer<C>) -> Vec3").expect("parses");
+        assert!(tracer[0].in_parameters);
+        assert_eq!(type_parameters("fn h(x: u8)").expect("parses"), []);
+        assert!(type_parameters("fn k<const N: usize>(x: [u8; N])").is_err());
     }
 
     #[test]
