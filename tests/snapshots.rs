@@ -174,6 +174,33 @@ fn chapter_9_glass() {
 }
 
 #[test]
+fn chapter_10_triangles() {
+    check_chapter(10);
+}
+
+#[test]
+fn chapter_11_bvh() {
+    check_chapter(11);
+}
+
+/// Chapter 11 adds speed, not pixels: its scene drawn at chapter 10's stage
+/// (every ray tests every object) is the same image, bit for bit. Small, so
+/// that chapter 10's loop over 20,000 triangles stays quick in debug.
+#[test]
+fn the_tree_changes_no_pixel() {
+    let scene = raylab::builtin::scene(11).expect("the built-in scene");
+    let settings = raylab::RenderSettings {
+        width: 40,
+        height: 30,
+        ..scene.render
+    };
+    let with_tree = raylab::render(&scene, 11, &settings, None).expect("renders");
+    let without = raylab::render(&scene, 10, &settings, None).expect("renders");
+    assert!(with_tree.effects.bvh && !without.effects.bvh);
+    assert_eq!(with_tree.rgb, without.rgb);
+}
+
+#[test]
 fn each_chapter_changes_the_picture() {
     // A stage that renders the same image as the one before teaches nothing.
     let hashes: Vec<u64> = (1..=raylab::stage::LAST_CHAPTER)
