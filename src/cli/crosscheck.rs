@@ -203,6 +203,9 @@ fn probe_embree<C: Chapters>(
         crosscheck::Verdict::Agree => "agree (within the tolerance)".to_string(),
         crosscheck::Verdict::Boundary(reason) => format!("boundary case: {}", reason.describe()),
         crosscheck::Verdict::Disagree => "DISAGREE beyond the tolerance".to_string(),
+        crosscheck::Verdict::EdgeMissed => {
+            "DISAGREE: Embree hits a shared edge here, and ours misses it".to_string()
+        }
     };
     println!("cross-check: {verdict}");
     Ok(())
@@ -213,8 +216,8 @@ mod with_embree {
     use super::*;
     use crate::cli::EXIT_FAILED_CHECK;
     use crate::crosscheck::{
-        Boundary, Compared, GRAZING_EPSILONS, PlaneQuad, Reference, SILHOUETTE_EPSILONS,
-        TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
+        Boundary, Compared, EDGE_EPSILONS, GRAZING_EPSILONS, PlaneQuad, Reference,
+        SILHOUETTE_EPSILONS, TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
     };
     use crate::embree::EmbreeScene;
     use crate::{CastRay, RayKind};
@@ -328,6 +331,13 @@ mod with_embree {
                 println!("  {count:>8} {}", reason.describe());
             }
         }
+        if tally.edge_misses > 0 {
+            println!(
+                "  of the disagreements, {} rays Embree hits on a shared triangle edge were \
+                 missed by ours (a crack)",
+                tally.edge_misses
+            );
+        }
         match tally.median_and_max() {
             Some((median, max)) => println!(
                 "relative difference of t, same object ({} rays, boundary cases aside): \
@@ -342,7 +352,8 @@ mod with_embree {
         }
         println!(
             "tolerance: {TOLERANCE_EPSILONS} eps x each hit's error scale; silhouette band \
-             {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps (docs/embree.md)"
+             {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps, triangle edge band \
+             {EDGE_EPSILONS} eps (docs/embree.md)"
         );
         if tally.worst.is_empty() {
             return;
@@ -369,6 +380,7 @@ mod with_embree {
             Verdict::Agree => "agree".to_string(),
             Verdict::Boundary(reason) => format!("boundary: {reason:?}"),
             Verdict::Disagree => "DISAGREE".to_string(),
+            Verdict::EdgeMissed => "DISAGREE (shared edge missed by ours)".to_string(),
         };
         format!(
             "{kind}: ours {}, Embree {}; difference/tolerance {:.2}; {verdict}\n       \
