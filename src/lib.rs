@@ -60,6 +60,8 @@ pub mod input;
 pub mod medium;
 pub mod output;
 pub mod plots;
+#[cfg(feature = "embree")]
+pub mod race;
 pub mod ray;
 pub mod render;
 pub mod scene;
