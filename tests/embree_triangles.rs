@@ -283,6 +283,31 @@ fn random_rays_at_a_closed_mesh_agree_with_embree() {
         max / f32::EPSILON
     );
     assert!(median <= 2.0 * f32::EPSILON, "median {median}");
+
+    // The tolerance is not a blanket: the same mesh one part in ten
+    // thousand larger for Embree disagrees on most hits.
+    let grown: Vec<Primitive> = primitives_of(&shapes)
+        .into_iter()
+        .map(|primitive| match primitive {
+            Primitive::Triangle(corners) => {
+                Primitive::Triangle(corners.map(|corner| center + (corner - center) * 1.0001))
+            }
+            other => other,
+        })
+        .collect();
+    let grown = EmbreeScene::new(&grown).expect("Embree scene");
+    let off = cross_check_with(
+        &reference,
+        &rays,
+        |cast| watertight(&shapes, cast),
+        |cast| embree_answer(&grown, cast),
+    );
+    println!("grown by 1e-4: {} disagreements", off.disagreements);
+    assert!(
+        off.disagreements > tally.same_hit / 2,
+        "{}",
+        off.disagreements
+    );
 }
 
 /// Rays aimed exactly at the corners of the closed mesh and at points of
@@ -489,7 +514,7 @@ fn an_open_border_is_a_boundary_case_and_a_shared_edge_is_not() {
 fn race() {
     let sizes = [(20, 25), (50, 100), (200, 250), (500, 1000)];
     println!(
-        "| triangles | rays | ours M rays/s | Embree M rays/s | ratio ours/Embree | ours build | \
+        "| triangles | rays | ours rays/s | Embree rays/s | ratio ours/Embree | ours build | \
          Embree build (fill + BVH) | Embree peak (monitor) | peak RSS growth ours / Embree |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
@@ -524,11 +549,11 @@ fn race() {
         };
         let build = race.embree_build;
         println!(
-            "| {} | {} | {:.4} | {:.3} | {:.5} | {:.1} ms | {:.1} ms ({:.1} + {:.1}) | {:.1} MB | {} / {} |",
+            "| {} | {} | {:.0} | {:.0} | {:.2e} | {:.1} ms | {:.1} ms ({:.1} + {:.1}) | {:.1} MB | {} / {} |",
             shapes.len(),
             race.rays,
-            race.ours.rays_per_second / 1e6,
-            race.embree.rays_per_second / 1e6,
+            race.ours.rays_per_second,
+            race.embree.rays_per_second,
             race.ratio(),
             race.ours.build.as_secs_f64() * 1e3,
             race.embree.build.as_secs_f64() * 1e3,
