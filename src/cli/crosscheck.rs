@@ -265,7 +265,8 @@ mod with_embree {
             .next();
         println!(
             "cross-check of chapter {chapter}: {}x{}, {} spp; ours against Embree {}.{}.{} \
-             (robust scene, native spheres{})",
+             (robust scene, native spheres{}, each run of triangles one mesh; {} geometries, \
+             built in {:.1} ms)",
             settings.width,
             settings.height,
             stage.samples(),
@@ -275,6 +276,8 @@ mod with_embree {
             quad_side.map_or(String::new(), |side| format!(
                 ", planes as quads of side {side}"
             )),
+            embree.geometry_count(),
+            embree.build_stats().total().as_secs_f64() * 1e3,
         );
         print_tally(&tally, &stage);
 
