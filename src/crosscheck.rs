@@ -11,7 +11,16 @@
 //! - **silhouette**: the ray passes within a few ulps of a sphere's
 //!   outline, where hit or miss (and `t`, whose error grows without bound at
 //!   tangency) depends on rounding;
-//! - **grazing**: the ray is within a few ulps of parallel to a plane;
+//! - **grazing**: the ray is within a few ulps of parallel to a plane or a
+//!   triangle;
+//! - **edge**: the ray passes within a few ulps of a triangle's edge or
+//!   corner ([`on_edge`]), where which of two neighbours is hit, or whether
+//!   the border of an open mesh is, depends on rounding. With one
+//!   exception, which is a failure and not a boundary case: where Embree
+//!   hits a triangle on an edge or corner it *shares* with another, ours
+//!   must hit something there too (a watertight test on a closed mesh always
+//!   does; Moller-Trumbore may not). A miss, or a hit farther along, is
+//!   [`Verdict::EdgeMissed`];
 //! - **beyond the quad**: Embree has no infinite planes, so each plane is
 //!   a large quad ([`plane_quad`]); our hits at or past its edge have no
 //!   counterpart;
@@ -31,6 +40,7 @@ use rayon::prelude::*;
 
 use crate::render::Stage;
 use crate::render::{CastRay, RayLog};
+use crate::shapes::Triangle;
 use crate::{Chapters, Hit, Plane, Ray, RayKind, Scene, Shape, Sphere, Vec3, nearest_hit};
 
 /// How far two answers for `t` may differ, in units of `f32::EPSILON` times
@@ -48,6 +58,24 @@ pub const SILHOUETTE_EPSILONS: f32 = 8.0;
 /// A ray grazes a plane when the cosine between its direction and the plane
 /// is at most this many `f32::EPSILON` (chapter 1 refuses hits below 4).
 pub const GRAZING_EPSILONS: f32 = 16.0;
+
+/// A ray is on a triangle's edge when the smallest of its barycentric
+/// coordinates (computed in `f64`, [`edge_crossing`]) is within this many
+/// `f32::EPSILON` of 0, in units of how much rounding moves them.
+///
+/// Why 32: our watertight test computes each edge function from corners
+/// moved to the ray's origin (1 rounding, relative to the corner's distance
+/// `D`) and sheared (2 more, by a factor of at most 1 each way), so each
+/// sheared coordinate is off by about 3 eps `D`, and the edge function, a
+/// difference of two products of coordinates no larger than the corners'
+/// distance `H` from the ray's line, by about 2 × 3 eps `D H` plus its own
+/// two roundings: some 8 eps `D H`, times up to √3 for the shear's
+/// stretch, about 14 eps `D H`. A barycentric coordinate is an edge
+/// function over their sum (twice the triangle's area seen along the ray),
+/// so it moves by 14 eps `D H / |det|`. Embree's Plücker test has errors of
+/// the same size and the two add: 32 covers both with a little room, and
+/// is still a band of a few ulps of the corners' distance around each edge.
+pub const EDGE_EPSILONS: f32 = 32.0;
 
 /// Each plane becomes a square quad whose half-side is at least this many
 /// times the scene's size (rounded up to a power of two).
@@ -214,15 +242,19 @@ impl From<Hit> for Answer {
 pub enum Boundary {
     Silhouette,
     Grazing,
+    /// Within a few ulps of a triangle's edge or corner ([`on_edge`]).
+    Edge,
     BeyondQuad,
     Tie,
     RayEnd,
 }
 
 impl Boundary {
-    pub const ALL: [Boundary; 5] = [
+    /// Every reason, in the order of [`Tally::boundary`].
+    pub const ALL: [Boundary; 6] = [
         Boundary::Silhouette,
         Boundary::Grazing,
+        Boundary::Edge,
         Boundary::BeyondQuad,
         Boundary::Tie,
         Boundary::RayEnd,
@@ -231,7 +263,8 @@ impl Boundary {
     pub fn describe(self) -> &'static str {
         match self {
             Boundary::Silhouette => "silhouette (within a few ulps of a sphere's outline)",
-            Boundary::Grazing => "grazing (within a few ulps of parallel to a plane)",
+            Boundary::Grazing => "grazing (within a few ulps of parallel to a plane or a triangle)",
+            Boundary::Edge => "edge (within a few ulps of a triangle's edge or corner)",
             Boundary::BeyondQuad => "beyond the quad (our plane hit is outside Embree's quad)",
             Boundary::Tie => "tie (two surfaces at the same t)",
             Boundary::RayEnd => "at the ray's end (a hit within the tolerance of t_min or t_max)",
@@ -245,6 +278,10 @@ pub enum Verdict {
     Agree,
     Boundary(Boundary),
     Disagree,
+    /// Embree hit a triangle on an edge or corner it shares with another
+    /// triangle, and ours hit nothing there (a miss, or a hit farther
+    /// along): a crack in our test. Counted as a disagreement too.
+    EdgeMissed,
 }
 
 /// One ray with both answers and the verdict.
@@ -269,10 +306,23 @@ pub struct Reference<'a> {
 }
 
 impl Reference<'_> {
-    /// Compares our answer on `cast` with `theirs`.
+    /// Compares our answer on `cast` (by [`nearest_hit`], every shape
+    /// tested) with `theirs`.
     pub fn compare(&self, cast: &CastRay, theirs: Option<Answer>) -> Compared {
+        let ours = nearest_hit(self.shapes, &cast.ray, cast.t_min, cast.t_max).map(Answer::from);
+        self.compare_answers(cast, ours, theirs)
+    }
+
+    /// Compares two answers on `cast`: `ours` from any intersector over
+    /// `self.shapes` (a BVH, or a variant of the chapters), `theirs` from
+    /// the other backend. Objects are indices into `self.shapes`.
+    pub fn compare_answers(
+        &self,
+        cast: &CastRay,
+        ours: Option<Answer>,
+        theirs: Option<Answer>,
+    ) -> Compared {
         let ray = &cast.ray;
-        let ours = nearest_hit(self.shapes, ray, cast.t_min, cast.t_max).map(Answer::from);
         let mut relative_difference = None;
         let mut severity = f32::INFINITY;
         let verdict = match (ours, theirs) {
@@ -293,13 +343,22 @@ impl Reference<'_> {
             // One backend saw a surface first that the other missed: is that
             // surface at a boundary?
             (Some(a), None) => self.disputed(a, cast),
-            (None, Some(b)) => self.disputed(b, cast),
+            (None, Some(b)) => self.theirs_first(b, cast),
             (Some(a), Some(b)) => {
                 let (first, second) = if a.t <= b.t { (a, b) } else { (b, a) };
                 if (second.t - first.t).abs() <= self.tolerance(first.object, ray, first.t) {
-                    Verdict::Boundary(Boundary::Tie)
+                    // Two triangles meeting where the ray passes are an edge
+                    // (or corner) of a mesh; anything else meeting there, a
+                    // tie of two surfaces.
+                    let edge = [first, second].iter().all(|hit| {
+                        matches!(self.shapes[hit.object], Shape::Triangle(triangle)
+                            if on_edge(&triangle, ray))
+                    });
+                    Verdict::Boundary(if edge { Boundary::Edge } else { Boundary::Tie })
+                } else if b.t < a.t {
+                    self.theirs_first(b, cast)
                 } else {
-                    self.disputed(first, cast)
+                    self.disputed(a, cast)
                 }
             }
         };
@@ -313,14 +372,72 @@ impl Reference<'_> {
         }
     }
 
+    /// The verdict on a hit of Embree's that ours did not report: we missed,
+    /// or hit something farther along. The shared-edge rule comes first: on
+    /// an edge or corner that the triangle shares with another, a
+    /// watertight test cannot miss, so unless the ray grazes the triangle
+    /// or the hit is at the ray's end, that is [`Verdict::EdgeMissed`].
+    fn theirs_first(&self, hit: Answer, cast: &CastRay) -> Verdict {
+        let ray = &cast.ray;
+        let Shape::Triangle(triangle) = self.shapes[hit.object] else {
+            return self.disputed(hit, cast);
+        };
+        if grazes_triangle(&triangle, ray) {
+            return Verdict::Boundary(Boundary::Grazing);
+        }
+        if self.at_ray_end(hit, cast) {
+            return Verdict::Boundary(Boundary::RayEnd);
+        }
+        match edge_crossing(&triangle, ray) {
+            Some(crossing) if crossing.on_edge() => {
+                if self.shares_where_crossed(hit.object, &crossing) {
+                    Verdict::EdgeMissed
+                } else {
+                    // The border of an open mesh: rounding decides.
+                    Verdict::Boundary(Boundary::Edge)
+                }
+            }
+            _ => Verdict::Disagree,
+        }
+    }
+
+    /// Whether another triangle of the shapes has the same edge (both
+    /// corners, bit for bit) or, near a corner, the same corner, as
+    /// `object` has where `crossing` passes. A linear search: it runs only
+    /// for the rare rays Embree hits on an edge and ours does not.
+    fn shares_where_crossed(&self, object: usize, crossing: &EdgeCrossing) -> bool {
+        let Shape::Triangle(triangle) = self.shapes[object] else {
+            return false;
+        };
+        let corners = triangle.corners();
+        let near = crossing.near_zero();
+        // The corners at the end of the edge (two near-zero coordinates:
+        // the one corner whose coordinate is not).
+        let wanted: Vec<Vec3> = (0..3).filter(|&i| !near[i]).map(|i| corners[i]).collect();
+        if wanted.is_empty() {
+            return false;
+        }
+        let same =
+            |p: Vec3, q: Vec3| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits);
+        self.shapes.iter().enumerate().any(|(index, shape)| {
+            index != object
+                && matches!(shape, Shape::Triangle(other)
+                    if wanted.iter().all(|&w| other.corners().iter().any(|&c| same(c, w))))
+        })
+    }
+
+    fn at_ray_end(&self, hit: Answer, cast: &CastRay) -> bool {
+        let tolerance = self.tolerance(hit.object, &cast.ray, hit.t);
+        hit.t - cast.t_min <= tolerance || cast.t_max - hit.t <= tolerance
+    }
+
     /// The verdict on a hit that only one backend reported (first).
     fn disputed(&self, hit: Answer, cast: &CastRay) -> Verdict {
         let ray = &cast.ray;
         if let Some(boundary) = self.boundary_of(hit.object, ray, hit.t) {
             return Verdict::Boundary(boundary);
         }
-        let tolerance = self.tolerance(hit.object, ray, hit.t);
-        if hit.t - cast.t_min <= tolerance || cast.t_max - hit.t <= tolerance {
+        if self.at_ray_end(hit, cast) {
             Verdict::Boundary(Boundary::RayEnd)
         } else {
             Verdict::Disagree
@@ -362,7 +479,13 @@ impl Reference<'_> {
                 (reach >= quad.half_side * (1.0 - QUAD_EDGE_MARGIN) || !reach.is_finite())
                     .then_some(Boundary::BeyondQuad)
             }
-            Shape::Triangle(_) => None,
+            Shape::Triangle(triangle) => {
+                if grazes_triangle(&triangle, ray) {
+                    Some(Boundary::Grazing)
+                } else {
+                    on_edge(&triangle, ray).then_some(Boundary::Edge)
+                }
+            }
         }
     }
 }
@@ -400,16 +523,30 @@ pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
             (to_point + distance) / cosine
         }
         Shape::Triangle(triangle) => {
-            // As for the triangle's plane through its farthest corner.
-            let to_point = triangle
-                .corners()
-                .iter()
-                .map(|corner| (*corner - ray.origin).as_dvec3().length())
-                .fold(0.0, f64::max);
+            let Some(crossing) = edge_crossing(triangle, ray) else {
+                // Edge-on or degenerate: no backend computes a `t` worth
+                // comparing (and the ray grazes it anyway).
+                return f32::INFINITY;
+            };
+            // Both backends' `t` is a plane's: the corners' distances along
+            // the ray, weighted by the barycentric coordinates (ours:
+            // `(u az + v bz + w cz) / det`, Embree's the plane through a
+            // corner). As for a plane, the corners' roundings (relative to
+            // their distance `D`) and the distance `t|d|` itself, divided by
+            // the cosine. And ours has one more: errors `δb` in the weights
+            // (`EDGE_EPSILONS`: about eps `D H / |det|` each, summing to
+            // 0) move `t` by `Σ δb_i (z_i - t)`, where `z_i - t` is how far
+            // along the ray corner `i` lies from the hit, which grows as
+            // the ray grazes the plane (and `det` shrinks): `D H Z / |det|`
+            // with `Z` the largest `|z_i - t|`.
             let distance = f64::from(t) * length;
-            let normal = triangle.geometric_normal().as_dvec3();
-            let cosine = (normal.dot(ray.dir.as_dvec3()).abs() / length).max(1e-12);
-            (to_point + distance) / cosine
+            let spread = crossing
+                .heights
+                .iter()
+                .map(|height| (height - distance).abs())
+                .fold(0.0, f64::max);
+            let weights = crossing.reach * crossing.offset * spread / crossing.capped_det();
+            (crossing.reach + distance) / crossing.capped_cosine() + weights
         }
     };
     (scale / length) as f32
@@ -446,6 +583,112 @@ pub fn grazes(plane: &Plane, ray: &Ray) -> bool {
     cosine_to_normal(plane, ray) <= f64::from(GRAZING_EPSILONS * f32::EPSILON)
 }
 
+/// Where a ray crosses a triangle's plane, in `f64`, with the size of the
+/// rounding errors the backends make there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeCrossing {
+    /// The barycentric coordinates of the crossing, weights of corners
+    /// `a`, `b`, `c` (summing to 1; all positive inside).
+    pub barycentric: [f64; 3],
+    /// How far a barycentric coordinate may be from 0 for the ray to be on
+    /// an edge: `EDGE_EPSILONS` eps `D H / |det|` ([`EDGE_EPSILONS`]).
+    pub band: f64,
+    /// `D`: the largest distance from the ray's origin to a corner.
+    pub reach: f64,
+    /// `H`: the largest distance from the ray's line to a corner.
+    pub offset: f64,
+    /// The corners' distances along the ray (projections on its unit
+    /// direction).
+    pub heights: [f64; 3],
+    /// `d̂ · ((b - a) × (c - a))`: twice the triangle's area seen along the
+    /// ray, signed (negative from behind).
+    pub det: f64,
+    /// Twice the triangle's area.
+    pub double_area: f64,
+}
+
+impl EdgeCrossing {
+    /// Whether the ray passes within the band of an edge or a corner: the
+    /// smallest coordinate is that close to 0 (from either side).
+    pub fn on_edge(&self) -> bool {
+        let smallest = self
+            .barycentric
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        smallest.abs() <= self.band
+    }
+
+    /// Which coordinates are within the band of 0: one for an edge (the
+    /// one of the corner across from it), two near a corner.
+    pub fn near_zero(&self) -> [bool; 3] {
+        self.barycentric.map(|weight| weight.abs() <= self.band)
+    }
+
+    /// The cosine between the ray and the triangle's normal, no smaller
+    /// than the grazing limit: inside it the ray is a boundary case, and
+    /// this keeps error scales finite.
+    fn capped_cosine(&self) -> f64 {
+        (self.det.abs() / self.double_area).max(f64::from(GRAZING_EPSILONS * f32::EPSILON))
+    }
+
+    fn capped_det(&self) -> f64 {
+        self.double_area * self.capped_cosine()
+    }
+}
+
+/// The barycentric coordinates of the point where `ray` crosses the plane
+/// of `triangle`, computed in `f64` from corners relative to the origin
+/// (each the triple product `d̂ · (p_j × p_k)`, the edge functions the
+/// watertight test computes in `f32`), and the band of rounding around the
+/// edges. `None` for a degenerate triangle or a ray in its plane.
+pub fn edge_crossing(triangle: &Triangle, ray: &Ray) -> Option<EdgeCrossing> {
+    let dir = ray.dir.as_dvec3().normalize();
+    let origin = ray.origin.as_dvec3();
+    let [a, b, c] = triangle.corners().map(|corner| corner.as_dvec3() - origin);
+    let weights = [
+        dir.dot(b.cross(c)),
+        dir.dot(c.cross(a)),
+        dir.dot(a.cross(b)),
+    ];
+    let det: f64 = weights.iter().sum();
+    let double_area = (b - a).cross(c - a).length();
+    if !(det != 0.0 && double_area > 0.0 && det.is_finite()) {
+        return None;
+    }
+    let reach = [a, b, c].iter().map(|p| p.length()).fold(0.0, f64::max);
+    let offset = [a, b, c]
+        .iter()
+        .map(|p| p.cross(dir).length())
+        .fold(0.0, f64::max);
+    let band = f64::from(EDGE_EPSILONS * f32::EPSILON) * reach * offset / det.abs();
+    Some(EdgeCrossing {
+        barycentric: weights.map(|weight| weight / det),
+        band,
+        reach,
+        offset,
+        heights: [a.dot(dir), b.dot(dir), c.dot(dir)],
+        det,
+        double_area,
+    })
+}
+
+/// Whether the ray passes within [`EDGE_EPSILONS`] of an edge or a corner
+/// of `triangle`.
+pub fn on_edge(triangle: &Triangle, ray: &Ray) -> bool {
+    edge_crossing(triangle, ray).is_some_and(|crossing| crossing.on_edge())
+}
+
+/// Whether the ray is within [`GRAZING_EPSILONS`] of parallel to the
+/// triangle (or the triangle is degenerate).
+pub fn grazes_triangle(triangle: &Triangle, ray: &Ray) -> bool {
+    let [a, b, c] = triangle.corners().map(|corner| corner.as_dvec3());
+    let normal = (b - a).cross(c - a);
+    let dir = ray.dir.as_dvec3();
+    let cosine = (normal.dot(dir) / (normal.length() * dir.length())).abs();
+    !(cosine > f64::from(GRAZING_EPSILONS * f32::EPSILON))
+}
+
 /// The summary of a cross-check.
 #[derive(Debug, Clone, Default)]
 pub struct Tally {
@@ -455,8 +698,12 @@ pub struct Tally {
     /// Same object, `t` within tolerance.
     pub same_hit: u64,
     /// Boundary cases, by [`Boundary::ALL`].
-    pub boundary: [u64; 5],
+    pub boundary: [u64; Boundary::ALL.len()],
+    /// Every disagreement, edge misses included.
     pub disagreements: u64,
+    /// Rays Embree hit on a shared edge or corner and ours missed
+    /// ([`Verdict::EdgeMissed`]); also counted in `disagreements`.
+    pub edge_misses: u64,
     /// Relative differences of `t` where both hit the same object, outside
     /// the boundary cases.
     pub relative_differences: Vec<f32>,
@@ -488,6 +735,10 @@ impl Tally {
             Verdict::Agree => self.same_hit += 1,
             Verdict::Boundary(reason) => self.boundary[reason as usize] += 1,
             Verdict::Disagree => self.disagreements += 1,
+            Verdict::EdgeMissed => {
+                self.disagreements += 1;
+                self.edge_misses += 1;
+            }
         }
         if let Some(difference) = compared.relative_difference {
             if let Verdict::Boundary(_) = compared.verdict {
@@ -521,6 +772,7 @@ impl Tally {
         self.both_miss += other.both_miss;
         self.same_hit += other.same_hit;
         self.disagreements += other.disagreements;
+        self.edge_misses += other.edge_misses;
         self.relative_differences.extend(other.relative_differences);
         self.boundary_max_relative_difference = self
             .boundary_max_relative_difference
@@ -557,7 +809,7 @@ impl Tally {
 /// where our set-up cannot compare, not a sign of rounding trouble.
 fn rank(compared: &Compared) -> f64 {
     let class = match compared.verdict {
-        Verdict::Disagree => 3.0,
+        Verdict::Disagree | Verdict::EdgeMissed => 3.0,
         Verdict::Boundary(Boundary::BeyondQuad) => 0.0,
         Verdict::Boundary(_) => 2.0,
         Verdict::Agree => 1.0,
@@ -735,11 +987,28 @@ pub fn cross_check(
     rays: &[CastRay],
     theirs: impl Fn(&CastRay) -> Option<Answer> + Sync,
 ) -> Tally {
+    cross_check_with(
+        reference,
+        rays,
+        |cast| ours(reference.shapes, cast).map(Answer::from),
+        theirs,
+    )
+}
+
+/// [`cross_check`] with our answers from `ours` instead of testing every
+/// shape: a BVH over `reference.shapes`, or a variant of the chapters (the
+/// textbook triangle test, to show its cracks).
+pub fn cross_check_with(
+    reference: &Reference,
+    rays: &[CastRay],
+    ours: impl Fn(&CastRay) -> Option<Answer> + Sync,
+    theirs: impl Fn(&CastRay) -> Option<Answer> + Sync,
+) -> Tally {
     rays.par_chunks(4096)
         .map(|chunk| {
             let mut tally = Tally::default();
             for cast in chunk {
-                tally.add(reference.compare(cast, theirs(cast)));
+                tally.add(reference.compare_answers(cast, ours(cast), theirs(cast)));
             }
             tally.keep_worst();
             tally
@@ -858,6 +1127,74 @@ mod tests {
         assert_eq!(compared.verdict, Verdict::Boundary(Boundary::BeyondQuad));
         let near = cast(Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0));
         assert_eq!(reference.compare(&near, None).verdict, Verdict::Disagree);
+    }
+
+    fn two_triangles() -> Vec<Shape> {
+        // A unit square at z = 2 cut along the diagonal from (1,0) to (0,1).
+        let (a, b) = (Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0));
+        let (c, d) = (Vec3::new(0.0, 1.0, 2.0), Vec3::new(1.0, 1.0, 2.0));
+        vec![
+            Shape::Triangle(Triangle::new(a, b, c)),
+            Shape::Triangle(Triangle::new(b, d, c)),
+        ]
+    }
+
+    #[test]
+    fn the_edge_band_is_a_few_ulps_around_the_edges() {
+        let shapes = two_triangles();
+        let Shape::Triangle(first) = shapes[0] else {
+            unreachable!()
+        };
+        let through = |x: f32, y: f32| Ray::new(Vec3::new(x, y, 0.0), Vec3::Z);
+        assert!(on_edge(&first, &through(0.5, 0.5)));
+        assert!(on_edge(&first, &through(0.0, 0.0)));
+        assert!(!on_edge(&first, &through(0.25, 0.25)));
+        // A thousandth inside the diagonal: far more than rounding.
+        assert!(!on_edge(&first, &through(0.499, 0.5)));
+        let crossing = edge_crossing(&first, &through(0.5, 0.5)).expect("crosses");
+        assert_eq!(crossing.near_zero(), [true, false, false]);
+        assert!(crossing.band > 0.0 && crossing.band < 1e-4, "{crossing:?}");
+        // The ray in the triangles' plane crosses nothing.
+        assert!(edge_crossing(&first, &Ray::new(Vec3::new(0.0, 0.5, 2.0), Vec3::X)).is_none());
+    }
+
+    #[test]
+    fn a_triangle_s_error_scale_grows_as_the_ray_grazes_it() {
+        let shapes = two_triangles();
+        let origin = Vec3::new(0.25, 0.25, 0.0);
+        let head_on = error_scale(&shapes[0], &Ray::new(origin, Vec3::Z), 2.0);
+        let slanted = Ray::new(origin, Vec3::new(0.0, 1.0, 0.01));
+        let grazing = error_scale(&shapes[0], &slanted, 200.0);
+        assert!(head_on > 0.0 && head_on < 10.0, "{head_on}");
+        assert!(grazing > 100.0 * head_on, "{grazing} vs {head_on}");
+        assert!(grazing.is_finite());
+    }
+
+    #[test]
+    fn embree_hitting_a_shared_edge_that_ours_misses_is_a_failure() {
+        let shapes = two_triangles();
+        let quads = vec![None; 2];
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        let theirs = Some(Answer { object: 1, t: 2.0 });
+        let diagonal = cast(Vec3::new(0.5, 0.5, 0.0), Vec3::Z);
+        let missed = reference.compare_answers(&diagonal, None, theirs);
+        assert_eq!(missed.verdict, Verdict::EdgeMissed);
+        // Ours hits something farther: the same failure.
+        let far = reference.compare_answers(&diagonal, Some(Answer { object: 0, t: 9.0 }), theirs);
+        assert_eq!(far.verdict, Verdict::EdgeMissed);
+        // The other way round (ours hits the edge, Embree misses): rounding.
+        let ours_only = reference.compare_answers(&diagonal, theirs, None);
+        assert_eq!(ours_only.verdict, Verdict::Boundary(Boundary::Edge));
+        // On the open border x = 1 of triangle 1 only: rounding too.
+        let border = cast(Vec3::new(1.0, 0.5, 0.0), Vec3::Z);
+        let open = reference.compare_answers(&border, None, theirs);
+        assert_eq!(open.verdict, Verdict::Boundary(Boundary::Edge));
+        let tally = cross_check_with(&reference, &[diagonal, border], |_| None, |_| theirs);
+        assert_eq!((tally.disagreements, tally.edge_misses), (1, 1));
+        assert!(!tally.clean());
     }
 
     /// Two mirrors facing each other, the camera between them looking at

@@ -64,6 +64,8 @@ pub mod medium;
 pub mod mesh;
 pub mod output;
 pub mod plots;
+#[cfg(feature = "embree")]
+pub mod race;
 pub mod ray;
 pub mod render;
 pub mod scene;

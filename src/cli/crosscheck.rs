@@ -203,6 +203,9 @@ fn probe_embree<C: Chapters>(
         crosscheck::Verdict::Agree => "agree (within the tolerance)".to_string(),
         crosscheck::Verdict::Boundary(reason) => format!("boundary case: {}", reason.describe()),
         crosscheck::Verdict::Disagree => "DISAGREE beyond the tolerance".to_string(),
+        crosscheck::Verdict::EdgeMissed => {
+            "DISAGREE: Embree hits a shared edge here, and ours misses it".to_string()
+        }
     };
     println!("cross-check: {verdict}");
     Ok(())
@@ -213,8 +216,8 @@ mod with_embree {
     use super::*;
     use crate::cli::EXIT_FAILED_CHECK;
     use crate::crosscheck::{
-        Boundary, Compared, GRAZING_EPSILONS, PlaneQuad, Reference, SILHOUETTE_EPSILONS,
-        TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
+        Boundary, Compared, EDGE_EPSILONS, GRAZING_EPSILONS, PlaneQuad, Reference,
+        SILHOUETTE_EPSILONS, TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
     };
     use crate::embree::EmbreeScene;
     use crate::{CastRay, RayKind};
@@ -262,7 +265,8 @@ mod with_embree {
             .next();
         println!(
             "cross-check of chapter {chapter}: {}x{}, {} spp; ours against Embree {}.{}.{} \
-             (robust scene, native spheres{})",
+             (robust scene, native spheres{}, each run of triangles one mesh; {} geometries, \
+             built in {:.1} ms)",
             settings.width,
             settings.height,
             stage.samples(),
@@ -272,6 +276,8 @@ mod with_embree {
             quad_side.map_or(String::new(), |side| format!(
                 ", planes as quads of side {side}"
             )),
+            embree.geometry_count(),
+            embree.build_stats().total().as_secs_f64() * 1e3,
         );
         print_tally(&tally, &stage);
 
@@ -328,6 +334,13 @@ mod with_embree {
                 println!("  {count:>8} {}", reason.describe());
             }
         }
+        if tally.edge_misses > 0 {
+            println!(
+                "  of the disagreements, {} rays Embree hits on a shared triangle edge were \
+                 missed by ours (a crack)",
+                tally.edge_misses
+            );
+        }
         match tally.median_and_max() {
             Some((median, max)) => println!(
                 "relative difference of t, same object ({} rays, boundary cases aside): \
@@ -342,7 +355,8 @@ mod with_embree {
         }
         println!(
             "tolerance: {TOLERANCE_EPSILONS} eps x each hit's error scale; silhouette band \
-             {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps (docs/embree.md)"
+             {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps, triangle edge band \
+             {EDGE_EPSILONS} eps (docs/embree.md)"
         );
         if tally.worst.is_empty() {
             return;
@@ -369,6 +383,7 @@ mod with_embree {
             Verdict::Agree => "agree".to_string(),
             Verdict::Boundary(reason) => format!("boundary: {reason:?}"),
             Verdict::Disagree => "DISAGREE".to_string(),
+            Verdict::EdgeMissed => "DISAGREE (shared edge missed by ours)".to_string(),
         };
         format!(
             "{kind}: ours {}, Embree {}; difference/tolerance {:.2}; {verdict}\n       \

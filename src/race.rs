@@ -1,0 +1,185 @@
+//! The speed race of issue 14: our intersector against Embree on the same
+//! rays, for the figures of the README and lesson 11 (rays per second on one
+//! thread, median of 5; build times; peak memory). Computing only: the
+//! caller prints.
+//!
+//! "Ours" is whatever the caller builds: a closure that builds an
+//! intersector and returns the function that traces one ray with it. Until
+//! chapter 11's BVH exists that is the brute-force loop over every shape
+//! ([`crate::crosscheck::ours`]), fine for a thousand triangles and
+//! hopeless for a million; the BVH plugs in as another closure.
+//!
+//! Memory is measured two ways, and the race reports both:
+//!
+//! - **Embree's own count**: Embree 4 calls a memory monitor on every
+//!   allocation and free of a device (`rtcSetDeviceMemoryMonitorFunction`,
+//!   present in the 4.2 headers `embree4-sys` was generated from and in the
+//!   4.4 library we load). That is exact for Embree and independent of what
+//!   the process's allocator does, so it is the Embree figure to quote
+//!   ([`crate::embree::BuildStats::peak_bytes`]).
+//! - **The process's peak resident memory** while a side builds: the
+//!   kernel's high-water mark is reset (`5` written to
+//!   `/proc/self/clear_refs`), the build runs, and `VmHWM` minus the `VmRSS`
+//!   before is the peak growth. This is the only measure for ours, whose
+//!   structure is opaque here. It counts everything the process does
+//!   meanwhile (run the race alone, not among other tests), and memory the
+//!   allocator reuses instead of asking the kernel for is not counted; it is
+//!   `None` where `/proc` or `clear_refs` is missing (not Linux, or a
+//!   kernel without it).
+
+use std::time::{Duration, Instant};
+
+use crate::CastRay;
+use crate::crosscheck::{Answer, Primitive, rays_per_second};
+use crate::embree::{BuildStats, EmbreeError, EmbreeScene};
+
+/// How many times each side traces all the rays; the median is the figure.
+pub const RACE_RUNS: usize = 5;
+
+/// One side of the race.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Side {
+    /// Wall-clock time to build the side's structure.
+    pub build: Duration,
+    /// Rays per second of each run, in the order run.
+    pub runs: Vec<f64>,
+    /// The median of `runs`.
+    pub rays_per_second: f64,
+    /// The growth of the process's peak resident memory while building, in
+    /// bytes (see the module documentation), if it could be measured.
+    pub peak_rss_growth: Option<u64>,
+}
+
+/// The outcome of [`race`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Race {
+    /// How many rays each run traced.
+    pub rays: usize,
+    pub ours: Side,
+    pub embree: Side,
+    /// Embree's build split into filling and BVH build, and its own count
+    /// of its memory.
+    pub embree_build: BuildStats,
+}
+
+impl Race {
+    /// Ours over Embree, in rays per second (above 1: ours is faster).
+    pub fn ratio(&self) -> f64 {
+        self.ours.rays_per_second / self.embree.rays_per_second
+    }
+}
+
+/// Races ours against Embree over `rays`, on this thread.
+///
+/// `build_ours` builds our structure (timed, with the peak memory it
+/// takes) and returns the function that answers one ray with it.
+/// `primitives` is the same geometry for Embree
+/// ([`crate::crosscheck::primitives`] makes it from the shapes); Embree
+/// builds on one thread too. Then each side traces every ray `runs` times,
+/// the two sides taking turns so that a busy moment of a shared machine
+/// falls on both; the figure is the median.
+pub fn race<O, F>(
+    primitives: &[Primitive],
+    rays: &[CastRay],
+    build_ours: O,
+    runs: usize,
+) -> Result<Race, EmbreeError>
+where
+    O: FnOnce() -> F,
+    F: Fn(&CastRay) -> Option<Answer>,
+{
+    let runs = runs.max(1);
+    let (ours, ours_build, ours_memory) = measure_build(build_ours);
+    let (embree, embree_build_wall, embree_memory) =
+        measure_build(|| EmbreeScene::with_threads(primitives, Some(1)));
+    let embree = embree?;
+    let theirs = |cast: &CastRay| {
+        embree
+            .intersect(&cast.ray, cast.t_min, cast.t_max)
+            .map(|hit| Answer {
+                object: hit.object,
+                t: hit.t,
+            })
+    };
+    let mut ours_runs = Vec::with_capacity(runs);
+    let mut embree_runs = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        ours_runs.push(rays_per_second(rays, &ours));
+        embree_runs.push(rays_per_second(rays, theirs));
+    }
+    Ok(Race {
+        rays: rays.len(),
+        ours: Side {
+            build: ours_build,
+            rays_per_second: median(&ours_runs),
+            runs: ours_runs,
+            peak_rss_growth: ours_memory,
+        },
+        embree: Side {
+            build: embree_build_wall,
+            rays_per_second: median(&embree_runs),
+            runs: embree_runs,
+            peak_rss_growth: embree_memory,
+        },
+        embree_build: embree.build_stats(),
+    })
+}
+
+/// Runs `build`, timing it and measuring the growth of the peak resident
+/// memory it causes.
+fn measure_build<T>(build: impl FnOnce() -> T) -> (T, Duration, Option<u64>) {
+    let before = reset_peak_rss();
+    let start = Instant::now();
+    let built = build();
+    let elapsed = start.elapsed();
+    let growth = before.and_then(|before| Some(status_kb("VmHWM")?.saturating_sub(before) * 1024));
+    (built, elapsed, growth)
+}
+
+/// Resets the kernel's high-water mark of this process's resident memory
+/// to the current resident size, and returns that size in kB; `None` if
+/// the kernel does not let us.
+fn reset_peak_rss() -> Option<u64> {
+    std::fs::write("/proc/self/clear_refs", "5").ok()?;
+    status_kb("VmRSS")
+}
+
+/// A `kB` field of `/proc/self/status`.
+fn status_kb(field: &str) -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status.lines().find_map(|line| {
+        let rest = line.strip_prefix(field)?.strip_prefix(':')?;
+        rest.trim().strip_suffix("kB")?.trim().parse().ok()
+    })
+}
+
+/// The median (the mean of the middle two for an even count); NaN for none.
+pub fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let middle = sorted.len() / 2;
+    match sorted.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => sorted[middle],
+        _ => (sorted[middle - 1] + sorted[middle]) / 2.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn status_fields_parse_on_linux() {
+        if cfg!(target_os = "linux") {
+            assert!(status_kb("VmRSS").is_some_and(|kb| kb > 0));
+        }
+    }
+}
