@@ -183,3 +183,117 @@ mod tests {
         }
     }
 }
+
+/// The race at one model size: chapter 11's tree against Embree on
+/// raylab's generated closed model of about `triangles` triangles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshRace {
+    pub triangles: usize,
+    pub race: Race,
+    /// The bytes our side keeps: the triangles (as the renderer stores
+    /// them) and the tree, counted from their lengths, as Embree's monitor
+    /// counts its own.
+    pub ours_bytes: usize,
+    /// Rays whose nearest object or hit/miss differs between the two sides
+    /// (boundary cases such as shared edges can differ legitimately;
+    /// `raylab crosscheck` tells them apart).
+    pub different_objects: usize,
+}
+
+/// `count` rays at the generated model (a torus of radius about 1.5 around
+/// the y axis): from points on a sphere of radius 4 around it toward points
+/// of its bounding box, so that some hit and some pass through the hole or
+/// beside it. Deterministic: ray `i` depends only on `i`.
+pub fn rays_at_the_model(count: usize) -> Vec<CastRay> {
+    // SplitMix64: a fixed, well-mixed sequence, no dependency.
+    fn mix(mut z: u64) -> u64 {
+        z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    let unit = |seed: u64| (mix(seed) >> 40) as f32 / (1u64 << 24) as f32;
+    (0..count as u64)
+        .map(|i| {
+            let u = |k: u64| unit(i * 8 + k);
+            let theta = std::f32::consts::TAU * u(0);
+            let height = 2.0 * u(1) - 1.0;
+            let ring = (1.0 - height * height).sqrt();
+            let origin = 4.0 * crate::Vec3::new(ring * theta.cos(), height, ring * theta.sin());
+            let aim = crate::Vec3::new(3.0 * u(2) - 1.5, u(3) - 0.5, 3.0 * u(4) - 1.5);
+            CastRay {
+                kind: crate::RayKind::Primary,
+                ray: crate::Ray::new(origin, aim - origin),
+                t_min: 0.0,
+                t_max: f32::INFINITY,
+            }
+        })
+        .collect()
+}
+
+/// [`race`] of chapter 11's tree (SAH, default options; its build timed)
+/// against Embree over [`rays_at_the_model`], on the generated model of
+/// about `triangles` triangles.
+pub fn race_on_generated_mesh(
+    triangles: usize,
+    rays: usize,
+    runs: usize,
+) -> anyhow::Result<MeshRace> {
+    use crate::Chapters;
+    use crate::course::Objects;
+    let mesh = crate::mesh::generate_closed_mesh(triangles)?;
+    let shapes = crate::leaks::triangles(&mesh);
+    let primitives: Vec<Primitive> = mesh
+        .triangles
+        .iter()
+        .map(|corners| Primitive::Triangle(corners.map(|index| mesh.positions[index as usize])))
+        .collect();
+    let rays = rays_at_the_model(rays);
+    let mut tree_bytes = 0;
+    let race = race(
+        &primitives,
+        &rays,
+        || {
+            let bounds: Vec<_> = shapes.iter().map(crate::Shape::bounds).collect();
+            let bvh = crate::Reference::build_bvh(&bounds, &crate::bvh::BvhOptions::default());
+            tree_bytes = bvh.memory_bytes();
+            let shapes = &shapes;
+            move |cast: &CastRay| {
+                crate::Reference::nearest_hit_bvh(
+                    &bvh,
+                    &Objects::<crate::Reference>::new(shapes),
+                    &cast.ray,
+                    cast.t_min,
+                    cast.t_max,
+                )
+                .map(Answer::from)
+            }
+        },
+        runs,
+    )?;
+    // A second pass, untimed, to count the rays the two sides answer
+    // differently.
+    let bounds: Vec<_> = shapes.iter().map(crate::Shape::bounds).collect();
+    let bvh = crate::Reference::build_bvh(&bounds, &crate::bvh::BvhOptions::default());
+    let embree = EmbreeScene::with_threads(&primitives, Some(1))?;
+    let objects = Objects::<crate::Reference>::new(&shapes);
+    let different_objects = rays
+        .iter()
+        .filter(|cast| {
+            let ours = crate::Reference::nearest_hit_bvh(
+                &bvh, &objects, &cast.ray, cast.t_min, cast.t_max,
+            )
+            .map(|hit| hit.object);
+            let theirs = embree
+                .intersect(&cast.ray, cast.t_min, cast.t_max)
+                .map(|hit| hit.object);
+            ours != theirs
+        })
+        .count();
+    Ok(MeshRace {
+        triangles: shapes.len(),
+        race,
+        ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
+        different_objects,
+    })
+}

@@ -259,6 +259,22 @@ impl<'a, C: Chapters> Stage<'a, C> {
         Objects::new(&self.shapes)
     }
 
+    /// Chapter 11's tree over [`Stage::shapes`], when this stage uses one.
+    pub fn bvh(&self) -> Option<&Bvh> {
+        self.bvh.as_ref()
+    }
+
+    /// The nearest hit among [`Stage::shapes`] with `t_min < t < t_max`, as
+    /// this stage finds it: through chapter 11's tree when it has one, else
+    /// by chapter 3's loop. (The cross-check races this against Embree.)
+    pub fn nearest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let objects = self.objects();
+        match &self.bvh {
+            Some(bvh) => C::nearest_hit_bvh(bvh, &objects, ray, t_min, t_max),
+            None => C::nearest_hit(&objects, ray, t_min, t_max),
+        }
+    }
+
     /// The name of `object` (an index into [`Stage::shapes`]) in the scene,
     /// or `None` when there is no such object.
     pub fn name(&self, object: usize) -> Option<&str> {

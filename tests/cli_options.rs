@@ -224,6 +224,7 @@ fn render_help_shows_every_default() {
             "--ray-offset",
             format!("else {:?}", defaults.ray_offset).to_lowercase(),
         ),
+        ("--triangle-test", "else watertight".into()),
         ("--epsilon", format!("else {}", defaults.fixed_epsilon)),
         ("--threads", "one per core".into()),
         ("--output", "chapter-N.png".into()),

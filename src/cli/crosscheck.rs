@@ -13,7 +13,7 @@ use crate::{Ray, Scene, Shape, Stage, Vec3};
 
 /// How to get the Embree backend, for messages.
 #[cfg(not(feature = "embree"))]
-const ENABLE_EMBREE: &str = "this raylab was built without Embree. To enable it, run \
+pub(super) const ENABLE_EMBREE: &str = "this raylab was built without Embree. To enable it, run \
      `scripts/setup-embree.sh` once (it installs libclang and Embree 4), then build with \
      the `embree` feature, e.g. `cargo run --release --features embree -- crosscheck \
      --chapter 8`. See docs/embree.md.";
@@ -217,7 +217,7 @@ mod with_embree {
     use crate::cli::EXIT_FAILED_CHECK;
     use crate::crosscheck::{
         Boundary, Compared, EDGE_EPSILONS, GRAZING_EPSILONS, PlaneQuad, Reference,
-        SILHOUETTE_EPSILONS, TOLERANCE_EPSILONS, Tally, Verdict, cross_check, rays_per_second,
+        SILHOUETTE_EPSILONS, TOLERANCE_EPSILONS, Tally, Verdict, cross_check_with, rays_per_second,
     };
     use crate::embree::EmbreeScene;
     use crate::{CastRay, RayKind};
@@ -253,9 +253,15 @@ mod with_embree {
                     t: hit.t,
                 })
         };
+        // Ours is the stage's own search: chapter 11's tree when it has one.
+        let ours = |cast: &CastRay| {
+            stage
+                .nearest_hit(&cast.ray, cast.t_min, cast.t_max)
+                .map(Answer::from)
+        };
         let tally = args
             .overrides
-            .in_pool(|| cross_check(&reference, &rays, theirs))?;
+            .in_pool(|| cross_check_with(&reference, &rays, ours, theirs))?;
 
         let version = embree.version();
         let quad_side = quads
@@ -286,7 +292,7 @@ mod with_embree {
         let mut embree_rates = Vec::new();
         for _ in 0..args.timing_runs {
             ours_rates.push(rays_per_second(&rays, |cast| {
-                crosscheck::ours(stage.shapes(), cast)
+                stage.nearest_hit(&cast.ray, cast.t_min, cast.t_max)
             }));
             embree_rates.push(rays_per_second(&rays, |cast| {
                 embree.intersect(&cast.ray, cast.t_min, cast.t_max)

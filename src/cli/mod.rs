@@ -11,6 +11,7 @@ mod grade;
 mod guard;
 mod mesh;
 mod new;
+mod race;
 mod render;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -51,6 +52,9 @@ pub enum Command {
     /// with `render`, `check` and every other command running your code.
     New(new::NewArgs),
     Mesh(mesh::MeshArgs),
+    /// Race chapter 11's tree against Embree on generated models of 1,000
+    /// to 1,000,000 triangles (needs the `embree` feature).
+    Race(race::RaceArgs),
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -110,6 +114,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::Check(args) => check::check::<C>(&args),
         Command::New(args) => new::new(&args),
         Command::Mesh(args) => mesh::mesh(&args),
+        Command::Race(args) => race::race(&args),
     };
     match result {
         Ok(status) => status,

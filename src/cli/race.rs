@@ -1,0 +1,74 @@
+//! `raylab race`: chapter 11's tree against Embree, on generated models of
+//! growing size (the figures of the README and lesson 11).
+
+use anyhow::Result;
+use clap::Args;
+
+/// The model sizes raced by default, in triangles.
+const DEFAULT_SIZES: [u64; 4] = [1_000, 10_000, 100_000, 1_000_000];
+
+#[derive(Debug, Args)]
+pub struct RaceArgs {
+    /// Model sizes to race, in triangles (raylab's generated closed model,
+    /// `raylab mesh`), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_SIZES,
+          value_parser = clap::value_parser!(u64).range(1..=4_000_000))]
+    pub triangles: Vec<u64>,
+    /// Rays traced per run, the same for both sides.
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub rays: u64,
+    /// Timed runs per side; the figure is their median.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100))]
+    pub runs: u64,
+}
+
+pub fn race(args: &RaceArgs) -> Result<i32> {
+    #[cfg(feature = "embree")]
+    {
+        println!(
+            "chapter 11's tree (SAH, 16 bins, leaves of at most 4) against Embree (robust \
+             scene, default build quality), one thread each, {} rays at the model from all \
+             around, median of {} runs:\n",
+            args.rays, args.runs
+        );
+        println!(
+            "| triangles | ours build | Embree build | ours rays/s | Embree rays/s | \
+             ours / Embree | ours memory | Embree memory | rays answered differently |"
+        );
+        println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        for &size in &args.triangles {
+            let measured = crate::race::race_on_generated_mesh(
+                size as usize,
+                args.rays as usize,
+                args.runs as usize,
+            )?;
+            let race = &measured.race;
+            let megabytes = |bytes: f64| format!("{:.1} MB", bytes / 1e6);
+            println!(
+                "| {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {} | {} | {} |",
+                measured.triangles,
+                race.ours.build.as_secs_f64() * 1e3,
+                race.embree.build.as_secs_f64() * 1e3,
+                race.ours.rays_per_second / 1e6,
+                race.embree.rays_per_second / 1e6,
+                race.ratio(),
+                megabytes(measured.ours_bytes as f64),
+                megabytes(race.embree_build.peak_bytes as f64),
+                measured.different_objects,
+            );
+        }
+        println!(
+            "\nMemory: ours is the triangles as the renderer stores them plus the tree; \
+             Embree's is its own count of its peak (its memory monitor)."
+        );
+        Ok(0)
+    }
+    #[cfg(not(feature = "embree"))]
+    {
+        let _ = args;
+        anyhow::bail!(
+            "`raylab race` needs Embree: {}",
+            super::crosscheck::ENABLE_EMBREE
+        )
+    }
+}
