@@ -167,9 +167,10 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
 /// The leak counts of chapter 10, as a Markdown section.
 fn leak_table(counts: &[[crate::leaks::LeakCount; 2]]) -> String {
     let mut table = String::from(
-        "\nRays from the centre of raylab's generated closed model toward every vertex and \
-         every edge midpoint, which must all hit it (one thread, median of the repeats, each \
-         ray tested against every triangle):\n\n\
+        "\nRays from inside raylab's generated closed model (a lumpy torus; each ray starts on \
+         the tube's core circle) toward every vertex and every edge midpoint, which must all \
+         hit it (one thread, median of the repeats, each ray tested against every \
+         triangle):\n\n\
          | triangles | rays | test | escaped | time (s) |\n|---:|---:|---|---:|---:|\n",
     );
     for count in counts.iter().flatten() {
