@@ -174,6 +174,11 @@ fn chapter_9_glass() {
 }
 
 #[test]
+fn chapter_11_bvh() {
+    check_chapter(11);
+}
+
+#[test]
 fn each_chapter_changes_the_picture() {
     // A stage that renders the same image as the one before teaches nothing.
     let hashes: Vec<u64> = (1..=raylab::stage::LAST_CHAPTER)
