@@ -346,9 +346,17 @@ fn chapters_mod_rs() -> Result<String> {
                 out.push('\n');
             }
             first = false;
+            // A function generic over the chapters that no argument names
+            // (chapter 10's smooth_hit_point) is told which, as the trait's
+            // default tells it.
+            let turbofish = if COURSE_SOURCE.contains(&format!("::{function}::<Self>(")) {
+                "::<Self>"
+            } else {
+                ""
+            };
             let _ = writeln!(
                 out,
-                "    {signature} {{\n        {}::{function}({})\n    }}",
+                "    {signature} {{\n        {}::{function}{turbofish}({})\n    }}",
                 info.module(),
                 arguments.join(", ")
             );
