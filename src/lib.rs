@@ -14,6 +14,7 @@
 //! | 7 | [`chapters::ch07_antialiasing`] | anti-aliasing by supersampling |
 //! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
 //! | 9 | [`chapters::ch09_glass`] | Fresnel reflectance, nested media, absorption |
+//! | 11 | [`chapters::ch11_bvh`] | a bounding volume hierarchy: the same hits, found sooner |
 //!
 //! Render any stage with `raylab render --chapter N`. The seam between the
 //! lessons and the rest is one trait, [`course::Chapters`]: every function a
