@@ -174,6 +174,98 @@ fn gallery_build_puts_planes_in_the_tree() {
     assert_caught::<PlanesInTheTree>("bvh-plane-stays-out");
 }
 
+/// Bug: the walk keeps only strictly nearer hits, so of two hits at the
+/// same `t` it keeps whichever it asked first. The planes are asked first,
+/// outside the tree: a plane tied with a sphere listed before it wins,
+/// where chapter 3 keeps the sphere.
+struct TieToWhoeverIsAskedFirst;
+impl Chapters for TieToWhoeverIsAskedFirst {
+    fn nearest_hit_bvh(
+        bvh: &Bvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut ask = |object: u32, best: &mut Option<Hit>| {
+            let object = object as usize;
+            let closest = best.map_or(t_max, |hit| hit.t);
+            if let Some(t) = objects.intersect(object, ray, t_min, closest) {
+                *best = Some(Hit { object, t });
+            }
+        };
+        for &object in &bvh.unbounded {
+            ask(object, &mut best);
+        }
+        let inverse = ray.dir.recip();
+        let mut stack = if bvh.nodes.is_empty() {
+            Vec::new()
+        } else {
+            vec![0]
+        };
+        while let Some(index) = stack.pop() {
+            let node = &bvh.nodes[index];
+            let closest = best.map_or(t_max, |hit| hit.t);
+            if Self::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
+                continue;
+            }
+            match node.children() {
+                Some((left, right)) => stack.extend([right, left]),
+                None => {
+                    for &object in &bvh.primitives[node.primitive_range()] {
+                        ask(object, &mut best);
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+#[test]
+fn gallery_tie_to_whoever_is_asked_first() {
+    assert_caught::<TieToWhoeverIsAskedFirst>("bvh-nearest-tie-goes-to-the-first-listed");
+}
+
+/// Correct, not yet robust: the slab test without the `2 gamma_3`
+/// widening. Every checkpoint passes (their crossings are exact), but a
+/// ray along a box's edge, whose exact entry equals its exact exit, can
+/// come out with the entry rounded past the exit, and miss.
+struct Unwidened;
+impl Chapters for Unwidened {
+    fn hit_box(
+        bounds: &Aabb,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        let (mut entry, mut exit) = (t_min, t_max);
+        for axis in 0..3 {
+            let inverse = inverse_direction[axis];
+            let (near, far) = if inverse.is_sign_negative() {
+                (bounds.max[axis], bounds.min[axis])
+            } else {
+                (bounds.min[axis], bounds.max[axis])
+            };
+            entry = entry.max((near - origin[axis]) * inverse);
+            exit = exit.min((far - origin[axis]) * inverse);
+        }
+        (entry <= exit).then_some(entry)
+    }
+}
+
+#[test]
+fn unwidened_slab_test_is_correct_but_not_robust() {
+    let verdict = check_chapter::<Unwidened>(11, &options());
+    assert!(verdict.passes(), "{}", verdict.text());
+    let robustness = verdict.robustness.as_ref().expect("level 2 ran");
+    let first = robustness.first_failure.as_ref().map(|f| f.name);
+    assert_eq!(first, Some("box-rays-along-edges"), "{}", verdict.text());
+    assert!(verdict.text().contains("correct, not yet robust"));
+}
+
 // ---------------------------------------------------------------------------
 // Correct alternatives: a tree's shape and a walk's order are the student's
 // choice, and neither may fail the check.

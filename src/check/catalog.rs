@@ -2324,6 +2324,22 @@ pub fn chapter_11() -> Vec<Case> {
             true,
         ),
         bvh_case(
+            "bvh-nearest-tie-goes-to-the-first-listed",
+            WALK_11,
+            "a unit sphere at (0, 0, 5) (object 0) and the plane z = 4 (object 1); a ray from \
+             the origin along +z meets both at exactly t = 4 (5 - 1, and 4 / 1). Chapter 3 keeps \
+             the first listed of equal hits: expected object 0 at t = 4, although the plane, \
+             outside the tree, is asked first",
+            vec![
+                sphere(0.0, 0.0, 5.0, 1.0),
+                Plane::new(v(0.0, 0.0, 4.0), -z).into(),
+            ],
+            ONE_PER_LEAF,
+            vec![from_origin(z)],
+            ALL,
+            false,
+        ),
+        bvh_case(
             "bvh-any-hit-beyond-the-light",
             ANY_11,
             "the same spheres; the ray along +z with t_max = 3.5 (a light between the origin and \
@@ -2385,6 +2401,7 @@ pub fn chapter_11_robustness() -> Vec<Case> {
         sphere(0.0, 0.0, 6.0, 2.0),
         sphere(2.0, 0.0, 5.0, 1.0),
         sphere(2.0, 0.0, 5.0, 1.0),
+        Plane::new(v(0.0, 0.0, 4.0), -Vec3::Z).into(),
     ];
     let tie_rays: Vec<Ray> = [
         Vec3::Z,
@@ -2446,10 +2463,11 @@ pub fn chapter_11_robustness() -> Vec<Case> {
         bvh_case(
             "bvh-ties-lower-index-wins",
             WALK_11,
-            "copies of the same spheres (objects 2 and 4, 1 and 5, 6 and 7, 0 and 3), and the \
-             radius 2 sphere at z = 6 touching the unit one at z = 5 from inside at z = 4, one \
-             per leaf: along +z objects 1, 2, 4 and 5 are all hit at t = 4. Chapter 3 keeps the \
-             first listed of equal hits: expected its answer (object 1 at t = 4) on each ray",
+            "copies of the same spheres (objects 2 and 4, 1 and 5, 6 and 7, 0 and 3), the \
+             radius 2 sphere at z = 6 touching the unit one at z = 5 from inside at z = 4, and \
+             the plane z = 4 (object 8), one sphere per leaf where they can be cut apart: along \
+             +z objects 1, 2, 4, 5 and 8 are all hit at t = 4. Chapter 3 keeps the first listed \
+             of equal hits: expected its answer (object 1 at t = 4) on each of 5 rays",
             ties,
             ONE_PER_LEAF,
             tie_rays,
