@@ -2009,27 +2009,6 @@ pub fn chapter_9_robustness() -> Vec<Case> {
     ]
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_expected_hit_has_an_exact_value() {
-        for case in chapter_1()
-            .into_iter()
-            .chain(chapter_1_robustness())
-            .chain(chapter_2())
-            .chain(chapter_2_robustness())
-        {
-            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
-                if let ExpectT::Hit(t) = expect {
-                    assert!(t.is_finite(), "{}: the exact reference misses", case.name);
-                }
-            }
-        }
-    }
-}
-
 /// Chapter 10's checkpoint cases.
 pub fn chapter_10() -> Vec<Case> {
     Vec::new()
@@ -2538,4 +2517,25 @@ pub fn chapter_11_robustness() -> Vec<Case> {
             },
         ),
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_expected_hit_has_an_exact_value() {
+        for case in chapter_1()
+            .into_iter()
+            .chain(chapter_1_robustness())
+            .chain(chapter_2())
+            .chain(chapter_2_robustness())
+        {
+            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
+                if let ExpectT::Hit(t) = expect {
+                    assert!(t.is_finite(), "{}: the exact reference misses", case.name);
+                }
+            }
+        }
+    }
 }

@@ -511,9 +511,7 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
                 }
             }
             kind if is_type(kind) && private_types.contains(&name) => {
-                if solutions {
-                    code.push(scan::crate_paths_to_raylab(text));
-                }
+                code.extend(solutions.then(|| scan::crate_paths_to_raylab(text)));
             }
             // A public type the chapter defines is raylab's, and the
             // trait's signatures name raylab's: the workspace uses that one.
