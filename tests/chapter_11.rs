@@ -105,7 +105,7 @@ impl Chapters for StopsAtFirstLeafHit {
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut closest = t_max;
-        let mut ask = |object: u32, best: &mut Option<Hit>, closest: &mut f32| {
+        let ask = |object: u32, best: &mut Option<Hit>, closest: &mut f32| {
             let object = object as usize;
             if let Some(t) = objects.intersect(object, ray, t_min, *closest) {
                 *best = Some(Hit { object, t });
@@ -188,7 +188,7 @@ impl Chapters for TieToWhoeverIsAskedFirst {
         t_max: f32,
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut ask = |object: u32, best: &mut Option<Hit>| {
+        let ask = |object: u32, best: &mut Option<Hit>| {
             let object = object as usize;
             let closest = best.map_or(t_max, |hit| hit.t);
             if let Some(t) = objects.intersect(object, ray, t_min, closest) {
@@ -300,7 +300,7 @@ impl Chapters for LeftFirstWalk {
         t_max: f32,
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut ask = |object: u32, best: &mut Option<Hit>| {
+        let ask = |object: u32, best: &mut Option<Hit>| {
             let object = object as usize;
             let limit = best.map_or(t_max, |hit| hit.t.next_up());
             if let Some(t) = objects.intersect(object, ray, t_min, limit) {
