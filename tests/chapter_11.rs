@@ -228,6 +228,81 @@ fn gallery_tie_to_whoever_is_asked_first() {
     assert_caught::<TieToWhoeverIsAskedFirst>("bvh-nearest-tie-goes-to-the-first-listed");
 }
 
+/// Bug: in a leaf, the first object that hits ends the leaf, as if a leaf
+/// were asked for any hit. The checkpoints put one object per leaf and
+/// cannot see it; the image can, and so can the hard cases whose leaves
+/// hold many objects (200 spheres around one centre make one leaf).
+struct FirstHitInALeaf;
+impl Chapters for FirstHitInALeaf {
+    fn nearest_hit_bvh(
+        bvh: &Bvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let ask = |object: u32, best: &mut Option<Hit>| {
+            let object = object as usize;
+            let limit = best.map_or(t_max, |hit| hit.t.next_up());
+            let t = objects.intersect(object, ray, t_min, limit)?;
+            if best.is_none_or(|b| t < b.t || (t == b.t && object < b.object)) {
+                *best = Some(Hit { object, t });
+            }
+            Some(t)
+        };
+        for &object in &bvh.unbounded {
+            ask(object, &mut best);
+        }
+        let inverse = ray.dir.recip();
+        let mut stack = if bvh.nodes.is_empty() {
+            Vec::new()
+        } else {
+            vec![0]
+        };
+        while let Some(index) = stack.pop() {
+            let node = &bvh.nodes[index];
+            let closest = best.map_or(t_max, |hit| hit.t);
+            if Self::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
+                continue;
+            }
+            match node.children() {
+                Some((left, right)) => stack.extend([right, left]),
+                None => {
+                    // The bug: the leaf's first hit stops the leaf.
+                    let _ = bvh.primitives[node.primitive_range()]
+                        .iter()
+                        .find_map(|&object| ask(object, &mut best));
+                }
+            }
+        }
+        best
+    }
+}
+
+#[test]
+fn gallery_first_hit_in_a_leaf_ends_the_leaf() {
+    let verdict = check_chapter::<FirstHitInALeaf>(11, &options());
+    assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
+    let image = verdict.image.as_ref().expect("the image was compared");
+    assert!(!image.passed, "{}", verdict.text());
+    for name in [
+        "bvh-thousand-spheres",
+        "bvh-huge-coordinates",
+        "bvh-coincident-centroids",
+    ] {
+        let case = raylab::check::catalog::chapter_11_robustness()
+            .into_iter()
+            .find(|case| case.name == name)
+            .expect("the case exists");
+        let outcome = case.run::<FirstHitInALeaf>();
+        assert!(
+            matches!(outcome, raylab::check::Outcome::Fail { .. }),
+            "{name}: {outcome:?}"
+        );
+    }
+}
+
 /// Correct, not yet robust: the slab test without the `2 gamma_3`
 /// widening. Every checkpoint passes (their crossings are exact), but a
 /// ray along a box's edge, whose exact entry equals its exact exit, can
