@@ -15,6 +15,7 @@
 //! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
 //! | 9 | [`chapters::ch09_glass`] | Fresnel reflectance, nested media, absorption |
 //! | 10 | [`chapters::ch10_triangles`] | triangle meshes, watertight intersection, smooth shading |
+//! | 11 | [`chapters::ch11_bvh`] | a bounding volume hierarchy: the same hits, found sooner |
 //!
 //! Render any stage with `raylab render --chapter N`. The seam between the
 //! lessons and the rest is one trait, [`course::Chapters`]: every function a

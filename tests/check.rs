@@ -562,6 +562,30 @@ impl Chapters for NothingWritten {
     fn smooth_hit_point<'a>(_: HitPoint<'a>, _: &Triangle, _: &[Vec3; 3]) -> HitPoint<'a> {
         todo!()
     }
+    fn hit_box(_: &raylab::bvh::Aabb, _: Vec3, _: Vec3, _: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
+    fn build_bvh(_: &[Option<raylab::bvh::Aabb>], _: &raylab::bvh::BvhOptions) -> raylab::bvh::Bvh {
+        todo!()
+    }
+    fn nearest_hit_bvh(
+        _: &raylab::bvh::Bvh,
+        _: &raylab::Objects<Self>,
+        _: &Ray,
+        _: f32,
+        _: f32,
+    ) -> Option<raylab::Hit> {
+        todo!()
+    }
+    fn any_hit_bvh(
+        _: &raylab::bvh::Bvh,
+        _: &raylab::Objects<Self>,
+        _: &Ray,
+        _: f32,
+        _: f32,
+    ) -> Option<raylab::Hit> {
+        todo!()
+    }
 }
 
 #[test]

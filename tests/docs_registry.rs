@@ -84,3 +84,39 @@ fn every_chapter_has_its_code_lesson_scene_and_reference() {
         }
     }
 }
+
+#[test]
+fn the_course_page_names_every_chapter_gallery() {
+    let course = read("docs/course.md");
+    for info in CHAPTERS {
+        let gallery = format!("tests/chapter_{}.rs", info.number);
+        let exists = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join(&gallery)
+            .is_file();
+        assert!(
+            !exists || course.contains(&format!("`{gallery}`")),
+            "docs/course.md does not name {gallery}"
+        );
+    }
+}
+
+/// A failing case sends the student to a section of the lesson by its
+/// heading: that heading must be there.
+#[test]
+fn every_case_names_a_section_of_its_lesson() {
+    for info in CHAPTERS {
+        let lesson = read(&format!("chapters/{}.md", info.file));
+        for case in (info.checkpoints)().into_iter().chain((info.robustness)()) {
+            assert!(
+                lesson
+                    .lines()
+                    .any(|line| line.trim_start_matches('#').trim().eq(case.section)),
+                "chapter {}: case {} names the section \"{}\", which chapters/{}.md does not have",
+                info.number,
+                case.name,
+                case.section,
+                info.file
+            );
+        }
+    }
+}

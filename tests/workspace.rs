@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
-use common::{raylab, stderr};
+use common::{raylab, stderr, stdout};
 use raylab::stage::CHAPTERS;
 
 struct Workspaces {
@@ -194,6 +194,39 @@ fn an_unwritten_chapter_is_not_started_not_a_backtrace() {
     }
     // Nothing half-written.
     assert!(!out.join("chapter-1.png").exists());
+}
+
+/// Chapter 11's functions share raylab's tree types and their answer key
+/// keeps private helper types (a node stack, the best hit so far): the
+/// skeleton must still read as not started, and the answer key must pass
+/// both levels, image included.
+#[test]
+fn chapter_11_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
+    let ws = workspaces();
+    let skeleton = read(&ws.todo.join("src/chapters/ch11_bvh.rs"));
+    assert!(!skeleton.contains("struct NodeStack"), "{skeleton}");
+    let answer = read(&ws.answer.join("src/chapters/ch11_bvh.rs"));
+    assert!(answer.contains("impl NodeStack"), "{answer}");
+
+    let todo = run_student("student-todo", &["check", "--chapter", "11"], &ws.todo);
+    let text = stdout(&todo);
+    assert_eq!(todo.status.code(), Some(1), "{text}{}", stderr(&todo));
+    assert!(
+        text.contains("chapter 11: Bounding volume hierarchy - not started"),
+        "{text}"
+    );
+    assert!(
+        text.contains("hit_box, build_bvh, nearest_hit_bvh, any_hit_bvh still todo!()"),
+        "{text}"
+    );
+
+    let key = run_student("student-answer", &["check", "--chapter", "11"], &ws.answer);
+    let text = stdout(&key);
+    assert!(key.status.success(), "{text}{}", stderr(&key));
+    assert!(
+        text.contains("chapter 11: Bounding volume hierarchy - pass (robust)"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -10,7 +10,8 @@ use glam::{DVec3, Vec3};
 
 use super::exact::{self, U, wide};
 use super::panics::{Panic, guarded};
-use crate::course::{Chapters, HitPoint, PhongTerms};
+use crate::bvh::{Aabb, Bvh, BvhOptions};
+use crate::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
 use crate::render::{Stage, Tracer};
 use crate::shapes::{SurfacePoint, Triangle};
 use crate::{Material, Plane, Ray, Reference, Sampling, Scene, Shape, Sphere};
@@ -219,6 +220,49 @@ pub enum CaseKind {
         ray: Ray,
         transparent: bool,
     },
+    /// `hit_box(Aabb::new(min, max), origin, dir.recip(), t_min, t_max)`:
+    /// expected the entry `t` (exact, `t_min` from inside), or no hit.
+    HitBox {
+        min: Vec3,
+        max: Vec3,
+        origin: Vec3,
+        dir: Vec3,
+        t_min: f32,
+        t_max: f32,
+        expect: Option<f64>,
+    },
+    /// `hit_box` on `rays` rays from random origins aimed at random points
+    /// of the box's twelve edges (drawn from `seed`): whenever the exact
+    /// ray (the `f32` origin and direction, in `f64`) meets the box, the
+    /// answer must be a hit.
+    BoxEdges {
+        min: Vec3,
+        max: Vec3,
+        rays: u32,
+        seed: u64,
+    },
+    /// `build_bvh` over the boxes of `shapes` (`Shape::bounds`): the tree
+    /// must hold every boxed object exactly once, under a leaf whose box
+    /// holds it, each inner node's box holding its children's; objects
+    /// without a box (planes) in `unbounded`, not in the tree.
+    BvhBuild {
+        shapes: Vec<Shape>,
+        options: BvhOptions,
+    },
+    /// `build_bvh` over the boxes of `shapes`, then for each of `rays`
+    /// `nearest_hit_bvh` (or `any_hit_bvh` when `any`) through that tree.
+    /// Expected: chapter 3's nearest hit over the same objects, the same
+    /// object at the same `t`, bit for bit; for any-hit, a hit exactly
+    /// when there is one, and a real one (the object's own test gives
+    /// that `t` in the interval).
+    BvhHits {
+        shapes: Vec<Shape>,
+        options: BvhOptions,
+        rays: Vec<Ray>,
+        t_min: f32,
+        t_max: f32,
+        any: bool,
+    },
 }
 
 /// One checkpoint: a question, its expected answer and its tolerance, with
@@ -295,6 +339,10 @@ impl Case {
             CaseKind::SmoothNormal { .. } => "smooth_normal",
             CaseKind::Terminator { .. } => "terminator_point",
             CaseKind::SmoothHit { .. } => "smooth_hit_point",
+            CaseKind::HitBox { .. } | CaseKind::BoxEdges { .. } => "hit_box",
+            CaseKind::BvhBuild { .. } => "build_bvh",
+            CaseKind::BvhHits { any: false, .. } => "nearest_hit_bvh",
+            CaseKind::BvhHits { any: true, .. } => "any_hit_bvh",
         }
     }
 
@@ -501,6 +549,61 @@ impl Case {
                     "opaque material"
                 },
                 normals_text(normals)
+            ),
+            CaseKind::HitBox {
+                min,
+                max,
+                origin,
+                dir,
+                t_min,
+                t_max,
+                ..
+            } => format!(
+                "hit_box(box {} to {}, origin {}, inverse_direction 1 / {}, {})",
+                vec(*min),
+                vec(*max),
+                vec(*origin),
+                vec(*dir),
+                range(*t_min, *t_max)
+            ),
+            CaseKind::BoxEdges {
+                min,
+                max,
+                rays,
+                seed,
+            } => format!(
+                "hit_box(box {} to {}, ...) on {rays} rays aimed at its edges (seed {seed}), \
+                 t_min = 0, t_max = inf",
+                vec(*min),
+                vec(*max)
+            ),
+            CaseKind::BvhBuild { shapes, options } => format!(
+                "build_bvh(the boxes of [{}], {})",
+                shapes_text(shapes),
+                options_text(options)
+            ),
+            CaseKind::BvhHits {
+                shapes,
+                options,
+                rays,
+                t_min,
+                t_max,
+                ..
+            } => format!(
+                "{}(build_bvh(the boxes of [{}], {}), the objects, {}, {})",
+                self.function(),
+                shapes_text(shapes),
+                options_text(options),
+                if rays.len() == 1 {
+                    ray_text(&rays[0])
+                } else {
+                    format!(
+                        "each of {} rays from {}",
+                        rays.len(),
+                        rays.first().map(ray_text).unwrap_or_default()
+                    )
+                },
+                range(*t_min, *t_max)
             ),
         }
     }
@@ -972,6 +1075,61 @@ impl Case {
                     ),
                 )
             }
+            CaseKind::HitBox {
+                min,
+                max,
+                origin,
+                dir,
+                t_min,
+                t_max,
+                expect,
+            } => {
+                let got = C::hit_box(&Aabb::new(*min, *max), *origin, dir.recip(), *t_min, *t_max);
+                let show = |entry: Option<String>| {
+                    entry.map_or_else(|| "None (misses)".into(), |t| format!("Some({t})"))
+                };
+                let pass = match (got, *expect) {
+                    (None, None) => true,
+                    // The reference widens the entry by 2 gamma_3 of itself
+                    // (a few 1e-7): far inside the checkpoint tolerance.
+                    (Some(t), Some(want)) => {
+                        t.is_finite() && close(f64::from(t), want, CHECKPOINT_TOLERANCE)
+                    }
+                    _ => false,
+                };
+                verdict(pass, show(expect.map(num64)), show(got.map(num)))
+            }
+            CaseKind::BoxEdges {
+                min,
+                max,
+                rays,
+                seed,
+            } => box_edges::<C>(&Aabb::new(*min, *max), *rays, *seed),
+            CaseKind::BvhBuild { shapes, options } => {
+                let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
+                let bvh = C::build_bvh(&bounds, options);
+                match tree_problem(&bvh, &bounds) {
+                    None => Outcome::Pass,
+                    Some(problem) => Outcome::Fail {
+                        expected: "every boxed object once, under a leaf whose box holds it; \
+                                   each node's box holding its children; planes in unbounded"
+                            .into(),
+                        got: problem,
+                    },
+                }
+            }
+            CaseKind::BvhHits {
+                shapes,
+                options,
+                rays,
+                t_min,
+                t_max,
+                any,
+            } => {
+                let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
+                let bvh = C::build_bvh(&bounds, options);
+                bvh_hits::<C>(shapes, &bvh, rays, *t_min, *t_max, *any)
+            }
         }
     }
 }
@@ -990,6 +1148,229 @@ fn unit_toward(got: Vec3, want: DVec3) -> bool {
 fn point_close(got: Vec3, want: DVec3) -> bool {
     got.is_finite()
         && (wide(got) - want).abs().max_element() <= CHECKPOINT_TOLERANCE * max_abs(want).max(1.0)
+}
+
+/// `hit_box` on rays aimed at the edges of `bounds`: `Fail` on the first
+/// ray the exact slab test says meets the box and `hit_box` refuses.
+fn box_edges<C: Chapters>(bounds: &Aabb, rays: u32, seed: u64) -> Outcome {
+    let mut numbers = exact::Xorshift::new(seed);
+    for index in 0..rays {
+        // A point on one of the twelve edges: one axis free, the other two
+        // on a face each.
+        let free_axis = numbers.below(3);
+        let mut aim = Vec3::ZERO;
+        for axis in 0..3 {
+            aim[axis] = if axis == free_axis {
+                numbers.between(bounds.min[axis], bounds.max[axis])
+            } else if numbers.below(2) == 0 {
+                bounds.min[axis]
+            } else {
+                bounds.max[axis]
+            };
+        }
+        let origin = Vec3::new(
+            numbers.between(-10.0, 10.0),
+            numbers.between(-10.0, 10.0),
+            numbers.between(-10.0, 10.0),
+        );
+        let dir = aim - origin;
+        let (entry, exit) = exact::slab_interval(bounds, origin, dir);
+        // The exact ray meets the box for some t >= 0 (a NaN from a zero
+        // direction component is not counted: no such ray is drawn).
+        if !(exit >= entry.max(0.0)) {
+            continue;
+        }
+        if C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_none() {
+            return Outcome::Fail {
+                expected: format!(
+                    "a hit: the exact ray meets the box from t = {} to t = {}",
+                    num64(entry),
+                    num64(exit)
+                ),
+                got: format!(
+                    "None for ray {} of {rays}: from {} along {}",
+                    index + 1,
+                    vec(origin),
+                    vec(dir)
+                ),
+            };
+        }
+    }
+    Outcome::Pass
+}
+
+/// What is wrong with `bvh` as a tree over objects with boxes `bounds`, if
+/// anything. Walks from the root with a visited mark per node, so a
+/// student's tree with a cycle or an index out of range is reported, not
+/// followed forever.
+fn tree_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
+    let boxed = |object: usize| {
+        bounds[object].filter(|b| b.min.is_finite() && b.max.is_finite() && !b.is_empty())
+    };
+    let mut places = vec![0usize; bounds.len()];
+    for &object in bvh.primitives.iter().chain(&bvh.unbounded) {
+        let Some(count) = places.get_mut(object as usize) else {
+            return Some(format!(
+                "object {object} in the tree, but there are {} objects",
+                bounds.len()
+            ));
+        };
+        *count += 1;
+    }
+    if let Some(object) = places.iter().position(|&count| count != 1) {
+        return Some(format!(
+            "object {object} appears {} times (in primitives and unbounded together)",
+            places[object]
+        ));
+    }
+    if let Some(&object) = bvh.unbounded.iter().find(|&&o| boxed(o as usize).is_some()) {
+        return Some(format!(
+            "object {object} has a finite box but is in unbounded, outside the tree"
+        ));
+    }
+    if let Some(&object) = bvh
+        .primitives
+        .iter()
+        .find(|&&o| boxed(o as usize).is_none())
+    {
+        return Some(format!(
+            "object {object} has no box (a plane) but is in the tree"
+        ));
+    }
+    if bvh.nodes.is_empty() {
+        return (!bvh.primitives.is_empty()).then(|| {
+            format!(
+                "no nodes, but {} objects in primitives",
+                bvh.primitives.len()
+            )
+        });
+    }
+    let holds = |outer: &Aabb, inner: &Aabb| {
+        outer.min.cmple(inner.min).all() && inner.max.cmple(outer.max).all()
+    };
+    let mut visited = vec![false; bvh.nodes.len()];
+    let mut covered = vec![0usize; bvh.primitives.len()];
+    let mut to_visit = vec![0usize];
+    while let Some(index) = to_visit.pop() {
+        if std::mem::replace(&mut visited[index], true) {
+            return Some(format!("node {index} is reached twice: not a tree"));
+        }
+        let node = &bvh.nodes[index];
+        if let Some((left, right)) = node.children() {
+            if right >= bvh.nodes.len() {
+                return Some(format!(
+                    "node {index} has children {left} and {right}, but there are {} nodes",
+                    bvh.nodes.len()
+                ));
+            }
+            for child in [left, right] {
+                if !holds(&node.bounds, &bvh.nodes[child].bounds) {
+                    return Some(format!(
+                        "node {index}'s box {} to {} does not hold its child {child}'s, {} to {}",
+                        vec(node.bounds.min),
+                        vec(node.bounds.max),
+                        vec(bvh.nodes[child].bounds.min),
+                        vec(bvh.nodes[child].bounds.max)
+                    ));
+                }
+                to_visit.push(child);
+            }
+            continue;
+        }
+        let range = node.primitive_range();
+        if range.end > bvh.primitives.len() {
+            return Some(format!(
+                "leaf {index} holds primitives {range:?}, but there are {}",
+                bvh.primitives.len()
+            ));
+        }
+        for slot in range {
+            covered[slot] += 1;
+            let object = bvh.primitives[slot] as usize;
+            if let Some(object_box) = boxed(object)
+                && !holds(&node.bounds, &object_box)
+            {
+                return Some(format!(
+                    "leaf {index}'s box {} to {} does not hold object {object}'s, {} to {}",
+                    vec(node.bounds.min),
+                    vec(node.bounds.max),
+                    vec(object_box.min),
+                    vec(object_box.max)
+                ));
+            }
+        }
+    }
+    if let Some(slot) = covered.iter().position(|&count| count != 1) {
+        return Some(format!(
+            "primitives[{slot}] (object {}) is under {} leaves reached from the root",
+            bvh.primitives[slot], covered[slot]
+        ));
+    }
+    None
+}
+
+/// Runs each ray through `bvh` and compares with chapter 3's loop over the
+/// same objects (the chapters `C`'s own object tests, so that only the
+/// tree is judged, bit for bit).
+fn bvh_hits<C: Chapters>(
+    shapes: &[Shape],
+    bvh: &Bvh,
+    rays: &[Ray],
+    t_min: f32,
+    t_max: f32,
+    any: bool,
+) -> Outcome {
+    let objects = Objects::<C>::new(shapes);
+    let show = |hit: Option<Hit>| match hit {
+        Some(hit) => format!("object {} at t = {}", hit.object, num(hit.t)),
+        None => "no hit".into(),
+    };
+    let which = |index: usize, ray: &Ray| {
+        if rays.len() == 1 {
+            String::new()
+        } else {
+            format!(" (ray {} of {}: {})", index + 1, rays.len(), ray_text(ray))
+        }
+    };
+    for (index, ray) in rays.iter().enumerate() {
+        let loop_answer = crate::chapters::ch03_nearest::nearest_hit(&objects, ray, t_min, t_max);
+        if !any {
+            let got = C::nearest_hit_bvh(bvh, &objects, ray, t_min, t_max);
+            if got != loop_answer {
+                return Outcome::Fail {
+                    expected: format!("{} (chapter 3's loop)", show(loop_answer)),
+                    got: format!("{}{}", show(got), which(index, ray)),
+                };
+            }
+            continue;
+        }
+        let got = C::any_hit_bvh(bvh, &objects, ray, t_min, t_max);
+        let real = got.is_some_and(|hit| {
+            hit.object < objects.len()
+                && objects.intersect(hit.object, ray, t_min, t_max) == Some(hit.t)
+        });
+        if got.is_some() != loop_answer.is_some() || (got.is_some() && !real) {
+            return Outcome::Fail {
+                expected: match loop_answer {
+                    Some(hit) => {
+                        format!("a hit of an object there (chapter 3: {})", show(Some(hit)))
+                    }
+                    None => "no hit (chapter 3 finds none)".into(),
+                },
+                got: format!(
+                    "{}{}{}",
+                    show(got),
+                    if got.is_some() && !real {
+                        ", which is not where that object's own test hits"
+                    } else {
+                        ""
+                    },
+                    which(index, ray)
+                ),
+            };
+        }
+    }
+    Outcome::Pass
 }
 
 fn verdict(pass: bool, expected: String, got: String) -> Outcome {
@@ -1285,6 +1666,28 @@ fn corners_text([a, b, c]: [Vec3; 3]) -> String {
 
 fn normals_text(normals: &[Vec3; 3]) -> String {
     normals.map(vec).join(" ")
+}
+
+/// A list of shapes, the first few spelled out.
+fn shapes_text(shapes: &[Shape]) -> String {
+    const SPELLED: usize = 6;
+    let mut text = shapes
+        .iter()
+        .take(SPELLED)
+        .map(shape_text)
+        .collect::<Vec<_>>()
+        .join(", ");
+    if shapes.len() > SPELLED {
+        text.push_str(&format!(", ... {} objects in all", shapes.len()));
+    }
+    text
+}
+
+fn options_text(options: &BvhOptions) -> String {
+    format!(
+        "{:?} split, {} bins, max_leaf {}",
+        options.split, options.bins, options.max_leaf
+    )
 }
 
 fn shape_text(shape: &Shape) -> String {

@@ -12,6 +12,7 @@ use glam::Vec3;
 
 use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, vec};
 use super::exact::{self, wide};
+use crate::bvh::{BvhOptions, SplitRule};
 use crate::course::PhongTerms;
 use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
 
@@ -2008,6 +2009,506 @@ pub fn chapter_9_robustness() -> Vec<Case> {
     ]
 }
 
+// ---------------------------------------------------------------------------
+// Chapter 11: the bounding volume hierarchy.
+
+const SLAB_11: &str = "The slab test";
+const NAN_11: &str = "Why NaN cannot sneak in";
+const ROUNDING_11: &str = "Rounding: widening the interval";
+const BUILD_11: &str = "Building the tree";
+const WALK_11: &str = "Walking the tree: the nearest hit";
+const ANY_11: &str = "Any hit, for shadows";
+const PLANES_11: &str = "Why planes stay out";
+
+/// The box of every `hit_box` checkpoint: the cube from -1 to 1.
+const CUBE: (Vec3, Vec3) = (Vec3::splat(-1.0), Vec3::splat(1.0));
+
+/// A `hit_box` case on `bounds`, for the ray `(origin, dir)` and
+/// `t_min < t < t_max`, expecting the entry `t` or a miss.
+fn box_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    bounds: (Vec3, Vec3),
+    ray: (Vec3, Vec3),
+    range: (f32, f32),
+    expect: Option<f64>,
+) -> Case {
+    Case::new(
+        name,
+        section,
+        says,
+        CaseKind::HitBox {
+            min: bounds.0,
+            max: bounds.1,
+            origin: ray.0,
+            dir: ray.1,
+            t_min: range.0,
+            t_max: range.1,
+            expect,
+        },
+    )
+}
+
+/// The tree's shape is the student's choice, but the checkpoints ask for
+/// one leaf per object, cut at the middle, so that a walk has several
+/// leaves to choose between (the surface-area heuristic would keep three
+/// spheres in one leaf, and hide a walk that stops too early).
+const ONE_PER_LEAF: BvhOptions = BvhOptions {
+    split: SplitRule::Midpoint,
+    bins: 16,
+    max_leaf: 1,
+};
+
+fn sphere(x: f32, y: f32, z: f32, radius: f32) -> Shape {
+    Sphere::new(v(x, y, z), radius).into()
+}
+
+/// A `nearest_hit_bvh` (or, `any`, `any_hit_bvh`) case over `shapes`.
+#[allow(clippy::too_many_arguments)]
+fn bvh_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    shapes: Vec<Shape>,
+    options: BvhOptions,
+    rays: Vec<Ray>,
+    range: (f32, f32),
+    any: bool,
+) -> Case {
+    Case::new(
+        name,
+        section,
+        says,
+        CaseKind::BvhHits {
+            shapes,
+            options,
+            rays,
+            t_min: range.0,
+            t_max: range.1,
+            any,
+        },
+    )
+}
+
+/// Chapter 11's checkpoint cases.
+pub fn chapter_11() -> Vec<Case> {
+    let x = Vec3::X;
+    let z = Vec3::Z;
+    // Behind each other on the z axis, the first-hit one not the first-entered.
+    let behind = || {
+        vec![
+            sphere(0.0, 4.0, 10.0, 5.0),
+            sphere(0.0, 0.0, 7.0, 1.0),
+            sphere(0.0, 0.0, 20.0, 1.0),
+        ]
+    };
+    let plane_between = || {
+        vec![
+            sphere(0.0, 0.0, 10.0, 1.0),
+            Plane::new(v(0.0, 0.0, 5.0), -z).into(),
+            sphere(0.0, 0.0, 3.0, 1.0),
+        ]
+    };
+    let blockers = || {
+        vec![
+            sphere(3.0, 0.0, 5.0, 1.0),
+            sphere(0.0, 0.0, 5.0, 1.0),
+            sphere(-3.0, 0.0, 5.0, 1.0),
+        ]
+    };
+    let from_origin = |dir: Vec3| Ray::new(Vec3::ZERO, dir);
+    vec![
+        box_case(
+            "box-from-outside",
+            SLAB_11,
+            "the box from (-1, -1, -1) to (1, 1, 1); a ray from (-5, -2.5, 0) along (2, 1, 0): \
+             inside the x slab for t from 2 to 3, the y slab from 1.5 to 3.5, the z slab always \
+             (dir.z = 0, origin inside it); inside all three from t = 2 to 3: expected 2",
+            CUBE,
+            (v(-5.0, -2.5, 0.0), v(2.0, 1.0, 0.0)),
+            ALL,
+            Some(2.0),
+        ),
+        box_case(
+            "box-negative-direction",
+            SLAB_11,
+            "the same box; a ray from (5, 0, 0) along (-1, 0, 0) meets the plane x = 1 (max.x) \
+             first, at t = 4, and x = -1 at t = 6: expected 4",
+            CUBE,
+            (v(5.0, 0.0, 0.0), -x),
+            ALL,
+            Some(4.0),
+        ),
+        box_case(
+            "box-from-inside",
+            SLAB_11,
+            "the same box; a ray from its centre along (0.3, -0.2, 1) with t_min = 0.5: it starts \
+             inside, so it is in the box from t_min on: expected 0.5",
+            CUBE,
+            (Vec3::ZERO, v(0.3, -0.2, 1.0)),
+            (0.5, 10.0),
+            Some(0.5),
+        ),
+        box_case(
+            "box-behind",
+            SLAB_11,
+            "the same box; a ray from (-5, 0, 0) along (-1, 0, 0): the box is behind it (t from \
+             -6 to -4): expected None",
+            CUBE,
+            (v(-5.0, 0.0, 0.0), -x),
+            ALL,
+            None,
+        ),
+        box_case(
+            "box-beyond-t-max",
+            SLAB_11,
+            "the same box; a ray from (-5, 0, 0) along (1, 0, 0) with t_max = 3.9: the box starts \
+             at t = 4, too far: expected None",
+            CUBE,
+            (v(-5.0, 0.0, 0.0), x),
+            (0.0, 3.9),
+            None,
+        ),
+        box_case(
+            "box-missed",
+            SLAB_11,
+            "the same box; a ray from (-5, 0, 0) along (1, 1, 0): inside the x slab for t from 4 \
+             to 6, the y slab from -1 to 1, never both: expected None",
+            CUBE,
+            (v(-5.0, 0.0, 0.0), v(1.0, 1.0, 0.0)),
+            ALL,
+            None,
+        ),
+        box_case(
+            "box-parallel-inside-slab",
+            NAN_11,
+            "the same box; a ray from (0, 0.5, -5) along (0, 0, 1): dir.y = 0, so 1 / dir.y = inf \
+             and the y slab gives (-1 - 0.5) x inf = -inf to (1 - 0.5) x inf = inf, always \
+             inside; the z slab from 4 to 6: expected 4",
+            CUBE,
+            (v(0.0, 0.5, -5.0), z),
+            ALL,
+            Some(4.0),
+        ),
+        box_case(
+            "box-parallel-outside-slab",
+            NAN_11,
+            "the same box; a ray from (0, 2, -5) along (0, 0, 1): the y slab gives \
+             (-1 - 2) x inf = -inf to (1 - 2) x inf = -inf, never inside: expected None",
+            CUBE,
+            (v(0.0, 2.0, -5.0), z),
+            ALL,
+            None,
+        ),
+        box_case(
+            "box-zero-direction-on-slab-plane",
+            NAN_11,
+            "the same box; a ray from (0, 1, -5) along (0, 0, 1): dir.y = 0 and the origin lies \
+             on the plane y = 1 (max.y), so that plane's crossing is (1 - 1) x inf = 0 x inf = \
+             NaN. The ray runs along the box's top face, on its closed boundary: the y axis must \
+             not constrain it. The z slab from 4 to 6: expected 4",
+            CUBE,
+            (v(0.0, 1.0, -5.0), z),
+            ALL,
+            Some(4.0),
+        ),
+        box_case(
+            "box-negative-zero-on-min-plane",
+            NAN_11,
+            "the same box; a ray from (0, -1, -5) along (0, -0, 1): 1 / -0 = -inf, and the origin \
+             is on the plane y = -1 (min.y): (-1 - -1) x -inf = NaN again, on the bottom face: \
+             expected 4",
+            CUBE,
+            (v(0.0, -1.0, -5.0), v(0.0, -0.0, 1.0)),
+            ALL,
+            Some(4.0),
+        ),
+        Case::new(
+            "bvh-build-holds-every-sphere",
+            BUILD_11,
+            "five unit spheres at x = 0, 3, 6, 9, 12 (listed out of order), one per leaf: every \
+             sphere exactly once in a leaf whose box holds the sphere's box (x - 1 to x + 1), \
+             every inner node's box holding its two children's, nothing in unbounded",
+            CaseKind::BvhBuild {
+                shapes: vec![
+                    sphere(6.0, 0.0, 0.0, 1.0),
+                    sphere(0.0, 0.0, 0.0, 1.0),
+                    sphere(12.0, 0.0, 0.0, 1.0),
+                    sphere(3.0, 0.0, 0.0, 1.0),
+                    sphere(9.0, 0.0, 0.0, 1.0),
+                ],
+                options: ONE_PER_LEAF,
+            },
+        ),
+        bvh_case(
+            "bvh-nearest-behind-a-nearer-box",
+            WALK_11,
+            "a ray from the origin along +z; object 0, centre (0, 4, 10) radius 5: its box starts \
+             at z = 5, and the ray passes 4 from its centre, so it is hit at z = 10 - sqrt(25 - \
+             16) = 7; object 1, centre (0, 0, 7) radius 1: box from z = 6, hit at 6; object 2 at \
+             (0, 0, 20), radius 1. Object 0's box is entered first but object 1 is hit nearer: \
+             expected object 1 at t = 6 (a walk that stops at the first leaf with a hit says \
+             object 0 at t = 7)",
+            behind(),
+            ONE_PER_LEAF,
+            vec![from_origin(z)],
+            ALL,
+            false,
+        ),
+        Case::new(
+            "bvh-plane-stays-out",
+            PLANES_11,
+            "a unit sphere at (0, 0, 10) (object 0), the plane z = 5 (object 1, no box: \
+             Shape::bounds is None) and a unit sphere at (0, 0, 3) (object 2): expected \
+             unbounded = [1], and objects 0 and 2 in the tree",
+            CaseKind::BvhBuild {
+                shapes: plane_between(),
+                options: ONE_PER_LEAF,
+            },
+        ),
+        bvh_case(
+            "bvh-plane-still-hit",
+            PLANES_11,
+            "the same three objects; a ray from the origin along +z hits object 2 at t = 2 first; \
+             one along (0.6, 0, 0.8) passes 1.8 from the sphere at z = 3 and 6 from the one at \
+             z = 10, and meets only the plane, at t = 5 / 0.8 = 6.25: expected object 2 at t = 2, \
+             then object 1 at t = 6.25",
+            plane_between(),
+            ONE_PER_LEAF,
+            vec![from_origin(z), from_origin(v(0.6, 0.0, 0.8))],
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-any-hit-finds-the-blocker",
+            ANY_11,
+            "unit spheres at (3, 0, 5), (0, 0, 5) and (-3, 0, 5); a shadow ray from the origin \
+             along +z with t_max = 10 is blocked by object 1 at t = 4: expected a hit; one along \
+             +y meets nothing: expected none",
+            blockers(),
+            ONE_PER_LEAF,
+            vec![from_origin(z), from_origin(Vec3::Y)],
+            (0.0, 10.0),
+            true,
+        ),
+        bvh_case(
+            "bvh-nearest-tie-goes-to-the-first-listed",
+            WALK_11,
+            "a unit sphere at (0, 0, 5) (object 0) and the plane z = 4 (object 1); a ray from \
+             the origin along +z meets both at exactly t = 4 (5 - 1, and 4 / 1). Chapter 3 keeps \
+             the first listed of equal hits: expected object 0 at t = 4, although the plane, \
+             outside the tree, is asked first",
+            vec![
+                sphere(0.0, 0.0, 5.0, 1.0),
+                Plane::new(v(0.0, 0.0, 4.0), -z).into(),
+            ],
+            ONE_PER_LEAF,
+            vec![from_origin(z)],
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-any-hit-beyond-the-light",
+            ANY_11,
+            "the same spheres; the ray along +z with t_max = 3.5 (a light between the origin and \
+             the spheres): the blocker at t = 4 is beyond it: expected no hit",
+            blockers(),
+            ONE_PER_LEAF,
+            vec![from_origin(z)],
+            (0.0, 3.5),
+            true,
+        ),
+    ]
+}
+
+/// `count` spheres with centres in `[-extent, extent]^3` and radii in
+/// `radii`, from `seed`, and `rays` rays from `eye` toward random points of
+/// the same cube: the same every run.
+fn random_spheres(
+    seed: u64,
+    count: usize,
+    extent: f32,
+    radii: (f32, f32),
+    eye: Vec3,
+    rays: usize,
+) -> (Vec<Shape>, Vec<Ray>) {
+    let mut numbers = exact::Xorshift::new(seed);
+    let point = |numbers: &mut exact::Xorshift| {
+        v(
+            numbers.between(-extent, extent),
+            numbers.between(-extent, extent),
+            numbers.between(-extent, extent),
+        )
+    };
+    let shapes = (0..count)
+        .map(|_| {
+            let center = point(&mut numbers);
+            Sphere::new(center, numbers.between(radii.0, radii.1)).into()
+        })
+        .collect();
+    let rays = (0..rays)
+        .map(|_| Ray::new(eye, point(&mut numbers) - eye))
+        .collect();
+    (shapes, rays)
+}
+
+/// Chapter 11's hard cases.
+pub fn chapter_11_robustness() -> Vec<Case> {
+    let default = BvhOptions::default();
+    let (thousand, thousand_rays) =
+        random_spheres(11, 1000, 20.0, (0.1, 0.6), v(0.0, 0.0, -40.0), 200);
+    let (huge, huge_rays) = random_spheres(1100, 300, 1e5, (1e3, 5e3), v(0.0, 0.0, -3e5), 200);
+    // Two pairs of copies, and a big sphere touching a small one from
+    // inside at z = 4, where the ray along +z meets both: ties everywhere.
+    let ties = vec![
+        sphere(0.0, 0.0, 20.0, 1.0),
+        sphere(0.0, 0.0, 6.0, 2.0),
+        sphere(0.0, 0.0, 5.0, 1.0),
+        sphere(0.0, 0.0, 20.0, 1.0),
+        sphere(0.0, 0.0, 5.0, 1.0),
+        sphere(0.0, 0.0, 6.0, 2.0),
+        sphere(2.0, 0.0, 5.0, 1.0),
+        sphere(2.0, 0.0, 5.0, 1.0),
+        Plane::new(v(0.0, 0.0, 4.0), -Vec3::Z).into(),
+    ];
+    let tie_rays: Vec<Ray> = [
+        Vec3::Z,
+        v(0.1, 0.0, 1.0),
+        v(-0.1, 0.05, 1.0),
+        v(0.4, 0.0, 1.0),
+        v(0.0, 0.0, -1.0),
+    ]
+    .into_iter()
+    .map(|dir| Ray::new(Vec3::ZERO, dir))
+    .collect();
+    // 200 spheres around one centre: every centroid the same point.
+    let center = v(0.0, 0.0, 10.0);
+    let concentric: Vec<Shape> = (0..200)
+        .map(|index| Sphere::new(center, 0.5 + 0.0225 * index as f32).into())
+        .collect();
+    let concentric_rays = vec![
+        Ray::new(Vec3::ZERO, Vec3::Z),
+        Ray::new(Vec3::ZERO, v(0.2, 0.1, 1.0)),
+        Ray::new(center, v(1.0, 0.5, -0.25)),
+        Ray::new(center + v(0.0, 0.0, 1.0), Vec3::Z),
+    ];
+    robust(vec![
+        bvh_case(
+            "bvh-thousand-spheres",
+            WALK_11,
+            "1000 spheres of radius 0.1 to 0.6 scattered in the cube from -20 to 20 (the same \
+             every run), the default options (SAH, 16 bins, max_leaf 4); 200 rays from \
+             (0, 0, -40) into the cube: each must find chapter 3's hit, same object, same t",
+            thousand.clone(),
+            default,
+            thousand_rays.clone(),
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-thousand-spheres-any-hit",
+            ANY_11,
+            "the same 1000 spheres and 200 rays, through any_hit_bvh: a real hit exactly when \
+             chapter 3 finds one",
+            thousand,
+            default,
+            thousand_rays,
+            ALL,
+            true,
+        ),
+        bvh_case(
+            "bvh-huge-coordinates",
+            WALK_11,
+            "300 spheres of radius 1e3 to 5e3 with centres up to 1e5 from the origin, 200 rays \
+             from (0, 0, -3e5): box areas near 1e11 (an f32 product of two sides is fine, a sum \
+             of many costs needs care), and still chapter 3's hit on every ray",
+            huge,
+            default,
+            huge_rays,
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-ties-lower-index-wins",
+            WALK_11,
+            "copies of the same spheres (objects 2 and 4, 1 and 5, 6 and 7, 0 and 3), the \
+             radius 2 sphere at z = 6 touching the unit one at z = 5 from inside at z = 4, and \
+             the plane z = 4 (object 8), one sphere per leaf where they can be cut apart: along \
+             +z objects 1, 2, 4, 5 and 8 are all hit at t = 4. Chapter 3 keeps the first listed \
+             of equal hits: expected its answer (object 1 at t = 4) on each of 5 rays",
+            ties,
+            ONE_PER_LEAF,
+            tie_rays,
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-coincident-centroids",
+            BUILD_11,
+            "200 spheres around the same centre (0, 0, 10), radii 0.5 to 4.98: every centroid is \
+             the same point, so no cut can separate them, even with max_leaf 1 (the build must \
+             stop, not loop or recurse forever); from outside the largest is hit first, from the \
+             centre the smallest: chapter 3's answer on each ray",
+            concentric,
+            ONE_PER_LEAF,
+            concentric_rays,
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-only-planes",
+            PLANES_11,
+            "two planes and nothing with a box (an empty tree): a ray from the origin along +z \
+             meets the plane z = 3 at t = 3: expected object 1 at t = 3",
+            vec![
+                Plane::new(v(0.0, 0.0, 8.0), -Vec3::Z).into(),
+                Plane::new(v(0.0, 0.0, 3.0), -Vec3::Z).into(),
+            ],
+            default,
+            vec![Ray::new(Vec3::ZERO, Vec3::Z)],
+            ALL,
+            false,
+        ),
+        bvh_case(
+            "bvh-nan-ray",
+            NAN_11,
+            "a ray whose direction is NaN through the 1000 spheres' first ten: no box can \
+             reject it (every crossing is NaN), the objects' own tests do: expected no hit",
+            random_spheres(11, 10, 20.0, (0.1, 0.6), Vec3::ZERO, 0).0,
+            default,
+            vec![Ray::new(Vec3::ZERO, Vec3::NAN)],
+            ALL,
+            false,
+        ),
+        box_case(
+            "box-through-a-corner",
+            ROUNDING_11,
+            "the cube from -1 to 1; a ray from (2, 2, 0) along (-1, -1, 1) touches it only at \
+             the corner (1, 1, 1), at t = 1, where it enters (x and y planes) and leaves (the \
+             z plane) at once: expected 1",
+            CUBE,
+            (v(2.0, 2.0, 0.0), v(-1.0, -1.0, 1.0)),
+            ALL,
+            Some(1.0),
+        ),
+        Case::new(
+            "box-rays-along-edges",
+            ROUNDING_11,
+            "20000 rays from random origins aimed at random points of the edges of the box \
+             from (-1.3, 0.2, 2.7) to (0.9, 1.7, 3.1): where the exact ray (in f64) meets the \
+             box, even along a sliver, hit_box must say so; the rounded crossings can put \
+             the entry a hair past the exit, which the widening by 2 gamma_3 absorbs",
+            CaseKind::BoxEdges {
+                min: v(-1.3, 0.2, 2.7),
+                max: v(0.9, 1.7, 3.1),
+                rays: 20_000,
+                seed: 0x2545_f491_4f6c_dd1d,
+            },
+        ),
+    ])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -2610,14 +3111,4 @@ mod chapter_10_tests {
         let weights = exact::barycentric(skewed, glam::DVec3::new(1.0, 1.0, 0.0));
         assert!((weights - glam::DVec3::new(0.25, 0.25, 0.5)).length() < 1e-12);
     }
-}
-
-/// Chapter 11's checkpoint cases.
-pub fn chapter_11() -> Vec<Case> {
-    Vec::new()
-}
-
-/// Chapter 11's hard cases.
-pub fn chapter_11_robustness() -> Vec<Case> {
-    Vec::new()
 }

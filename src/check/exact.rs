@@ -129,3 +129,54 @@ pub fn terminator_point(corners: [DVec3; 3], normals: [DVec3; 3], point: DVec3) 
     }
     lifted
 }
+
+/// Where the line `origin + t dir` is inside `bounds`: the slab test in
+/// `f64`, where `plane - origin` is exact and the division nearly so (the
+/// exact answer, to judge the `f32` one by). Empty when `entry > exit`; a
+/// zero direction component with the origin on a plane gives NaN, which
+/// `f64::max` and `f64::min` skip.
+pub fn slab_interval(bounds: &crate::bvh::Aabb, origin: Vec3, dir: Vec3) -> (f64, f64) {
+    let (mut entry, mut exit) = (f64::NEG_INFINITY, f64::INFINITY);
+    for axis in 0..3 {
+        let (o, d) = (f64::from(origin[axis]), f64::from(dir[axis]));
+        let a = (f64::from(bounds.min[axis]) - o) / d;
+        let b = (f64::from(bounds.max[axis]) - o) / d;
+        entry = entry.max(a.min(b));
+        exit = exit.min(a.max(b));
+    }
+    (entry, exit)
+}
+
+/// A small deterministic generator (xorshift64), so that a case's many
+/// inputs are the same on every run and every machine.
+#[derive(Debug, Clone)]
+pub struct Xorshift(u64);
+
+impl Xorshift {
+    /// Any seed; 0 (which xorshift would never leave) is replaced.
+    pub fn new(seed: u64) -> Xorshift {
+        Xorshift(if seed == 0 {
+            0x9e37_79b9_7f4a_7c15
+        } else {
+            seed
+        })
+    }
+
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in `[low, high)` (24 random bits, as many as an `f32` holds).
+    pub fn between(&mut self, low: f32, high: f32) -> f32 {
+        let unit = (self.next() >> 40) as f32 / (1u64 << 24) as f32;
+        low + unit * (high - low)
+    }
+
+    /// Uniform in `0..n`.
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}

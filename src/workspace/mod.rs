@@ -509,6 +509,15 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
     let mut uses = Vec::new();
     let mut reexports = Vec::new();
     let mut code = Vec::new();
+    // The chapter's private types (chapter 11's node stack, say) are
+    // helpers like its private functions: no one outside can name them,
+    // so they cannot be re-exported; the answer key copies them with their
+    // methods, and a student writes their own, or none.
+    let private_types: Vec<&str> = items
+        .iter()
+        .filter(|item| is_type(item.kind) && !item.is_pub(src))
+        .filter_map(|item| item.name.as_deref())
+        .collect();
     for item in &items {
         let text = &src[item.range.clone()];
         let name = item.name.as_deref().unwrap_or_default();
@@ -530,17 +539,22 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
                     uses.push(line);
                 }
             }
-            // A type the chapter defines is raylab's, and the trait's
-            // signatures name raylab's: the workspace uses that one.
-            ItemKind::Struct
-            | ItemKind::Enum
-            | ItemKind::Union
-            | ItemKind::Trait
-            | ItemKind::TypeAlias => {
+            kind if is_type(kind) && private_types.contains(&name) => {
+                code.extend(solutions.then(|| scan::crate_paths_to_raylab(text)));
+            }
+            // A public type the chapter defines is raylab's, and the
+            // trait's signatures name raylab's: the workspace uses that one.
+            kind if is_type(kind) => {
                 reexports.push(format!("pub use raylab::chapters::{module}::{name};"));
             }
-            // Methods of those types are raylab's too.
-            ItemKind::Impl => {}
+            // Methods of a private type go with it; those of a public type
+            // are raylab's too.
+            ItemKind::Impl => {
+                let own_type = impl_self_type(&src[item.header..item.range.end]);
+                if solutions && own_type.is_some_and(|own| private_types.contains(&own)) {
+                    code.push(scan::crate_paths_to_raylab(text));
+                }
+            }
             ItemKind::Fn if info.functions.contains(&name) => {
                 code.push(student_function(info, src, item, &lesson, solutions));
             }
@@ -566,6 +580,47 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
         out.push('\n');
     }
     Ok(out)
+}
+
+fn is_type(kind: ItemKind) -> bool {
+    matches!(
+        kind,
+        ItemKind::Struct | ItemKind::Enum | ItemKind::Union | ItemKind::Trait | ItemKind::TypeAlias
+    )
+}
+
+/// The name of the type an `impl` block (the text from `impl` on) is for:
+/// `Nearest` in `impl Nearest {` and in `impl<T> Trait for Nearest<T> {`.
+fn impl_self_type(text: &str) -> Option<&str> {
+    let header = &text[..text.find('{')?];
+    let header = header.strip_prefix("impl")?;
+    // Past the impl's own generics, `<...>` right after the keyword.
+    let header = match header.trim_start().strip_prefix('<') {
+        Some(rest) => {
+            let mut depth = 1;
+            let close = rest.char_indices().find_map(|(at, c)| {
+                match c {
+                    '<' => depth += 1,
+                    '>' => depth -= 1,
+                    _ => {}
+                }
+                (depth == 0).then_some(at)
+            })?;
+            &rest[close + 1..]
+        }
+        None => header,
+    };
+    let self_type = header
+        .rsplit_once(" for ")
+        .map_or(header, |(_, after)| after);
+    let self_type = self_type.trim_start().trim_start_matches(['&', '(']);
+    let end = self_type
+        .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+        .unwrap_or(self_type.len());
+    self_type[..end]
+        .rsplit("::")
+        .next()
+        .filter(|name| !name.is_empty())
 }
 
 /// A function the student writes: its doc comment, a pointer to the lesson,
@@ -705,6 +760,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn impl_blocks_name_their_type() {
+        assert_eq!(impl_self_type("impl Nearest {}"), Some("Nearest"));
+        assert_eq!(
+            impl_self_type("impl<T: X<u8>> Show for Stack<T> {}"),
+            Some("Stack")
+        );
+        assert_eq!(
+            impl_self_type("impl std::fmt::Debug for a::Bins {}"),
+            Some("Bins")
+        );
+        assert_eq!(impl_self_type("impl Sampling {}"), Some("Sampling"));
+    }
+
+    #[test]
     fn package_names_are_valid() {
         assert_eq!(package_name("s"), "s");
         assert_eq!(package_name("My Tracer"), "my-tracer");
@@ -752,6 +821,23 @@ mod tests {
             }
             assert!(!answer.contains("todo!("));
         }
+        // Chapter 11's private helpers: the answer key carries them and
+        // their methods (raylab's cannot be named from outside); the
+        // skeleton leaves them to the student.
+        let bvh = CHAPTERS.iter().find(|info| info.number == 11).expect("11");
+        let bvh_todo = chapter_file(bvh, "/r", false).expect("cuts");
+        let bvh_answer = chapter_file(bvh, "/r", true).expect("cuts");
+        for helper in [
+            "struct NodeStack",
+            "impl NodeStack",
+            "struct Nearest",
+            "impl Nearest",
+        ] {
+            assert!(bvh_answer.contains(helper), "{helper}");
+            assert!(!bvh_todo.contains(helper), "{helper}");
+        }
+        assert!(!bvh_answer.contains("pub use raylab::chapters::ch11_bvh::"));
+        assert!(bvh_todo.contains("use raylab::bvh::{Aabb, Bvh, BvhNode, BvhOptions, SplitRule};"));
         let plane = chapter_file(&CHAPTERS[0], "/r", false).expect("cuts");
         assert!(!plane.contains("PARALLEL_TOLERANCE"));
         let plane_answer = chapter_file(&CHAPTERS[0], "/r", true).expect("cuts");
