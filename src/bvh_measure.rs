@@ -237,4 +237,30 @@ mod tests {
             assert_eq!(result.hits, hits);
         }
     }
+
+    #[test]
+    fn brute_force_is_left_out_above_its_limit() {
+        let shapes: Vec<Shape> = (0..3)
+            .map(|i| Sphere::new(Vec3::new(i as f32 * 3.0, 0.0, 5.0), 1.0).into())
+            .collect();
+        let rays = [Ray::new(Vec3::ZERO, Vec3::Z)];
+        let options = MeasureOptions {
+            runs: 1,
+            leaf_sizes: vec![1],
+            split_rules: vec![SplitRule::Sah],
+            brute_force_max_objects: 2,
+            ..MeasureOptions::default()
+        };
+        let measured = measure(&shapes, &rays, &options);
+        assert_eq!(measured.results.len(), 1);
+        assert_eq!(measured.results[0].mismatches, None);
+        assert_eq!(measured.results[0].hits, 1);
+        let options = MeasureOptions {
+            brute_force_max_objects: 3,
+            ..options
+        };
+        let measured = measure(&shapes, &rays, &options);
+        assert_eq!(measured.results[0].method, Method::BruteForce);
+        assert_eq!(measured.results[1].mismatches, Some(0));
+    }
 }
