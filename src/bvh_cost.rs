@@ -2,7 +2,8 @@
 //! and saves, measured. Nothing here prints; [`crate::bvh_report`] formats.
 //!
 //! Three tables, all single-threaded (so that they measure the algorithm,
-//! not the scheduler), each time the median of `repeats` runs:
+//! not the scheduler), each time the median of `repeats` runs of the
+//! thread's CPU time ([`CpuInstant`]: a busy machine's waits left out):
 //!
 //! - scaling: build and trace time of the SAH tree on raylab's generated
 //!   torus at each size of [`SCALING_SIZES`], beside brute force (chapter
@@ -13,12 +14,12 @@
 //!   [`crate::stage::BVH_MIN_OBJECTS`].
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::Result;
 
 use crate::bvh::{BvhOptions, SplitRule};
-use crate::bvh_measure::{self, MeasureOptions, Measurement, Method};
+use crate::bvh_measure::{self, CpuInstant, MeasureOptions, Measurement, Method};
 use crate::chapters::ch03_nearest::nearest_hit;
 use crate::chapters::ch11_bvh::{build_bvh, nearest_hit_bvh};
 use crate::course::Objects;
@@ -45,7 +46,8 @@ pub const CROSSOVER_MAX_SPHERES: usize = 64;
 /// Runs per crossover figure, at least: each takes well under the
 /// scheduler's time slice, so on a busy machine one preempted run can be
 /// ten times the others, and the crossover rule (the tree wins at every
-/// count from there on) would take that one spike as a loss.
+/// count from there on) would take that one spike as a loss. Nine runs
+/// let the median drop four.
 pub const CROSSOVER_MIN_RUNS: u32 = 9;
 
 /// What to measure.
@@ -313,48 +315,51 @@ pub fn sphere_scene(spheres: usize) -> Vec<Shape> {
 /// Loop against tree on scenes of 1 to `max_spheres` spheres and a floor,
 /// with [`torus_rays`]. The tree's time includes its build: a render
 /// builds one tree per frame, so that is what the loop competes with.
+///
+/// Each run is one pass over every scene, loop and tree taking turns, and
+/// the runs are passes one after the other: a busy spell of the machine
+/// (a stall of tens of milliseconds is common under load) then spoils one
+/// run of a few neighbouring scenes, which the median drops, rather than
+/// every run of one scene, which it cannot.
 pub fn measure_crossover(max_spheres: usize, repeats: u32) -> Crossover {
     let rays = torus_rays();
     let runs = repeats.max(CROSSOVER_MIN_RUNS);
-    let rows: Vec<CrossoverRow> = (1..=max_spheres)
-        .map(|spheres| {
-            let shapes = sphere_scene(spheres);
-            let objects = Objects::<Reference>::new(&shapes);
-            let trace_loop = || -> Vec<_> {
-                rays.iter()
-                    .map(|ray| black_box(nearest_hit(&objects, ray, 0.0, f32::INFINITY)))
-                    .collect()
-            };
-            let build_and_trace = || -> Vec<_> {
-                let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
-                let bvh = build_bvh(&bounds, &BvhOptions::default());
-                rays.iter()
-                    .map(|ray| black_box(nearest_hit_bvh(&bvh, &objects, ray, 0.0, f32::INFINITY)))
-                    .collect()
-            };
-            // Loop and tree take turns, so that a busy spell of the
-            // machine falls on both rather than on one of them.
-            let (mut loop_times, mut tree_times) = (Vec::new(), Vec::new());
-            let (mut loop_hits, mut tree_hits) = (Vec::new(), Vec::new());
-            for _ in 0..runs {
-                let start = Instant::now();
-                loop_hits = trace_loop();
-                loop_times.push(start.elapsed());
-                let start = Instant::now();
-                tree_hits = build_and_trace();
-                tree_times.push(start.elapsed());
-            }
-            let mismatches = loop_hits
+    let scenes: Vec<Vec<Shape>> = (1..=max_spheres).map(sphere_scene).collect();
+    let mut loop_times = vec![Vec::new(); scenes.len()];
+    let mut tree_times = vec![Vec::new(); scenes.len()];
+    let mut mismatches = vec![0; scenes.len()];
+    for run in 0..runs {
+        for (index, shapes) in scenes.iter().enumerate() {
+            let objects = Objects::<Reference>::new(shapes);
+            let start = CpuInstant::now();
+            let loop_hits: Vec<_> = rays
                 .iter()
-                .zip(&tree_hits)
-                .filter(|(a, b)| a != b)
-                .count();
-            CrossoverRow {
-                spheres,
-                loop_time: median_of(loop_times),
-                tree_time: median_of(tree_times),
-                mismatches,
+                .map(|ray| black_box(nearest_hit(&objects, ray, 0.0, f32::INFINITY)))
+                .collect();
+            loop_times[index].push(start.elapsed());
+            let start = CpuInstant::now();
+            let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
+            let bvh = build_bvh(&bounds, &BvhOptions::default());
+            let tree_hits: Vec<_> = rays
+                .iter()
+                .map(|ray| black_box(nearest_hit_bvh(&bvh, &objects, ray, 0.0, f32::INFINITY)))
+                .collect();
+            tree_times[index].push(start.elapsed());
+            if run == 0 {
+                mismatches[index] = loop_hits
+                    .iter()
+                    .zip(&tree_hits)
+                    .filter(|(a, b)| a != b)
+                    .count();
             }
+        }
+    }
+    let rows: Vec<CrossoverRow> = (0..scenes.len())
+        .map(|index| CrossoverRow {
+            spheres: index + 1,
+            loop_time: median_of(std::mem::take(&mut loop_times[index])),
+            tree_time: median_of(std::mem::take(&mut tree_times[index])),
+            mismatches: mismatches[index],
         })
         .collect();
     let from = crossover(&rows);
@@ -362,7 +367,7 @@ pub fn measure_crossover(max_spheres: usize, repeats: u32) -> Crossover {
 }
 
 /// The median of measured times (the mean of the middle two for an even
-/// count), as [`median`] computes it.
+/// count), as `bvh_measure`'s median computes it.
 fn median_of(mut times: Vec<Duration>) -> Duration {
     times.sort();
     let middle = times.len() / 2;

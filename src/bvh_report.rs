@@ -39,7 +39,7 @@ pub fn markdown(report: &BvhCostReport) -> String {
     let _ = writeln!(
         text,
         "\n### The tree (chapter 11)\n\n\
-         One thread; times are the median of {repeats} runs; {RAY_COUNT} fixed rays (3072 from \
+         One thread; times are the thread's CPU time (waits for a core on a busy machine left out), median of {repeats} runs; {RAY_COUNT} fixed rays (3072 from \
          a camera, about half of them missing, 1024 from inside the tube). Brute force is \
          chapter 3's loop over every triangle, timed up to {} triangles (above, \"—\": \
          it tests every triangle for every ray). Mismatches: rays whose nearest hit differs \
@@ -109,8 +109,8 @@ pub fn markdown(report: &BvhCostReport) -> String {
     let _ = writeln!(
         text,
         "\nLoop or tree: scenes of k spheres and a floor plane, the same rays; the tree's time \
-         is its build plus its trace (what a render pays); median of {} runs, loop and tree \
-         taking turns. {}\n",
+         is its build plus its trace (what a render pays); median of {} runs (passes over every k), loop \
+         and tree taking turns. {}\n",
         crossover.runs,
         match crossover.from {
             Some(k) => format!("The tree is faster from k = {k} on."),
@@ -269,7 +269,7 @@ fn draw_scaling(report: &BvhCostReport) -> Result<String, Box<dyn std::error::Er
             .draw()?;
         note_area.draw(&Text::new(
             format!(
-                "Median of {} runs. Brute force (chapter 3's loop) is timed up to {} triangles.",
+                "Thread CPU time, median of {} runs. Brute force (chapter 3's loop) is timed up to {} triangles.",
                 report.options.repeats.max(1),
                 BRUTE_FORCE_MAX_TRIANGLES
             ),
