@@ -241,7 +241,7 @@ fn draw_scaling(report: &BvhCostReport) -> Result<String, Box<dyn std::error::Er
         chart
             .configure_mesh()
             .x_desc("triangles (generated torus)")
-            .y_desc("seconds (median)")
+            .y_desc("thread CPU seconds (median)")
             .x_label_formatter(&|x| format!("{x:e}"))
             .y_label_formatter(&|y| format!("{y:e}"))
             .draw()?;
