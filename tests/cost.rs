@@ -282,5 +282,13 @@ fn cost_command_writes_the_bvh_report_and_its_plot() {
         empty.path(),
     );
     assert_eq!(output.status.code(), Some(2));
+    std::fs::write(empty.path().join("scene.toml"), "").expect("write");
+    let output = raylab(
+        &["cost", "-c", "11", "--knob", "bvh", "--scene", "scene.toml"],
+        empty.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("--scene"), "{}", stderr(&output));
+    std::fs::remove_file(empty.path().join("scene.toml")).expect("remove");
     assert_eq!(std::fs::read_dir(empty.path()).expect("dir").count(), 0);
 }

@@ -81,6 +81,12 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     let bvh = knobs.contains(&Knob::Bvh);
     // The BVH report renders nothing: the image knobs are the others.
     let image_knobs: Vec<Knob> = knobs.iter().copied().filter(|k| *k != Knob::Bvh).collect();
+    if image_knobs.is_empty() && args.scene.is_some() {
+        bail!(
+            "--scene: the BVH report measures its own generated torus and spheres; \
+             add an image knob to sweep a scene"
+        );
+    }
     if let Some(max) = args.max_triangles {
         if !bvh {
             bail!(
