@@ -148,7 +148,9 @@ fn draw_scaling(report: &BvhCostReport) -> Result<String, Box<dyn std::error::Er
     use plotters::prelude::*;
 
     let seconds = |d: Duration| d.as_secs_f64().max(1e-7);
-    let series: [(&str, RGBColor, Vec<(f64, f64)>); 3] = [
+    // A curve: its legend, its colour, its (triangles, seconds) points.
+    type Series = (&'static str, RGBColor, Vec<(f64, f64)>);
+    let series: [Series; 3] = [
         (
             "SAH tree: build",
             RGBColor(31, 119, 180),
