@@ -3,12 +3,14 @@
 //! rule and several leaf sizes, on the same shapes and rays.
 //!
 //! Each figure is the median of several runs, single-threaded, so that it
-//! measures the algorithm rather than the scheduler. Nothing here prints:
+//! measures the algorithm rather than the scheduler, and timed by the
+//! thread's CPU clock ([`CpuInstant`]), so that time spent waiting for a
+//! core on a busy machine is not counted. Nothing here prints:
 //! [`measure`] returns the numbers, and formatting them is the caller's
 //! business (`raylab cost --chapter 11`).
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::bvh::{Bvh, BvhOptions, SplitRule};
 use crate::chapters::ch03_nearest::nearest_hit;
@@ -28,6 +30,10 @@ pub struct MeasureOptions {
     pub bins: u32,
     /// Every ray is traced for its nearest hit with `t_min < t < infinity`.
     pub t_min: f32,
+    /// Brute force is measured only for this many objects or fewer: its
+    /// time grows with objects x rays, and at a million triangles one pass
+    /// would take minutes. Above it the trees are timed but not checked.
+    pub brute_force_max_objects: usize,
 }
 
 impl Default for MeasureOptions {
@@ -38,6 +44,7 @@ impl Default for MeasureOptions {
             split_rules: vec![SplitRule::Sah, SplitRule::Midpoint],
             bins: BvhOptions::default().bins,
             t_min: 0.0,
+            brute_force_max_objects: usize::MAX,
         }
     }
 }
@@ -52,7 +59,7 @@ pub enum Method {
 }
 
 /// The shape of a tree ([`Bvh`]'s statistics).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct TreeStats {
     pub nodes: usize,
     pub leaves: usize,
@@ -87,11 +94,13 @@ pub struct Measurement {
     /// How many rays hit something.
     pub hits: usize,
     /// How many rays' nearest hit (object or `t`) differs from brute
-    /// force's: 0 unless chapter 11 is wrong.
-    pub mismatches: usize,
+    /// force's: 0 unless chapter 11 is wrong; `None` when brute force was
+    /// not measured (more objects than `brute_force_max_objects`).
+    pub mismatches: Option<usize>,
 }
 
-/// Every method's figures on one set of shapes and rays; brute force first.
+/// Every method's figures on one set of shapes and rays; brute force first
+/// when it was measured.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Measurements {
     pub objects: usize,
@@ -108,23 +117,27 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
     let objects = Objects::<Reference>::new(shapes);
     let t_min = options.t_min;
 
-    let mut brute_hits = Vec::new();
-    let brute_trace = median(runs, || {
-        let start = Instant::now();
-        brute_hits = rays
-            .iter()
-            .map(|ray| black_box(nearest_hit(&objects, ray, t_min, f32::INFINITY)))
-            .collect();
-        start.elapsed()
+    let mut results = Vec::new();
+    let brute_hits = (shapes.len() <= options.brute_force_max_objects).then(|| {
+        let mut brute_hits = Vec::new();
+        let trace = median(runs, || {
+            let start = CpuInstant::now();
+            brute_hits = rays
+                .iter()
+                .map(|ray| black_box(nearest_hit(&objects, ray, t_min, f32::INFINITY)))
+                .collect();
+            start.elapsed()
+        });
+        results.push(Measurement {
+            method: Method::BruteForce,
+            build: Duration::ZERO,
+            trace,
+            tree: None,
+            hits: count_hits(&brute_hits),
+            mismatches: Some(0),
+        });
+        brute_hits
     });
-    let mut results = vec![Measurement {
-        method: Method::BruteForce,
-        build: Duration::ZERO,
-        trace: brute_trace,
-        tree: None,
-        hits: count_hits(&brute_hits),
-        mismatches: 0,
-    }];
 
     let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
     for &split in &options.split_rules {
@@ -136,13 +149,13 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
             };
             let mut bvh = Bvh::default();
             let build = median(runs, || {
-                let start = Instant::now();
+                let start = CpuInstant::now();
                 bvh = black_box(build_bvh(&bounds, &bvh_options));
                 start.elapsed()
             });
             let mut hits = Vec::new();
             let trace = median(runs, || {
-                let start = Instant::now();
+                let start = CpuInstant::now();
                 hits = rays
                     .iter()
                     .map(|ray| {
@@ -151,11 +164,12 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
                     .collect();
                 start.elapsed()
             });
-            let mismatches = hits
-                .iter()
-                .zip(&brute_hits)
-                .filter(|(bvh_hit, brute_hit)| bvh_hit != brute_hit)
-                .count();
+            let mismatches = brute_hits.as_ref().map(|brute_hits| {
+                hits.iter()
+                    .zip(brute_hits)
+                    .filter(|(bvh_hit, brute_hit)| bvh_hit != brute_hit)
+                    .count()
+            });
             results.push(Measurement {
                 method: Method::Bvh(bvh_options),
                 build,
@@ -174,13 +188,57 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
     }
 }
 
-fn count_hits(hits: &[Option<Hit>]) -> usize {
+pub fn count_hits(hits: &[Option<Hit>]) -> usize {
     hits.iter().filter(|hit| hit.is_some()).count()
+}
+
+/// A reading of the CPU time the calling thread has used, for timing
+/// single-threaded work. Wall time on a shared machine counts every
+/// moment another process held the core: with a load of 8 on 2 cores a run
+/// of half a millisecond is often stretched ten times, and medians of a few
+/// runs follow the load rather than the algorithm. Outside Unix, where
+/// there is no thread clock to read through `libc`, it falls back to wall
+/// time.
+#[derive(Debug, Clone, Copy)]
+pub struct CpuInstant(Duration);
+
+impl CpuInstant {
+    pub fn now() -> CpuInstant {
+        CpuInstant(thread_cpu_time())
+    }
+
+    pub fn elapsed(&self) -> Duration {
+        thread_cpu_time().saturating_sub(self.0)
+    }
+}
+
+#[cfg(unix)]
+fn thread_cpu_time() -> Duration {
+    let mut now = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `now` is a valid, writable timespec; the call writes only it.
+    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut now) };
+    if status != 0 {
+        // Linux and macOS always have this clock; a zero reading would
+        // turn every figure into 0 rather than a wrong number.
+        return Duration::ZERO;
+    }
+    Duration::new(now.tv_sec as u64, now.tv_nsec as u32)
+}
+
+#[cfg(not(unix))]
+fn thread_cpu_time() -> Duration {
+    use std::sync::OnceLock;
+    use std::time::Instant;
+    static START: OnceLock<Instant> = OnceLock::new();
+    START.get_or_init(Instant::now).elapsed()
 }
 
 /// The median of `runs` calls of `time` (the mean of the middle two for an
 /// even count).
-fn median(runs: u32, mut time: impl FnMut() -> Duration) -> Duration {
+pub fn median(runs: u32, mut time: impl FnMut() -> Duration) -> Duration {
     let mut times: Vec<Duration> = (0..runs.max(1)).map(|_| time()).collect();
     times.sort();
     let middle = times.len() / 2;
@@ -221,8 +279,34 @@ mod tests {
         let hits = measured.results[0].hits;
         assert!(hits > 50, "{hits}");
         for result in &measured.results {
-            assert_eq!(result.mismatches, 0, "{:?}", result.method);
+            assert_eq!(result.mismatches, Some(0), "{:?}", result.method);
             assert_eq!(result.hits, hits);
         }
+    }
+
+    #[test]
+    fn brute_force_is_left_out_above_its_limit() {
+        let shapes: Vec<Shape> = (0..3)
+            .map(|i| Sphere::new(Vec3::new(i as f32 * 3.0, 0.0, 5.0), 1.0).into())
+            .collect();
+        let rays = [Ray::new(Vec3::ZERO, Vec3::Z)];
+        let options = MeasureOptions {
+            runs: 1,
+            leaf_sizes: vec![1],
+            split_rules: vec![SplitRule::Sah],
+            brute_force_max_objects: 2,
+            ..MeasureOptions::default()
+        };
+        let measured = measure(&shapes, &rays, &options);
+        assert_eq!(measured.results.len(), 1);
+        assert_eq!(measured.results[0].mismatches, None);
+        assert_eq!(measured.results[0].hits, 1);
+        let options = MeasureOptions {
+            brute_force_max_objects: 3,
+            ..options
+        };
+        let measured = measure(&shapes, &rays, &options);
+        assert_eq!(measured.results[0].method, Method::BruteForce);
+        assert_eq!(measured.results[1].mismatches, Some(0));
     }
 }

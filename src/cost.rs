@@ -39,16 +39,21 @@ pub enum Knob {
     Fresnel,
     /// Moller-Trumbore against the watertight triangle test (chapter 10).
     TriangleTest,
+    /// Not an image knob (the tree changes no pixel): the BVH report, build
+    /// and trace time against triangles, split rule, leaf size, and from
+    /// how many objects a tree pays (chapter 11).
+    Bvh,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 6] = [
+    pub const ALL: [Knob; 7] = [
         Knob::Samples,
         Knob::Depth,
         Knob::Offset,
         Knob::SphereFormula,
         Knob::Fresnel,
         Knob::TriangleTest,
+        Knob::Bvh,
     ];
 
     /// The chapter that introduces this knob.
@@ -60,6 +65,7 @@ impl Knob {
             Knob::Samples => 7,
             Knob::Fresnel => 9,
             Knob::TriangleTest => 10,
+            Knob::Bvh => 11,
         }
     }
 
@@ -72,6 +78,7 @@ impl Knob {
             Knob::SphereFormula => "sphere-formula",
             Knob::Fresnel => "fresnel",
             Knob::TriangleTest => "triangle-test",
+            Knob::Bvh => "bvh",
         }
     }
 
@@ -391,6 +398,8 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                     jobs.push(job(*knob, label.into(), settings));
                 }
             }
+            // Measured by `crate::bvh_cost`, not by rendering.
+            Knob::Bvh => {}
         }
     }
     jobs
@@ -922,7 +931,8 @@ mod tests {
         );
         assert_eq!(Knob::of_chapter(8), Knob::ALL[..4].to_vec());
         assert_eq!(Knob::of_chapter(9), Knob::ALL[..5].to_vec());
-        assert_eq!(Knob::of_chapter(10), Knob::ALL.to_vec());
+        assert_eq!(Knob::of_chapter(10), Knob::ALL[..6].to_vec());
+        assert_eq!(Knob::of_chapter(11), Knob::ALL.to_vec());
     }
 
     #[test]

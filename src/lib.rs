@@ -47,7 +47,9 @@ pub mod chapters;
 
 pub mod builtin;
 pub mod bvh;
+pub mod bvh_cost;
 pub mod bvh_measure;
+pub mod bvh_report;
 pub mod camera;
 pub mod check;
 pub mod cleanup;

@@ -175,3 +175,120 @@ fn knobs_a_chapter_does_not_have_are_refused() {
     // Nothing was rendered or written.
     assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 0);
 }
+
+/// Chapter 11's report at tiny sizes: every tree finds brute force's hits,
+/// the figures sit in the right columns, and the crossover is in range.
+#[test]
+fn bvh_report_matches_brute_force_at_small_sizes() {
+    use raylab::bvh_cost::{BvhCostOptions, CROSSOVER_MAX_SPHERES};
+    let report = raylab::bvh_cost::run(&BvhCostOptions {
+        repeats: 3,
+        max_triangles: 1_000,
+    })
+    .expect("report");
+    let triangles: Vec<usize> = report.scaling.iter().map(|row| row.triangles).collect();
+    assert_eq!(triangles, [18, 104, 1_008]);
+    for row in &report.scaling {
+        assert_eq!(row.tree.mismatches, Some(0), "{} triangles", row.triangles);
+        let brute = row.brute_force.as_ref().expect("brute force up to 10k");
+        assert_eq!(row.tree.hits, brute.hits);
+        assert!(brute.hits > 0);
+    }
+    // Not timing assertions but column checks, each by a factor of 50 or
+    // more: building a 5-node tree takes microseconds, tracing 4096 rays
+    // hundreds of them; at a thousand triangles the loop tests every one
+    // for every ray, the tree a few dozen.
+    let smallest = &report.scaling[0].tree;
+    assert!(smallest.trace > smallest.build * 10, "{smallest:?}");
+    let largest = &report.scaling[2];
+    let brute = largest.brute_force.as_ref().expect("brute force");
+    assert!(brute.trace > largest.tree.trace * 5, "{largest:?}");
+
+    let split = report.split.as_ref().expect("a split table");
+    assert_eq!(split.triangles, 1_008);
+    assert!(split.checked);
+    assert_eq!(split.trees.len(), 8);
+    for tree in &split.trees {
+        assert_eq!(tree.mismatches, Some(0), "{:?}", tree.method);
+    }
+
+    let crossover = &report.crossover;
+    assert_eq!(crossover.rows.len(), CROSSOVER_MAX_SPHERES);
+    assert!(crossover.rows.iter().all(|row| row.mismatches == 0));
+    let from = crossover.from.expect("the tree wins at 64 spheres");
+    assert!((1..=CROSSOVER_MAX_SPHERES).contains(&from), "{from}");
+    assert_eq!(report.mismatches(), 0);
+}
+
+#[test]
+fn cost_command_writes_the_bvh_report_and_its_plot() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let args = [
+        "cost",
+        "--chapter",
+        "11",
+        "--knob",
+        "bvh",
+        "--max-triangles",
+        "1000",
+        "--repeats",
+        "1",
+        "--out",
+        "bvh",
+    ];
+    let out = raylab(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let folder = dir.path().join("bvh");
+    let mut written: Vec<String> = std::fs::read_dir(&folder)
+        .expect("folder")
+        .map(|entry| entry.expect("entry").file_name().to_string_lossy().into())
+        .collect();
+    written.sort();
+    assert_eq!(written, ["bvh-scaling.svg", "cost.md"]);
+    let markdown = std::fs::read_to_string(folder.join("cost.md")).expect("cost.md");
+    assert!(markdown.contains("| triangles | build (ms) | trace (ms) |"));
+    assert!(markdown.contains("| SAH | 4 |") && markdown.contains("| midpoint | 8 |"));
+    assert!(
+        markdown.contains("The tree is faster from k = "),
+        "{markdown}"
+    );
+    assert!(markdown.contains(
+        "Reproduce with `raylab cost --chapter 11 --repeats 1 --knob bvh --max-triangles 1000 --out bvh`"
+    ));
+    // Three sizes up to 1,000 (18, 104, 1,008 triangles), none above.
+    assert!(markdown.contains("| 1,008 |") && !markdown.contains("| 10,032 |"));
+    let svg = std::fs::read_to_string(folder.join("bvh-scaling.svg")).expect("svg");
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("SAH tree: build") && svg.contains("brute force: trace"));
+
+    // The report's size cap without the report, and the report before
+    // chapter 11, are refused before anything is written.
+    let empty = tempfile::tempdir().expect("temp dir");
+    let output = raylab(
+        &["cost", "-c", "10", "--max-triangles", "1000"],
+        empty.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output).contains("--max-triangles"),
+        "{}",
+        stderr(&output)
+    );
+    let output = raylab(&["cost", "-c", "10", "--knob", "bvh"], empty.path());
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("chapter 10 has no bvh knob"));
+    let output = raylab(
+        &["cost", "-c", "11", "--knob", "bvh", "--max-triangles", "5"],
+        empty.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    std::fs::write(empty.path().join("scene.toml"), "").expect("write");
+    let output = raylab(
+        &["cost", "-c", "11", "--knob", "bvh", "--scene", "scene.toml"],
+        empty.path(),
+    );
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("--scene"), "{}", stderr(&output));
+    std::fs::remove_file(empty.path().join("scene.toml")).expect("remove");
+    assert_eq!(std::fs::read_dir(empty.path()).expect("dir").count(), 0);
+}

@@ -10,6 +10,9 @@ use clap::Args;
 use super::render::select_scene;
 use crate::cost::{CostConfig, Knob};
 
+/// The BVH report's plot, beside cost.md.
+pub const BVH_PLOT: &str = "bvh-scaling.svg";
+
 /// The default size: small enough that a sweep takes seconds in release.
 const DEFAULT_WIDTH: u32 = 160;
 const DEFAULT_HEIGHT: u32 = 120;
@@ -19,7 +22,8 @@ pub struct CostArgs {
     /// Chapter whose knobs to sweep (2 on): 2 adds the sphere formula, 4
     /// the secondary-ray offset, 6 the reflection depth, 7 the samples, 9
     /// the Fresnel model, 10 the triangle test (and counts the rays that
-    /// leak through a closed mesh).
+    /// leak through a closed mesh), 11 the BVH report (build and trace
+    /// time against triangles, split rule, leaf size, loop or tree).
     #[arg(short, long, value_parser = crate::stage::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.
@@ -43,6 +47,10 @@ pub struct CostArgs {
     /// Worker threads, 1 to 1024 [default: one per core].
     #[arg(long, value_parser = crate::cli::parse_threads)]
     pub threads: Option<usize>,
+    /// The BVH report's largest torus, in triangles: its sizes (10 to 1 M)
+    /// above this are skipped, for a quick run [default: all].
+    #[arg(long, value_name = "N")]
+    pub max_triangles: Option<usize>,
 }
 
 pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
@@ -67,8 +75,30 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         bail!(
             "chapter {chapter} has no accuracy knob to sweep: the sphere formula comes with \
              chapter 2, the ray offset with 4, depth with 6, samples with 7, fresnel with 9, \
-             the triangle test with 10"
+             the triangle test with 10, the BVH report with 11"
         );
+    }
+    let bvh = knobs.contains(&Knob::Bvh);
+    // The BVH report renders nothing: the image knobs are the others.
+    let image_knobs: Vec<Knob> = knobs.iter().copied().filter(|k| *k != Knob::Bvh).collect();
+    if image_knobs.is_empty() && args.scene.is_some() {
+        bail!(
+            "--scene: the BVH report measures its own generated torus and spheres; \
+             add an image knob to sweep a scene"
+        );
+    }
+    if let Some(max) = args.max_triangles {
+        if !bvh {
+            bail!(
+                "--max-triangles sizes the BVH report, which this run does not make (--knob bvh)"
+            );
+        }
+        let smallest = crate::bvh_cost::SCALING_SIZES[0];
+        if max < smallest {
+            bail!(
+                "--max-triangles {max}: the BVH report's smallest torus has {smallest} triangles"
+            );
+        }
     }
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
@@ -99,68 +129,110 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     if !out.is_dir() {
         bail!("--out {}: not a folder", out.display());
     }
-    let files = ["cost.csv", "cost.md", "cost.svg"].map(|name| out.join(name));
+    let mut names = Vec::new();
+    if !image_knobs.is_empty() {
+        names.extend(["cost.csv", "cost.md", "cost.svg"]);
+    } else {
+        names.push("cost.md");
+    }
+    if bvh {
+        names.push(BVH_PLOT);
+    }
+    let files: Vec<PathBuf> = names.iter().map(|name| out.join(name)).collect();
     let inputs: Vec<&std::path::Path> = args.scene.as_deref().into_iter().collect();
-    let outputs = files.each_ref().map(|file| ("--out", file.as_path()));
+    let outputs: Vec<_> = files.iter().map(|file| ("--out", file.as_path())).collect();
     crate::output::check_outputs(&inputs, &outputs, false)?;
 
     let scene_name = match &args.scene {
         Some(path) => path.display().to_string(),
         None => "built-in scene".to_string(),
     };
-    let config = CostConfig {
-        chapter,
-        scene,
-        scene_name,
-        base,
-        knobs: knobs.clone(),
-        repeats: args.repeats,
-    };
-    let progress = std::io::stderr().is_terminal().then(|| {
-        let bar = indicatif::ProgressBar::new(crate::cost::render_count(&config));
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} sweeping [{bar:40}] {pos}/{len} renders, {eta} left",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    });
-    let report = overrides.in_pool(|| crate::cost::run::<C>(&config, progress.as_ref()))??;
-    if let Some(bar) = progress {
-        bar.finish_and_clear();
-    }
-
-    let leaks = if knobs.contains(&Knob::TriangleTest) {
-        let counts = overrides.in_pool(|| {
-            crate::leaks::LEAK_MESH_SIZES
-                .iter()
-                .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
-                .collect::<Result<Vec<_>>>()
-        })??;
-        leak_table(&counts)
-    } else {
-        String::new()
-    };
-    let command = report.command(&knobs, args.out.as_ref().and_then(|p| p.to_str()));
-    let markdown = format!(
-        "{}{leaks}\nReproduce with `{command}`.\n",
-        report.markdown()
+    let mut markdown = String::new();
+    let mut sweep_files = None;
+    let mut command = format!(
+        "raylab cost --chapter {chapter} --repeats {} --knob bvh",
+        args.repeats
     );
-    let svg = report.svg()?;
+    if !image_knobs.is_empty() {
+        let config = CostConfig {
+            chapter,
+            scene,
+            scene_name,
+            base,
+            knobs: image_knobs.clone(),
+            repeats: args.repeats,
+        };
+        let progress = std::io::stderr().is_terminal().then(|| {
+            let bar = indicatif::ProgressBar::new(crate::cost::render_count(&config));
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{spinner} sweeping [{bar:40}] {pos}/{len} renders, {eta} left",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            bar
+        });
+        let report = overrides.in_pool(|| crate::cost::run::<C>(&config, progress.as_ref()))??;
+        if let Some(bar) = progress {
+            bar.finish_and_clear();
+        }
+        let leaks = if image_knobs.contains(&Knob::TriangleTest) {
+            let counts = overrides.in_pool(|| {
+                crate::leaks::LEAK_MESH_SIZES
+                    .iter()
+                    .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
+                    .collect::<Result<Vec<_>>>()
+            })??;
+            leak_table(&counts)
+        } else {
+            String::new()
+        };
+        command = report.command(&knobs, None);
+        markdown = format!("{}{leaks}", report.markdown());
+        sweep_files = Some((report.csv(), report.svg()?));
+    }
+    let mut plot = None;
+    if bvh {
+        if std::io::stderr().is_terminal() {
+            eprintln!("measuring the tree (one thread; the largest torus takes the longest)...");
+        }
+        let options = crate::bvh_cost::BvhCostOptions {
+            repeats: args.repeats,
+            max_triangles: args.max_triangles.unwrap_or(usize::MAX),
+        };
+        // One thread by design (see crate::bvh_cost): no pool needed.
+        let report = crate::bvh_cost::run(&options)?;
+        markdown.push_str(&crate::bvh_report::markdown(&report));
+        plot = Some(crate::bvh_report::scaling_svg(&report)?);
+        if let Some(max) = args.max_triangles {
+            command.push_str(&format!(" --max-triangles {max}"));
+        }
+    }
+    if let Some(out) = args.out.as_ref().and_then(|p| p.to_str()) {
+        command.push_str(&format!(" --out {out}"));
+    }
+    let markdown = format!("{markdown}\nReproduce with `{command}`.\n");
     // All or nothing: a full disk must not leave a table without its plot.
-    let csv = report.csv();
-    crate::output::write_files(&[
-        (&files[0], csv.as_bytes()),
-        (&files[1], markdown.as_bytes()),
-        (&files[2], svg.as_bytes()),
-    ])?;
+    let mut contents: Vec<&[u8]> = Vec::new();
+    if let Some((csv, svg)) = &sweep_files {
+        contents.extend([csv.as_bytes(), markdown.as_bytes(), svg.as_bytes()]);
+    } else {
+        contents.push(markdown.as_bytes());
+    }
+    if let Some(plot) = &plot {
+        contents.push(plot.as_bytes());
+    }
+    let writes: Vec<(&std::path::Path, &[u8])> =
+        files.iter().map(PathBuf::as_path).zip(contents).collect();
+    crate::output::write_files(&writes)?;
     let safe = crate::text::terminal_safe;
     print!("{}", safe(&markdown));
-    println!(
-        "wrote {0}/cost.csv, {0}/cost.md, {0}/cost.svg",
-        safe(&out.display().to_string())
-    );
+    let folder = safe(&out.display().to_string());
+    let written: Vec<String> = names
+        .iter()
+        .map(|name| format!("{folder}/{name}"))
+        .collect();
+    println!("wrote {}", written.join(", "));
     Ok(0)
 }
 
