@@ -867,3 +867,74 @@ fn raylab_mesh_in_a_read_only_folder_fails_cleanly() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot create a file"));
     assert!(names_in(&locked).is_empty());
 }
+
+/// A scene file names its OBJ model relative to itself, wherever raylab is
+/// run from; a missing or broken model is an error naming the file (and
+/// the line), with exit status 2 and no image.
+#[test]
+fn a_scene_loads_its_obj_model_from_its_own_folder() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir(&scenes).expect("mkdir");
+    std::fs::write(
+        scenes.join("tetra.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .expect("write obj");
+    std::fs::write(scenes.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").expect("write");
+    let scene = |obj: &str| {
+        format!(
+            "[camera]\nposition = [0.3, 0.3, -3.0]\nlook_at = [0.3, 0.3, 0.0]\n\
+             [[lights]]\nposition = [-2.0, 3.0, -3.0]\n\
+             [[objects]]\nname = \"tetra\"\nmesh = {{ obj = \"{obj}\", scale = 1.5 }}\n"
+        )
+    };
+    std::fs::write(scenes.join("good.toml"), scene("tetra.obj")).expect("write");
+    std::fs::write(scenes.join("missing.toml"), scene("nowhere.obj")).expect("write");
+    std::fs::write(scenes.join("bad.toml"), scene("broken.obj")).expect("write");
+    let render = |name: &str| {
+        raylab(
+            &[
+                "render",
+                "--scene",
+                &format!("scenes/{name}"),
+                "--chapter",
+                "10",
+                "--width",
+                "32",
+                "--height",
+                "24",
+                "-o",
+                "out.png",
+                "--force",
+            ],
+            dir.path(),
+        )
+    };
+    let good = render("good.toml");
+    assert_eq!(
+        good.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&good.stderr)
+    );
+    let image = image::open(dir.path().join("out.png"))
+        .expect("a PNG")
+        .to_rgb8();
+    let background = *image.get_pixel(0, 0);
+    assert!(
+        image.pixels().any(|pixel| *pixel != background),
+        "the model is drawn"
+    );
+    std::fs::remove_file(dir.path().join("out.png")).expect("rm");
+    for (name, says) in [
+        ("missing.toml", "nowhere.obj"),
+        ("bad.toml", "broken.obj:3"),
+    ] {
+        let out = render(name);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(says), "{name}: {stderr}");
+        assert!(!dir.path().join("out.png").exists(), "{name}: no image");
+    }
+}

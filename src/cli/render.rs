@@ -267,7 +267,13 @@ pub fn select_scene(chapter: Option<u8>, scene: Option<&Path>) -> Result<(Scene,
             // Through crate::input: a FIFO or /dev/zero as --scene must not
             // block or fill the memory; a scene file is at most 16 MiB.
             let text = crate::input::read_scene_text(path)?;
-            let scene = Scene::parse(&text, &format!("scene file {}", path.display()))?;
+            // OBJ files named in the scene are found next to it.
+            let folder = path.parent().unwrap_or(Path::new(""));
+            let scene = Scene::parse_in(
+                &text,
+                &format!("scene file {}", path.display()),
+                Some(folder),
+            )?;
             Ok((scene, chapter.unwrap_or(LAST_CHAPTER)))
         }
         (Some(chapter), None) => Ok((builtin::scene(chapter)?, chapter)),
