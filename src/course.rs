@@ -411,7 +411,7 @@ impl<'a, C: Chapters> Objects<'a, C> {
     /// object listed early hides a near one listed late (chapter 3 fixes
     /// that). It is exactly right for shadow rays, where any blocker will do
     /// and stopping at the first saves work.
-    #[inline]
+    #[inline(always)]
     pub fn first_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         (0..self.len()).find_map(|object| {
             self.intersect(object, ray, t_min, t_max)

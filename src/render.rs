@@ -346,15 +346,26 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
         let point = HitPoint::new(object, shape, material, ray, t);
         if self.stage.effects.smooth_shading {
-            let smooth = shape.as_triangle().and_then(|triangle| {
-                let normals = self.stage.scene.vertex_normals.get(triangle.normals()?)?;
-                Some((triangle, normals))
-            });
-            if let Some((triangle, normals)) = smooth {
-                return C::smooth_hit_point(point, triangle, normals);
-            }
+            self.smoothed(point, shape)
+        } else {
+            point
         }
-        point
+    }
+
+    /// `point` on `shape` as chapter 10's smooth shading sees it, when the
+    /// shape is a triangle with vertex normals. Apart from
+    /// [`Tracer::hit_point`] so that stages without smooth meshes do not
+    /// carry its code in their hot path.
+    #[inline(never)]
+    fn smoothed(&self, point: HitPoint<'a>, shape: &Shape) -> HitPoint<'a> {
+        let smooth = shape.as_triangle().and_then(|triangle| {
+            let normals = self.stage.scene.vertex_normals.get(triangle.normals()?)?;
+            Some((triangle, normals))
+        });
+        match smooth {
+            Some((triangle, normals)) => C::smooth_hit_point(point, triangle, normals),
+            None => point,
+        }
     }
 
     /// The scene's point lights.
