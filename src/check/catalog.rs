@@ -549,6 +549,15 @@ pub fn chapter_2_robustness() -> Vec<Case> {
             ALL,
             E::Miss,
         ),
+        // The extreme-scale hits (this one, -1e20 and coordinates-1e20
+        // below) are judged against `exact::sphere` like every robustness
+        // hit: within ROUNDINGS u (|t| + S / (|d| cos)), S the size of the
+        // scene (`cases::judge_t`). For these central rays that is 52 to 56
+        // u of t, relative (3e-6), and no tighter on purpose: it is what the
+        // stable formula guarantees itself (`root_error`, 16 u ((|oc| (1 +
+        // r / W) + r) / |d| + |t|), about 60 u of t when the half chord W
+        // is r), while the reference chapters land within 1.2 u of the
+        // exact root on all five extreme-scale hits (0.2 to 1.2 u).
         s(
             "sphere-direction-1e-21",
             "a direction of length 1e-21: dot(dir, dir) = 1e-42 underflows (t = 4e21)",
@@ -586,6 +595,42 @@ pub fn chapter_2_robustness() -> Vec<Case> {
             "coordinates near 1e20: dot(oc, oc) = 1e40 overflows (t = 9e19)",
             (v(0.0, 0.0, 1e20), 1e19),
             (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        // The extreme-scale cases above reach the rescaled path with the
+        // ray entering from outside, and `choose_root` solves again in f64
+        // whenever the f32 near root is within its error bound of t_min: a
+        // rescaled path that returned nonsense roots (say (0, 0)) was
+        // rescued by that second solve and passed them. These ask for what
+        // only the rescaled roots themselves can give: the far root, the
+        // reject of a miss that underflows once scaled, and a direction
+        // whose square underflows beside a sphere whose square does too.
+        s(
+            "sphere-inside-radius-1e19",
+            "from inside a sphere of radius 1e19, 5e8 off its centre, along a direction of \
+             length 1e20 (dot(dir, dir) = 1e40 overflows f32): the far root, t = 0.1",
+            (Vec3::ZERO, 1e19),
+            (v(3e8, 4e8, 0.0), v(0.0, 0.0, 1e20)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-far-miss-1e23",
+            "a unit sphere 1e23 away, the ray passing sqrt(2) from its centre (1 off in x and 1 \
+             in y): no hit. Scaled so that the distance is about 1, the miss distance is 1e-23 \
+             and its square underflows to 0, which looks like a ray through the centre",
+            (v(1.0, 1.0, 1e23), 1.0),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-tiny-direction-tiny-sphere",
+            "a sphere of radius 1e-10 at (0, 0, 5e-10), direction of length 1e-21: dot(dir, dir) \
+             = 1e-42 and r^2 = 1e-20 are both below 2^-60, the first a subnormal (t = 4e11)",
+            (v(0.0, 0.0, 5e-10), 1e-10),
+            (Vec3::ZERO, v(0.0, 0.0, 1e-21)),
             ALL,
             E::Hit,
         ),
