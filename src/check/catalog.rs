@@ -617,10 +617,14 @@ pub fn chapter_2_robustness() -> Vec<Case> {
         ),
         s(
             "sphere-far-miss-1e23",
-            "a unit sphere 1e23 away, the ray passing sqrt(2) from its centre (1 off in x and 1 \
-             in y): no hit. Scaled so that the distance is about 1, the miss distance is 1e-23 \
-             and its square underflows to 0, which looks like a ray through the centre",
-            (v(1.0, 1.0, 1e23), 1.0),
+            "a unit sphere 1.1e23 away, the ray passing sqrt(2) from its centre (1 off in x and \
+             1 in y): no hit. Scaled so that the distance is about 1, the miss distance is \
+             1e-23 and its square underflows to 0, which looks like a ray through the centre",
+            // At 1.1e23 the two f32 roots of that false "hit" differ by an
+            // ulp, so the hit would be reported; at 1e23 they happen to be
+            // equal, the error bound is infinite, and `choose_root`'s f64
+            // solve would hide the mistake.
+            (v(1.0, 1.0, 1.1e23), 1.0),
             (Vec3::ZERO, Vec3::Z),
             ALL,
             E::Miss,
