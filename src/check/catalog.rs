@@ -448,6 +448,29 @@ pub fn chapter_2() -> Vec<Case> {
             ALL,
             E::Hit,
         ),
+        // "Behind" means below t_min, not below 0: code that skips a sphere
+        // whose roots are both negative is right only while t_min >= 0.
+        s(
+            "sphere-behind-negative-t-min",
+            EQUATION_2,
+            "a ray from the origin along -z, with t_min = -10: the sphere at (0, 0, 5) is \
+             behind the origin (roots -6 and -4) but not behind t_min; the point at t_min is \
+             outside and in front of it, so the hit is the nearer root: expected t = -6",
+            ball,
+            (Vec3::ZERO, -Vec3::Z),
+            (-10.0, INF),
+            E::Hit,
+        ),
+        s(
+            "sphere-at-t-max",
+            EQUATION_2,
+            "from the origin along +z with t_max = 4: the near root is exactly 4, and the \
+             interval (t_min, t_max) is open: expected no hit",
+            ball,
+            (Vec3::ZERO, Vec3::Z),
+            (0.0, 4.0),
+            E::Miss,
+        ),
     ]
 }
 
@@ -558,6 +581,17 @@ pub fn chapter_2_robustness() -> Vec<Case> {
         // r / W) + r) / |d| + |t|), about 60 u of t when the half chord W
         // is r), while the reference chapters land 0.2 to 1.2 u from the
         // exact root on the extreme-scale hits (measured).
+        s(
+            "sphere-ground-just-below",
+            "from 0.003 above a ground sphere of radius 1e5, heading down at 17 degrees: \
+             O - C rounds to a point on the surface and the f32 near root comes out \
+             negative, but the exact one is t = 0.0030006, the hit (not the far side of the \
+             ground, t = 183486)",
+            (v(0.0, -1e5, 0.0), 1e5),
+            (v(0.3, 3e-3, -0.2), v(-0.3, -1.0, 0.0)),
+            ALL,
+            E::Hit,
+        ),
         s(
             "sphere-direction-1e-21",
             "a direction of length 1e-21: dot(dir, dir) = 1e-42 underflows (t = 4e21)",
