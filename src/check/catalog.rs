@@ -471,6 +471,16 @@ pub fn chapter_2() -> Vec<Case> {
             (0.0, 4.0),
             E::Miss,
         ),
+        s(
+            "sphere-inside-at-t-max",
+            EQUATION_2,
+            "from the centre (0, 0, 5) along +z with t_max = 1: the far root is exactly 1, \
+             not inside the open interval (0, 1): expected no hit",
+            ball,
+            (v(0.0, 0.0, 5.0), Vec3::Z),
+            (0.0, 1.0),
+            E::Miss,
+        ),
     ]
 }
 
