@@ -108,6 +108,21 @@ equivalent=(
     'src/chapters/ch02_sphere.rs:47:29: replace > with >= in roots_unless_behind'
     'src/chapters/ch02_sphere.rs:47:40: replace > with == in roots_unless_behind'
     'src/chapters/ch02_sphere.rs:47:40: replace > with >= in roots_unless_behind'
+    # ch02, choose_root's comparisons with a root's error bound, at equality:
+    # a root exactly its bound beyond (or short of) t_min is beyond (short
+    # of) it in exact arithmetic too, so taking or skipping the f64 solve
+    # there, or accepting the far root, returns the same root within
+    # rounding, or the same None.
+    'src/chapters/ch02_sphere.rs:157:26: replace > with >= in choose_root'
+    'src/chapters/ch02_sphere.rs:160:26: replace > with >= in choose_root'
+    'src/chapters/ch02_sphere.rs:169:22: replace > with >= in choose_root'
+    # ch02, the f64 near root of the band case rounded onto t_max itself:
+    # the exact root is within rounding of t_max, either answer is right.
+    'src/chapters/ch02_sphere.rs:165:23: replace < with <= in choose_root'
+    # ch02, roots_f64's far root `mid + half`: its one caller, choose_root,
+    # keeps only the near root (`let (exact_near, _) = roots_f64(..)`).
+    'src/chapters/ch02_sphere.rs:222:46: replace + with - in roots_f64'
+    'src/chapters/ch02_sphere.rs:222:46: replace + with * in roots_f64'
 )
 
 out="$work/mutants.out"
