@@ -657,7 +657,9 @@ impl Case {
                 let r = f64::from(*radius);
                 let scale = max_abs(c) + r;
                 let normal_at = match expect {
-                    ExpectT::Hit(t) => (wide(ray.origin) + *t * wide(ray.dir) - c) / r,
+                    ExpectT::Hit(t) => {
+                        exact::sphere_normal(c, r, wide(ray.origin), wide(ray.dir), *t)
+                    }
                     _ => DVec3::Y,
                 };
                 let on_surface = |p: DVec3| ((p - c).length() - r).abs();

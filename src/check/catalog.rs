@@ -449,6 +449,39 @@ pub fn chapter_2() -> Vec<Case> {
             ALL,
             E::Hit,
         ),
+        // "Behind" means below t_min, not below 0: code that skips a sphere
+        // whose roots are both negative is right only while t_min >= 0.
+        s(
+            "sphere-behind-negative-t-min",
+            EQUATION_2,
+            "a ray from the origin along -z, with t_min = -10: the sphere at (0, 0, 5) is \
+             behind the origin (roots -6 and -4) but not behind t_min; the point at t_min is \
+             outside and in front of it, so the hit is the nearer root: expected t = -6",
+            ball,
+            (Vec3::ZERO, -Vec3::Z),
+            (-10.0, INF),
+            E::Hit,
+        ),
+        s(
+            "sphere-at-t-max",
+            EQUATION_2,
+            "from the origin along +z with t_max = 4: the near root is exactly 4, and the \
+             interval (t_min, t_max) is open: expected no hit",
+            ball,
+            (Vec3::ZERO, Vec3::Z),
+            (0.0, 4.0),
+            E::Miss,
+        ),
+        s(
+            "sphere-inside-at-t-max",
+            EQUATION_2,
+            "from the centre (0, 0, 5) along +z with t_max = 1: the far root is exactly 1, \
+             not inside the open interval (0, 1): expected no hit",
+            ball,
+            (v(0.0, 0.0, 5.0), Vec3::Z),
+            (0.0, 1.0),
+            E::Miss,
+        ),
     ]
 }
 
@@ -550,6 +583,26 @@ pub fn chapter_2_robustness() -> Vec<Case> {
             ALL,
             E::Miss,
         ),
+        // The extreme-scale hits (this one, -1e20 and coordinates-1e20
+        // below) are judged against `exact::sphere` like every robustness
+        // hit: within ROUNDINGS u (|t| + S / (|d| cos)), S the size of the
+        // scene (`cases::judge_t`). For these central rays that is 52 to 56
+        // u of t, relative (3e-6), and no tighter on purpose: it is what the
+        // stable formula guarantees itself (`root_error`, 16 u ((|oc| (1 +
+        // r / W) + r) / |d| + |t|), about 60 u of t when the half chord W
+        // is r), while the reference chapters land 0.2 to 1.2 u from the
+        // exact root on the extreme-scale hits (measured).
+        s(
+            "sphere-ground-just-below",
+            "from 0.003 above a ground sphere of radius 1e5, heading down at 17 degrees: \
+             O - C rounds to a point on the surface and the f32 near root comes out \
+             negative, but the exact one is t = 0.0030006, the hit (not the far side of the \
+             ground, t = 183486)",
+            (v(0.0, -1e5, 0.0), 1e5),
+            (v(0.3, 3e-3, -0.2), v(-0.3, -1.0, 0.0)),
+            ALL,
+            E::Hit,
+        ),
         s(
             "sphere-direction-1e-21",
             "a direction of length 1e-21: dot(dir, dir) = 1e-42 underflows (t = 4e21)",
@@ -587,6 +640,58 @@ pub fn chapter_2_robustness() -> Vec<Case> {
             "coordinates near 1e20: dot(oc, oc) = 1e40 overflows (t = 9e19)",
             (v(0.0, 0.0, 1e20), 1e19),
             (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Hit,
+        ),
+        // The extreme-scale cases above reach the rescaled path with the
+        // ray entering from outside, and `choose_root` solves again in f64
+        // whenever the f32 near root is within its error bound of t_min: a
+        // rescaled path that returned nonsense roots (say (0, 0)) was
+        // rescued by that second solve and passed them. These ask for what
+        // only the rescaled roots themselves can give: the far root, the
+        // reject of a miss that underflows once scaled, and a direction
+        // whose square underflows beside a sphere whose square does too.
+        s(
+            "sphere-inside-radius-1e19",
+            "from inside a sphere of radius 1e19, 5e8 off its centre, along a direction of \
+             length 1e20 (dot(dir, dir) = 1e40 overflows f32): the far root, t = 0.1",
+            (Vec3::ZERO, 1e19),
+            (v(3e8, 4e8, 0.0), v(0.0, 0.0, 1e20)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-far-miss-1e23",
+            "a unit sphere 1.1e23 away, the ray passing sqrt(2) from its centre (1 off in x and \
+             1 in y): no hit. Scaled so that the distance is about 1, the miss distance is \
+             1e-23 and its square underflows to 0, which looks like a ray through the centre",
+            // At 1.1e23 the two f32 roots of that false "hit" differ by an
+            // ulp, so the hit would be reported; at 1e23 they happen to be
+            // equal, the error bound is infinite, and `choose_root`'s f64
+            // solve would hide the mistake.
+            (v(1.0, 1.0, 1.1e23), 1.0),
+            (Vec3::ZERO, Vec3::Z),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-tiny-direction-tiny-sphere",
+            "a sphere of radius 1e-10 at (0, 0, 5e-10), direction of length 1e-21: dot(dir, dir) \
+             = 1e-42 and r^2 = 1e-20 are both below 2^-60, the first a subnormal (t = 4e11)",
+            (v(0.0, 0.0, 5e-10), 1e-10),
+            (Vec3::ZERO, v(0.0, 0.0, 1e-21)),
+            ALL,
+            E::Hit,
+        ),
+        s(
+            "sphere-coordinates-2-to-the-100",
+            "a unit sphere at z = 2^100 (1.3e30), along a direction of length 2^29 (5.4e8): \
+             dot(dir, dir) = 2^58 and r^2 = 1 are in range, but dot(dir, oc) = -2^129 \
+             overflows f32 (t = 2^71 = 2.4e21)",
+            // Powers of two, so that the f64 reference is exact too: at
+            // 1e30 its own rounding of the foot (1e14) would swamp r = 1.
+            (v(0.0, 0.0, 2f32.powi(100)), 1.0),
+            (Vec3::ZERO, v(0.0, 0.0, 2f32.powi(29))),
             ALL,
             E::Hit,
         ),

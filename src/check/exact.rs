@@ -27,6 +27,24 @@ pub fn sphere_roots(center: DVec3, r: f64, o: DVec3, d: DVec3) -> Option<(f64, f
     Some((mid - half, mid + half))
 }
 
+/// The outward normal (unit, up to rounding) where the line meets the
+/// sphere at `t`, one of its roots: from the point of the line nearest the
+/// centre and the half chord, `closest -/+ half d`, rather than as
+/// `o + t d - center`. That difference cancels to nothing once the
+/// coordinates are 2^53 times the radius (a unit ball at 2^100: both roots,
+/// and so the hit point, round to the centre itself in `f64`).
+pub fn sphere_normal(center: DVec3, r: f64, o: DVec3, d: DVec3, t: f64) -> DVec3 {
+    let oc = o - center;
+    let a = d.dot(d);
+    let mid = -d.dot(oc) / a;
+    let closest = oc + mid * d;
+    let half = ((r * r - closest.length_squared()) / a).max(0.0).sqrt();
+    // The near root is `mid - half`; a root that rounds to `mid` itself is
+    // taken as the near one, the hit from outside.
+    let along = if t <= mid { -half } else { half };
+    (closest + along * d) / r
+}
+
 /// The first root in `(t_min, t_max)`.
 pub fn sphere(center: DVec3, r: f64, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
     let (near, far) = sphere_roots(center, r, o, d)?;
