@@ -17,10 +17,14 @@ use raylab::{Ray, Vec3};
 /// and no ray slips between them. That is the whole point of the order of
 /// the operations below.
 pub fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-    let dir = ray.dir;
+    // Coordinates are picked by an axis chosen at run time; indexing a
+    // plain array is one load, while indexing a `Vec3` (`dir[z]`) is a
+    // three-way `match` each time, and this test is run for every
+    // triangle a ray reaches. The arithmetic below is the same either way.
+    let dir = ray.dir.to_array();
     // z is the axis the ray moves fastest along, so dividing by it is safe;
     // x and y follow cyclically, swapped when dir.z < 0 to keep the winding.
-    let z = dir.abs().max_position();
+    let z = ray.dir.abs().max_position();
     let (mut x, mut y) = ((z + 1) % 3, (z + 2) % 3);
     if dir[z] < 0.0 {
         std::mem::swap(&mut x, &mut y);
@@ -30,8 +34,10 @@ pub fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32
     let scale_z = 1.0 / dir[z];
 
     // The corners relative to the ray's origin, sheared so the ray is +z.
-    let [a, b, c] = triangle.corners().map(|corner| corner - ray.origin);
-    let sheared = |p: Vec3| (p[x] - shear_x * p[z], p[y] - shear_y * p[z]);
+    let [a, b, c] = triangle
+        .corners()
+        .map(|corner| (corner - ray.origin).to_array());
+    let sheared = |p: [f32; 3]| (p[x] - shear_x * p[z], p[y] - shear_y * p[z]);
     let (ax, ay) = sheared(a);
     let (bx, by) = sheared(b);
     let (cx, cy) = sheared(c);
