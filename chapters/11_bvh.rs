@@ -40,7 +40,7 @@ pub const GAMMA_3: f32 = 3.0 * (f32::EPSILON / 2.0) / (1.0 - 3.0 * (f32::EPSILON
 /// distance, which rounded up would make the traversal skip the box as
 /// farther than a hit it already has. Infinite distances are exact and
 /// stay as they are (`inf - inf` would be NaN).
-#[inline]
+#[inline(always)]
 pub fn hit_box(
     bounds: &Aabb,
     origin: Vec3,
@@ -48,27 +48,37 @@ pub fn hit_box(
     t_min: f32,
     t_max: f32,
 ) -> Option<f32> {
+    // Plain arrays: indexing a `Vec3` by a run-time axis is a three-way
+    // branch per access, in the hottest loop of the renderer.
+    let (origin, inverse) = (origin.to_array(), inverse_direction.to_array());
+    let (low, high) = (bounds.min.to_array(), bounds.max.to_array());
     let mut entry = f32::NEG_INFINITY;
     let mut exit = f32::INFINITY;
     for axis in 0..3 {
-        let inverse = inverse_direction[axis];
-        let (near_plane, far_plane) = if inverse.is_sign_negative() {
-            (bounds.max[axis], bounds.min[axis])
+        let (near_plane, far_plane) = if inverse[axis].is_sign_negative() {
+            (high[axis], low[axis])
         } else {
-            (bounds.min[axis], bounds.max[axis])
+            (low[axis], high[axis])
         };
-        entry = entry.max((near_plane - origin[axis]) * inverse);
-        exit = exit.min((far_plane - origin[axis]) * inverse);
+        let near = (near_plane - origin[axis]) * inverse[axis];
+        let far = (far_plane - origin[axis]) * inverse[axis];
+        // `entry.max(near)`, written as a comparison: a NaN compares false,
+        // so it leaves `entry` as it was, exactly as `f32::max` would, and
+        // the comparison is one instruction where `f32::max`, which must
+        // also sort out which operand is the NaN, takes several.
+        entry = if near > entry { near } else { entry };
+        exit = if far < exit { far } else { exit };
     }
+    // `2 γ3 |t|`, capped at `f32::MAX` so that an infinite distance moves
+    // by a finite amount and stays infinite (`inf - inf` would be NaN).
     let slack = |t: f32| {
-        if t.is_finite() {
-            2.0 * GAMMA_3 * t.abs()
-        } else {
-            0.0
-        }
+        let slack = 2.0 * GAMMA_3 * t.abs();
+        if slack < f32::MAX { slack } else { f32::MAX }
     };
-    let entry = (entry - slack(entry)).max(t_min);
-    let exit = (exit + slack(exit)).min(t_max);
+    let (entry, exit) = (entry - slack(entry), exit + slack(exit));
+    // A NaN `t_min` or `t_max` is ignored, as `f32::max` would.
+    let entry = if t_min > entry { t_min } else { entry };
+    let exit = if t_max < exit { t_max } else { exit };
     (entry <= exit).then_some(entry)
 }
 
@@ -464,48 +474,57 @@ pub fn nearest_hit_bvh<C: Chapters>(
         return nearest.hit;
     };
     let inverse = ray.dir.recip();
-    let mut stack = NodeStack::new();
-    if let Some(entry) = C::hit_box(&root.bounds, ray.origin, inverse, t_min, nearest.closest()) {
-        stack.push(0, entry);
+    if C::hit_box(&root.bounds, ray.origin, inverse, t_min, nearest.closest()).is_none() {
+        return nearest.hit;
     }
-    while let Some((index, entry)) = stack.pop() {
-        // Pushed before a nearer hit was found: now maybe too far.
-        if entry > nearest.closest() {
-            continue;
-        }
-        let node = &bvh.nodes[index];
-        let Some((left, right)) = node.children() else {
+    let mut stack = NodeStack::new();
+    let mut visiting = 0;
+    loop {
+        let node = &bvh.nodes[visiting];
+        if let Some((left, right)) = node.children() {
+            let closest = nearest.closest();
+            let (left_box, right_box) = (&bvh.nodes[left].bounds, &bvh.nodes[right].bounds);
+            let left_entry = C::hit_box(left_box, ray.origin, inverse, t_min, closest);
+            let right_entry = C::hit_box(right_box, ray.origin, inverse, t_min, closest);
+            // Go on into the nearer child at once; the farther one waits.
+            match (left_entry, right_entry) {
+                (Some(left_entry), Some(right_entry)) if right_entry < left_entry => {
+                    stack.push(left, left_entry);
+                    visiting = right;
+                    continue;
+                }
+                (Some(_), Some(right_entry)) => {
+                    stack.push(right, right_entry);
+                    visiting = left;
+                    continue;
+                }
+                (Some(_), None) => {
+                    visiting = left;
+                    continue;
+                }
+                (None, Some(_)) => {
+                    visiting = right;
+                    continue;
+                }
+                (None, None) => {}
+            }
+        } else {
             for &object in &bvh.primitives[node.primitive_range()] {
                 nearest.consider(objects, object, ray, t_min);
             }
-            continue;
-        };
-        let closest = nearest.closest();
-        let enter = |child: usize| {
-            C::hit_box(
-                &bvh.nodes[child].bounds,
-                ray.origin,
-                inverse,
-                t_min,
-                closest,
-            )
-        };
-        match (enter(left), enter(right)) {
-            // The nearer is pushed last, to be popped first.
-            (Some(left_entry), Some(right_entry)) if right_entry < left_entry => {
-                stack.push(left, left_entry);
-                stack.push(right, right_entry);
+        }
+        // The next waiting node, unless a hit found since it was pushed is
+        // nearer than its box.
+        loop {
+            let Some((waiting, entry)) = stack.pop() else {
+                return nearest.hit;
+            };
+            if entry <= nearest.closest() {
+                visiting = waiting;
+                break;
             }
-            (Some(left_entry), Some(right_entry)) => {
-                stack.push(right, right_entry);
-                stack.push(left, left_entry);
-            }
-            (Some(left_entry), None) => stack.push(left, left_entry),
-            (None, Some(right_entry)) => stack.push(right, right_entry),
-            (None, None) => {}
         }
     }
-    nearest.hit
 }
 
 /// Some hit with `t_min < t < t_max` among `objects`, the first the walk
