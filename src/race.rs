@@ -4,10 +4,15 @@
 //! caller prints.
 //!
 //! "Ours" is whatever the caller builds: a closure that builds an
-//! intersector and returns the function that traces one ray with it. Until
-//! chapter 11's BVH exists that is the brute-force loop over every shape
-//! ([`crate::crosscheck::ours`]), fine for a thousand triangles and
-//! hopeless for a million; the BVH plugs in as another closure.
+//! intersector and returns the function that traces one ray with it
+//! (chapter 11's tree here; [`crate::crosscheck::ours`], the brute-force
+//! loop, would do as well).
+//!
+//! Two sets of rays are raced ([`race_on_generated_mesh`] and
+//! [`race_on_rendered_scene`]): rays from all around a lone model, each
+//! unrelated to the one before, and the rays a render casts, camera rays
+//! pixel after pixel with their shadow and mirror rays, which is what a
+//! ray tracer spends its time on and what `raylab crosscheck` compares.
 //!
 //! Memory is measured two ways, and the race reports both:
 //!
@@ -294,6 +299,61 @@ pub fn race_on_generated_mesh(
         triangles: shapes.len(),
         race,
         ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
+        different_objects,
+    })
+}
+
+/// The race on the rays a render casts: chapter 11's built-in scene with
+/// its model made of about `triangles` triangles, rendered at the scene's
+/// own size (640x480, one sample), every camera, shadow and mirror ray
+/// recorded in order, then traced by both sides, one thread each. Ours is
+/// the stage's own search (the tree, the floor plane outside it, as
+/// rendering uses it); Embree gets the same shapes as in
+/// `raylab crosscheck` (the plane as a large quad). The build times are
+/// ours for the whole stage, Embree's for its scene; memory is not
+/// measured here ([`race_on_generated_mesh`] does, on the model alone).
+pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> anyhow::Result<MeshRace> {
+    use anyhow::Context;
+    const MODEL: &str = "generated = 20000";
+    let text = crate::builtin::scene_text(11).context("chapter 11 has no built-in scene")?;
+    anyhow::ensure!(
+        text.contains(MODEL),
+        "chapter 11's built-in scene no longer has a model of `{MODEL}` triangles to resize"
+    );
+    let text = text.replacen(MODEL, &format!("generated = {triangles}"), 1);
+    let scene = crate::Scene::parse(&text, "chapter 11's built-in scene, resized")?;
+    let started = Instant::now();
+    let stage = crate::Stage::<crate::Reference>::with_chapters(&scene, 11, scene.render)?;
+    let stage_build = started.elapsed();
+    let rays = crate::crosscheck::record_rays_within(&stage, crate::crosscheck::MAX_RECORDED_RAYS)?;
+    let (primitives, _) = crate::crosscheck::primitives(stage.shapes(), &scene);
+    let ours = |cast: &CastRay| {
+        stage
+            .nearest_hit(&cast.ray, cast.t_min, cast.t_max)
+            .map(Answer::from)
+    };
+    let mut race = race(&primitives, &rays, || ours, runs)?;
+    // The stage was built above, to record the rays; its build is that.
+    race.ours.build = stage_build;
+    race.ours.peak_rss_growth = None;
+    let embree = EmbreeScene::with_threads(&primitives, Some(1))?;
+    let different_objects = rays
+        .iter()
+        .filter(|cast| {
+            let theirs = embree.intersect(&cast.ray, cast.t_min, cast.t_max);
+            ours(cast).map(|hit| hit.object) != theirs.map(|hit| hit.object)
+        })
+        .count();
+    let triangles = stage
+        .shapes()
+        .iter()
+        .filter(|shape| matches!(shape, crate::Shape::Triangle(_)))
+        .count();
+    Ok(MeshRace {
+        triangles,
+        race,
+        ours_bytes: std::mem::size_of_val(stage.shapes())
+            + stage.bvh().map_or(0, crate::bvh::Bvh::memory_bytes),
         different_objects,
     })
 }

@@ -565,3 +565,21 @@ fn race() {
         );
     }
 }
+
+/// `raylab race`'s first table: the rays of a render of chapter 11's scene
+/// with its model resized, traced by the stage's tree and by Embree, who
+/// must agree on every one (no shared edge is met exactly by a camera ray
+/// here).
+#[test]
+fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
+    let measured = raylab::race::race_on_rendered_scene(1000, 1).expect("race");
+    // `raylab mesh --triangles 1000` makes 1008; the scene's balls are not
+    // triangles.
+    assert_eq!(measured.triangles, 1008);
+    // Every pixel's camera ray, and shadow rays besides.
+    assert!(measured.race.rays > 640 * 480, "{} rays", measured.race.rays);
+    assert_eq!(measured.different_objects, 0);
+    let ratio = measured.race.ratio();
+    assert!(ratio.is_finite() && ratio > 0.0, "ratio {ratio}");
+    assert!(measured.ours_bytes > 1008 * std::mem::size_of::<raylab::Shape>());
+}
