@@ -27,9 +27,9 @@ pub const GAMMA_3: f32 = 3.0 * (f32::EPSILON / 2.0) / (1.0 - 3.0 * (f32::EPSILON
 /// entry is read off the sign *bit* of the inverse (`-0.0` gives `-inf`,
 /// whose sign bit is set), never by comparing the two distances, which
 /// would pick the NaN's partner, an infinity of either sign. And the
-/// entries and exits are combined with `f32::max` and `f32::min`, which
-/// return the other operand when one is NaN: a NaN distance leaves the
-/// running entry and exit as they were.
+/// entries and exits are combined by comparisons (`if near > entry`) that
+/// a NaN fails, as `f32::max` and `f32::min` would: a NaN distance leaves
+/// the running entry and exit as they were.
 ///
 /// The distances carry up to `γ3` of relative error, so the entry is moved
 /// down and the exit up by `2 γ3` of themselves (pbrt's widening of
