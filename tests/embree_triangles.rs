@@ -577,7 +577,11 @@ fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
     // triangles.
     assert_eq!(measured.triangles, 1008);
     // Every pixel's camera ray, and shadow rays besides.
-    assert!(measured.race.rays > 640 * 480, "{} rays", measured.race.rays);
+    assert!(
+        measured.race.rays > 640 * 480,
+        "{} rays",
+        measured.race.rays
+    );
     assert_eq!(measured.different_objects, 0);
     let ratio = measured.race.ratio();
     assert!(ratio.is_finite() && ratio > 0.0, "ratio {ratio}");

@@ -1,5 +1,6 @@
 //! `raylab race`: chapter 11's tree against Embree, on generated models of
-//! growing size (the figures of the README and lesson 11).
+//! growing size, on the rays of a render and on incoherent rays (the
+//! figures of the README and lesson 11).
 
 use anyhow::Result;
 use clap::Args;
@@ -14,7 +15,8 @@ pub struct RaceArgs {
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_SIZES,
           value_parser = clap::value_parser!(u64).range(1..=4_000_000))]
     pub triangles: Vec<u64>,
-    /// Rays traced per run, the same for both sides.
+    /// Incoherent rays traced per run, the same for both sides (the render's
+    /// rays are as many as the render casts, about 543,000).
     #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     pub rays: u64,
     /// Timed runs per side; the figure is their median.
@@ -39,7 +41,7 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
         print_header();
         for &size in &args.triangles {
             let measured = crate::race::race_on_rendered_scene(size as usize, args.runs as usize)?;
-            print_row(&measured, "-");
+            print_row(&measured);
         }
         println!(
             "\n2. Incoherent rays: {} rays at the lone model from all around, each \
@@ -54,11 +56,10 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
                 args.rays as usize,
                 args.runs as usize,
             )?;
-            let megabytes = |bytes: f64| format!("{:.1} MB", bytes / 1e6);
-            print_row(&measured, &megabytes(measured.ours_bytes as f64));
+            print_row(&measured);
         }
         println!(
-            "\nMemory: ours is the triangles as the renderer stores them plus the tree; \
+            "\nMemory: ours is the shapes as the renderer stores them plus the tree; \
              Embree's is its own count of its peak (its memory monitor)."
         );
         Ok(0)
@@ -83,10 +84,10 @@ fn print_header() {
 }
 
 #[cfg(feature = "embree")]
-fn print_row(measured: &crate::race::MeshRace, ours_memory: &str) {
+fn print_row(measured: &crate::race::MeshRace) {
     let race = &measured.race;
     println!(
-        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {} | {:.1} MB | {} |",
+        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} |",
         measured.triangles,
         race.rays,
         race.ours.build.as_secs_f64() * 1e3,
@@ -94,7 +95,7 @@ fn print_row(measured: &crate::race::MeshRace, ours_memory: &str) {
         race.ours.rays_per_second / 1e6,
         race.embree.rays_per_second / 1e6,
         race.ratio(),
-        ours_memory,
+        measured.ours_bytes as f64 / 1e6,
         race.embree_build.peak_bytes as f64 / 1e6,
         measured.different_objects,
     );
