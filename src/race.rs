@@ -203,6 +203,35 @@ pub struct MeshRace {
     /// (boundary cases such as shared edges can differ legitimately;
     /// `raylab crosscheck` tells them apart).
     pub different_objects: usize,
+    /// Chapter 3's loop over every shape, on the first of the same rays.
+    pub brute_force: BruteForce,
+}
+
+/// Brute force (chapter 3: every ray against every shape) on the first
+/// `rays` of a race's rays, as many as [`BRUTE_FORCE_TESTS`] allows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BruteForce {
+    pub rays: usize,
+    /// The median of [`RACE_RUNS`] runs over those rays.
+    pub rays_per_second: f64,
+}
+
+/// About how many ray-shape tests a brute-force run may make: at a
+/// million triangles that is 20 rays, at a thousand 20,000.
+pub const BRUTE_FORCE_TESTS: usize = 20_000_000;
+
+/// Times chapter 3's loop over every one of `shapes`, on this thread, on
+/// the first of `rays` (at least 10, at most all of them).
+pub fn brute_force(shapes: &[crate::Shape], rays: &[CastRay], runs: usize) -> BruteForce {
+    let count = (BRUTE_FORCE_TESTS / shapes.len().max(1)).clamp(10, rays.len());
+    let rays = &rays[..count.min(rays.len())];
+    let rates: Vec<f64> = (0..runs.max(1))
+        .map(|_| rays_per_second(rays, |cast| crate::crosscheck::ours(shapes, cast)))
+        .collect();
+    BruteForce {
+        rays: rays.len(),
+        rays_per_second: median(&rates),
+    }
 }
 
 /// `count` rays at the generated model (a torus of radius about 1.5 around
@@ -300,6 +329,7 @@ pub fn race_on_generated_mesh(
         race,
         ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
         different_objects,
+        brute_force: brute_force(&shapes, &rays, runs),
     })
 }
 
@@ -355,5 +385,6 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> anyhow::Result<M
         ours_bytes: std::mem::size_of_val(stage.shapes())
             + stage.bvh().map_or(0, crate::bvh::Bvh::memory_bytes),
         different_objects,
+        brute_force: brute_force(stage.shapes(), &rays, runs),
     })
 }

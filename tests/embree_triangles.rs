@@ -586,4 +586,12 @@ fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
     let ratio = measured.race.ratio();
     assert!(ratio.is_finite() && ratio > 0.0, "ratio {ratio}");
     assert!(measured.ours_bytes > 1008 * std::mem::size_of::<raylab::Shape>());
+    // Brute force on the first rays, as many as its test budget allows:
+    // 1008 triangles, 48 balls and the floor.
+    let shapes = 1008 + 48 + 1;
+    assert_eq!(
+        measured.brute_force.rays,
+        raylab::race::BRUTE_FORCE_TESTS / shapes
+    );
+    assert!(measured.brute_force.rays_per_second > 0.0);
 }

@@ -29,7 +29,10 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
     {
         println!(
             "chapter 11's tree (SAH, 16 bins, leaves of at most 4) against Embree (robust \
-             scene, default build quality), one thread each, median of {} runs.\n",
+             scene, default build quality), and chapter 3's loop over every shape (brute \
+             force, on the first of the same rays: as many as {} ray-shape tests allow), \
+             one thread each, median of {} runs.\n",
+            crate::race::BRUTE_FORCE_TESTS,
             args.runs
         );
         println!(
@@ -78,16 +81,18 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
 fn print_header() {
     println!(
         "| triangles | rays | ours build | Embree build | ours rays/s | Embree rays/s | \
-         ours / Embree | ours memory | Embree memory | rays answered differently |"
+         ours / Embree | ours memory | Embree memory | rays answered differently | \
+         brute force rays/s | ours / brute force |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
 }
 
 #[cfg(feature = "embree")]
 fn print_row(measured: &crate::race::MeshRace) {
     let race = &measured.race;
     println!(
-        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} |",
+        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} | \
+         {:.0} ({} rays) | {:.0} |",
         measured.triangles,
         race.rays,
         race.ours.build.as_secs_f64() * 1e3,
@@ -98,5 +103,8 @@ fn print_row(measured: &crate::race::MeshRace) {
         measured.ours_bytes as f64 / 1e6,
         race.embree_build.peak_bytes as f64 / 1e6,
         measured.different_objects,
+        measured.brute_force.rays_per_second,
+        measured.brute_force.rays,
+        race.ours.rays_per_second / measured.brute_force.rays_per_second,
     );
 }
