@@ -631,6 +631,21 @@ pub fn chapter_2_robustness() -> Vec<Case> {
             ALL,
             E::Miss,
         ),
+        // The band case of `choose_root` from inside, where the error bound
+        // is made of the radius and |t| (the origin is the centre, |O - C| =
+        // 0): the f32 near root lands on t_min itself, and only a bound that
+        // counts r / |d| and |t| sends it to the f64 solve.
+        s(
+            "sphere-centre-t-min-just-below",
+            "from the centre of the unit sphere along (0, 0, 3), roots -1/3 and 1/3, with \
+             t_min = -0.33333334 (the f32 nearest -1/3, just below it): the point at t_min is \
+             just outside, and the hit is the near root, t = -1/3 (f32 computes the near root \
+             as -0.33333334, t_min itself), not the far one",
+            unit,
+            (Vec3::ZERO, v(0.0, 0.0, 3.0)),
+            (-1.0 / 3.0, INF),
+            E::Hit,
+        ),
         s(
             "sphere-direction-1e-21",
             "a direction of length 1e-21: dot(dir, dir) = 1e-42 underflows (t = 4e21)",
