@@ -595,9 +595,9 @@ pub fn chapter_2_robustness() -> Vec<Case> {
         s(
             "sphere-ground-just-below",
             "from 0.003 above a ground sphere of radius 1e5, heading down at 17 degrees: \
-             O - C rounds to a point on the surface and the f32 near root comes out \
-             negative, but the exact one is t = 0.0030006, the hit (not the far side of the \
-             ground, t = 183486)",
+             O - C rounds to a point on the surface and the f32 near root comes out 0, \
+             not beyond t_min = 0, but the exact one is t = 0.0030006, the hit (not the far \
+             side of the ground, t = 183486)",
             (v(0.0, -1e5, 0.0), 1e5),
             (v(0.3, 3e-3, -0.2), v(-0.3, -1.0, 0.0)),
             ALL,
