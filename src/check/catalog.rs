@@ -595,12 +595,55 @@ pub fn chapter_2_robustness() -> Vec<Case> {
         s(
             "sphere-ground-just-below",
             "from 0.003 above a ground sphere of radius 1e5, heading down at 17 degrees: \
-             O - C rounds to a point on the surface and the f32 near root comes out \
-             negative, but the exact one is t = 0.0030006, the hit (not the far side of the \
-             ground, t = 183486)",
+             O - C rounds to a point on the surface and the f32 near root comes out 0, \
+             not beyond t_min = 0, but the exact one is t = 0.0030006, the hit (not the far \
+             side of the ground, t = 183486)",
             (v(0.0, -1e5, 0.0), 1e5),
             (v(0.3, 3e-3, -0.2), v(-0.3, -1.0, 0.0)),
             ALL,
+            E::Hit,
+        ),
+        // Two rays that skim a large sphere and miss it by less than f32
+        // can resolve at that size: the f32 roots come out real, and only
+        // their error bound (`root_error`, large near tangency: it grows as
+        // r / W, W the half chord) sends them to the f64 solve, which finds
+        // no hit. A bound a few times too small trusts the false near root.
+        // (Expected: no hit, as `exact::sphere` finds; the test
+        // `skim_cases_miss_in_exact_arithmetic` below checks it.)
+        s(
+            "sphere-skim-over-ground",
+            "from 0.0505 above the top of a ground sphere of radius 1e5, heading (1, -0.001, 0): \
+             the ray would touch the sphere from a height of 0.05; from 0.0505 its line passes \
+             5e-4 above it, no hit. f32 rounds O - C to multiples of 0.0078 and finds roots \
+             66.05 and 139.53 around the tangent point t = 100",
+            (v(0.0, -1e5, 0.0), 1e5),
+            (v(0.0, 0.0505, 0.0), v(1.0, -0.001, 0.0)),
+            ALL,
+            E::Miss,
+        ),
+        s(
+            "sphere-skim-over-hill",
+            "from 0.05001 above the top of a sphere of radius 1000, heading (1, -0.01, 0): \
+             the ray would touch the sphere from a height of 0.05; from 0.05001 its line passes \
+             1.1e-5 above it, no hit. f32 finds two roots an ulp apart at t = 9.9995",
+            (v(0.0, -1e3, 0.0), 1e3),
+            (v(0.0, 0.05001, 0.0), v(1.0, -0.01, 0.0)),
+            ALL,
+            E::Miss,
+        ),
+        // The band case of `choose_root` from inside, where the error bound
+        // is made of the radius and |t| (the origin is the centre, |O - C| =
+        // 0): the f32 near root lands on t_min itself, and only a bound that
+        // counts r / |d| and |t| sends it to the f64 solve.
+        s(
+            "sphere-centre-t-min-just-below",
+            "from the centre of the unit sphere along (0, 0, 3), roots -1/3 and 1/3, with \
+             t_min = -0.33333334 (the f32 nearest -1/3, just below it): the point at t_min is \
+             just outside, and the hit is the near root, t = -1/3 (f32 computes the near root \
+             as -0.33333334, t_min itself), not the far one",
+            unit,
+            (Vec3::ZERO, v(0.0, 0.0, 3.0)),
+            (-1.0 / 3.0, INF),
             E::Hit,
         ),
         s(
@@ -2631,6 +2674,38 @@ mod tests {
                     assert!(t.is_finite(), "{}: the exact reference misses", case.name);
                 }
             }
+        }
+    }
+
+    /// The skimming rays miss in exact arithmetic, and clearly for f64: their
+    /// lines pass 5e-4 and 1.1e-5 above the sphere, where `exact::sphere`'s
+    /// own rounding is about 1e-16 of the radius.
+    #[test]
+    fn skim_cases_miss_in_exact_arithmetic() {
+        for name in ["sphere-skim-over-ground", "sphere-skim-over-hill"] {
+            let case = chapter_2_robustness()
+                .into_iter()
+                .find(|case| case.name == name)
+                .unwrap();
+            let CaseKind::Sphere {
+                center,
+                radius,
+                ray,
+                ..
+            } = case.kind
+            else {
+                panic!("{name} is not a sphere case")
+            };
+            let (c, o, d) = (wide(center), wide(ray.origin), wide(ray.dir));
+            let oc = o - c;
+            let foot = oc - d * (oc.dot(d) / d.dot(d));
+            let above = foot.length() - f64::from(radius);
+            assert!(
+                above > 1e-5 && above < 1e-3,
+                "{name}: the line passes {above:e} above"
+            );
+            let hit = exact::sphere(c, f64::from(radius), o, d, 0.0, f64::INFINITY);
+            assert_eq!(hit, None, "{name}");
         }
     }
 }
