@@ -30,3 +30,11 @@ done
   -o docs/images/acne-epsilon-0.png --force --stats | grep -E "^chapter|self-shadowing"
 "$raylab" render --chapter 5 --width 320 --height 240 --sphere-formula textbook \
   -o docs/images/acne-scaled.png --force --stats | grep -E "^chapter|self-shadowing"
+
+# Lesson 10: the shadow terminator on a coarse smooth model lit from the
+# side: rays leaving the flat triangles, then lifted by terminator_point.
+for terminator in flat lifted; do
+  "$raylab" render --scene docs/scenes/terminator.toml --chapter 10 \
+    --terminator "$terminator" -o "docs/images/terminator-$terminator.png" --force
+done
+"$raylab" diff docs/images/terminator-flat.png docs/images/terminator-lifted.png | grep -E "^pixels over"

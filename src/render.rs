@@ -32,7 +32,7 @@ use crate::chapters::Reference;
 use crate::course::{Chapters, Hit, HitPoint, Objects};
 use crate::medium::MediumStack;
 use crate::output::linear_to_srgb8;
-use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula, TriangleTest};
+use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula, TerminatorRule, TriangleTest};
 use crate::shapes::SurfacePoint;
 use crate::stage::{Effects, LAST_CHAPTER, Lighting};
 use crate::{Ray, Scene, Shape, Vec3};
@@ -363,7 +363,15 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             Some((triangle, normals))
         });
         match smooth {
-            Some((triangle, normals)) => C::smooth_hit_point(point, triangle, normals),
+            Some((triangle, normals)) => {
+                let mut smooth = C::smooth_hit_point(point, triangle, normals);
+                // `--terminator flat`: chapter 10's shading without its lift,
+                // to show what the lift fixes.
+                if self.stage.settings.terminator == TerminatorRule::Flat {
+                    smooth.surface.point = point.surface.point;
+                }
+                smooth
+            }
             None => point,
         }
     }

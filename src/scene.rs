@@ -324,6 +324,23 @@ pub struct RenderSettings {
     /// How ray-triangle hits are found: `"watertight"` (chapter 10's test,
     /// no ray lost on a shared edge) or `"moller-trumbore"` (for comparison).
     pub triangle_test: TriangleTest,
+    /// Where rays leave a smooth-shaded triangle: `"lifted"` (chapter 10's
+    /// fix for the shadow terminator) or `"flat"` (from the flat triangle,
+    /// to show the problem it fixes).
+    pub terminator: TerminatorRule,
+}
+
+/// Where the rays that leave a smooth-shaded triangle start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum TerminatorRule {
+    /// Lifted towards the curved surface the vertex normals describe
+    /// (`terminator_point`).
+    #[default]
+    Lifted,
+    /// On the flat triangle, where the hit is: the shadow terminator shows
+    /// as facet-shaped shadows.
+    Flat,
 }
 
 /// How ray-triangle intersections are found.
@@ -367,6 +384,7 @@ impl Default for RenderSettings {
             ray_offset: OffsetRule::Scaled,
             fixed_epsilon: 1e-4,
             triangle_test: TriangleTest::Watertight,
+            terminator: TerminatorRule::Lifted,
         }
     }
 }
@@ -385,6 +403,7 @@ impl RenderSettings {
             sphere_formula: _,
             ray_offset: _,
             triangle_test: _,
+            terminator: _,
             fixed_epsilon,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {

@@ -338,3 +338,41 @@ fn the_lesson_promises_the_first_two_cases() {
         );
     }
 }
+
+/// `--terminator flat` shows what chapter 10's lift fixes: on lesson 10's
+/// coarse smooth model lit from the side, rays leaving the flat triangles
+/// are shadowed by the neighbouring facets along the terminator, so the
+/// picture darkens there; lifted, it is smooth. A renderer that ignored
+/// the setting, or a lift that did nothing, would draw the two alike.
+#[test]
+fn the_flat_terminator_darkens_what_the_lift_lights() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scenes/terminator.toml");
+    let scene = raylab::Scene::load(&path).expect("lesson 10's terminator scene");
+    let render = |terminator| {
+        let settings = raylab::RenderSettings {
+            width: 160,
+            height: 120,
+            samples: 1,
+            terminator,
+            ..scene.render
+        };
+        raylab::render::render(&scene, CHAPTER, &settings, None).expect("renders")
+    };
+    let lifted = render(raylab::scene::TerminatorRule::Lifted);
+    let flat = render(raylab::scene::TerminatorRule::Flat);
+    let default = render(raylab::RenderSettings::default().terminator);
+    assert_eq!(default.rgb, lifted.rgb, "lifted is the default");
+    let brightness = |rgb: &[u8]| rgb.iter().map(|&v| u64::from(v)).sum::<u64>();
+    let changed = flat
+        .rgb
+        .chunks(3)
+        .zip(lifted.rgb.chunks(3))
+        .filter(|(f, l)| f.iter().zip(l.iter()).any(|(f, l)| f.abs_diff(*l) > 2))
+        .count();
+    // About 3% of the pixels at 320x240 (lesson 10).
+    assert!(changed > 400, "only {changed} pixels changed by the lift");
+    assert!(
+        brightness(&flat.rgb) < brightness(&lifted.rgb),
+        "the flat origins should shadow more than they light"
+    );
+}

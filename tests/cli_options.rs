@@ -225,6 +225,10 @@ fn render_help_shows_every_default() {
             format!("else {:?}", defaults.ray_offset).to_lowercase(),
         ),
         ("--triangle-test", "else watertight".into()),
+        (
+            "--terminator",
+            format!("else {:?}", defaults.terminator).to_lowercase(),
+        ),
         ("--epsilon", format!("else {}", defaults.fixed_epsilon)),
         ("--threads", "one per core".into()),
         ("--output", "chapter-N.png".into()),

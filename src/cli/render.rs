@@ -93,6 +93,11 @@ pub struct SettingsOverrides {
     /// chapter 10 on [default: the scene's, else watertight].
     #[arg(long, value_enum)]
     pub triangle_test: Option<crate::scene::TriangleTest>,
+    /// Where rays leave a smooth-shaded triangle, from chapter 10 on:
+    /// lifted towards the curved surface, or from the flat triangle (to see
+    /// the shadow terminator it fixes) [default: the scene's, else lifted].
+    #[arg(long, value_enum)]
+    pub terminator: Option<crate::scene::TerminatorRule>,
     /// Where secondary rays start, from chapter 4 on: scaled to the hit's
     /// rounding error, or a fixed --epsilon along the ray (for comparison)
     /// [default: fixed if --epsilon is given, else the scene's, else scaled].
@@ -129,6 +134,7 @@ impl SettingsOverrides {
             ray_offset,
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
             triangle_test: self.triangle_test.unwrap_or(base.triangle_test),
+            terminator: self.terminator.unwrap_or(base.terminator),
         };
         settings
             .validate()
@@ -212,6 +218,12 @@ impl SettingsOverrides {
             "--triangle-test".into(),
             10,
             "triangles are drawn",
+        );
+        before(
+            self.terminator.is_some(),
+            "--terminator".into(),
+            10,
+            "smooth-shaded triangles are drawn",
         );
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {
