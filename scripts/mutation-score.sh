@@ -17,7 +17,9 @@
 #   `--re ch02_sphere` for one chapter or `--re rescaled_roots` for one
 #   function (the regex is matched against the whole mutant name, file and
 #   function included), or `--jobs 2`. (`--file` adds files to the chapter
-#   glob below rather than narrowing it.)
+#   glob below rather than narrowing it.) `--iterate` keeps WORK_DIR's
+#   earlier results and tests only what they did not catch: after adding
+#   check cases, it gives the whole run's score in the time of the misses.
 # Slow: every mutant rebuilds the workspace and runs all the checks. It is
 # not part of scripts/test.sh.
 set -euo pipefail
@@ -33,7 +35,22 @@ if ! cargo mutants --version >/dev/null 2>&1; then
     cargo install cargo-mutants --locked
 fi
 
-rm -rf "$work"
+# `--iterate` (cargo-mutants' own option) tests only the mutants that no
+# earlier run in WORK_DIR caught: mutants.out stays, the rest is remade.
+iterate=false
+list_args=()
+for arg in "$@"; do
+    if [[ $arg == --iterate ]]; then
+        iterate=true
+    else
+        list_args+=("$arg")
+    fi
+done
+if $iterate && [[ -d $work/mutants.out ]]; then
+    find "$work" -mindepth 1 -maxdepth 1 ! -name mutants.out -exec rm -rf {} +
+else
+    rm -rf "$work"
+fi
 mkdir -p "$work"
 workspace="$work/answer-key"
 cargo run --quiet --manifest-path "$root/Cargo.toml" -- new "$workspace" --solutions
@@ -41,9 +58,39 @@ cargo run --quiet --manifest-path "$root/Cargo.toml" -- new "$workspace" --solut
 # The workspace resolves offline from raylab's Cargo.lock. The glob keeps
 # src/chapters/mod.rs (generated glue, not a lesson) out.
 # The checks count both levels here (RAYLAB_CHECK_ROBUST=1): a mutant that
-# only the hard cases notice is caught. `sphere_roots` is the answer key's
-# public helper for `raylab probe`, which no Chapters method calls: its
-# mutants could never be caught, so they are left out.
+# only the hard cases notice is caught.
+#
+# Left out: the answer key's functions that nothing in the workspace calls.
+# The chapter files carry them for raylab itself (the lessons' comparisons:
+# `--sphere-formula textbook`, `--triangle-test moller-trumbore`,
+# `raylab probe`'s roots, the critical angle the lesson prints), and raylab
+# uses its own copies; in the workspace they are dead code, their mutants
+# could never be caught, and students are not asked to write them. Each
+# entry is the function and how many lines of the workspace's src/ name it
+# (`name(`, comments aside): its definition, plus calls from other dead
+# functions (`first_root_in` is called by `intersect_sphere_textbook`
+# only). If a count changes, someone calls it now: the script stops, and
+# the function must be mutated like the others.
+unreachable=(
+    sphere_roots:1
+    intersect_sphere_textbook:1
+    first_root_in:2
+    critical_angle:1
+    intersect_triangle_moller_trumbore:1
+)
+names=()
+for entry in "${unreachable[@]}"; do
+    name=${entry%%:*}
+    expected=${entry##*:}
+    found=$(grep -rE "\b$name\(" "$workspace/src" | grep -cvE '^[^:]*:[[:space:]]*//' || true)
+    if [[ $found -ne $expected ]]; then
+        echo "$name( is named on $found lines of the workspace's src/, not $expected:" >&2
+        echo "it may be reachable now; mutate it (remove it from 'unreachable')." >&2
+        exit 1
+    fi
+    names+=("$name")
+done
+exclude="\\b($(IFS='|'; echo "${names[*]}"))\\b"
 # A timeout unless one is given: the checks take about 2 s unmutated, but
 # on shared, loaded cores the time cargo-mutants derives from that (20 s)
 # has cut off mutants that were only slow. 120 s is what the figures in
@@ -59,7 +106,7 @@ status=0
 RAYLAB_CHECK_ROBUST=1 cargo mutants \
     --dir "$workspace" \
     --file 'src/chapters/ch*.rs' \
-    --exclude-re 'sphere_roots' \
+    --exclude-re "$exclude" \
     --output "$work" \
     --cargo-arg=--offline \
     "${timeout[@]}" \
@@ -125,7 +172,23 @@ equivalent=(
     'src/chapters/ch02_sphere.rs:222:46: replace + with * in roots_f64'
 )
 
-out="$work/mutants.out"
+# The score counts the mutants of the answer key as it is now (with the
+# same filters): under --iterate the ones caught by earlier runs are in
+# previously_caught.txt, and mutants of code that changed since then no
+# longer exist and must not count.
+details="$work/mutants.out"
+out="$work/score"
+mkdir -p "$out"
+cargo mutants --list --dir "$workspace" --file 'src/chapters/ch*.rs' \
+    --exclude-re "$exclude" "${list_args[@]}" >"$out/current.txt"
+for kind in caught missed timeout unviable; do
+    sources=("$details/$kind.txt")
+    if [[ $kind == caught ]]; then
+        sources+=("$details/previously_caught.txt")
+    fi
+    cat "${sources[@]}" 2>/dev/null | sort -u | { grep -Fxf "$out/current.txt" || true; } >"$out/$kind.txt"
+done
+untested=$(cat "$out"/{caught,missed,timeout,unviable}.txt | sort -u | { grep -cvxFf - "$out/current.txt" || true; })
 count() { if [[ -s "$out/$1.txt" ]]; then wc -l <"$out/$1.txt"; else echo 0; fi; }
 caught=$(count caught)
 missed=$(count missed)
@@ -138,6 +201,9 @@ echo "  caught:   $caught"
 echo "  missed:   $missed"
 echo "  timeouts: $timeouts (counted as caught: the checks did not pass)"
 echo "  unviable: $unviable (did not build; not counted)"
+if [[ $untested -gt 0 ]]; then
+    echo "  untested: $untested (no outcome on record: unviable in an earlier run, or the run was cut short)"
+fi
 # Integer arithmetic, one decimal.
 percent() { local per_mille=$(($1 * 1000 / $2)); echo "$((per_mille / 10)).$((per_mille % 10))%"; }
 if [[ $viable -gt 0 ]]; then
@@ -175,4 +241,4 @@ if [[ $missed -gt 0 ]]; then
     done <"$out/missed.txt"
 fi
 echo
-echo "details: $out/ (outcomes.json, and a log per mutant)"
+echo "details: $details/ (outcomes.json, and a log per mutant); the scored lists: $out/"
