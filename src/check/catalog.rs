@@ -871,10 +871,20 @@ const OFFSET_4: &str = "The error-scaled offset";
 
 /// A floor (object 0) and a unit ball resting on it (object 1).
 fn floor_and_ball(lights: &str) -> String {
+    floor_and_ball_in([1.0, 1.0, 1.0], lights)
+}
+
+/// A dim, coloured ambient light for [`floor_and_ball_in`]: each channel a
+/// power of two, so the expected ambient terms are exact.
+const DIM_AMBIENT: [f32; 3] = [0.5, 0.25, 1.0];
+
+/// [`floor_and_ball`] under the ambient light `ambient`.
+fn floor_and_ball_in(ambient: [f32; 3], lights: &str) -> String {
+    let [r, g, b] = ambient;
     format!(
         r#"
 background = [0.55, 0.7, 0.9]
-ambient_light = [1.0, 1.0, 1.0]
+ambient_light = [{r:?}, {g:?}, {b:?}]
 [camera]
 position = [0.0, 2.0, -6.0]
 look_at = [0.0, 0.0, 0.0]
@@ -1094,6 +1104,20 @@ pub fn chapter_4() -> Vec<Case> {
             beside_ball,
             "[[lights]]\nposition = [0.0, -5.0, 0.0]\n",
         ),
+        Case::new(
+            "flat-dim-ambient",
+            SHADOW_RAYS_4,
+            "the floor point (3, 0, 0) lit from (0, 10, 0) as in flat-lit, under a dim, coloured \
+             ambient light (0.5, 0.25, 1): the ambient term is albedo * k_a * ambient light, \
+             0.1 * (0.5, 0.25, 1), and the light's share 0.3 is not scaled by it: expected \
+             (0.35, 0.325, 0.4)",
+            CaseKind::Shade {
+                shading: Shading::Flat,
+                scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
+                ray: Ray::new(beside_ball.0, beside_ball.1),
+                depth: 0,
+            },
+        ),
     ]
 }
 
@@ -1303,6 +1327,19 @@ pub fn chapter_5() -> Vec<Case> {
              intensity 0.5 at (10, 0.5, 0) is not: diffuse 0.1 + 0.6 * 0.5 * 0.5 * 0.05095 = 0.1076",
             (v(5.0, 0.5, 0.0), v(-4.8, -0.5, 0.0)),
             TWO_LIGHTS,
+        ),
+        Case::new(
+            "phong-sum-dim-ambient",
+            TERMS_5,
+            "phong-sum-lit under a dim, coloured ambient light (0.5, 0.25, 1): the ambient term \
+             is albedo * k_a * ambient light = 0.1 * (0.5, 0.25, 1), the light's terms are as \
+             before: diffuse (0.3373, 0.3123, 0.3873), specular 0.354",
+            CaseKind::Shade {
+                shading: Shading::Phong,
+                scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
+                ray: Ray::new(v(3.0, 5.0, 0.0), -Vec3::Y),
+                depth: 0,
+            },
         ),
     ]
 }
