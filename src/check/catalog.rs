@@ -1388,6 +1388,34 @@ sphere = { center = [0.0, 1.0, 4.0], radius = 1.0 }
 material = { color = [0.9, 0.1, 0.1], ambient = 1.0, diffuse = 0.0 }
 "#;
 
+/// Two facing mirrors, a floor (object 0) and a ceiling at height 2, each
+/// k_r = 0.5 and grey 0.4 lit by ambient light only (its own share
+/// (1 - 0.5) * 0.4 = 0.2); no lights. A slanted ray bounces between them
+/// for ever: only `max_depth` and `min_contribution` (`render`, a TOML
+/// table body) end the recursion, and the colour tells how many bounces
+/// were traced: 0.2 * (1 + 0.5 + 0.25 + ...), one term per point shaded.
+fn two_mirrors(render: &str) -> String {
+    format!(
+        r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 1.0, 0.0]
+[render]
+{render}
+[[objects]]
+name = "mirror floor"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }}
+[[objects]]
+name = "mirror ceiling"
+plane = {{ point = [0.0, 2.0, 0.0], normal = [0.0, -1.0, 0.0] }}
+material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }}
+"#
+    )
+}
+
 pub fn chapter_6() -> Vec<Case> {
     let mirror = |name, says, ray: (Vec3, Vec3), depth| {
         Case::new(
@@ -1399,6 +1427,19 @@ pub fn chapter_6() -> Vec<Case> {
                 scene: MIRROR_SCENE.to_string(),
                 ray: Ray::new(ray.0, ray.1),
                 depth,
+            },
+        )
+    };
+    let between_mirrors = |name, says, render: &str| {
+        Case::new(
+            name,
+            RECURSION_6,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Mirror,
+                scene: two_mirrors(render),
+                ray: Ray::new(v(0.0, 1.0, 0.0), v(0.0, -1.0, 1.0)),
+                depth: 0,
             },
         )
     };
@@ -1460,6 +1501,23 @@ pub fn chapter_6() -> Vec<Case> {
              (1 - 0.5) * 0.4 = 0.2",
             (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
             5,
+        ),
+        between_mirrors(
+            "mirror-depth-counts-bounces",
+            "a ray from (0, 1, 0) along (0, -1, 1) between two facing mirrors (k_r = 0.5, own \
+             share 0.2 each), max_depth = 2: the floor at depth 0, the ceiling at depth 1, the \
+             floor again at depth 2 = max_depth, where the recursion stops. Expected \
+             0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected ray one deeper; without the \
+             limit the weights alone stop it after 10 points, 0.3996)",
+            "max_depth = 2",
+        ),
+        between_mirrors(
+            "mirror-min-contribution",
+            "the same ray between the two mirrors with max_depth = 5 but min_contribution = 0.2: \
+             the reflected rays weigh 0.5 and 0.25 in the pixel, the next would weigh 0.125 < 0.2 \
+             and is not cast. Expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected \
+             ray's weight is its parent's times k_r; traced to max_depth, 0.39375)",
+            "max_depth = 5\nmin_contribution = 0.2",
         ),
     ]
 }
