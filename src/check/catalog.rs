@@ -1679,6 +1679,27 @@ pub fn chapter_7() -> Vec<Case> {
             9,
             SampleRule::InsidePixel,
         ),
+        samples_case(
+            "samples-random-5",
+            "5 random samples: random sampling takes any count, not only squares (5 has no \
+             whole square root: floor(sqrt 5) = 2); inside [0, 1)^2, not all at the same point",
+            Sampling::Random,
+            5,
+            vec![(5, 6), (100, 50)],
+            9,
+            SampleRule::InsidePixel,
+        ),
+        samples_case(
+            "samples-seed-changes-them",
+            "4 random samples in pixels (5, 6) and (100, 50) with seed 1, then with seed 0: the \
+             seed changes the samples (it is hashed with the pixel and the index), so the two \
+             sets must differ",
+            Sampling::Random,
+            4,
+            vec![(5, 6), (100, 50)],
+            1,
+            SampleRule::UnlikeSeed(0),
+        ),
         Case::new(
             "pixel-quarters",
             SAMPLES_7,
