@@ -182,6 +182,70 @@ fn gallery_shadow_acne() {
     assert_caught::<Acne>(4, "shadow-no-acne-plane");
 }
 
+/// Chapter 4: the ambient term without the ambient light, `albedo * k_a`:
+/// right under white ambient light only.
+struct AmbientLightLeftOut;
+impl Chapters for AmbientLightLeftOut {
+    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        let material = &point.material;
+        let mut color = point.albedo * material.ambient;
+        for light in tracer.lights() {
+            if !point.faces(light.position) || Self::in_shadow(tracer, point, light.position) {
+                continue;
+            }
+            color += point.albedo * material.diffuse * light.radiance();
+        }
+        color
+    }
+}
+
+#[test]
+fn gallery_ambient_light_left_out() {
+    assert_caught::<AmbientLightLeftOut>(4, "flat-dim-ambient");
+}
+
+/// Chapter 6: the reflected ray traced at the mirror's own depth: only the
+/// weights end the recursion, `max_depth` never does.
+struct DepthNotCounted;
+impl Chapters for DepthNotCounted {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Self::shade_phong(tracer, point);
+        let k = point.material.reflectivity;
+        let mut color = (1.0 - k) * local.diffuse + local.specular;
+        if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
+            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+            color += k * tracer.trace(RayKind::Reflection, &ray, depth, weight * k);
+        }
+        color
+    }
+}
+
+#[test]
+fn gallery_reflection_depth_not_counted() {
+    assert_caught::<DepthNotCounted>(6, "mirror-depth-counts-bounces");
+}
+
+/// Chapter 7: the random numbers hashed from the pixel and the sample only:
+/// every seed gives the same samples.
+struct SeedIgnored;
+impl Chapters for SeedIgnored {
+    fn sample_offset(
+        sampling: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        _seed: u64,
+    ) -> (f32, f32) {
+        raylab::chapters::ch07_antialiasing::sample_offset(sampling, count, index, pixel, 0)
+    }
+}
+
+#[test]
+fn gallery_seed_ignored() {
+    assert_caught::<SeedIgnored>(7, "samples-seed-changes-them");
+}
+
 fn srgb_encode(linear: f32) -> f32 {
     let v = linear.clamp(0.0, 1.0);
     if v <= 0.003_130_8 {

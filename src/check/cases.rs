@@ -83,6 +83,9 @@ pub enum SampleRule {
     OnePerCell,
     /// Every sample inside `[0, 1)^2`, and not all at one point.
     InsidePixel,
+    /// As `InsidePixel`, and not the same offsets as with this other seed:
+    /// the seed changes the samples.
+    UnlikeSeed(u64),
 }
 
 /// The question a case asks, one variant per kind of function.
@@ -816,10 +819,19 @@ impl Case {
                 rule,
             } => {
                 for pixel in pixels {
-                    let offsets: Vec<(f32, f32)> = (0..*count)
-                        .map(|index| C::sample_offset(*sampling, *count, index, *pixel, *seed))
-                        .collect();
-                    if let Err(problem) = sample_rule(*rule, *count, &offsets) {
+                    let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
+                        (0..*count)
+                            .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
+                            .collect()
+                    };
+                    let offsets = offsets_with(*seed);
+                    let mut verdict = sample_rule(*rule, *count, &offsets);
+                    if let (Ok(()), SampleRule::UnlikeSeed(other)) = (&verdict, rule) {
+                        if offsets_with(*other) == offsets {
+                            verdict = Err(format!("the same offsets as with seed {other}"));
+                        }
+                    }
+                    if let Err(problem) = verdict {
                         return Outcome::Fail {
                             expected: rule_text(*rule, *count),
                             got: format!(
@@ -1565,7 +1577,7 @@ fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(
             one_per_cell(k, offsets, cell_of)
         }
         SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
-        SampleRule::InsidePixel => {
+        SampleRule::InsidePixel | SampleRule::UnlikeSeed(_) => {
             if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
                 Err("every sample is at the same point".into())
             } else {
@@ -1605,6 +1617,9 @@ fn rule_text(rule: SampleRule, count: u32) -> String {
             format!("one sample in each cell of a {k} x {k} grid, inside [0, 1)^2")
         }
         SampleRule::InsidePixel => "samples inside [0, 1)^2, not all at one point".into(),
+        SampleRule::UnlikeSeed(other) => {
+            format!("samples inside [0, 1)^2, not all at one point, not those of seed {other}")
+        }
     }
 }
 

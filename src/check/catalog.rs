@@ -914,10 +914,20 @@ const OFFSET_4: &str = "The error-scaled offset";
 
 /// A floor (object 0) and a unit ball resting on it (object 1).
 fn floor_and_ball(lights: &str) -> String {
+    floor_and_ball_in([1.0, 1.0, 1.0], lights)
+}
+
+/// A dim, coloured ambient light for [`floor_and_ball_in`]: each channel a
+/// power of two, so the expected ambient terms are exact.
+const DIM_AMBIENT: [f32; 3] = [0.5, 0.25, 1.0];
+
+/// [`floor_and_ball`] under the ambient light `ambient`.
+fn floor_and_ball_in(ambient: [f32; 3], lights: &str) -> String {
+    let [r, g, b] = ambient;
     format!(
         r#"
 background = [0.55, 0.7, 0.9]
-ambient_light = [1.0, 1.0, 1.0]
+ambient_light = [{r:?}, {g:?}, {b:?}]
 [camera]
 position = [0.0, 2.0, -6.0]
 look_at = [0.0, 0.0, 0.0]
@@ -1137,6 +1147,20 @@ pub fn chapter_4() -> Vec<Case> {
             beside_ball,
             "[[lights]]\nposition = [0.0, -5.0, 0.0]\n",
         ),
+        Case::new(
+            "flat-dim-ambient",
+            SHADOW_RAYS_4,
+            "the floor point (3, 0, 0) lit from (0, 10, 0) as in flat-lit, under a dim, coloured \
+             ambient light (0.5, 0.25, 1): the ambient term is albedo * k_a * ambient light, \
+             0.1 * (0.5, 0.25, 1), and the light's share 0.3 is not scaled by it: expected \
+             (0.35, 0.325, 0.4)",
+            CaseKind::Shade {
+                shading: Shading::Flat,
+                scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
+                ray: Ray::new(beside_ball.0, beside_ball.1),
+                depth: 0,
+            },
+        ),
     ]
 }
 
@@ -1347,6 +1371,19 @@ pub fn chapter_5() -> Vec<Case> {
             (v(5.0, 0.5, 0.0), v(-4.8, -0.5, 0.0)),
             TWO_LIGHTS,
         ),
+        Case::new(
+            "phong-sum-dim-ambient",
+            TERMS_5,
+            "phong-sum-lit under a dim, coloured ambient light (0.5, 0.25, 1): the ambient term \
+             is albedo * k_a * ambient light = 0.1 * (0.5, 0.25, 1), the light's terms are as \
+             before: diffuse (0.3373, 0.3123, 0.3873), specular 0.354",
+            CaseKind::Shade {
+                shading: Shading::Phong,
+                scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
+                ray: Ray::new(v(3.0, 5.0, 0.0), -Vec3::Y),
+                depth: 0,
+            },
+        ),
     ]
 }
 
@@ -1394,6 +1431,34 @@ sphere = { center = [0.0, 1.0, 4.0], radius = 1.0 }
 material = { color = [0.9, 0.1, 0.1], ambient = 1.0, diffuse = 0.0 }
 "#;
 
+/// Two facing mirrors, a floor (object 0) and a ceiling at height 2, each
+/// k_r = 0.5 and grey 0.4 lit by ambient light only (its own share
+/// (1 - 0.5) * 0.4 = 0.2); no lights. A slanted ray bounces between them
+/// for ever: only `max_depth` and `min_contribution` (`render`, a TOML
+/// table body) end the recursion, and the colour tells how many bounces
+/// were traced: 0.2 * (1 + 0.5 + 0.25 + ...), one term per point shaded.
+fn two_mirrors(render: &str) -> String {
+    format!(
+        r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 1.0, 0.0]
+[render]
+{render}
+[[objects]]
+name = "mirror floor"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }}
+[[objects]]
+name = "mirror ceiling"
+plane = {{ point = [0.0, 2.0, 0.0], normal = [0.0, -1.0, 0.0] }}
+material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }}
+"#
+    )
+}
+
 pub fn chapter_6() -> Vec<Case> {
     let mirror = |name, says, ray: (Vec3, Vec3), depth| {
         Case::new(
@@ -1405,6 +1470,19 @@ pub fn chapter_6() -> Vec<Case> {
                 scene: MIRROR_SCENE.to_string(),
                 ray: Ray::new(ray.0, ray.1),
                 depth,
+            },
+        )
+    };
+    let between_mirrors = |name, says, render: &str| {
+        Case::new(
+            name,
+            RECURSION_6,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Mirror,
+                scene: two_mirrors(render),
+                ray: Ray::new(v(0.0, 1.0, 0.0), v(0.0, -1.0, 1.0)),
+                depth: 0,
             },
         )
     };
@@ -1466,6 +1544,23 @@ pub fn chapter_6() -> Vec<Case> {
              (1 - 0.5) * 0.4 = 0.2",
             (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
             5,
+        ),
+        between_mirrors(
+            "mirror-depth-counts-bounces",
+            "a ray from (0, 1, 0) along (0, -1, 1) between two facing mirrors (k_r = 0.5, own \
+             share 0.2 each), max_depth = 2: the floor at depth 0, the ceiling at depth 1, the \
+             floor again at depth 2 = max_depth, where the recursion stops. Expected \
+             0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected ray one deeper; without the \
+             limit the weights alone stop it after 10 points, 0.3996)",
+            "max_depth = 2",
+        ),
+        between_mirrors(
+            "mirror-min-contribution",
+            "the same ray between the two mirrors with max_depth = 5 but min_contribution = 0.2: \
+             the reflected rays weigh 0.5 and 0.25 in the pixel, the next would weigh 0.125 < 0.2 \
+             and is not cast. Expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected \
+             ray's weight is its parent's times k_r; traced to max_depth, 0.39375)",
+            "max_depth = 5\nmin_contribution = 0.2",
         ),
     ]
 }
@@ -1626,6 +1721,27 @@ pub fn chapter_7() -> Vec<Case> {
             vec![(5, 6), (100, 50)],
             9,
             SampleRule::InsidePixel,
+        ),
+        samples_case(
+            "samples-random-5",
+            "5 random samples: random sampling takes any count, not only squares (5 has no \
+             whole square root: floor(sqrt 5) = 2); inside [0, 1)^2, not all at the same point",
+            Sampling::Random,
+            5,
+            vec![(5, 6), (100, 50)],
+            9,
+            SampleRule::InsidePixel,
+        ),
+        samples_case(
+            "samples-seed-changes-them",
+            "4 random samples in pixels (5, 6) and (100, 50) with seed 1, then with seed 0: the \
+             seed changes the samples (it is hashed with the pixel and the index), so the two \
+             sets must differ",
+            Sampling::Random,
+            4,
+            vec![(5, 6), (100, 50)],
+            1,
+            SampleRule::UnlikeSeed(0),
         ),
         Case::new(
             "pixel-quarters",
