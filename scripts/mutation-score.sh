@@ -166,6 +166,10 @@ equivalent=(
     'src/chapters/ch10_triangles.rs:60:22: replace == with != in intersect_triangle'
     'src/chapters/ch10_triangles.rs:60:29: replace || with && in intersect_triangle'
     'src/chapters/ch10_triangles.rs:60:34: replace == with != in intersect_triangle'
+    # ch10, smooth_hit_point's side test with <=: the vertex normals' sum
+    # exactly in the triangle's plane says neither side is out; turning them
+    # or not are both answers to a question with none.
+    'src/chapters/ch10_triangles.rs:200:45: replace < with <= in smooth_hit_point'
 )
 
 out="$work/mutants.out"

@@ -3273,6 +3273,36 @@ pub fn chapter_10() -> Vec<Case> {
             -5.0,
             false,
         ),
+        Case::new(
+            "smooth-hit-steep-normals-b",
+            TERMINATOR_10,
+            "the lesson's floor triangle with the vertex normals (0.96, 0, 0.28), (0, 0, 1), \
+             (0, 0.96, 0.28) (two of them 74 degrees from the face's, a coarse and strongly \
+             curved mesh), transparent, hit at (0.25, 0.25, 0) by a ray from (0.25, 0.25, 5) \
+             along -z: their sum (0.96, 0.96, 1.56) is on the ray's side, so they are kept; \
+             blended with the weights (0.5, 0.25, 0.25): (0.48, 0.24, 0.46) / 0.70682 = \
+             (0.67909, 0.33955, 0.6508) (the side is the sum's: with n_a - n_b + n_c, \
+             z = -0.44, they would be turned)",
+            CaseKind::SmoothHit {
+                corners: FLOOR_TRIANGLE,
+                normals: [v(0.96, 0.0, 0.28), Vec3::Z, v(0.0, 0.96, 0.28)],
+                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                transparent: true,
+            },
+        ),
+        Case::new(
+            "smooth-hit-steep-normals-c",
+            TERMINATOR_10,
+            "the same with the vertex normals (0.96, 0, 0.28), (0, 0.96, 0.28), (0, 0, 1): the \
+             same sum, kept, the same blend (0.67909, 0.33955, 0.6508) (with n_a + n_b - n_c, \
+             z = -0.44, they would be turned)",
+            CaseKind::SmoothHit {
+                corners: FLOOR_TRIANGLE,
+                normals: [v(0.96, 0.0, 0.28), v(0.0, 0.96, 0.28), Vec3::Z],
+                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                transparent: true,
+            },
+        ),
         smooth_hit_case(
             "smooth-hit-transparent",
             "the bulge of smooth-hit-convex, fully transparent: the smooth normal \
