@@ -175,7 +175,8 @@ pub enum CaseKind {
     /// `refract(d, n, eta)`: expected the exact unit direction, or `None`.
     Refract { d: Vec3, n: Vec3, eta: f32 },
     /// `fresnel(cos_i, n1, n2)` (or `schlick`, when `schlick` is set):
-    /// expected the `f64` value of the formula, within `1e-6` absolute.
+    /// expected the `f64` value of the formula, within `1e-6` absolute, or
+    /// NaN (for an index that is not a finite number > 0) when `expect` is.
     Reflectance {
         schlick: bool,
         cos_i: f32,
@@ -934,7 +935,13 @@ impl Case {
                 };
                 // A reflectance is a share in [0, 1]: 1e-6 absolute is a few
                 // f32 roundings of it, far below what any image shows.
-                let pass = (f64::from(got) - expect).abs() <= 1e-6;
+                // An expected NaN is the answer to an invalid index: only NaN
+                // passes.
+                let pass = if expect.is_nan() {
+                    got.is_nan()
+                } else {
+                    (f64::from(got) - expect).abs() <= 1e-6
+                };
                 verdict(pass, num64(*expect), num(got))
             }
             CaseKind::Transmittance {

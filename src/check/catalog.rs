@@ -1843,6 +1843,40 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
+/// A glass pane y = 0 (object 0: k_r = k_t = 0.5, tinted (1, 0.5, 0.25),
+/// index 1.5) between two fainter panes, a floor y = -2 (colour 0.8,
+/// k_t = 0.75) and a ceiling y = 2 (colour 0.4, k_t = 0.75), index 1, all
+/// lit by ambient light only (ambient = 1, no lights). With
+/// `min_contribution = 0.5` the pane's two rays are cast (weight 0.5 each)
+/// but the floor's and the ceiling's are not (0.5 x 0.75 < 0.5): every
+/// share is a fraction, and the answer is a few products by hand.
+const PANES_SCENE: &str = r#"
+background = [0.2, 0.4, 0.6]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+min_contribution = 0.5
+[[objects]]
+name = "pane"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [1.0, 0.5, 0.25], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5, transparency = 0.5, ior = 1.5 }
+[[objects]]
+name = "floor pane"
+plane = { point = [0.0, -2.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [0.8, 0.8, 0.8], ambient = 1.0, diffuse = 0.0, transparency = 0.75, ior = 1.0 }
+[[objects]]
+name = "ceiling pane"
+plane = { point = [0.0, 2.0, 0.0], normal = [0.0, -1.0, 0.0] }
+material = { color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, transparency = 0.75, ior = 1.0 }
+"#;
+
+/// The ray of the panes cases: from (0, 1, 0) down at 45 degrees, meeting
+/// the pane at (1, 0, 0).
+const PANES_RAY: (Vec3, Vec3) = (Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0));
+
 pub fn chapter_8() -> Vec<Case> {
     let glass = 1.5f32;
     let water = |name, section, says, ray: (Vec3, Vec3), depth| {
@@ -1932,6 +1966,21 @@ pub fn chapter_8() -> Vec<Case> {
             (v(0.0, -1.0, 0.7), v(1.0, 0.2, 0.0)),
             0,
         ),
+        Case::new(
+            "glass-fractional-shares",
+            ENTERING_8,
+            "a glass pane (k_r = k_t = 0.5, tinted (1, 0.5, 0.25)) between a floor and a ceiling \
+             pane (k_t = 0.75, own light 0.25 x 0.8 and 0.25 x 0.4), min_contribution 0.5, a ray \
+             from (0, 1, 0) along (1, -1, 0): 0 x its own light + 0.5 x (1, 0.5, 0.25) x 0.2 \
+             through + 0.5 x 0.1 reflected = (0.15, 0.1, 0.075); the rays it casts carry the \
+             weights 0.5, so the floor's and ceiling's (0.5 x 0.75 < 0.5) are not cast",
+            CaseKind::Shade {
+                shading: Shading::Glass,
+                scene: PANES_SCENE.to_string(),
+                ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
+                depth: 0,
+            },
+        ),
         water(
             "glass-depth-limit",
             ENTERING_8,
@@ -1997,6 +2046,16 @@ pub fn chapter_8_robustness() -> Vec<Case> {
             v(3.0, -3.0, 0.0),
             v(0.0, 0.25, 0.0),
             1.0 / glass,
+        ),
+        r(
+            "refract-same-medium-short-direction",
+            SNELL_8,
+            "eta = 1 with the short direction (1e-4, -2e-4, 2e-4), length 3e-4: straight on, \
+             as a unit vector (1/3, -2/3, 2/3) (a shortcut for eta = 1 that keeps a direction \
+             already unit must not keep this one)",
+            v(1e-4, -2e-4, 2e-4),
+            Vec3::Y,
+            1.0,
         ),
         r(
             "refract-zero-normal",
@@ -2213,6 +2272,21 @@ pub fn chapter_9() -> Vec<Case> {
              crossing between the right pair of media",
             (v(0.0, 1.0, -6.0), Vec3::Z),
         ),
+        Case::new(
+            "dielectric-fractional-shares",
+            STACK_9,
+            "chapter 8's glass-fractional-shares scene, no Fresnel (fresnel = \"none\": R = 0): \
+             a pane with k_r = k_t = 0.5, tinted (1, 0.5, 0.25), of its own light 1 - 0.5 - 0.5 = \
+             0; the transmitted ray (weight 0.5) sees the floor's own light 0.2, the reflected \
+             one (weight 0.5) the ceiling's, 0.1, neither casting further (0.5 x 0.75 < \
+             min_contribution 0.5): expected (0.15, 0.1, 0.075)",
+            CaseKind::Shade {
+                shading: Shading::Dielectric,
+                scene: PANES_SCENE.to_string(),
+                ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
+                depth: 0,
+            },
+        ),
         shade(
             "dielectric-off-centre",
             "the same balls, the ray from (0.3, 1.2, -6) along +z: it crosses glass and water at \
@@ -2251,6 +2325,24 @@ pub fn chapter_9_robustness() -> Vec<Case> {
             false,
             (0.3, 1.33, 1.33),
             0.0,
+        ),
+        reflectance(
+            "fresnel-zero-index",
+            FRESNEL_9,
+            "n1 = 0, not an index (no medium has one below 1, and 0 makes n1 / n2 = 0): \
+             expected NaN, a loud answer, not a plausible R",
+            false,
+            (0.8, 0.0, 1.5),
+            f64::NAN,
+        ),
+        reflectance(
+            "schlick-negative-index",
+            SCHLICK_9,
+            "n2 = -1.5, not an index: expected NaN (Schlick's R0 = ((1 + 1.5) / (1 - 1.5))^2 \
+             = 25 would be no reflectance at all)",
+            true,
+            (0.8, 1.0, -1.5),
+            f64::NAN,
         ),
         reflectance(
             "schlick-nearly-grazing",
@@ -2938,6 +3030,32 @@ fn lesson_triangle_case(
     )
 }
 
+/// The unit square at z = 2 as two triangles sharing its diagonal
+/// (1, 0, 2)-(0, 1, 2): the first takes the square's corners `first` (indices
+/// into (0, 0), (1, 0), (1, 1), (0, 1)), the second the same turned half a
+/// turn about the square's centre, which keeps the winding and puts the
+/// diagonal (reversed) in the same place of both. A ray from
+/// (0.5, 0.5, `from_z`) toward z = 2 goes through the middle of the diagonal.
+fn shared_diagonal_case(name: &'static str, says: &str, first: [usize; 3], from_z: f32) -> Case {
+    let square = [
+        v(0.0, 0.0, 2.0),
+        v(1.0, 0.0, 2.0),
+        v(1.0, 1.0, 2.0),
+        v(0.0, 1.0, 2.0),
+    ];
+    let turned = |i: usize| square[(i + 2) % 4];
+    let direction = if from_z > 2.0 { -Vec3::Z } else { Vec3::Z };
+    triangles_case(
+        name,
+        WATERTIGHT_10,
+        says,
+        vec![first.map(|i| square[i]), first.map(turned)],
+        (v(0.5, 0.5, from_z), direction),
+        ALL,
+        E::Hit,
+    )
+}
+
 fn barycentric_case(name: &'static str, says: &str, corners: [Vec3; 3], point: Vec3) -> Case {
     Case::new(
         name,
@@ -3128,6 +3246,62 @@ pub fn chapter_10() -> Vec<Case> {
             ALL,
             E::Hit,
         ),
+        // The unit square at z = 2 cut along its diagonal (1, 0, 2)-(0, 1, 2)
+        // into two triangles wound the same way (normal +z), listed so that
+        // the diagonal is the same edge of both: b -> c, c -> a or a -> b.
+        // A ray exactly through it makes that edge's test exactly 0 in both
+        // (the coordinates are exact in f32): only a test that counts 0 as
+        // inside on every edge, from either side, claims it. (In
+        // triangle-shared-edge above the diagonal is a different edge of each
+        // triangle, which hides a test that is strict on one edge only.)
+        shared_diagonal_case(
+            "triangle-shared-diagonal-bc",
+            "the unit square at z = 2 as the triangles (0, 0, 2), (1, 0, 2), (0, 1, 2) and \
+             (1, 1, 2), (0, 1, 2), (1, 0, 2), the diagonal their edge b -> c in both; a ray \
+             from (0.5, 0.5, 5) along -z, from the side the normals face, through the middle \
+             of the diagonal: at least one must claim it: expected t = 3",
+            [0, 1, 3],
+            5.0,
+        ),
+        shared_diagonal_case(
+            "triangle-shared-diagonal-bc-from-behind",
+            "the same two triangles and the ray from (0.5, 0.5, 0) along +z, from behind: \
+             expected t = 2",
+            [0, 1, 3],
+            0.0,
+        ),
+        shared_diagonal_case(
+            "triangle-shared-diagonal-ca",
+            "the same square as the triangles (0, 1, 2), (0, 0, 2), (1, 0, 2) and \
+             (1, 0, 2), (1, 1, 2), (0, 1, 2), the diagonal their edge c -> a in both, and the ray \
+             from (0.5, 0.5, 5) along -z: expected t = 3",
+            [3, 0, 1],
+            5.0,
+        ),
+        shared_diagonal_case(
+            "triangle-shared-diagonal-ab",
+            "the same square as the triangles (1, 0, 2), (0, 1, 2), (0, 0, 2) and \
+             (0, 1, 2), (1, 0, 2), (1, 1, 2), the diagonal their edge a -> b in both, and the ray \
+             from (0.5, 0.5, 5) along -z: expected t = 3",
+            [1, 3, 0],
+            5.0,
+        ),
+        lesson_triangle_case(
+            "triangle-at-t-min",
+            "the first case's ray with t_min = 2: the hit, at exactly t = 2, is not beyond \
+             t_min: expected no hit (as for planes and spheres)",
+            up,
+            (2.0, INF),
+            E::Miss,
+        ),
+        lesson_triangle_case(
+            "triangle-at-t-max",
+            "the first case's ray with t_max = 2: the hit, at exactly t = 2, is not before \
+             t_max: expected no hit",
+            up,
+            (0.0, 2.0),
+            E::Miss,
+        ),
         barycentric_case(
             "barycentric-corner-b",
             "the lesson's triangle at its corner b = (1, 0, 2): all of the weight on b: \
@@ -3222,6 +3396,36 @@ pub fn chapter_10() -> Vec<Case> {
              refracted ray must start below the surface, not above it",
             5.0,
             true,
+        ),
+        Case::new(
+            "smooth-hit-steep-normals-b",
+            TERMINATOR_10,
+            "the lesson's floor triangle with the vertex normals (0.96, 0, 0.28), (0, 0, 1), \
+             (0, 0.96, 0.28) (two of them 74 degrees from the face's, a coarse and strongly \
+             curved mesh), transparent, hit at (0.25, 0.25, 0) by a ray from (0.25, 0.25, 5) \
+             along -z: their sum (0.96, 0.96, 1.56) is on the ray's side, so they are kept; \
+             blended with the weights (0.5, 0.25, 0.25): (0.48, 0.24, 0.46) / 0.70682 = \
+             (0.67909, 0.33955, 0.6508) (the side is the sum's: with n_a - n_b + n_c, \
+             z = -0.44, they would be turned)",
+            CaseKind::SmoothHit {
+                corners: FLOOR_TRIANGLE,
+                normals: [v(0.96, 0.0, 0.28), Vec3::Z, v(0.0, 0.96, 0.28)],
+                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                transparent: true,
+            },
+        ),
+        Case::new(
+            "smooth-hit-steep-normals-c",
+            TERMINATOR_10,
+            "the same with the vertex normals (0.96, 0, 0.28), (0, 0.96, 0.28), (0, 0, 1): the \
+             same sum, kept, the same blend (0.67909, 0.33955, 0.6508) (with n_a + n_b - n_c, \
+             z = -0.44, they would be turned)",
+            CaseKind::SmoothHit {
+                corners: FLOOR_TRIANGLE,
+                normals: [v(0.96, 0.0, 0.28), v(0.0, 0.96, 0.28), Vec3::Z],
+                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                transparent: true,
+            },
         ),
     ]
 }
