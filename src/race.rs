@@ -11,7 +11,8 @@
 //! Two sets of rays are raced ([`race_on_generated_mesh`] and
 //! [`race_on_rendered_scene`]): rays from all around a lone model, each
 //! unrelated to the one before, and the rays a render casts, camera rays
-//! pixel after pixel with their shadow and mirror rays, which is what a
+//! pixel after pixel with their shadow rays (and mirror rays in a scene with
+//! mirrors), which is what a
 //! ray tracer spends its time on and what `raylab crosscheck` compares.
 //!
 //! Memory is measured two ways, and the race reports both:
@@ -335,8 +336,8 @@ pub fn race_on_generated_mesh(
 
 /// The race on the rays a render casts: chapter 11's built-in scene with
 /// its model made of about `triangles` triangles, rendered at the scene's
-/// own size (640x480, one sample), every camera, shadow and mirror ray
-/// recorded in order, then traced by both sides, one thread each. Ours is
+/// own size (640x480, one sample), every camera and shadow ray (it has no
+/// mirrors) recorded in order, then traced by both sides, one thread each. Ours is
 /// the stage's own search (the tree, the floor plane outside it, as
 /// rendering uses it); Embree gets the same shapes as in
 /// `raylab crosscheck` (the plane as a large quad). The build times are
