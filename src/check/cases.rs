@@ -252,6 +252,9 @@ pub enum CaseKind {
     BvhBuild {
         shapes: Vec<Shape>,
         options: BvhOptions,
+        /// What the lesson fixes about this tree's shape, beyond its being
+        /// a valid tree.
+        expect: TreeShape,
     },
     /// `build_bvh` over the boxes of `shapes`, then for each of `rays`
     /// `nearest_hit_bvh` (or `any_hit_bvh` when `any`) through that tree.
@@ -267,6 +270,23 @@ pub enum CaseKind {
         t_max: f32,
         any: bool,
     },
+}
+
+/// What a `BvhBuild` case asks of the tree's shape, beyond its being valid.
+/// Which child is called left is the student's choice, so a cut is
+/// compared as a partition.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TreeShape {
+    /// Any valid tree.
+    Any,
+    /// The root is a leaf (it holds every boxed object), and its box is
+    /// theirs, padded by a few epsilons.
+    RootLeaf,
+    /// The root is cut in two, one child holding exactly the objects of
+    /// one of these lists (each a cut the lesson's rules may give) and the
+    /// other the rest of the boxed ones; its box is theirs, padded by a few
+    /// epsilons.
+    RootCut(Vec<Vec<u32>>),
 }
 
 /// One checkpoint: a question, its expected answer and its tolerance, with
@@ -581,7 +601,9 @@ impl Case {
                 vec(*min),
                 vec(*max)
             ),
-            CaseKind::BvhBuild { shapes, options } => format!(
+            CaseKind::BvhBuild {
+                shapes, options, ..
+            } => format!(
                 "build_bvh(the boxes of [{}], {})",
                 shapes_text(shapes),
                 options_text(options)
@@ -1126,11 +1148,18 @@ impl Case {
                 rays,
                 seed,
             } => box_edges::<C>(&Aabb::new(*min, *max), *rays, *seed),
-            CaseKind::BvhBuild { shapes, options } => {
+            CaseKind::BvhBuild {
+                shapes,
+                options,
+                expect,
+            } => {
                 let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
                 let bvh = C::build_bvh(&bounds, options);
                 match tree_problem(&bvh, &bounds) {
-                    None => Outcome::Pass,
+                    None => match shape_problem(&bvh, &bounds, expect) {
+                        None => Outcome::Pass,
+                        Some((expected, got)) => Outcome::Fail { expected, got },
+                    },
                     Some(problem) => Outcome::Fail {
                         expected: "every boxed object once, under a leaf whose box holds it; \
                                    each node's box holding its children; planes in unbounded"
@@ -1224,6 +1253,107 @@ fn box_edges<C: Chapters>(bounds: &Aabb, rays: u32, seed: u64) -> Outcome {
 /// anything. Walks from the root with a visited mark per node, so a
 /// student's tree with a cycle or an index out of range is reported, not
 /// followed forever.
+/// The objects in the leaves under `node`, sorted (`bvh` a valid tree).
+fn objects_under(bvh: &Bvh, node: usize) -> Vec<u32> {
+    let mut found = Vec::new();
+    let mut to_visit = vec![node];
+    while let Some(index) = to_visit.pop() {
+        let node = &bvh.nodes[index];
+        match node.children() {
+            Some((left, right)) => to_visit.extend([left, right]),
+            None => found.extend_from_slice(&bvh.primitives[node.primitive_range()]),
+        }
+    }
+    found.sort_unstable();
+    found
+}
+
+/// How a valid tree `bvh` differs from `expect`: (expected, got).
+fn shape_problem(
+    bvh: &Bvh,
+    bounds: &[Option<Aabb>],
+    expect: &TreeShape,
+) -> Option<(String, String)> {
+    let finite = |b: &Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
+    let boxed: Vec<Aabb> = bounds.iter().flatten().copied().filter(finite).collect();
+    let all: Vec<u32> = (0..bounds.len() as u32)
+        .filter(|&o| bounds[o as usize].as_ref().is_some_and(finite))
+        .collect();
+    let root = bvh.nodes.first().map(|root| root.children());
+    let got = match root {
+        None => "no nodes".to_string(),
+        Some(None) => format!(
+            "the root a leaf holding objects {:?}",
+            objects_under(bvh, 0)
+        ),
+        Some(Some((left, right))) => format!(
+            "the root cut into objects {:?} and {:?}",
+            objects_under(bvh, left),
+            objects_under(bvh, right)
+        ),
+    };
+    let (expected, matches) = match expect {
+        TreeShape::Any => return None,
+        TreeShape::RootLeaf => (
+            format!("the root a leaf holding objects {all:?}"),
+            root == Some(None),
+        ),
+        TreeShape::RootCut(sides) => {
+            let sides: Vec<Vec<u32>> = sides
+                .iter()
+                .map(|side| {
+                    let mut side = side.clone();
+                    side.sort_unstable();
+                    side
+                })
+                .collect();
+            let matches = root.flatten().is_some_and(|(left, right)| {
+                let (left, right) = (objects_under(bvh, left), objects_under(bvh, right));
+                sides.iter().any(|side| left == *side || right == *side)
+            });
+            let cuts: Vec<String> = sides
+                .iter()
+                .map(|side| {
+                    let rest: Vec<u32> =
+                        all.iter().copied().filter(|o| !side.contains(o)).collect();
+                    format!("{side:?} and {rest:?}")
+                })
+                .collect();
+            (
+                format!("the root cut into objects {}", cuts.join(", or ")),
+                matches,
+            )
+        }
+    };
+    if !matches {
+        return Some((expected, got));
+    }
+    // The root's box: the objects' boxes, grown by BOX_PADDING_EPSILONS (4)
+    // epsilons of their largest coordinate; allowed up to 1e-4 of it.
+    let union = boxed.iter().fold(Aabb::EMPTY, |sum, b| sum.union(*b));
+    let root_box = bvh.nodes[0].bounds;
+    let magnitude = union.min.abs().max(union.max.abs()).max_element();
+    let off = (root_box.min - union.min)
+        .abs()
+        .max((root_box.max - union.max).abs())
+        .max_element();
+    (!(off <= 1e-4 * magnitude)).then(|| {
+        (
+            format!(
+                "the root's box {} to {} (the objects' boxes), grown by a few epsilons of its \
+                 largest coordinate",
+                vec(union.min),
+                vec(union.max)
+            ),
+            format!(
+                "the root's box {} to {}",
+                vec(root_box.min),
+                vec(root_box.max)
+            ),
+        )
+    })
+}
+
 fn tree_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
     let boxed = |object: usize| {
         bounds[object].filter(|b| b.min.is_finite() && b.max.is_finite() && !b.is_empty())

@@ -10,7 +10,7 @@
 
 use glam::Vec3;
 
-use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, vec};
+use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 use super::exact::{self, wide};
 use crate::bvh::{BvhOptions, SplitRule};
 use crate::course::PhongTerms;
@@ -2372,6 +2372,7 @@ const SLAB_11: &str = "The slab test";
 const NAN_11: &str = "Why NaN cannot sneak in";
 const ROUNDING_11: &str = "Rounding: widening the interval";
 const BUILD_11: &str = "Building the tree";
+const SAH_11: &str = "Where to cut: the surface-area heuristic";
 const WALK_11: &str = "Walking the tree: the nearest hit";
 const ANY_11: &str = "Any hit, for shadows";
 const PLANES_11: &str = "Why planes stay out";
@@ -2418,6 +2419,35 @@ const ONE_PER_LEAF: BvhOptions = BvhOptions {
 
 fn sphere(x: f32, y: f32, z: f32, radius: f32) -> Shape {
     Sphere::new(v(x, y, z), radius).into()
+}
+
+/// The middle cut, two objects per leaf: the `max_leaf` checkpoints.
+const MIDDLE_TWO_PER_LEAF: BvhOptions = BvhOptions {
+    split: SplitRule::Midpoint,
+    bins: 16,
+    max_leaf: 2,
+};
+
+/// A `build_bvh` case over the boxes of `shapes`: a valid tree of the
+/// shape `expect`.
+fn build_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    shapes: Vec<Shape>,
+    options: BvhOptions,
+    expect: TreeShape,
+) -> Case {
+    Case::new(
+        name,
+        section,
+        says,
+        CaseKind::BvhBuild {
+            shapes,
+            options,
+            expect,
+        },
+    )
 }
 
 /// A `nearest_hit_bvh` (or, `any`, `any_hit_bvh`) case over `shapes`.
@@ -2595,6 +2625,7 @@ pub fn chapter_11() -> Vec<Case> {
                     sphere(9.0, 0.0, 0.0, 1.0),
                 ],
                 options: ONE_PER_LEAF,
+                expect: TreeShape::Any,
             },
         ),
         bvh_case(
@@ -2621,6 +2652,7 @@ pub fn chapter_11() -> Vec<Case> {
             CaseKind::BvhBuild {
                 shapes: plane_between(),
                 options: ONE_PER_LEAF,
+                expect: TreeShape::Any,
             },
         ),
         bvh_case(
@@ -2674,6 +2706,109 @@ pub fn chapter_11() -> Vec<Case> {
             vec![from_origin(z)],
             (0.0, 3.5),
             true,
+        ),
+        // The build's own rules, which the walks above cannot see (any
+        // valid tree gives their answers). Which child is left is the
+        // student's choice: a cut is compared as a partition.
+        build_case(
+            "bvh-max-leaf-objects-stay-a-leaf",
+            BUILD_11,
+            "two spheres of radius 1/128 at x = 0 and x = 1/32, max_leaf 2 (cut at the middle): \
+             a node of max_leaf objects or fewer stays a leaf: expected the root a leaf holding \
+             both, its box their boxes' union (x from -1/128 to 5/128, y and z from -1/128 to \
+             1/128) grown by BOX_PADDING_EPSILONS (4) epsilons of its largest coordinate, 5/128: \
+             about 2e-8",
+            vec![
+                sphere(0.0, 0.0, 0.0, 1.0 / 128.0),
+                sphere(1.0 / 32.0, 0.0, 0.0, 1.0 / 128.0),
+            ],
+            MIDDLE_TWO_PER_LEAF,
+            TreeShape::RootLeaf,
+        ),
+        build_case(
+            "bvh-one-more-than-max-leaf-is-cut",
+            BUILD_11,
+            "unit spheres at x = 0, 2 and 6, max_leaf 2, cut at the middle: three objects are one \
+             more than max_leaf, so the root is cut; the centroids (the centres) spread along x \
+             from 0 to 6, the middle is 3: expected the root cut into objects [0, 1] (x = 0, 2) \
+             and [2] (x = 6)",
+            vec![
+                sphere(0.0, 0.0, 0.0, 1.0),
+                sphere(2.0, 0.0, 0.0, 1.0),
+                sphere(6.0, 0.0, 0.0, 1.0),
+            ],
+            MIDDLE_TWO_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0, 1]]),
+        ),
+        build_case(
+            "bvh-middle-of-the-centroids",
+            BUILD_11,
+            "spheres at x = 3, 4, 5, 6 with radii 1, 3, 3, 1, one per leaf, cut at the middle: \
+             the centroids are the centres (the middle of each box), spread 3 along x and 0 along \
+             y and z; the middle of that spread is 4.5: expected the root cut into objects [0, 1] \
+             and [2, 3]",
+            vec![
+                sphere(3.0, 0.0, 0.0, 1.0),
+                sphere(4.0, 0.0, 0.0, 3.0),
+                sphere(5.0, 0.0, 0.0, 3.0),
+                sphere(6.0, 0.0, 0.0, 1.0),
+            ],
+            ONE_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0, 1]]),
+        ),
+        build_case(
+            "bvh-sah-cut-not-the-middle",
+            SAH_11,
+            "unit spheres at x = 100, 101, 105, 106, 111 (objects 0 to 4), the surface-area \
+             heuristic with 16 bins, TRAVERSAL_COST 1, max_leaf 1. Each box is 2 by 2 in y and z \
+             and L long in x: half its area is 2 L + 2 L + 4 = 4 L + 4. The root's is 56 (L = \
+             13), so the leaf costs 56 x 5 = 280; multiplied through by 56, a cut costs 56 + \
+             (half area x count) of each side: [0] | [1, 2, 3, 4]: 56 + 12 x 1 + 52 x 4 = 276; \
+             [0, 1] | [2, 3, 4]: 56 + 16 x 2 + 36 x 3 = 196; [0, 1, 2] | [3, 4]: 56 + 32 x 3 + 32 \
+             x 2 = 216; [0, 1, 2, 3] | [4]: 56 + 36 x 4 + 12 x 1 = 212. Expected the root cut \
+             into objects [0, 1] and [2, 3, 4]; or, from a build that always cuts at the middle \
+             (the split rule is the student's choice), [0, 1, 2] and [3, 4] (the middle of the \
+             centroids is 105.5). Not a leaf, and not [0] alone",
+            vec![
+                sphere(100.0, 0.0, 0.0, 1.0),
+                sphere(101.0, 0.0, 0.0, 1.0),
+                sphere(105.0, 0.0, 0.0, 1.0),
+                sphere(106.0, 0.0, 0.0, 1.0),
+                sphere(111.0, 0.0, 0.0, 1.0),
+            ],
+            BvhOptions {
+                split: SplitRule::Sah,
+                bins: 16,
+                max_leaf: 1,
+            },
+            TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+        ),
+        build_case(
+            "bvh-nan-and-infinite-boxes-stay-out",
+            PLANES_11,
+            "unit spheres at (0, 0, 0) (object 0) and (3, 0, 0) (object 3); object 1 a sphere \
+             with a NaN centre (its box is NaN); object 2 centred at x = 3e38 with radius 1e38, \
+             whose box reaches x = 4e38, past f32::MAX (3.4e38): max.x = inf. Neither box is \
+             finite: expected unbounded = [1, 2], objects 0 and 3 in the tree",
+            vec![
+                sphere(0.0, 0.0, 0.0, 1.0),
+                sphere(f32::NAN, 0.0, 0.0, 1.0),
+                sphere(3e38, 0.0, 0.0, 1e38),
+                sphere(3.0, 0.0, 0.0, 1.0),
+            ],
+            ONE_PER_LEAF,
+            TreeShape::Any,
+        ),
+        box_case(
+            "box-entry-close-to-the-origin",
+            ROUNDING_11,
+            "the cube; a ray from (-5, 0, 0) along (4096, 0, 0): the x slab from t = 4/4096 to \
+             6/4096, the others always: expected 4/4096 = 0.0009765625. The widening moves it by \
+             2 gamma_3 of itself (about 4e-10): a slack that grew as t shrank would not",
+            CUBE,
+            (v(-5.0, 0.0, 0.0), v(4096.0, 0.0, 0.0)),
+            ALL,
+            Some(4.0 / 4096.0),
         ),
     ]
 }
@@ -2861,6 +2996,23 @@ pub fn chapter_11_robustness() -> Vec<Case> {
                 rays: 20_000,
                 seed: 0x2545_f491_4f6c_dd1d,
             },
+        ),
+        bvh_case(
+            "bvh-tie-far-from-the-origin",
+            WALK_11,
+            "a unit sphere at (0, 0, 5) (object 0, in the tree) and the plane z = 4 (object 1, \
+             asked first); a ray from (0, 0, -100) along +z meets both at exactly t = 104. The \
+             sphere's padded box is entered at 104 in f32 too: only the widening, which moves \
+             the entry down by 2 gamma_3 of 104 (4e-5, five ulps there), lets the walk open it \
+             at a best of 104. Chapter 3 keeps the first listed: expected object 0 at t = 104",
+            vec![
+                sphere(0.0, 0.0, 5.0, 1.0),
+                Plane::new(v(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            ],
+            ONE_PER_LEAF,
+            vec![Ray::new(v(0.0, 0.0, -100.0), Vec3::Z)],
+            ALL,
+            false,
         ),
     ])
 }

@@ -33,7 +33,7 @@ mod panics;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-pub use cases::{Case, CaseKind, Level, Outcome};
+pub use cases::{Case, CaseKind, Level, Outcome, TreeShape};
 pub use panics::Panic;
 
 use crate::Chapters;
