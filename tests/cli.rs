@@ -80,18 +80,19 @@ fn chapters_lists_every_chapter() {
     assert!(out.status.success());
     let text = stdout(&out);
     assert_eq!(text.lines().count(), raylab::stage::CHAPTERS.len());
-    assert!(
-        text.lines()
-            .nth(7)
-            .expect("line 8")
-            .starts_with("8  Refraction")
-    );
-    assert!(
-        text.lines()
-            .nth(8)
-            .expect("line 9")
-            .starts_with("9  Glass done right")
-    );
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines[7].starts_with(" 8  Refraction"), "{}", lines[7]);
+    assert!(lines[8].starts_with(" 9  Glass done right"), "{}", lines[8]);
+    // Every row's columns start where the first row's do.
+    let column = |line: &str, label: &str| line.find(label).expect("a column label");
+    for line in &lines {
+        assert_eq!(column(line, " adds "), column(lines[0], " adds "), "{line}");
+        assert_eq!(
+            column(line, "effects:"),
+            column(lines[0], "effects:"),
+            "{line}"
+        );
+    }
 }
 
 #[test]

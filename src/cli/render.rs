@@ -474,10 +474,13 @@ pub fn write_text_atomic(path: &Path, text: &str) -> Result<()> {
 }
 
 pub fn chapters() -> Result<i32> {
+    // Columns as wide as their longest entry, so that every row lines up.
+    let title_width = CHAPTERS.iter().map(|c| c.title.len()).max().unwrap_or(0);
+    let adds_width = CHAPTERS.iter().map(|c| c.adds.len()).max().unwrap_or(0);
     for chapter in CHAPTERS {
         let effects = Effects::for_chapter(chapter.number).names().join(", ");
         println!(
-            "{}  {:<24} adds {:<27} effects: {effects}",
+            "{:>2}  {:<title_width$}  adds {:<adds_width$}  effects: {effects}",
             chapter.number, chapter.title, chapter.adds
         );
     }
