@@ -187,39 +187,15 @@ impl Chapters for TieToWhoeverIsAskedFirst {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        let ask = |object: u32, best: &mut Option<Hit>| {
-            let object = object as usize;
-            let closest = best.map_or(t_max, |hit| hit.t);
-            if let Some(t) = objects.intersect(object, ray, t_min, closest) {
-                *best = Some(Hit { object, t });
-            }
-        };
-        for &object in &bvh.unbounded {
-            ask(object, &mut best);
-        }
-        let inverse = ray.dir.recip();
-        let mut stack = if bvh.nodes.is_empty() {
-            Vec::new()
-        } else {
-            vec![0]
-        };
-        while let Some(index) = stack.pop() {
-            let node = &bvh.nodes[index];
-            let closest = best.map_or(t_max, |hit| hit.t);
-            if Self::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
-                continue;
-            }
-            match node.children() {
-                Some((left, right)) => stack.extend([right, left]),
-                None => {
-                    for &object in &bvh.primitives[node.primitive_range()] {
-                        ask(object, &mut best);
-                    }
-                }
-            }
-        }
-        best
+        // Asks up to the best t, exclusive, and keeps whatever it is told.
+        left_first_walk(
+            bvh,
+            objects,
+            ray,
+            (t_min, t_max),
+            |best| best.map_or(t_max, |hit| hit.t),
+            |_, _, _| true,
+        )
     }
 }
 
@@ -374,42 +350,15 @@ impl Chapters for LeftFirstWalk {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        let ask = |object: u32, best: &mut Option<Hit>| {
-            let object = object as usize;
-            let limit = best.map_or(t_max, |hit| hit.t.next_up());
-            if let Some(t) = objects.intersect(object, ray, t_min, limit) {
-                let better = best.is_none_or(|b| t < b.t || (t == b.t && object < b.object));
-                if better {
-                    *best = Some(Hit { object, t });
-                }
-            }
-        };
-        for &object in &bvh.unbounded {
-            ask(object, &mut best);
-        }
-        let inverse = ray.dir.recip();
-        let mut stack = if bvh.nodes.is_empty() {
-            Vec::new()
-        } else {
-            vec![0]
-        };
-        while let Some(index) = stack.pop() {
-            let node = &bvh.nodes[index];
-            let closest = best.map_or(t_max, |hit| hit.t);
-            if Self::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
-                continue;
-            }
-            match node.children() {
-                Some((left, right)) => stack.extend([right, left]),
-                None => {
-                    for &object in &bvh.primitives[node.primitive_range()] {
-                        ask(object, &mut best);
-                    }
-                }
-            }
-        }
-        best
+        // Asks up to the best t, inclusive, and breaks ties by index.
+        left_first_walk(
+            bvh,
+            objects,
+            ray,
+            (t_min, t_max),
+            |best| best.map_or(t_max, |hit| hit.t.next_up()),
+            |object, t, best| best.is_none_or(|b| t < b.t || (t == b.t && object < b.object)),
+        )
     }
 }
 
@@ -462,4 +411,53 @@ fn image(chapter: u8) -> Vec<u8> {
 #[test]
 fn the_tree_changes_no_pixel_of_chapter_11s_scene() {
     assert!(image(11) == image(10), "stage 11 differs from stage 10");
+}
+
+/// A walk with a plain stack that opens left children first and skips a
+/// box entered beyond the best hit so far: the skeleton shared by a gallery
+/// bug and an alternative, which differ only in the interval each object is
+/// asked in (`limit`, from the best hit so far) and in which answers replace
+/// the best (`better`, given the object, its `t` and the best).
+fn left_first_walk<C: Chapters>(
+    bvh: &Bvh,
+    objects: &Objects<C>,
+    ray: &Ray,
+    (t_min, t_max): (f32, f32),
+    limit: impl Fn(Option<Hit>) -> f32,
+    better: impl Fn(usize, f32, Option<Hit>) -> bool,
+) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    let ask = |object: u32, best: &mut Option<Hit>| {
+        let object = object as usize;
+        if let Some(t) = objects.intersect(object, ray, t_min, limit(*best))
+            && better(object, t, *best)
+        {
+            *best = Some(Hit { object, t });
+        }
+    };
+    for &object in &bvh.unbounded {
+        ask(object, &mut best);
+    }
+    let inverse = ray.dir.recip();
+    let mut stack = if bvh.nodes.is_empty() {
+        Vec::new()
+    } else {
+        vec![0]
+    };
+    while let Some(index) = stack.pop() {
+        let node = &bvh.nodes[index];
+        let closest = best.map_or(t_max, |hit| hit.t);
+        if C::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
+            continue;
+        }
+        match node.children() {
+            Some((left, right)) => stack.extend([right, left]),
+            None => {
+                for &object in &bvh.primitives[node.primitive_range()] {
+                    ask(object, &mut best);
+                }
+            }
+        }
+    }
+    best
 }
