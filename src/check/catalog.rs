@@ -2801,7 +2801,7 @@ pub fn chapter_11() -> Vec<Case> {
              count) + 192 x (right count): [0] | [1, 2, 3]: 264 + 48 + 576 = 888; [0, 1] | \
              [2, 3]: left 6.5 by 4 by 4, 68: 264 + 136 + 384 = 784; [0, 1, 2] | [3]: left 10 \
              by 4 by 4, 96: 264 + 288 + 192 = 744. Expected the root cut into [0, 1, 2] and \
-             [3] (or, cut at the middle, 7.25: [0] and [1, 2, 3])",
+             [3] (or, cut at the middle of the centroids, 7.25: [0] and [1, 2, 3])",
             vec![
                 sphere(4.0, 0.0, 0.0, 2.0),
                 sphere(7.5, 0.0, 0.0, 1.0),
@@ -2820,9 +2820,9 @@ pub fn chapter_11() -> Vec<Case> {
              [1, 2, 3]: the right box from (0, -2, -2) to (13.5, 2, 3), 13.5 x 4 + 4 x 5 + 5 x \
              13.5 = 141.5: 328 + 192 + 141.5 x 3 = 944.5; [0, 1] | [2, 3]: object 0's box holds \
              object 1's, 192 x 2, and the right box from (4, -2, -2) to (13.5, 2, 2), 92 x 2: \
-             896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, plus 48: 1000. Expected \
-             the root cut into [0, 1] and [2, 3] (or, cut at the middle, 6.25: [0, 1, 2] and \
-             [3])",
+             328 + 384 + 184 = 896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, and \
+             48: 328 + 624 + 48 = 1000. Expected the root cut into [0, 1] and [2, 3] (or, cut \
+             at the middle of the centroids, 6.25: [0, 1, 2] and [3])",
             vec![
                 sphere(1.0, 0.0, -1.0, 4.0),
                 sphere(2.0, 0.0, 1.0, 2.0),
@@ -2840,9 +2840,9 @@ pub fn chapter_11() -> Vec<Case> {
              root from (12, -3, -3) to (58, 3, 3): 46 x 6 + 6 x 6 + 6 x 46 = 588. [0] | [1, 2, \
              3]: the right box from (33, -2, -3) to (58, 2, 3), 25 x 4 + 4 x 6 + 6 x 25 = 274: \
              588 + 108 + 274 x 3 = 1518; [0, 1] | [2, 3]: the left box 25 by 6 by 6, 336 x 2, \
-             the right from (35, -2, -1) to (58, 2, 3), 200 x 2: 1660; [0, 1, 2] | [3]: 336 x \
-             3 + 48: 1644. Expected the root cut into [0] and [1, 2, 3] (or, cut at the \
-             middle, 35.5: [0, 1] and [2, 3])",
+             the right from (35, -2, -1) to (58, 2, 3), 200 x 2: 588 + 672 + 400 = 1660; \
+             [0, 1, 2] | [3]: 588 + 336 x 3 + 48 = 1644. Expected the root cut into [0] and \
+             [1, 2, 3] (or, cut at the middle of the centroids, 35.5: [0, 1] and [2, 3])",
             vec![
                 sphere(15.0, 0.0, 0.0, 3.0),
                 sphere(35.0, 0.0, -1.0, 2.0),
@@ -2861,8 +2861,8 @@ pub fn chapter_11() -> Vec<Case> {
              the right box 6.5 by 6 by 6, 114: 132 + 108 + 114 x 2 = 468; [0, 1] | [2]: the \
              left box 7.5 by 6 by 6, 126: 132 + 126 x 2 + 75 = 459. Both cost more than the \
              leaf (the boxes overlap: a ray into one is likely in the other), so the SAH keeps \
-             it: expected the root a leaf holding all three (or, cut at the middle, 4.25: [0] \
-             and [1, 2]). The cost of visiting the node, TRAVERSAL_COST x 132, is what makes \
+             it: expected the root a leaf holding all three (or, cut at the middle of the \
+             centroids, 4.25: [0] and [1, 2]). The cost of visiting the node, TRAVERSAL_COST x 132, is what makes \
              the cut [0, 1] | [2] dearer",
             vec![
                 sphere(3.0, 0.0, 0.0, 3.0),
@@ -3105,8 +3105,8 @@ pub fn chapter_11_robustness() -> Vec<Case> {
             "bvh-deeper-than-the-stack",
             WALK_11,
             "70 unit spheres on the x axis at x = 3^k, k = 0 to 69 (object k), one per leaf, \
-             cut at the middle: the middle of 1 to 3^n is 3^n / 2, above every centroid but \
-             the last, so each cut peels off one sphere and the tree is 69 levels deep, more \
+             cut at the middle: the middle of 1 to 3^n is (1 + 3^n) / 2, above every centroid \
+             but the last, so each cut peels off one sphere and the tree is 69 levels deep, more \
              than the 64 waiting nodes the walk keeps in a fixed array. A ray from (-10, 0, 0) \
              along +x meets every box and sets each peeled sphere aside on its way down: \
              expected object 0 at t = 10",
