@@ -2715,6 +2715,22 @@ pub fn chapter_11() -> Vec<Case> {
             (0.0, 3.5),
             true,
         ),
+        bvh_case(
+            "bvh-any-hit-only-planes",
+            ANY_11,
+            "the planes z = 8 and z = 3 and nothing with a box, so the tree has no nodes at all; \
+             a shadow ray from the origin along +z with t_max = 10 is blocked by the plane z = 3 \
+             at t = 3: expected a hit; one along +x runs parallel to both and must get past an \
+             empty tree without asking for its root: expected none",
+            vec![
+                Plane::new(v(0.0, 0.0, 8.0), -z).into(),
+                Plane::new(v(0.0, 0.0, 3.0), -z).into(),
+            ],
+            ONE_PER_LEAF,
+            vec![from_origin(z), from_origin(x)],
+            (0.0, 10.0),
+            true,
+        ),
         // The build's own rules, which the walks above cannot see (any
         // valid tree gives their answers). Which child is left is the
         // student's choice: a cut is compared as a partition.
