@@ -195,6 +195,7 @@ impl Chapters for TieToWhoeverIsAskedFirst {
             (t_min, t_max),
             |best| best.map_or(t_max, |hit| hit.t),
             |_, _, _| true,
+            Leaf::AsksAll,
         )
     }
 }
@@ -217,42 +218,15 @@ impl Chapters for FirstHitInALeaf {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
-        let mut best: Option<Hit> = None;
-        let ask = |object: u32, best: &mut Option<Hit>| {
-            let object = object as usize;
-            let limit = best.map_or(t_max, |hit| hit.t.next_up());
-            let t = objects.intersect(object, ray, t_min, limit)?;
-            if best.is_none_or(|b| t < b.t || (t == b.t && object < b.object)) {
-                *best = Some(Hit { object, t });
-            }
-            Some(t)
-        };
-        for &object in &bvh.unbounded {
-            ask(object, &mut best);
-        }
-        let inverse = ray.dir.recip();
-        let mut stack = if bvh.nodes.is_empty() {
-            Vec::new()
-        } else {
-            vec![0]
-        };
-        while let Some(index) = stack.pop() {
-            let node = &bvh.nodes[index];
-            let closest = best.map_or(t_max, |hit| hit.t);
-            if Self::hit_box(&node.bounds, ray.origin, inverse, t_min, closest).is_none() {
-                continue;
-            }
-            match node.children() {
-                Some((left, right)) => stack.extend([right, left]),
-                None => {
-                    // The bug: the leaf's first hit stops the leaf.
-                    let _ = bvh.primitives[node.primitive_range()]
-                        .iter()
-                        .find_map(|&object| ask(object, &mut best));
-                }
-            }
-        }
-        best
+        left_first_walk(
+            bvh,
+            objects,
+            ray,
+            (t_min, t_max),
+            |best| best.map_or(t_max, |hit| hit.t.next_up()),
+            |object, t, best| best.is_none_or(|b| t < b.t || (t == b.t && object < b.object)),
+            Leaf::StopsAtItsFirstHit,
+        )
     }
 }
 
@@ -358,6 +332,7 @@ impl Chapters for LeftFirstWalk {
             (t_min, t_max),
             |best| best.map_or(t_max, |hit| hit.t.next_up()),
             |object, t, best| best.is_none_or(|b| t < b.t || (t == b.t && object < b.object)),
+            Leaf::AsksAll,
         )
     }
 }
@@ -413,11 +388,21 @@ fn the_tree_changes_no_pixel_of_chapter_11s_scene() {
     assert!(image(11) == image(10), "stage 11 differs from stage 10");
 }
 
+/// How `left_first_walk` treats a leaf's objects.
+#[derive(Clone, Copy, PartialEq)]
+enum Leaf {
+    AsksAll,
+    /// The bug of a leaf asked for any hit: the first object that hits
+    /// ends the leaf.
+    StopsAtItsFirstHit,
+}
+
 /// A walk with a plain stack that opens left children first and skips a
-/// box entered beyond the best hit so far: the skeleton shared by a gallery
-/// bug and an alternative, which differ only in the interval each object is
-/// asked in (`limit`, from the best hit so far) and in which answers replace
-/// the best (`better`, given the object, its `t` and the best).
+/// box entered beyond the best hit so far: the skeleton shared by gallery
+/// bugs and an alternative, which differ only in the interval each object
+/// is asked in (`limit`, from the best hit so far), in which answers
+/// replace the best (`better`, given the object, its `t` and the best) and
+/// in `leaf`.
 fn left_first_walk<C: Chapters>(
     bvh: &Bvh,
     objects: &Objects<C>,
@@ -425,15 +410,19 @@ fn left_first_walk<C: Chapters>(
     (t_min, t_max): (f32, f32),
     limit: impl Fn(Option<Hit>) -> f32,
     better: impl Fn(usize, f32, Option<Hit>) -> bool,
+    leaf: Leaf,
 ) -> Option<Hit> {
     let mut best: Option<Hit> = None;
+    // Whether the object hits at all (kept or not).
     let ask = |object: u32, best: &mut Option<Hit>| {
         let object = object as usize;
-        if let Some(t) = objects.intersect(object, ray, t_min, limit(*best))
-            && better(object, t, *best)
-        {
+        let Some(t) = objects.intersect(object, ray, t_min, limit(*best)) else {
+            return false;
+        };
+        if better(object, t, *best) {
             *best = Some(Hit { object, t });
         }
+        true
     };
     for &object in &bvh.unbounded {
         ask(object, &mut best);
@@ -454,7 +443,9 @@ fn left_first_walk<C: Chapters>(
             Some((left, right)) => stack.extend([right, left]),
             None => {
                 for &object in &bvh.primitives[node.primitive_range()] {
-                    ask(object, &mut best);
+                    if ask(object, &mut best) && leaf == Leaf::StopsAtItsFirstHit {
+                        break;
+                    }
                 }
             }
         }
