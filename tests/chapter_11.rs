@@ -452,3 +452,21 @@ fn left_first_walk<C: Chapters>(
     }
     best
 }
+
+/// `--stats` counts a shadow ray that meets the surface it left as acne.
+/// From a point chapter 10 lifted off its flat triangle, the triangle
+/// itself can rightly stand in the way (at 640x480 the built-in scene has
+/// five such rays): that is the faceted shadow, not acne, and the counter
+/// must leave it out.
+#[test]
+fn lifted_terminator_points_are_not_counted_as_acne() {
+    let scene = raylab::builtin::scene(11).expect("built-in scene");
+    let settings = RenderSettings {
+        width: 640,
+        height: 480,
+        samples: 1,
+        ..scene.render
+    };
+    let rendered = raylab::render::render(&scene, 11, &settings, None).expect("renders");
+    assert_eq!(rendered.rays.self_shadow_hits, 0);
+}
