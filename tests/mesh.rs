@@ -6,6 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::raylab;
+
 use raylab::Vec3;
 use raylab::mesh::{MAX_MESH_TRIANGLES, MAX_OBJ_BYTES, Mesh, MeshError, MeshTransform, load_obj};
 
@@ -724,14 +727,6 @@ fn random_text_and_bytes_never_panic() {
 }
 
 // ---- raylab mesh ----------------------------------------------------------
-
-fn raylab(args: &[&str], folder: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(args)
-        .current_dir(folder)
-        .output()
-        .expect("run raylab")
-}
 
 fn names_in(folder: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(folder)
