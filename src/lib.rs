@@ -75,6 +75,7 @@ pub mod scene;
 pub mod shapes;
 pub mod stage;
 pub mod text;
+pub mod walk_work;
 pub mod workspace;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.

@@ -206,6 +206,9 @@ pub struct MeshRace {
     pub different_objects: usize,
     /// Chapter 3's loop over every shape, on the first of the same rays.
     pub brute_force: BruteForce,
+    /// The boxes and objects our walk tests per ray (counted in an untimed
+    /// pass); `None` when our side uses no tree.
+    pub walk: Option<crate::walk_work::WalkWork>,
 }
 
 /// Brute force (chapter 3: every ray against every shape) on the first
@@ -331,6 +334,7 @@ pub fn race_on_generated_mesh(
         ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
         different_objects,
         brute_force: brute_force(&shapes, &rays, runs),
+        walk: Some(crate::walk_work::walk_work(&bvh, &shapes, &rays)),
     })
 }
 
@@ -387,5 +391,8 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> anyhow::Result<M
             + stage.bvh().map_or(0, crate::bvh::Bvh::memory_bytes),
         different_objects,
         brute_force: brute_force(stage.shapes(), &rays, runs),
+        walk: stage
+            .bvh()
+            .map(|bvh| crate::walk_work::walk_work(bvh, stage.shapes(), &rays)),
     })
 }

@@ -594,4 +594,11 @@ fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
         raylab::race::BRUTE_FORCE_TESTS / shapes
     );
     assert!(measured.brute_force.rays_per_second > 0.0);
+    // The stage walks a tree: every ray tests at least the root's box, and
+    // the rays that enter it test more.
+    let walk = measured
+        .walk
+        .expect("the stage of 1,057 objects builds a tree");
+    assert!(walk.boxes_per_ray > 1.0, "{walk:?}");
+    assert!(walk.objects_per_ray > 0.0, "{walk:?}");
 }

@@ -66,7 +66,10 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
              Embree's is its own count of its peak (its memory monitor). Embree's first \
              build also creates its device. Rays answered differently: the nearest object \
              differs (a ray through a shared edge may rightly go to either triangle; \
-             `raylab crosscheck` tells such boundary cases from disagreements)."
+             `raylab crosscheck` tells such boundary cases from disagreements). Boxes and \
+             objects per ray: the slab tests and ray-object tests our walk makes (the root's \
+             box and the floor plane included), counted in an untimed pass: the work, where \
+             rays/s is its price."
         );
         Ok(0)
     }
@@ -85,9 +88,9 @@ fn print_header() {
     println!(
         "| triangles | rays | ours build | Embree build | ours rays/s | Embree rays/s | \
          ours / Embree | ours memory | Embree memory | rays answered differently | \
-         brute force rays/s | ours / brute force |"
+         brute force rays/s | ours / brute force | ours boxes / ray | ours objects / ray |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
 }
 
 #[cfg(feature = "embree")]
@@ -95,7 +98,7 @@ fn print_row(measured: &crate::race::MeshRace) {
     let race = &measured.race;
     println!(
         "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} | \
-         {:.0} ({} rays) | {:.0} |",
+         {:.0} ({} rays) | {:.0} | {} | {} |",
         measured.triangles,
         race.rays,
         race.ours.build.as_secs_f64() * 1e3,
@@ -109,5 +112,13 @@ fn print_row(measured: &crate::race::MeshRace) {
         measured.brute_force.rays_per_second,
         measured.brute_force.rays,
         race.ours.rays_per_second / measured.brute_force.rays_per_second,
+        per_ray(measured.walk.map(|walk| walk.boxes_per_ray)),
+        per_ray(measured.walk.map(|walk| walk.objects_per_ray)),
     );
+}
+
+/// A count per ray, or a dash where our side walks no tree.
+#[cfg(feature = "embree")]
+fn per_ray(count: Option<f64>) -> String {
+    count.map_or("-".to_string(), |count| format!("{count:.1}"))
 }
