@@ -5,7 +5,6 @@ mod common;
 use common::{raylab, stderr, stdout};
 
 use std::path::Path;
-use std::process::Command;
 
 fn only_files(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -424,20 +423,11 @@ fn crosscheck_without_embree_says_how_to_enable_it() {
 #[test]
 fn a_closed_pipe_stops_quietly_without_a_panic() {
     // `raylab scene --chapter 8 | head -0`: the reader has gone before
-    // raylab writes. Close the pipe's read end before the child starts, so
-    // its first write surely meets a closed pipe.
-    use std::os::fd::{FromRawFd, OwnedFd};
-    let mut ends = [0; 2];
-    // SAFETY: `pipe` fills the two descriptors, which we then own.
-    assert_eq!(unsafe { libc::pipe(ends.as_mut_ptr()) }, 0, "pipe");
-    let (read_end, write_end) =
-        unsafe { (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1])) };
-    drop(read_end);
-    let out = Command::new(env!("CARGO_BIN_EXE_raylab"))
-        .args(["scene", "--chapter", "8"])
-        .stdout(std::process::Stdio::from(write_end))
-        .output()
-        .expect("run raylab");
+    // raylab writes.
+    let out = common::output_into_closed_pipe(common::command(
+        &["scene", "--chapter", "8"],
+        Path::new("."),
+    ));
     let message = stderr(&out);
     assert!(!message.contains("panicked"), "{message}");
     // Killed by SIGPIPE, as `cat` or `ls` would be: no exit code.

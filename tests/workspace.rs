@@ -196,6 +196,26 @@ fn an_unwritten_chapter_is_not_started_not_a_backtrace() {
     assert!(!out.join("chapter-1.png").exists());
 }
 
+/// A student's binary is a command-line tool like raylab's own: piped into
+/// a reader that has gone (`| head`), it stops quietly, killed by SIGPIPE,
+/// rather than panicking on the failed write.
+#[cfg(unix)]
+#[test]
+fn a_student_binary_stops_quietly_on_a_closed_pipe() {
+    use std::os::unix::process::ExitStatusExt;
+    let ws = workspaces();
+    let binary = ws.target.join("debug").join("student-answer");
+    let mut command = Command::new(&binary);
+    command
+        .args(["scene", "--chapter", "8"])
+        .current_dir(&ws.root)
+        .env_remove("RUST_BACKTRACE");
+    let out = common::output_into_closed_pipe(command);
+    let message = stderr(&out);
+    assert!(!message.contains("panicked"), "{message}");
+    assert_eq!(out.status.signal(), Some(libc::SIGPIPE), "{message}");
+}
+
 /// Chapter 11's functions share raylab's tree types and their answer key
 /// keeps private helper types (a node stack, the best hit so far): the
 /// skeleton must still read as not started, and the answer key must pass

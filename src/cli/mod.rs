@@ -88,6 +88,7 @@ pub fn main() -> i32 {
 /// Runs the command line with the chapters `C` (a student workspace's
 /// `main` calls this with its own) and returns the process exit status.
 pub fn main_with<C: crate::Chapters>() -> i32 {
+    prepare_process();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(error) => {
@@ -98,6 +99,24 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
     // A chapter still `todo!()`, or a panic in a student's code, becomes a
     // verdict or an error message, never a backtrace.
     guard::run(|| run::<C>(cli))
+}
+
+/// What every raylab binary (raylab's own, and a student workspace's,
+/// which calls [`main_with`] from its `main`) sets up first, before any
+/// other thread exists.
+fn prepare_process() {
+    // Rust programs ignore SIGPIPE, so once a reader such as `head` closes
+    // the pipe, the next `println!` panics. Command-line tools are expected
+    // to stop quietly instead: restore the default action of the signal.
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any other thread exists;
+    // setting a signal's action to its default installs no handler code.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    // Ctrl-C or a kill while an output is being written must not leave its
+    // temporary file behind (see crate::cleanup).
+    crate::cleanup::install_signal_handlers();
 }
 
 fn run<C: crate::Chapters>(cli: Cli) -> i32 {

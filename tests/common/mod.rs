@@ -136,3 +136,21 @@ fn crc32(bytes: &[u8]) -> u32 {
     }
     !crc
 }
+
+/// Runs `command` with its standard output a pipe whose reader has already
+/// gone (`command | head -0`): the read end is closed before the child
+/// starts, so its first write surely meets a closed pipe.
+#[cfg(unix)]
+pub fn output_into_closed_pipe(mut command: Command) -> Output {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut ends = [0; 2];
+    // SAFETY: `pipe` fills the two descriptors, which we then own.
+    assert_eq!(unsafe { libc::pipe(ends.as_mut_ptr()) }, 0, "pipe");
+    let (read_end, write_end) =
+        unsafe { (OwnedFd::from_raw_fd(ends[0]), OwnedFd::from_raw_fd(ends[1])) };
+    drop(read_end);
+    command
+        .stdout(std::process::Stdio::from(write_end))
+        .output()
+        .expect("run the command")
+}
