@@ -944,6 +944,15 @@ impl MeshSpec {
                     .map_err(|error| format!("{label}: {error}"))?
             }
             (None, Some(count)) => {
+                // A scene holds no bigger model than it could load from a
+                // file: `raylab mesh` writes larger ones, for other tools.
+                let max = crate::mesh::MAX_MESH_TRIANGLES;
+                if !(1..=max as u64).contains(&count) {
+                    return Err(format!(
+                        "{label}: mesh.generated = {count}: a scene's model has 1 to {max} \
+                         triangles, as a loaded OBJ model does"
+                    ));
+                }
                 let count = usize::try_from(count).unwrap_or(usize::MAX);
                 let mut mesh = crate::mesh::generate_closed_mesh(count)
                     .map_err(|error| format!("{label}: mesh.generated = {count}: {error}"))?;

@@ -199,3 +199,31 @@ fn scene_load_reads_only_regular_files() {
     let error = raylab::Scene::load(&fifo).expect_err("a FIFO");
     assert!(error.to_string().contains("scene.toml"), "{error}");
 }
+
+/// A generated model in a scene obeys the limit of a loaded one
+/// (`raylab::mesh::MAX_MESH_TRIANGLES`), not the larger one of
+/// `raylab mesh`, which writes files for other tools too.
+#[test]
+fn a_generated_model_has_the_triangle_limit_of_a_loaded_one() {
+    let with_model = |count: &str| {
+        format!(
+            "{}\n[[objects]]\nname = \"model\"\nmesh = {{ generated = {count} }}\n\
+             material = {{ diffuse = 0.5 }}\n",
+            scene(CAMERA, LIGHT)
+        )
+    };
+    let max = raylab::mesh::MAX_MESH_TRIANGLES;
+    for count in [0, max as u64 + 1, 16_000_000, i64::MAX as u64] {
+        let message = refused(&with_model(&count.to_string()));
+        assert_names(
+            &message,
+            &[
+                "object 2 (\"model\")",
+                &format!("mesh.generated = {count}"),
+                &format!("1 to {max} triangles"),
+            ],
+        );
+    }
+    let scene = Scene::parse(&with_model("100"), "test scene").expect("valid scene");
+    assert!(scene.shapes.len() > 100);
+}
