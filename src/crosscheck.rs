@@ -710,6 +710,11 @@ pub struct Tally {
     /// The largest relative difference of `t` in a boundary case where both
     /// hit the same object.
     pub boundary_max_relative_difference: f32,
+    /// The ray behind the largest of `relative_differences` (the first, of
+    /// equal ones). Ranked by difference alone it need not be among the
+    /// `worst`, which are ranked against each ray's tolerance: a ray that
+    /// grazes a surface has an ill-conditioned `t` and a tolerance as wide.
+    pub largest_difference: Option<Compared>,
     /// The worst rays, worst first (at most [`WORST_KEPT`]).
     pub worst: Vec<Compared>,
 }
@@ -746,6 +751,13 @@ impl Tally {
                     self.boundary_max_relative_difference.max(difference);
             } else {
                 self.relative_differences.push(difference);
+                let larger = self
+                    .largest_difference
+                    .and_then(|largest| largest.relative_difference)
+                    .is_none_or(|largest| difference > largest);
+                if larger {
+                    self.largest_difference = Some(compared);
+                }
             }
         }
         if compared.severity > 0.0 {
@@ -774,6 +786,14 @@ impl Tally {
         self.disagreements += other.disagreements;
         self.edge_misses += other.edge_misses;
         self.relative_differences.extend(other.relative_differences);
+        let difference = |tally: Option<Compared>| {
+            tally
+                .and_then(|compared| compared.relative_difference)
+                .unwrap_or(f32::NEG_INFINITY)
+        };
+        if difference(other.largest_difference) > difference(self.largest_difference) {
+            self.largest_difference = other.largest_difference;
+        }
         self.boundary_max_relative_difference = self
             .boundary_max_relative_difference
             .max(other.boundary_max_relative_difference);
@@ -1313,5 +1333,33 @@ material = { reflectivity = 1.0 }
         assert!(!tally.clean());
         assert_eq!(tally.worst.len(), 2);
         assert_eq!(tally.worst[0].verdict, Verdict::Disagree);
+    }
+
+    #[test]
+    fn the_largest_relative_difference_names_its_ray() {
+        let (shapes, quads) = sphere_reference();
+        let reference = Reference {
+            shapes: &shapes,
+            quads: &quads,
+        };
+        // All hit the sphere, at t = 4 for the ray from the origin; a fake
+        // backend answers 1, 3 and 2 ulps later: all within tolerance.
+        let origins = [0.0, 0.25, 0.5].map(|x| Vec3::new(x, 0.0, 0.0));
+        let rays: Vec<CastRay> = origins.iter().map(|&o| cast(o, Vec3::Z)).collect();
+        let ulps = |cast: &CastRay| match cast.ray.origin.x {
+            0.0 => 1,
+            0.25 => 3,
+            _ => 2,
+        };
+        let tally = cross_check(&reference, &rays, |cast| {
+            let ours = ours(reference.shapes, cast)?;
+            let t = (0..ulps(cast)).fold(ours.t, |t, _| t.next_up());
+            Some(Answer { object: 0, t })
+        });
+        assert!(tally.clean());
+        let largest = tally.largest_difference.expect("three shared hits");
+        assert_eq!(largest.cast.ray.origin.x, 0.25);
+        let (_, max) = tally.median_and_max().expect("three shared hits");
+        assert_eq!(largest.relative_difference, Some(max));
     }
 }

@@ -350,6 +350,7 @@ fn crosscheck_command_reports_every_section() {
         " refraction)",
         "hit/miss: ",
         "relative difference of t",
+        "the largest, against its tolerance",
         "worst rays",
         "ratio ours/Embree ",
         "result: agree",

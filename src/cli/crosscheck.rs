@@ -359,6 +359,14 @@ mod with_embree {
             ),
             None => println!("relative difference of t: no ray hit the same object in both"),
         }
+        if let Some(largest) = &tally.largest_difference {
+            println!(
+                "  the largest, against its tolerance (an absolute one, set by the hit \
+                 point's rounding: a tiny t, as for a shadow ray blocked just off its start, \
+                 or a grazing ray makes a large relative difference of a small one):\n     {}",
+                describe(largest, stage)
+            );
+        }
         println!(
             "tolerance: {TOLERANCE_EPSILONS} eps x each hit's error scale; silhouette band \
              {SILHOUETTE_EPSILONS} eps, grazing below {GRAZING_EPSILONS} eps, triangle edge band \
