@@ -381,9 +381,9 @@ pub const TRAVERSAL_STACK: usize = 64;
 /// The array holds node indices as `u32`, as the tree itself numbers them
 /// ([`BvhNode::first`]): 8 bytes an entry rather than 16 for a `usize`,
 /// so each ray clears 512 bytes instead of a kilobyte when its walk begins,
-/// and moves half as much on each push. On a render's rays, where a walk is
-/// short (14 box tests at 100,000 triangles), that made the whole search
-/// about 13% faster.
+/// and moves half as much on each push. A render's walks are short, so that
+/// weighs: `raylab race` put ours at 0.50 to 0.58 of Embree's speed on a
+/// render's rays before, 0.60 to 0.68 after (100 k and 1 M triangles).
 struct NodeStack {
     fixed: [(u32, f32); TRAVERSAL_STACK],
     len: usize,
