@@ -109,9 +109,9 @@ pub fn markdown(report: &BvhCostReport) -> String {
     let _ = writeln!(
         text,
         "\nLoop or tree: scenes of k spheres and a floor plane, the same rays; the tree's time \
-         is its build plus its trace (what a render pays); median of {} runs (passes over every k), loop \
+         is its build plus its trace (what a render pays); median of {} (passes over every k), loop \
          and tree taking turns. {}\n",
-        crossover.runs,
+        crate::text::count(u64::from(crossover.runs), "run"),
         match crossover.from {
             Some(k) => format!("The tree is faster from k = {k} on."),
             None => "The tree is not faster at the largest k swept.".to_string(),
@@ -271,8 +271,8 @@ fn draw_scaling(report: &BvhCostReport) -> Result<String, Box<dyn std::error::Er
             .draw()?;
         note_area.draw(&Text::new(
             format!(
-                "Thread CPU time, median of {} runs. Brute force (chapter 3's loop) is timed up to {} triangles.",
-                report.options.repeats.max(1),
+                "Thread CPU time, median of {}. Brute force (chapter 3's loop) is timed up to {} triangles.",
+                crate::text::count(u64::from(report.options.repeats.max(1)), "run"),
                 BRUTE_FORCE_MAX_TRIANGLES
             ),
             (16, 8),

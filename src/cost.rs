@@ -610,8 +610,12 @@ impl CostReport {
         let reference = self.rows.first().map(|r| r.settings);
         let _ = writeln!(
             text,
-            "Chapter {} stage, {} ({}x{}); time: median of {} runs; error against the reference in 8-bit sRGB codes.",
-            self.chapter, self.scene_name, self.width, self.height, self.repeats
+            "Chapter {} stage, {} ({}x{}); time: median of {}; error against the reference in 8-bit sRGB codes.",
+            self.chapter,
+            self.scene_name,
+            self.width,
+            self.height,
+            crate::text::count(u64::from(self.repeats), "run")
         );
         if let Some(reference) = reference {
             let samples = if Effects::for_chapter(self.chapter).antialiasing {
@@ -866,8 +870,8 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
         note_area.draw(&Text::new(
             format!(
                 "Pareto front: the main scene's settings that no other beats on both time and error. \
-                 Bottom edge: identical to the reference. Time: median of {} runs.",
-                report.repeats
+                 Bottom edge: identical to the reference. Time: median of {}.",
+                crate::text::count(u64::from(report.repeats), "run")
             ),
             (16, 8),
             ("sans-serif", 12),

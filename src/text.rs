@@ -39,3 +39,22 @@ mod tests {
         assert_eq!(terminal_safe("two\nlines, café ✓"), "two\nlines, café ✓");
     }
 }
+
+/// `n` things: "1 run", "5 runs" (a regular plural, `s` added).
+pub fn count(n: u64, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
+#[cfg(test)]
+mod count_tests {
+    #[test]
+    fn one_is_singular_and_every_other_count_plural() {
+        assert_eq!(super::count(1, "run"), "1 run");
+        assert_eq!(super::count(0, "run"), "0 runs");
+        assert_eq!(super::count(5, "run"), "5 runs");
+    }
+}

@@ -47,8 +47,10 @@ pub fn bench<C: Chapters>(args: &BenchArgs) -> Result<i32> {
         1
     };
     println!(
-        "chapter {chapter}: {}x{}, {samples} spp, {threads} threads, {} runs",
-        settings.width, settings.height, args.runs
+        "chapter {chapter}: {}x{}, {samples} spp, {threads} threads, {}",
+        settings.width,
+        settings.height,
+        crate::text::count(u64::from(args.runs), "run")
     );
     let listed: Vec<String> = times.iter().map(|t| format!("{t:.3}")).collect();
     println!("times (s): {}", listed.join(" "));

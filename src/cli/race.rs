@@ -31,9 +31,9 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
             "chapter 11's tree (SAH, 16 bins, leaves of at most 4) against Embree (robust \
              scene, default build quality), and chapter 3's loop over every shape (brute \
              force, on the first of the same rays: as many as {} ray-shape tests allow), \
-             one thread each, median of {} runs.\n",
+             one thread each, median of {}.\n",
             crate::race::BRUTE_FORCE_TESTS,
-            args.runs
+            crate::text::count(args.runs, "run")
         );
         println!(
             "1. The rays of a render: chapter 11's built-in scene (`raylab render --chapter \
