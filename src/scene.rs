@@ -933,6 +933,11 @@ impl MeshSpec {
         };
         let mesh = match (&self.obj, self.generated) {
             (Some(obj), None) => {
+                if obj.trim().is_empty() {
+                    return Err(format!(
+                        "{label}: mesh.obj is empty: name an OBJ file, relative to the scene file"
+                    ));
+                }
                 let Some(folder) = folder else {
                     return Err(format!(
                         "{label}: mesh.obj = \"{obj}\": OBJ files are found next to the scene \

@@ -261,3 +261,21 @@ fn render_help_shows_every_default() {
         }
     }
 }
+
+/// `raylab race --triangles` takes the sizes a scene can load, and says so
+/// for anything else (clap's own message said only "invalid digit").
+#[test]
+fn race_sizes_out_of_range_are_named_with_the_range() {
+    for size in ["abc", "0", "4000001", "1e3", "-5", ""] {
+        let out = raylab(
+            &["race", &format!("--triangles={size}")],
+            std::path::Path::new("."),
+        );
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{size:?}: {text}");
+        assert!(
+            text.contains("a whole number of triangles from 1 to 4000000"),
+            "{size:?}: {text}"
+        );
+    }
+}

@@ -460,7 +460,18 @@ fn broken_models_are_refused_naming_the_file_and_line() {
         (
             "overflow.obj",
             "v 0 0 1e39\n".into(),
-            "overflow.obj:1: vertex [0, 0, inf] is not finite",
+            "overflow.obj:1: v: 1e39 is too large for a 32-bit float",
+        ),
+        (
+            "normal-overflow.obj",
+            format!("{triangle}vn 0 -1e40 0\n"),
+            "normal-overflow.obj:4: vn: -1e40 is too large for a 32-bit float",
+        ),
+        (
+            "huge-index.obj",
+            format!("{triangle}f 1 2 99999999999999999999\n"),
+            "huge-index.obj:4: face corner \"99999999999999999999\": vertex \
+             99999999999999999999 does not exist (3 declared",
         ),
         (
             "word.obj",

@@ -227,3 +227,14 @@ fn a_generated_model_has_the_triangle_limit_of_a_loaded_one() {
     let scene = Scene::parse(&with_model("100"), "test scene").expect("valid scene");
     assert!(scene.shapes.len() > 100);
 }
+
+#[test]
+fn an_empty_obj_path_is_named_as_such() {
+    let text = format!(
+        "{}\n[[objects]]\nname = \"model\"\nmesh = {{ obj = \"\" }}\n\
+         material = {{ diffuse = 0.5 }}\n",
+        scene(CAMERA, LIGHT)
+    );
+    let message = refused(&text);
+    assert_names(&message, &["object 2 (\"model\")", "mesh.obj is empty"]);
+}

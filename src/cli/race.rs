@@ -13,7 +13,7 @@ pub struct RaceArgs {
     /// Model sizes to race, in triangles (raylab's generated closed model,
     /// `raylab mesh`), comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_SIZES,
-          value_parser = clap::value_parser!(u64).range(1..=4_000_000))]
+          value_parser = parse_size)]
     pub triangles: Vec<u64>,
     /// Incoherent rays traced per run, the same for both sides (the render's
     /// rays are as many as the render casts, about 543,000).
@@ -22,6 +22,18 @@ pub struct RaceArgs {
     /// Timed runs per side; the figure is their median.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100))]
     pub runs: u64,
+}
+
+/// A model size: what a scene can load ([`crate::mesh::MAX_MESH_TRIANGLES`]),
+/// since one of the races renders the model in a scene.
+fn parse_size(text: &str) -> Result<u64, String> {
+    let max = crate::mesh::MAX_MESH_TRIANGLES as u64;
+    match text.trim().parse::<u64>() {
+        Ok(n @ 1..) if n <= max => Ok(n),
+        _ => Err(format!(
+            "each model size must be a whole number of triangles from 1 to {max}"
+        )),
+    }
 }
 
 pub fn race(args: &RaceArgs) -> Result<i32> {

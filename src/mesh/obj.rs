@@ -266,6 +266,16 @@ fn numbers<const N: usize>(
         *value = word
             .parse::<f32>()
             .map_err(|_| format!("{keyword}: {word:?} is not a number"))?;
+        // `1e39` parses to infinity: say what was written, not `inf`.
+        let spelled_infinite = word
+            .trim_start_matches(['+', '-'])
+            .to_ascii_lowercase()
+            .starts_with("inf");
+        if value.is_infinite() && !spelled_infinite {
+            return Err(format!(
+                "{keyword}: {word} is too large for a 32-bit float (at most about 3.4e38)"
+            ));
+        }
     }
     Ok(values)
 }
@@ -323,10 +333,17 @@ fn corner(word: &str, counts: &Counts) -> Result<bool, String> {
             }
             continue;
         }
-        let index: i64 = part
-            .parse()
-            .map_err(|_| format!("face corner {word:?}: {part:?} is not a whole number"))?;
         let declared = declared as i64;
+        let index: i64 = part.parse().map_err(|error: std::num::ParseIntError| {
+            use std::num::IntErrorKind::{NegOverflow, PosOverflow};
+            match error.kind() {
+                PosOverflow | NegOverflow => format!(
+                    "face corner {word:?}: {what} {part} does not exist ({declared} declared \
+                     before this line)"
+                ),
+                _ => format!("face corner {word:?}: {part:?} is not a whole number"),
+            }
+        })?;
         let valid = match index {
             0 => return Err(format!("face corner {word:?}: index 0 (OBJ counts from 1)")),
             1.. => index <= declared,
