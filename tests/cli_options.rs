@@ -267,10 +267,13 @@ fn render_help_shows_every_default() {
 #[test]
 fn race_sizes_out_of_range_are_named_with_the_range() {
     for size in ["abc", "0", "4000001", "1e3", "-5", ""] {
-        let out = raylab(
-            &["race", &format!("--triangles={size}")],
-            std::path::Path::new("."),
-        );
+        // As one word and as two (`--triangles -5` is no flag).
+        let joined = format!("--triangles={size}");
+        let out = raylab(&["race", &joined], std::path::Path::new("."));
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{size:?}: {text}");
+        assert!(text.contains("from 1 to 4000000"), "{size:?}: {text}");
+        let out = raylab(&["race", "--triangles", size], std::path::Path::new("."));
         let text = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{size:?}: {text}");
         assert!(

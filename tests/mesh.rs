@@ -813,7 +813,7 @@ fn raylab_mesh_refuses_bad_input_and_writes_nothing() {
             &["--triangles", "99999999999999999999999", "-o", "a.obj"],
             "from 1 to 16000000",
         ),
-        (&["--triangles", "-5", "-o", "a.obj"], ""),
+        (&["--triangles", "-5", "-o", "a.obj"], "from 1 to 16000000"),
         (&["--triangles", "1e3", "-o", "a.obj"], "whole number"),
         (&["--triangles", "100", "-o", "a.txt"], "ending in .obj"),
         (

@@ -25,7 +25,7 @@ use crate::mesh::{MAX_GENERATED_TRIANGLES, MAX_MESH_TRIANGLES};
 #[command(long_about)]
 pub struct MeshArgs {
     /// About how many triangles: a whole number from 1 to 16000000.
-    #[arg(long, value_name = "N", value_parser = parse_triangles)]
+    #[arg(long, value_name = "N", value_parser = parse_triangles, allow_hyphen_values = true)]
     pub triangles: usize,
     /// Where to write the model (a name ending in .obj). An existing file
     /// is replaced only if raylab wrote it and it is writable; anything

@@ -13,7 +13,7 @@ pub struct RaceArgs {
     /// Model sizes to race, in triangles (raylab's generated closed model,
     /// `raylab mesh`), comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_SIZES,
-          value_parser = parse_size)]
+          value_parser = parse_size, allow_hyphen_values = true)]
     pub triangles: Vec<u64>,
     /// Incoherent rays traced per run, the same for both sides (the render's
     /// rays are as many as the render casts, about 543,000).
