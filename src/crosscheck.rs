@@ -712,8 +712,10 @@ pub struct Tally {
     pub boundary_max_relative_difference: f32,
     /// The ray behind the largest of `relative_differences` (the first, of
     /// equal ones). Ranked by difference alone it need not be among the
-    /// `worst`, which are ranked against each ray's tolerance: a ray that
-    /// grazes a surface has an ill-conditioned `t` and a tolerance as wide.
+    /// `worst`, which are ranked against each ray's tolerance, an absolute
+    /// one: a tiny `t` (a shadow ray blocked just off its start) or a
+    /// grazing ray's ill-conditioned one differs a lot relatively and little
+    /// against it.
     pub largest_difference: Option<Compared>,
     /// The worst rays, worst first (at most [`WORST_KEPT`]).
     pub worst: Vec<Compared>,

@@ -277,7 +277,7 @@ fn race_sizes_out_of_range_are_named_with_the_range() {
         let text = stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{size:?}: {text}");
         assert!(
-            text.contains("a whole number of triangles from 1 to 4000000"),
+            text.contains("each model size in triangles must be a whole number from 1 to 4000000"),
             "{size:?}: {text}"
         );
     }

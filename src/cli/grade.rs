@@ -80,12 +80,11 @@ pub struct GradeArgs {
 }
 
 fn parse_timeout(text: &str) -> Result<u64, String> {
-    match text.trim().parse::<u64>() {
-        Ok(seconds @ 1..) if seconds <= MAX_TIMEOUT_SECONDS => Ok(seconds),
-        _ => Err(format!(
-            "the time limit must be a whole number of seconds from 1 to {MAX_TIMEOUT_SECONDS}"
-        )),
-    }
+    super::whole_number(
+        text,
+        MAX_TIMEOUT_SECONDS,
+        "the time limit in seconds must be",
+    )
 }
 
 pub fn grade(args: &GradeArgs) -> Result<i32> {

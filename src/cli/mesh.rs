@@ -39,12 +39,12 @@ pub struct MeshArgs {
 }
 
 fn parse_triangles(text: &str) -> Result<usize, String> {
-    match text.trim().parse::<u64>() {
-        Ok(n @ 1..) if n <= MAX_GENERATED_TRIANGLES as u64 => Ok(n as usize),
-        _ => Err(format!(
-            "the number of triangles must be a whole number from 1 to {MAX_GENERATED_TRIANGLES}"
-        )),
-    }
+    super::whole_number(
+        text,
+        MAX_GENERATED_TRIANGLES as u64,
+        "the number of triangles must be",
+    )
+    .map(|n| n as usize)
 }
 
 pub fn mesh(args: &MeshArgs) -> Result<i32> {

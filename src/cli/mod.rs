@@ -71,11 +71,20 @@ pub const MAX_THREADS: usize = 1024;
 /// Parses `--threads` (every command's, so the bound is the same
 /// everywhere): a whole number from 1 to [`MAX_THREADS`].
 pub fn parse_threads(text: &str) -> Result<usize, String> {
+    whole_number(
+        text,
+        MAX_THREADS as u64,
+        "the number of worker threads must be",
+    )
+    .map(|threads| threads as usize)
+}
+
+/// A count option's value: a whole number from 1 to `max`, or the message
+/// `"{what} a whole number from 1 to {max}"` (`what` ends in "must be").
+pub(crate) fn whole_number(text: &str, max: u64, what: &str) -> Result<u64, String> {
     match text.trim().parse::<u64>() {
-        Ok(threads @ 1..) if threads <= MAX_THREADS as u64 => Ok(threads as usize),
-        _ => Err(format!(
-            "the number of worker threads must be a whole number from 1 to {MAX_THREADS}"
-        )),
+        Ok(n @ 1..) if n <= max => Ok(n),
+        _ => Err(format!("{what} a whole number from 1 to {max}")),
     }
 }
 

@@ -27,13 +27,11 @@ pub struct RaceArgs {
 /// A model size: what a scene can load ([`crate::mesh::MAX_MESH_TRIANGLES`]),
 /// since one of the races renders the model in a scene.
 fn parse_size(text: &str) -> Result<u64, String> {
-    let max = crate::mesh::MAX_MESH_TRIANGLES as u64;
-    match text.trim().parse::<u64>() {
-        Ok(n @ 1..) if n <= max => Ok(n),
-        _ => Err(format!(
-            "each model size must be a whole number of triangles from 1 to {max}"
-        )),
-    }
+    super::whole_number(
+        text,
+        crate::mesh::MAX_MESH_TRIANGLES as u64,
+        "each model size in triangles must be",
+    )
 }
 
 pub fn race(args: &RaceArgs) -> Result<i32> {
