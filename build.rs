@@ -1,7 +1,7 @@
 //! Build script. It does two things.
 //!
-//! 1. The lessons (`chapters/*.md`) link their images relatively
-//!    (`../snapshots/chapter-2.png`, `../docs/images/...`), which is right
+//! 1. The lessons (`chapters/NN_name/lesson.md`) link their images relatively
+//!    (`../../snapshots/chapter-2.png`, `../../docs/images/...`), which is right
 //!    on GitHub and in an editor but broken in `cargo doc`, whose pages live
 //!    under target/doc. So each lesson is copied to `$OUT_DIR/lessons/` with
 //!    every local image inlined as a `data:` URI, and the chapter modules
@@ -88,8 +88,9 @@ fn main() {
     }
 }
 
-/// Writes every `chapters/*.md` to `$OUT_DIR/lessons/` with its local images
-/// inlined (see the top of this file).
+/// Writes every lesson (`chapters/README.md` and each chapter folder's
+/// `lesson.md`, as `NN_name.md`) to `$OUT_DIR/lessons/` with its local
+/// images inlined (see the top of this file).
 fn inline_lesson_images() {
     let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
     let chapters = manifest.join("chapters");
@@ -103,18 +104,23 @@ fn inline_lesson_images() {
         println!("cargo:warning=cannot read {}", chapters.display());
         return;
     };
+    let mut lessons = vec![(chapters.join("README.md"), "README.md".to_string())];
     for entry in entries.flatten() {
-        let path = entry.path();
-        if path.extension().is_none_or(|extension| extension != "md") {
-            continue;
+        let lesson = entry.path().join("lesson.md");
+        if lesson.is_file() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            lessons.push((lesson, format!("{name}.md")));
         }
+    }
+    for (path, name) in lessons {
         println!("cargo:rerun-if-changed={}", path.display());
         let Ok(text) = std::fs::read_to_string(&path) else {
             println!("cargo:warning=cannot read {}", path.display());
             continue;
         };
-        let inlined = inline_images(&text, &chapters);
-        let target = out.join(entry.file_name());
+        let folder = path.parent().unwrap_or(&chapters);
+        let inlined = inline_images(&text, folder);
+        let target = out.join(name);
         if let Err(error) = std::fs::write(&target, inlined) {
             println!("cargo:warning=cannot write {}: {error}", target.display());
         }

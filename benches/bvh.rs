@@ -5,9 +5,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use raylab::Chapters;
 use raylab::bvh::BvhOptions;
 use raylab::bvh_cost::torus_workload;
-use raylab::chapters::ch11_bvh::{build_bvh, nearest_hit_bvh};
 use raylab::course::Objects;
 use raylab::{Reference, Shape};
 
@@ -18,13 +18,13 @@ fn bvh(c: &mut Criterion) {
     let bounds: Vec<_> = workload.shapes.iter().map(Shape::bounds).collect();
     let options = BvhOptions::default();
     let objects = Objects::<Reference>::new(&workload.shapes);
-    let tree = build_bvh(&bounds, &options);
+    let tree = Reference::build_bvh(&bounds, &options);
 
     let mut group = c.benchmark_group(format!("bvh, {} triangles", workload.shapes.len()));
     // A build takes tens of milliseconds: fewer samples keep the run short.
     group.sample_size(10);
     group.bench_function("SAH build", |b| {
-        b.iter(|| build_bvh(black_box(&bounds), &options))
+        b.iter(|| Reference::build_bvh(black_box(&bounds), &options))
     });
     group.bench_function(format!("trace {} rays", workload.rays.len()), |b| {
         b.iter(|| {
@@ -32,7 +32,8 @@ fn bvh(c: &mut Criterion) {
                 .rays
                 .iter()
                 .filter(|ray| {
-                    nearest_hit_bvh(&tree, &objects, black_box(ray), 0.0, f32::INFINITY).is_some()
+                    Reference::nearest_hit_bvh(&tree, &objects, black_box(ray), 0.0, f32::INFINITY)
+                        .is_some()
                 })
                 .count()
         })

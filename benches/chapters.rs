@@ -6,7 +6,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 fn chapters(c: &mut Criterion) {
     let mut group = c.benchmark_group("render 80x60");
     group.sample_size(10);
-    for chapter in 1..=raylab::stage::LAST_CHAPTER {
+    for chapter in 1..=raylab::chapters::LAST_CHAPTER {
         let scene = raylab::builtin::scene(chapter).expect("built-in scene");
         let settings = raylab::RenderSettings {
             width: 80,

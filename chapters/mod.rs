@@ -1,27 +1,170 @@
 #![doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/README.md"))]
 
-#[path = "01_plane.rs"]
-pub mod ch01_plane;
-#[path = "02_sphere.rs"]
-pub mod ch02_sphere;
-#[path = "03_nearest.rs"]
-pub mod ch03_nearest;
-#[path = "04_shadows.rs"]
-pub mod ch04_shadows;
-#[path = "05_phong.rs"]
-pub mod ch05_phong;
-#[path = "06_reflection.rs"]
-pub mod ch06_reflection;
-#[path = "07_antialiasing.rs"]
-pub mod ch07_antialiasing;
-#[path = "08_refraction.rs"]
-pub mod ch08_refraction;
-#[path = "09_glass.rs"]
-pub mod ch09_glass;
-#[path = "10_triangles.rs"]
-pub mod ch10_triangles;
-#[path = "11_bvh.rs"]
-pub mod ch11_bvh;
+//! # The registry
+//!
+//! [`for_each_chapter!`](crate::for_each_chapter) below is the one list of
+//! chapters. Each line names a chapter's number, module, folder, title,
+//! what it adds, the effects its stage switches on and the functions a
+//! student writes in it. Everything per chapter is read from it: the
+//! modules declared here, [`CHAPTERS`] (the command line's ranges, `raylab
+//! chapters`, `raylab scene`, the student workspace, the snapshot and seam
+//! tests, the docs tables), [`Effects::for_chapter`], and the checker's
+//! table of cases (`check::catalog`). A chapter's folder holds the rest:
+//! `chapter.rs` (its code), `lesson.md`, `scene.toml`, `checks.rs` (its
+//! checkpoints and hard cases) and `tests.rs`.
+
+use crate::effects::{Effects, Lighting};
+
+/// Calls `$then! { ... }` with one line per chapter:
+/// `number module "folder" "title" "adds" |effects| { switch-ons } [functions];`.
+/// It is the registry: a new chapter is its folder and one line here.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! for_each_chapter {
+    ($then:ident) => {
+        $then! {
+            1 ch01_plane "01_plane" "Ray-plane intersection" "planes"
+                |e| { e.planes = true } [intersect_plane];
+            2 ch02_sphere "02_sphere" "Ray-sphere intersection" "spheres"
+                |e| { e.spheres = true } [intersect_sphere];
+            3 ch03_nearest "03_nearest" "Nearest hit" "nearest-hit"
+                |e| { e.nearest_hit = true } [nearest_hit];
+            4 ch04_shadows "04_shadows" "Hard shadows" "lights, shadow rays"
+                |e| { e.lighting = Lighting::Flat; e.shadows = true }
+                [offset_origin, in_shadow, shade_flat];
+            5 ch05_phong "05_phong" "Phong illumination" "ambient, diffuse, specular"
+                |e| { e.lighting = Lighting::Phong; e.specular = true } [phong_terms, shade_phong];
+            6 ch06_reflection "06_reflection" "Mirror reflection" "reflection"
+                |e| { e.reflection = true } [reflect, shade_mirror];
+            7 ch07_antialiasing "07_antialiasing" "Anti-aliasing" "supersampling"
+                |e| { e.antialiasing = true } [sample_offset, pixel_color];
+            8 ch08_refraction "08_refraction" "Refraction" "refraction"
+                |e| { e.refraction = true } [refract, shade_glass];
+            9 ch09_glass "09_glass" "Glass done right"
+                "Fresnel reflectance, nested media, absorption"
+                |e| { e.nested_media = true; e.fresnel = true; e.absorption = true }
+                [fresnel, schlick, transmittance, crossing, shade_dielectric];
+            10 ch10_triangles "10_triangles" "Triangle meshes"
+                "triangles, OBJ meshes, smooth shading"
+                |e| { e.triangles = true; e.smooth_shading = true }
+                [intersect_triangle, barycentric, smooth_normal, terminator_point, smooth_hit_point];
+            11 ch11_bvh "11_bvh" "Bounding volume hierarchy"
+                "a tree of boxes: hits among thousands of objects in a few dozen tests"
+                |e| { e.bvh = true } [hit_box, build_bvh, nearest_hit_bvh, any_hit_bvh];
+        }
+    };
+}
+
+/// One chapter of the course.
+#[derive(Debug, Clone, Copy)]
+pub struct ChapterInfo {
+    pub number: u8,
+    pub title: &'static str,
+    /// What this chapter adds to the renderer.
+    pub adds: &'static str,
+    /// The chapter's folder in `chapters/` (`01_plane`), and the stem of
+    /// its module's name (`ch01_plane`, a workspace's `src/chapters/ch01_plane.rs`).
+    pub folder: &'static str,
+    /// The functions of [`crate::course::Chapters`] a student writes in it.
+    pub functions: &'static [&'static str],
+    /// The built-in scene, as the TOML a student can print and edit.
+    pub scene: &'static str,
+    /// The reference image of the built-in scene at
+    /// [`REFERENCE_WIDTH`] x [`REFERENCE_HEIGHT`], rendered by raylab's own
+    /// chapters and pinned by the snapshot tests: what a student's render is
+    /// compared with, never rendered by the code under test.
+    pub reference_png: &'static [u8],
+    /// The text of the chapter's reference code (`chapters/NN_name/chapter.rs`):
+    /// `raylab new` derives a workspace's skeletons and answer key from it.
+    pub source: &'static str,
+    /// Switches on, in `effects`, what this chapter adds to the stages
+    /// before it.
+    pub switch_on: fn(&mut Effects),
+}
+
+impl ChapterInfo {
+    /// The module name of the chapter's code (`ch01_plane`).
+    pub fn module(&self) -> String {
+        format!("ch{}", self.folder)
+    }
+
+    /// The chapter's code, relative to raylab's folder.
+    pub fn code_path(&self) -> String {
+        format!("chapters/{}/chapter.rs", self.folder)
+    }
+
+    /// The chapter's lesson, relative to raylab's folder.
+    pub fn lesson_path(&self) -> String {
+        format!("chapters/{}/lesson.md", self.folder)
+    }
+
+    /// The chapter's built-in scene, relative to raylab's folder.
+    pub fn scene_path(&self) -> String {
+        format!("chapters/{}/scene.toml", self.folder)
+    }
+}
+
+/// Size of the reference images ([`ChapterInfo::reference_png`]).
+pub const REFERENCE_WIDTH: u32 = 160;
+pub const REFERENCE_HEIGHT: u32 = 120;
+
+macro_rules! declare_chapters {
+    ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
+       |$effects:ident| $switch_on:block [$($function:ident),*];)*) => {
+        $(
+            // Each chapter's module is its folder: the code a student reads
+            // in `chapter.rs`, re-exported, and the checker's cases beside it.
+            #[path = $folder]
+            #[doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/", $folder, ".md"))]
+            pub mod $module {
+                #[path = "chapter.rs"]
+                mod code;
+                pub use code::*;
+                pub mod checks;
+            }
+        )*
+
+        /// The chapters, in order.
+        pub const CHAPTERS: &[ChapterInfo] = &[$(
+            ChapterInfo {
+                number: $number,
+                title: $title,
+                adds: $adds,
+                folder: $folder,
+                functions: &[$(stringify!($function)),*],
+                scene: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/chapters/", $folder, "/scene.toml")),
+                reference_png: include_bytes!(concat!(
+                    env!("CARGO_MANIFEST_DIR"), "/snapshots/chapter-", $number, ".png"
+                )),
+                source: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/chapters/", $folder, "/chapter.rs")),
+                switch_on: |$effects: &mut Effects| $switch_on,
+            }
+        ),*];
+    };
+}
+
+for_each_chapter!(declare_chapters);
+
+/// The last chapter: rendering "with everything".
+pub const LAST_CHAPTER: u8 = CHAPTERS.len() as u8;
+
+/// Chapter `number`, if there is one.
+pub fn chapter(number: u8) -> Option<&'static ChapterInfo> {
+    CHAPTERS.iter().find(|info| info.number == number)
+}
+
+/// Parses a chapter number given on the command line (for clap).
+pub fn parse_chapter(text: &str) -> Result<u8, String> {
+    text.parse::<u8>()
+        .ok()
+        .filter(|&n| chapter(n).is_some())
+        .ok_or_else(|| format!("there is no chapter {text}; chapters are 1 to {LAST_CHAPTER}"))
+}
+
+// The chapters' names that the whole crate uses (`raylab::reflect`, ...).
+pub use ch06_reflection::reflect;
+pub use ch08_refraction::refract;
+pub use ch09_glass::{fresnel, schlick};
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.

@@ -1,12 +1,12 @@
 //! The built-in scene of each chapter, stored as commented TOML in
-//! `chapters/scenes/` so that `raylab scene --chapter N` prints exactly the
+//! each chapter folder's `scene.toml` so that `raylab scene --chapter N` prints exactly the
 //! file a student can copy and edit.
 
 use crate::{Scene, SceneError};
 
 /// The TOML text of chapter `n`'s default scene.
 pub fn scene_text(chapter: u8) -> Option<&'static str> {
-    crate::stage::chapter(chapter).map(|info| info.scene)
+    crate::chapters::chapter(chapter).map(|info| info.scene)
 }
 
 /// Chapter `n`'s default scene, parsed.
@@ -15,7 +15,7 @@ pub fn scene(chapter: u8) -> Result<Scene, SceneError> {
         origin: "built-in scenes".into(),
         message: format!(
             "there is no chapter {chapter}; chapters are 1 to {}",
-            crate::stage::LAST_CHAPTER
+            crate::chapters::LAST_CHAPTER
         ),
     })?;
     Scene::parse(text, &format!("built-in scene of chapter {chapter}"))
@@ -25,9 +25,9 @@ pub fn scene(chapter: u8) -> Result<Scene, SceneError> {
 mod tests {
     #[test]
     fn every_built_in_scene_parses() {
-        for info in crate::stage::CHAPTERS {
+        for info in crate::chapters::CHAPTERS {
             super::scene(info.number).unwrap_or_else(|e| panic!("chapter {}: {e}", info.number));
         }
-        assert!(super::scene(crate::stage::LAST_CHAPTER + 1).is_err());
+        assert!(super::scene(crate::chapters::LAST_CHAPTER + 1).is_err());
     }
 }

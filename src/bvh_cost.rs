@@ -11,7 +11,7 @@
 //! - split rule and leaf size, at one size;
 //! - the crossover: from how many spheres a tree (built and traced, what a
 //!   render pays) beats the loop, the measurement behind
-//!   [`crate::stage::BVH_MIN_OBJECTS`].
+//!   [`crate::effects::BVH_MIN_OBJECTS`].
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -20,8 +20,7 @@ use anyhow::Result;
 
 use crate::bvh::{BvhOptions, SplitRule};
 use crate::bvh_measure::{self, CpuInstant, MeasureOptions, Measurement, Method};
-use crate::chapters::ch03_nearest::nearest_hit;
-use crate::chapters::ch11_bvh::{build_bvh, nearest_hit_bvh};
+use crate::course::Chapters;
 use crate::course::Objects;
 use crate::{Plane, Ray, Reference, Shape, Sphere, Vec3};
 
@@ -334,15 +333,23 @@ pub fn measure_crossover(max_spheres: usize, repeats: u32) -> Crossover {
             let start = CpuInstant::now();
             let loop_hits: Vec<_> = rays
                 .iter()
-                .map(|ray| black_box(nearest_hit(&objects, ray, 0.0, f32::INFINITY)))
+                .map(|ray| black_box(Reference::nearest_hit(&objects, ray, 0.0, f32::INFINITY)))
                 .collect();
             loop_times[index].push(start.elapsed());
             let start = CpuInstant::now();
             let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
-            let bvh = build_bvh(&bounds, &BvhOptions::default());
+            let bvh = Reference::build_bvh(&bounds, &BvhOptions::default());
             let tree_hits: Vec<_> = rays
                 .iter()
-                .map(|ray| black_box(nearest_hit_bvh(&bvh, &objects, ray, 0.0, f32::INFINITY)))
+                .map(|ray| {
+                    black_box(Reference::nearest_hit_bvh(
+                        &bvh,
+                        &objects,
+                        ray,
+                        0.0,
+                        f32::INFINITY,
+                    ))
+                })
                 .collect();
             tree_times[index].push(start.elapsed());
             if run == 0 {
@@ -455,13 +462,13 @@ mod tests {
         let objects = Objects::<Reference>::new(&workload.shapes);
         let camera_hits = workload.rays[..CAMERA_RAYS]
             .iter()
-            .filter(|ray| nearest_hit(&objects, ray, 0.0, f32::INFINITY).is_some())
+            .filter(|ray| Reference::nearest_hit(&objects, ray, 0.0, f32::INFINITY).is_some())
             .count();
         let share = camera_hits as f64 / CAMERA_RAYS as f64;
         assert!((0.3..0.7).contains(&share), "{share}");
         let inside_hits = workload.rays[CAMERA_RAYS..]
             .iter()
-            .filter(|ray| nearest_hit(&objects, ray, 0.0, f32::INFINITY).is_some())
+            .filter(|ray| Reference::nearest_hit(&objects, ray, 0.0, f32::INFINITY).is_some())
             .count();
         assert_eq!(inside_hits, RAY_COUNT - CAMERA_RAYS);
     }

@@ -13,8 +13,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use crate::bvh::{Bvh, BvhOptions, SplitRule};
-use crate::chapters::ch03_nearest::nearest_hit;
-use crate::chapters::ch11_bvh::{build_bvh, nearest_hit_bvh};
+use crate::course::Chapters;
 use crate::course::{Hit, Objects};
 use crate::{Ray, Reference, Shape};
 
@@ -124,7 +123,7 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
             let start = CpuInstant::now();
             brute_hits = rays
                 .iter()
-                .map(|ray| black_box(nearest_hit(&objects, ray, t_min, f32::INFINITY)))
+                .map(|ray| black_box(Reference::nearest_hit(&objects, ray, t_min, f32::INFINITY)))
                 .collect();
             start.elapsed()
         });
@@ -150,7 +149,7 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
             let mut bvh = Bvh::default();
             let build = median(runs, || {
                 let start = CpuInstant::now();
-                bvh = black_box(build_bvh(&bounds, &bvh_options));
+                bvh = black_box(Reference::build_bvh(&bounds, &bvh_options));
                 start.elapsed()
             });
             let mut hits = Vec::new();
@@ -159,7 +158,13 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
                 hits = rays
                     .iter()
                     .map(|ray| {
-                        black_box(nearest_hit_bvh(&bvh, &objects, ray, t_min, f32::INFINITY))
+                        black_box(Reference::nearest_hit_bvh(
+                            &bvh,
+                            &objects,
+                            ray,
+                            t_min,
+                            f32::INFINITY,
+                        ))
                     })
                     .collect();
                 start.elapsed()

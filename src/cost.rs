@@ -19,9 +19,9 @@ use std::fmt::Write as _;
 
 use anyhow::Result;
 
+use crate::effects::Effects;
 use crate::render::Rendered;
 use crate::scene::{FresnelModel, OffsetRule, SphereFormula, TriangleTest};
-use crate::stage::Effects;
 use crate::{RenderSettings, Sampling, Scene};
 
 /// A quality knob the sweep can turn.

@@ -418,6 +418,12 @@ impl<'a, C: Chapters> Objects<'a, C> {
                 .map(|t| Hit { object, t })
         })
     }
+
+    /// The nearest hit by chapter 3's reference loop over every object,
+    /// with `C`'s own intersections: what a tree must agree with.
+    pub fn nearest_hit_by_loop(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        ch03_nearest::nearest_hit(self, ray, t_min, t_max)
+    }
 }
 
 /// What a shading function knows about the point it colours.
@@ -501,4 +507,52 @@ pub fn nearest_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Optio
 /// The first hit in list order among `shapes`, by the reference tests.
 pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
     Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max)
+}
+
+// The shapes' intersections, answered by chapters: inherent methods of the
+// shapes (any module of the crate may add some), written here because the
+// shapes know nothing of the chapters.
+impl Shape {
+    /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max)
+    }
+
+    /// The nearest hit with `t_min < t < t_max`, by the chapters `C`: the
+    /// reference, a student's, or a variant under test.
+    #[inline(always)]
+    pub fn intersect_with<C: Chapters>(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        match self {
+            Shape::Plane(plane) => C::intersect_plane(plane, ray, t_min, t_max),
+            Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
+            Shape::Triangle(triangle) => C::intersect_triangle(triangle, ray, t_min, t_max),
+        }
+    }
+}
+
+impl Plane {
+    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the plane,
+    /// by the reference solution of chapter 1.
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch01_plane::intersect_plane(self, ray, t_min, t_max)
+    }
+}
+
+impl Sphere {
+    /// Both parameters where the ray's line meets the sphere, smaller first
+    /// (chapter 2's reference solution).
+    pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        ch02_sphere::sphere_roots(self, ray)
+    }
+
+    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere
+    /// (chapter 2's reference solution).
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch02_sphere::intersect_sphere(self, ray, t_min, t_max)
+    }
+
+    /// The same with the textbook quadratic formula, kept for comparison.
+    pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        ch02_sphere::intersect_sphere_textbook(self, ray, t_min, t_max)
+    }
 }

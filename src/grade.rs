@@ -7,7 +7,7 @@
 //! [`crate::diff`]) with a reference of the same size, never one rendered by
 //! code that can be the student's (see [`References`]): an `--against`
 //! folder's `chapter-N.png` of that size if one is given, else the reference
-//! image shipped inside raylab ([`crate::stage::ChapterInfo::reference_png`],
+//! image shipped inside raylab ([`crate::chapters::ChapterInfo::reference_png`],
 //! 160x120), else the built-in scene rendered at the student's size by
 //! raylab's reference chapters, once they are shown to reproduce the shipped
 //! images bit for bit. Anything else in the folder is listed as ignored,
@@ -25,9 +25,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use base64::Engine as _;
 
+use crate::chapters::{LAST_CHAPTER, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use crate::course::Chapters;
 use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
-use crate::stage::{LAST_CHAPTER, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 
 /// One chapter compared with its reference.
 #[derive(Debug, Clone)]
@@ -254,7 +254,7 @@ pub const MODIFIED_CHAPTERS: &str = "this raylab's chapters differ from the ship
 /// 1. the `against` folder's `chapter-N.png`, when there is one of the
 ///    hand-in's size (the instructor's own images);
 /// 2. at 160x120, the image shipped inside raylab
-///    ([`crate::stage::ChapterInfo::reference_png`], pinned by the snapshot
+///    ([`crate::chapters::ChapterInfo::reference_png`], pinned by the snapshot
 ///    tests);
 /// 3. at any other size, the built-in scene rendered by the chapters `R`,
 ///    but only after `R` has rendered the chapter's scene at 160x120 and
@@ -378,7 +378,7 @@ fn reproduces<R: Chapters>(chapter: u8, shipped: &Image) -> Result<Result<(), St
 
 /// Chapter `chapter`'s reference image as shipped inside raylab.
 pub fn shipped_reference(chapter: u8) -> Result<Image> {
-    let info = crate::stage::chapter(chapter)
+    let info = crate::chapters::chapter(chapter)
         .ok_or_else(|| anyhow::anyhow!("there is no chapter {chapter}"))?;
     Image::decode_png(info.reference_png)
         .with_context(|| format!("raylab's shipped reference of chapter {chapter}"))

@@ -1,21 +1,8 @@
 //! # raylab: Whitted-style ray tracing, one runnable chapter at a time
 //!
 //! Each chapter is a module of [`chapters`] whose documentation is the
-//! lesson and whose code is the idea it teaches, nothing else:
-//!
-//! | chapter | module | adds |
-//! |---|---|---|
-//! | 1 | [`chapters::ch01_plane`] | ray-plane intersection |
-//! | 2 | [`chapters::ch02_sphere`] | ray-sphere intersection |
-//! | 3 | [`chapters::ch03_nearest`] | the nearest hit among all primitives |
-//! | 4 | [`chapters::ch04_shadows`] | hard shadows, and where a secondary ray starts |
-//! | 5 | [`chapters::ch05_phong`] | Phong illumination |
-//! | 6 | [`chapters::ch06_reflection`] | recursive mirror reflection |
-//! | 7 | [`chapters::ch07_antialiasing`] | anti-aliasing by supersampling |
-//! | 8 | [`chapters::ch08_refraction`] | refraction and total internal reflection |
-//! | 9 | [`chapters::ch09_glass`] | Fresnel reflectance, nested media, absorption |
-//! | 10 | [`chapters::ch10_triangles`] | triangle meshes, watertight intersection, smooth shading |
-//! | 11 | [`chapters::ch11_bvh`] | a bounding volume hierarchy: the same hits, found sooner |
+//! lesson and whose code is the idea it teaches, nothing else; the
+//! [`chapters`] page lists them, and its registry is the one list of them.
 //!
 //! Render any stage with `raylab render --chapter N`. The seam between the
 //! lessons and the rest is one trait, [`course::Chapters`]: every function a
@@ -25,8 +12,8 @@
 //! the verdict per chapter). The scaffolding that is not a lesson lives
 //! beside: [`scene`] (TOML scene files), [`shapes`] (the primitives' data),
 //! [`camera`], [`mod@render`] (the image loop and the tracer the chapters
-//! drive), [`output`] (sRGB, PNG, hashes), [`stage`] (the chapter registry
-//! and which chapter enables what). For instructors, [`diff`] and [`grade`] compare student
+//! drive), [`output`] (sRGB, PNG, hashes), [`effects`] (which chapter enables
+//! what). For instructors, [`diff`] and [`grade`] compare student
 //! renders with the references (`raylab diff`, `raylab grade`). With the
 //! `embree` feature, [`crosscheck`] compares our
 //! intersections with Embree's on every ray a render casts (docs/embree.md).
@@ -58,6 +45,7 @@ pub mod cost;
 pub mod course;
 pub mod crosscheck;
 pub mod diff;
+pub mod effects;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod grade;
@@ -70,10 +58,10 @@ pub mod plots;
 #[cfg(feature = "embree")]
 pub mod race;
 pub mod ray;
+pub mod record;
 pub mod render;
 pub mod scene;
 pub mod shapes;
-pub mod stage;
 pub mod text;
 pub mod walk_work;
 pub mod workspace;
@@ -81,16 +69,12 @@ pub mod workspace;
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;
 
-pub use chapters::Reference;
-pub use chapters::ch06_reflection::reflect;
-pub use chapters::ch07_antialiasing::Sampling;
-pub use chapters::ch08_refraction::refract;
-pub use chapters::ch09_glass::{fresnel, schlick};
+pub use chapters::{Reference, fresnel, reflect, refract, schlick};
 pub use course::{Chapters, Hit, HitPoint, Objects, first_hit, nearest_hit};
 pub use ray::{Ray, unit_vector};
 pub use render::{
     CastRay, RayCounts, RayKind, RayLog, RayRecorder, RenderError, Rendered, Stage, Tracer,
     record_rays, render, render_with,
 };
-pub use scene::{Material, RenderSettings, Scene, SceneError};
+pub use scene::{Material, RenderSettings, Sampling, Scene, SceneError};
 pub use shapes::{Plane, Shape, Sphere, SurfacePoint};

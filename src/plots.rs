@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 
-use crate::chapters::ch09_glass::{fresnel, schlick};
+use crate::{fresnel, schlick};
 
 /// The indices of the Schlick plot: water, glass, diamond.
 pub const SCHLICK_INDICES: [f32; 3] = [1.33, 1.5, 2.4];

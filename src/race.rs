@@ -360,7 +360,7 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> anyhow::Result<M
     let started = Instant::now();
     let stage = crate::Stage::<crate::Reference>::with_chapters(&scene, 11, scene.render)?;
     let stage_build = started.elapsed();
-    let rays = crate::crosscheck::record_rays_within(&stage, crate::crosscheck::MAX_RECORDED_RAYS)?;
+    let rays = crate::record::record_rays_within(&stage, crate::crosscheck::MAX_RECORDED_RAYS)?;
     let (primitives, _) = crate::crosscheck::primitives(stage.shapes(), &scene);
     let ours = |cast: &CastRay| {
         stage

@@ -28,13 +28,14 @@ use rayon::prelude::*;
 
 use crate::bvh::{Bvh, BvhOptions};
 use crate::camera::Camera;
+use crate::chapters::LAST_CHAPTER;
 use crate::chapters::Reference;
 use crate::course::{Chapters, Hit, HitPoint, Objects};
+use crate::effects::{Effects, Lighting};
 use crate::medium::MediumStack;
 use crate::output::linear_to_srgb8;
 use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula, TerminatorRule, TriangleTest};
 use crate::shapes::SurfacePoint;
-use crate::stage::{Effects, LAST_CHAPTER, Lighting};
 use crate::{Ray, Scene, Shape, Vec3};
 
 /// The kinds of ray a render casts.
@@ -124,19 +125,7 @@ impl RayLog for RayRecorder {
     }
 }
 
-/// How secondary rays leave a surface.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum RayOffset {
-    /// Chapter 4's [`Chapters::offset_origin`]: a push scaled to the point's
-    /// rounding error.
-    #[default]
-    Scaled,
-    /// The textbook fix: start `epsilon` along the new ray, whatever the
-    /// scene's size (the same as ignoring hits with `t < epsilon`). Too small
-    /// and far surfaces shadow themselves (acne); too large and shadows
-    /// detach from the objects that cast them. Kept for comparison.
-    Fixed(f32),
-}
+pub use crate::scene::RayOffset;
 
 impl RayOffset {
     /// Where a secondary ray leaving `surface` in direction `dir` starts,
@@ -588,10 +577,10 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 /// Every ray that rendering the whole image at `stage` casts, in a fixed
 /// order: row by row from the top, pixel by pixel, and within a pixel in the
 /// order the chapters cast them, whatever the number of threads. Unbounded:
-/// `raylab crosscheck` uses [`crate::crosscheck::record_rays_within`].
+/// `raylab crosscheck` uses [`crate::record::record_rays_within`].
 pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
     // No scene can cast u64::MAX rays, so the budget is never reached.
-    crate::crosscheck::record_rays_within(stage, u64::MAX).unwrap_or_default()
+    crate::record::record_rays_within(stage, u64::MAX).unwrap_or_default()
 }
 
 /// A finished render.

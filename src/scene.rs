@@ -10,9 +10,8 @@
 
 use std::path::Path;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
-use crate::chapters::ch07_antialiasing::Sampling;
 use crate::shapes::Triangle;
 use crate::{Plane, Sphere, Vec3};
 
@@ -429,7 +428,7 @@ impl RenderSettings {
             ));
         }
         if sampling.needs_square_count() {
-            let side = crate::chapters::ch07_antialiasing::whole_sqrt(samples);
+            let side = samples.isqrt();
             if side * side != samples {
                 return Err(format!(
                     "samples = {samples}: {sampling:?} sampling needs a square count (1, 4, 9, 16, ...); \
@@ -454,8 +453,7 @@ impl RenderSettings {
     }
 
     /// The secondary-ray offset these settings ask for.
-    pub fn offset(&self) -> crate::render::RayOffset {
-        use crate::render::RayOffset;
+    pub fn offset(&self) -> RayOffset {
         match self.ray_offset {
             OffsetRule::Scaled => RayOffset::Scaled,
             OffsetRule::Fixed => RayOffset::Fixed(self.fixed_epsilon),
@@ -1110,4 +1108,39 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Where inside a pixel the samples go.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Sampling {
+    /// A regular `k x k` grid of cell centres (supersampling).
+    Grid,
+    /// One random point in each cell of a `k x k` grid (stratified).
+    #[default]
+    Jittered,
+    /// Independent random points anywhere in the pixel.
+    Random,
+}
+
+impl Sampling {
+    /// Grid and jittered sampling split the pixel into `k x k` cells, so they
+    /// need a square sample count.
+    pub fn needs_square_count(self) -> bool {
+        matches!(self, Sampling::Grid | Sampling::Jittered)
+    }
+}
+
+/// How secondary rays leave a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum RayOffset {
+    /// Chapter 4's `Chapters::offset_origin`: a push scaled to the point's
+    /// rounding error.
+    #[default]
+    Scaled,
+    /// The textbook fix: start `epsilon` along the new ray, whatever the
+    /// scene's size (the same as ignoring hits with `t < epsilon`). Too small
+    /// and far surfaces shadow themselves (acne); too large and shadows
+    /// detach from the objects that cast them. Kept for comparison.
+    Fixed(f32),
 }

@@ -3,10 +3,10 @@
 //! 10 on the case that names it; and the correct alternatives that must
 //! pass, Moller-Trumbore first ("correct, not yet robust").
 
+use raylab::chapters::CHAPTERS;
 use raylab::check::{ChapterVerdict, CheckOptions, Level, Status, check_chapter};
 use raylab::course::{Chapters, HitPoint, Textbook};
 use raylab::shapes::Triangle;
-use raylab::stage::CHAPTERS;
 use raylab::{Ray, Reference, Vec3};
 
 const CHAPTER: u8 = 10;
@@ -26,7 +26,7 @@ fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), Some(case), "{text}");
     assert!(
-        text.contains("hint:     read chapters/10_triangles.md"),
+        text.contains("hint:     read chapters/10_triangles/lesson.md"),
         "{text}"
     );
     assert_eq!(verdict.needs, None, "{text}");
@@ -291,7 +291,7 @@ fn the_lesson_promises_the_first_two_cases() {
         .iter()
         .find(|info| info.number == CHAPTER)
         .expect("chapter 10 is registered");
-    let cases = (info.checkpoints)();
+    let cases = raylab::check::catalog::checkpoints(info.number);
     let names: Vec<&str> = cases.iter().take(2).map(|case| case.name).collect();
     assert_eq!(
         names,
@@ -308,7 +308,7 @@ fn the_lesson_promises_the_first_two_cases() {
         cases[1].says
     );
     let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("chapters/10_triangles.md"),
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("chapters/10_triangles/lesson.md"),
     )
     .expect("the lesson reads");
     // Sentences are compared with their line breaks as spaces.
@@ -329,7 +329,10 @@ fn the_lesson_promises_the_first_two_cases() {
         .filter(|line| line.starts_with('#'))
         .map(|line| line.trim_start_matches('#').trim())
         .collect();
-    for case in cases.iter().chain(&(info.robustness)()) {
+    for case in cases
+        .iter()
+        .chain(&raylab::check::catalog::robustness(info.number))
+    {
         assert!(
             headings.contains(&case.section),
             "{}: no section \"{}\" in the lesson",

@@ -6,9 +6,9 @@
 //! another visiting order) pass; and the tree changes no pixel.
 
 use raylab::bvh::{Aabb, Bvh, BvhOptions, SplitRule};
+use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
 use raylab::course::{Chapters, Hit, Objects};
-use raylab::stage::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::{Ray, Reference, RenderSettings, Vec3};
 
 fn options() -> CheckOptions {
@@ -25,7 +25,10 @@ fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
     let text = verdict.text();
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    assert!(text.contains("hint:     read chapters/11_bvh.md"), "{text}");
+    assert!(
+        text.contains("hint:     read chapters/11_bvh/lesson.md"),
+        "{text}"
+    );
     assert_eq!(verdict.needs, None, "{text}");
     verdict
 }
@@ -241,7 +244,7 @@ fn gallery_first_hit_in_a_leaf_ends_the_leaf() {
         "bvh-huge-coordinates",
         "bvh-coincident-centroids",
     ] {
-        let case = raylab::check::catalog::chapter_11_robustness()
+        let case = raylab::check::catalog::robustness(11)
             .into_iter()
             .find(|case| case.name == name)
             .expect("the case exists");

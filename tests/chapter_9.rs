@@ -3,10 +3,10 @@
 //! a single ray, energy at every boundary, and the bugs the course's
 //! checker will plant (each a `Chapters` variant that must show).
 
+use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::course::{Chapters, HitPoint};
 use raylab::medium::{Crossing, MediumStack};
 use raylab::render::Tracer;
-use raylab::stage::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::{CastRay, RayKind, RayRecorder, RenderSettings, Scene, Stage, Vec3, fresnel, schlick};
 
 /// `cos` of the angle whose `sin` is `s`.

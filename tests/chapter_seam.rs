@@ -4,9 +4,9 @@
 //! differently. A function whose mutation left the image unchanged would be
 //! lesson code that never runs, or runs somewhere else.
 
+use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
 use raylab::render::Tracer;
-use raylab::stage::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::{Material, Plane, Ray, RenderSettings, Sampling, Sphere, SurfacePoint, Vec3};
 
 fn image<C: Chapters>(chapter: u8) -> Vec<u8> {

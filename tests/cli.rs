@@ -78,7 +78,7 @@ fn chapters_lists_every_chapter() {
     let out = raylab(&["chapters"], Path::new("."));
     assert!(out.status.success());
     let text = stdout(&out);
-    assert_eq!(text.lines().count(), raylab::stage::CHAPTERS.len());
+    assert_eq!(text.lines().count(), raylab::chapters::CHAPTERS.len());
     let lines: Vec<&str> = text.lines().collect();
     assert!(lines[7].starts_with(" 8  Refraction"), "{}", lines[7]);
     assert!(lines[8].starts_with(" 9  Glass done right"), "{}", lines[8]);
@@ -116,7 +116,7 @@ fn printed_scene_renders_when_edited() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(dir.path().join("mine.png").exists());
     assert!(
-        stdout(&out).starts_with(&format!("chapter {}:", raylab::stage::LAST_CHAPTER)),
+        stdout(&out).starts_with(&format!("chapter {}:", raylab::chapters::LAST_CHAPTER)),
         "a scene alone renders with every effect"
     );
 }

@@ -1,9 +1,9 @@
-//! The docs list the chapters of the registry (`raylab::stage::CHAPTERS`),
+//! The docs list the chapters of the registry (`raylab::chapters::CHAPTERS`),
 //! every one of them and in order: the README's table, the chapters
 //! folder's table and the crate docs' table. Adding a chapter to the
 //! registry without its row fails here.
 
-use raylab::stage::CHAPTERS;
+use raylab::chapters::CHAPTERS;
 
 fn read(path: &str) -> String {
     let full = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
@@ -12,7 +12,7 @@ fn read(path: &str) -> String {
 
 /// Asserts that `text` has, in registry order, a table row per chapter
 /// starting `| N |` and naming `needle(chapter)`.
-fn assert_rows(doc: &str, text: &str, needle: impl Fn(&raylab::stage::ChapterInfo) -> String) {
+fn assert_rows(doc: &str, text: &str, needle: impl Fn(&raylab::chapters::ChapterInfo) -> String) {
     let mut from = 0;
     for info in CHAPTERS {
         let row_start = format!("| {} |", info.number);
@@ -36,33 +36,25 @@ fn assert_rows(doc: &str, text: &str, needle: impl Fn(&raylab::stage::ChapterInf
 #[test]
 fn the_readme_lists_every_chapter() {
     assert_rows("README.md", &read("README.md"), |info| {
-        format!("(chapters/{}.md)", info.file)
+        format!("({})", info.lesson_path())
     });
 }
 
 #[test]
 fn the_chapters_folder_lists_every_chapter() {
     assert_rows("chapters/README.md", &read("chapters/README.md"), |info| {
-        format!("`{}.rs`", info.file)
+        format!("({}/lesson.md)", info.folder)
     });
-}
-
-#[test]
-fn the_crate_docs_list_every_chapter() {
-    assert_rows(
-        "src/lib.rs",
-        &read("src/lib.rs").replace("//! ", ""),
-        |info| format!("chapters::{}", info.module()),
-    );
 }
 
 #[test]
 fn every_chapter_has_its_code_lesson_scene_and_reference() {
     for info in CHAPTERS {
         for path in [
-            format!("chapters/{}.rs", info.file),
-            format!("chapters/{}.md", info.file),
-            format!("chapters/scenes/chapter-{}.toml", info.number),
+            info.code_path(),
+            info.lesson_path(),
+            info.scene_path(),
+            format!("chapters/{}/checks.rs", info.folder),
             format!("snapshots/chapter-{}.png", info.number),
         ] {
             assert!(
@@ -73,13 +65,13 @@ fn every_chapter_has_its_code_lesson_scene_and_reference() {
                 info.number
             );
         }
-        let code = read(&format!("chapters/{}.rs", info.file));
+        let code = read(&info.code_path());
         for function in info.functions {
             assert!(
                 code.contains(&format!("pub fn {function}")),
-                "chapter {}: {function} is not in chapters/{}.rs",
+                "chapter {}: {function} is not in {}",
                 info.number,
-                info.file
+                info.code_path()
             );
         }
     }
@@ -105,17 +97,20 @@ fn the_course_page_names_every_chapter_gallery() {
 #[test]
 fn every_case_names_a_section_of_its_lesson() {
     for info in CHAPTERS {
-        let lesson = read(&format!("chapters/{}.md", info.file));
-        for case in (info.checkpoints)().into_iter().chain((info.robustness)()) {
+        let lesson = read(&info.lesson_path());
+        for case in raylab::check::catalog::checkpoints(info.number)
+            .into_iter()
+            .chain(raylab::check::catalog::robustness(info.number))
+        {
             assert!(
                 lesson
                     .lines()
                     .any(|line| line.trim_start_matches('#').trim().eq(case.section)),
-                "chapter {}: case {} names the section \"{}\", which chapters/{}.md does not have",
+                "chapter {}: case {} names the section \"{}\", which {} does not have",
                 info.number,
                 case.name,
                 case.section,
-                info.file
+                info.lesson_path()
             );
         }
     }

@@ -188,7 +188,7 @@ material = { color = [0.95, 0.95, 0.95], transparency = 0.9, ior = 1.5, specular
 
 #[test]
 fn every_chapter_cross_checks_clean() {
-    for chapter in 1..=raylab::stage::LAST_CHAPTER {
+    for chapter in 1..=raylab::chapters::LAST_CHAPTER {
         let tally = cross_check_chapter(chapter, 0.0);
         let boundary: u64 = tally.boundary.iter().sum();
         assert!(

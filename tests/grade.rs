@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use base64::Engine as _;
 
 /// The number of chapters: a class folder is graded against all of them.
-const LAST: u8 = raylab::stage::LAST_CHAPTER;
+const LAST: u8 = raylab::chapters::LAST_CHAPTER;
 
 fn snapshots() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("snapshots")
@@ -202,7 +202,7 @@ fn a_mixed_folder_is_graded_and_reported() {
 fn a_complete_correct_folder_passes() {
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::create_dir(dir.path().join("class")).expect("mkdir");
-    for chapter in 1..=raylab::stage::LAST_CHAPTER {
+    for chapter in 1..=raylab::chapters::LAST_CHAPTER {
         save(
             &dir.path().join(format!("class/chapter-{chapter}.png")),
             &render(chapter, 48, 36, |_| {}),
@@ -501,7 +501,7 @@ fn a_class_is_graded_into_one_report_and_a_csv() {
         std::fs::create_dir_all(class.join(student)).expect("mkdir");
     }
     // alice: everything right, at 48x36.
-    for chapter in 1..=raylab::stage::LAST_CHAPTER {
+    for chapter in 1..=raylab::chapters::LAST_CHAPTER {
         save(
             &class.join(format!("alice/chapter-{chapter}.png")),
             &render(chapter, 48, 36, |_| {}),
@@ -531,7 +531,7 @@ fn a_class_is_graded_into_one_report_and_a_csv() {
             .unwrap_or_else(|| panic!("no row for {student} in:\n{md}"))
             .to_string()
     };
-    let all = raylab::stage::LAST_CHAPTER;
+    let all = raylab::chapters::LAST_CHAPTER;
     assert!(
         line("alice").ends_with(&format!("| {all} of {all} pass |")),
         "{md}"
@@ -576,7 +576,7 @@ fn a_class_is_graded_into_one_report_and_a_csv() {
     assert!(csv.contains("mallory,all,refused,"), "{csv}");
     assert_eq!(
         csv.lines().filter(|l| l.starts_with("alice,")).count(),
-        usize::from(raylab::stage::LAST_CHAPTER),
+        usize::from(raylab::chapters::LAST_CHAPTER),
         "one row per chapter"
     );
 

@@ -1,10 +1,10 @@
 //! The lessons' images show in `cargo doc`: the build script copies each
-//! `chapters/*.md` into `$OUT_DIR/lessons/` with its local images inlined
-//! as `data:` URIs, and the chapter modules take their docs from there.
-//! Before, the docs linked `../snapshots/chapter-2.png`, which is broken
-//! under target/doc.
+//! lesson (`chapters/NN_name/lesson.md`, and `chapters/README.md`) into
+//! `$OUT_DIR/lessons/` with its local images inlined as `data:` URIs, and
+//! the chapter modules take their docs from there: a relative link such as
+//! `../../snapshots/chapter-2.png` is broken under target/doc.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use base64::Engine as _;
 
@@ -41,13 +41,13 @@ fn image_targets(text: &str) -> Vec<String> {
     targets
 }
 
-fn lessons() -> Vec<PathBuf> {
-    let mut lessons: Vec<PathBuf> = std::fs::read_dir(chapters_folder())
-        .expect("chapters/")
-        .map(|entry| entry.expect("entry").path())
-        .filter(|path| path.extension().is_some_and(|e| e == "md"))
-        .collect();
-    lessons.sort();
+/// Every lesson, with the name of its generated copy.
+fn lessons() -> Vec<(PathBuf, String)> {
+    let mut lessons = vec![(chapters_folder().join("README.md"), "README.md".to_string())];
+    for info in raylab::chapters::CHAPTERS {
+        let path = chapters_folder().join(info.folder).join("lesson.md");
+        lessons.push((path, format!("{}.md", info.folder)));
+    }
     lessons
 }
 
@@ -56,11 +56,10 @@ fn every_lesson_image_is_inlined_in_the_generated_docs() {
     let lessons = lessons();
     assert!(lessons.len() >= 9, "8 lessons and the README: {lessons:?}");
     let mut images = 0;
-    for lesson in &lessons {
-        let name = lesson.file_name().expect("a name");
+    for (lesson, name) in &lessons {
         let source = std::fs::read_to_string(lesson).expect("read the lesson");
         let generated = std::fs::read_to_string(generated_folder().join(name))
-            .unwrap_or_else(|e| panic!("no generated {}: {e}", Path::new(name).display()));
+            .unwrap_or_else(|e| panic!("no generated {name}: {e}"));
         let wanted = image_targets(&source);
         let got = image_targets(&generated);
         assert_eq!(got.len(), wanted.len(), "{}", lesson.display());
@@ -81,7 +80,8 @@ fn every_lesson_image_is_inlined_in_the_generated_docs() {
             let bytes = base64::engine::general_purpose::STANDARD
                 .decode(encoded)
                 .expect("valid base64");
-            let file = std::fs::read(chapters_folder().join(original))
+            let folder = lesson.parent().expect("a folder");
+            let file = std::fs::read(folder.join(original))
                 .unwrap_or_else(|e| panic!("{}: {original}: {e}", lesson.display()));
             assert!(bytes == file, "{}: {original}", lesson.display());
             images += 1;
@@ -90,29 +90,27 @@ fn every_lesson_image_is_inlined_in_the_generated_docs() {
     assert!(images >= 20, "only {images} images in the lessons");
 }
 
-/// Each lesson's module takes its docs from the generated copy: the first
-/// line of every chapter file (one line, which `raylab new` strips when it
-/// copies the file into a workspace) and of chapters/mod.rs.
+/// Each chapter's module takes its docs from the generated copy of its
+/// lesson (the registry declares the modules), and so does chapters/mod.rs.
 #[test]
 fn the_chapter_modules_include_the_generated_lessons() {
-    for info in raylab::stage::CHAPTERS {
-        let file = chapters_folder().join(format!("{}.rs", info.file));
-        let text = std::fs::read_to_string(&file).expect("read");
-        let first = text.lines().next().unwrap_or("");
-        assert_eq!(
-            first,
-            format!(
-                "#![doc = include_str!(concat!(env!(\"OUT_DIR\"), \"/lessons/{}.md\"))]",
-                info.file
-            ),
-            "{}",
-            file.display()
-        );
-    }
-    let module = std::fs::read_to_string(chapters_folder().join("mod.rs")).expect("read");
+    let registry = std::fs::read_to_string(chapters_folder().join("mod.rs")).expect("read");
     assert!(
-        module.starts_with(
+        registry.starts_with(
             "#![doc = include_str!(concat!(env!(\"OUT_DIR\"), \"/lessons/README.md\"))]"
         )
     );
+    assert!(registry.contains(
+        "#[doc = include_str!(concat!(env!(\"OUT_DIR\"), \"/lessons/\", $folder, \".md\"))]"
+    ));
+    for info in raylab::chapters::CHAPTERS {
+        assert!(
+            chapters_folder()
+                .join(info.folder)
+                .join("lesson.md")
+                .is_file(),
+            "{} has no lesson",
+            info.folder
+        );
+    }
 }

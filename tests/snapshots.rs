@@ -203,7 +203,7 @@ fn the_tree_changes_no_pixel() {
 #[test]
 fn each_chapter_changes_the_picture() {
     // A stage that renders the same image as the one before teaches nothing.
-    let hashes: Vec<u64> = (1..=raylab::stage::LAST_CHAPTER)
+    let hashes: Vec<u64> = (1..=raylab::chapters::LAST_CHAPTER)
         .map(|chapter| reference_render(chapter).hash())
         .collect();
     for pair in hashes.windows(2) {

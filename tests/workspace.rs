@@ -15,7 +15,7 @@ use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 use common::{raylab, stderr, stdout};
-use raylab::stage::CHAPTERS;
+use raylab::chapters::CHAPTERS;
 
 struct Workspaces {
     root: PathBuf,
@@ -146,10 +146,7 @@ fn the_workspace_has_a_file_per_chapter_and_a_todo_per_function() {
             );
         }
         assert!(!answer.contains("todo!("), "{file}");
-        assert!(
-            todo.contains(&format!("chapters/{}.md", info.file)),
-            "{file}"
-        );
+        assert!(todo.contains(&info.lesson_path()), "{file}");
         assert!(
             checks.contains(&format!("assert_chapter::<Mine>({})", info.number)),
             "{checks}"

@@ -1504,7 +1504,7 @@ fn bvh_hits<C: Chapters>(
         }
     };
     for (index, ray) in rays.iter().enumerate() {
-        let loop_answer = crate::chapters::ch03_nearest::nearest_hit(&objects, ray, t_min, t_max);
+        let loop_answer = objects.nearest_hit_by_loop(ray, t_min, t_max);
         if !any {
             let got = C::nearest_hit_bvh(bvh, &objects, ray, t_min, t_max);
             if got != loop_answer {
@@ -1713,7 +1713,7 @@ fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(
             num(*y)
         ));
     }
-    let k = crate::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+    let k = count.isqrt().max(1);
     let cell_of = |(x, y): (f32, f32)| {
         let column = ((x * k as f32) as u32).min(k - 1);
         let row = ((y * k as f32) as u32).min(k - 1);
@@ -1765,7 +1765,7 @@ fn one_per_cell(
 }
 
 fn rule_text(rule: SampleRule, count: u32) -> String {
-    let k = crate::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+    let k = count.isqrt().max(1);
     match rule {
         SampleRule::GridCentres => {
             format!("the {count} centres of a {k} x {k} grid of cells, one each")

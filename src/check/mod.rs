@@ -3,7 +3,7 @@
 //! For each chapter, three things, in this order:
 //!
 //! 1. **checkpoint cases** ([`cases::Case`], listed per chapter in the
-//!    registry [`crate::stage::CHAPTERS`]): questions to each function of the
+//!    registry [`crate::chapters::CHAPTERS`]): questions to each function of the
 //!    chapter with numbers a student can work out by hand; the first failing
 //!    one is printed with its inputs, the expected and the actual answer, and
 //!    the lesson section that teaches it;
@@ -37,15 +37,19 @@ pub use cases::{Case, CaseKind, Level, Outcome, TreeShape};
 pub use panics::Panic;
 
 use crate::Chapters;
+use crate::chapters::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use crate::diff::{Criteria, Image, Metrics, compare};
-use crate::stage::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 
-/// Exit status when every checked chapter passes.
-pub const EXIT_PASS: i32 = 0;
-/// Exit status when a chapter fails or is not started.
-pub const EXIT_FAIL: i32 = crate::cli::EXIT_FAILED_CHECK;
-/// Exit status when the check itself could not run.
-pub const EXIT_ERROR: i32 = crate::cli::EXIT_ERROR;
+/// What a whole check came to: the command line turns it into an exit status.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Overall {
+    /// Every checked chapter passes.
+    Pass,
+    /// A chapter fails or is not started.
+    Fail,
+    /// The check itself could not run.
+    Error,
+}
 
 /// How to check.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -341,19 +345,19 @@ pub struct CheckReport {
 }
 
 impl CheckReport {
-    /// 0 when every checked chapter passes, 1 when one fails or is not
-    /// started, 2 when the check could not run.
-    pub fn exit_code(&self) -> i32 {
+    /// Whether every checked chapter passes, one fails (or is not
+    /// started), or the check could not run.
+    pub fn overall(&self) -> Overall {
         if self
             .verdicts
             .iter()
             .any(|v| v.status == Status::Error || !v.errors.is_empty())
         {
-            EXIT_ERROR
+            Overall::Error
         } else if self.verdicts.iter().all(ChapterVerdict::passes) {
-            EXIT_PASS
+            Overall::Pass
         } else {
-            EXIT_FAIL
+            Overall::Fail
         }
     }
 
@@ -411,7 +415,7 @@ fn owner(panic: &Panic) -> Option<u8> {
     let file = panic.file.as_deref()?;
     CHAPTERS
         .iter()
-        .find(|info| file.contains(info.file))
+        .find(|info| file.contains(&info.module()) || file.contains(&format!("{}/", info.folder)))
         .map(|info| info.number)
 }
 
@@ -446,7 +450,7 @@ fn case_failure(info: &ChapterInfo, cases: &[Case], index: usize, outcome: Outco
 }
 
 fn lesson(info: &ChapterInfo) -> String {
-    format!("chapters/{}.md", info.file)
+    info.lesson_path()
 }
 
 /// Chapter `info`'s own verdict (not yet looking at earlier chapters).
@@ -457,7 +461,7 @@ fn own_verdict<C: Chapters>(
     full: bool,
 ) -> ChapterVerdict {
     let chapter = info.number;
-    let cases = (info.checkpoints)();
+    let cases = catalog::checkpoints(info.number);
     let (passed, failures) = run_cases::<C>(info, &cases);
     let mut verdict = ChapterVerdict {
         chapter,
@@ -565,7 +569,7 @@ fn own_verdict<C: Chapters>(
             .push("the failure images could not be written".into());
     }
     if verdict.status == Status::Pass {
-        let hard = (info.robustness)();
+        let hard = catalog::robustness(info.number);
         let (passed, failures) = run_cases::<C>(info, &hard);
         verdict.robustness = Some(Robustness {
             passed,
@@ -706,7 +710,7 @@ fn apply_prerequisites(verdict: &mut ChapterVerdict, earlier: &[(u8, Status)]) {
 /// image, its robustness, and whether the chapters before it pass their
 /// cases. An unknown chapter is an error verdict.
 pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
-    let Some(info) = crate::stage::chapter(chapter) else {
+    let Some(info) = crate::chapters::chapter(chapter) else {
         return unknown_chapter(chapter);
     };
     let mut verdict = own_verdict::<C>(info, options, true);
@@ -733,7 +737,7 @@ fn unknown_chapter(chapter: u8) -> ChapterVerdict {
         needs: None,
         errors: vec![format!(
             "there is no chapter {chapter}; chapters are 1 to {}",
-            crate::stage::LAST_CHAPTER
+            crate::chapters::LAST_CHAPTER
         )],
         lesson: String::new(),
     }
@@ -804,7 +808,10 @@ mod tests {
     #[test]
     fn the_reference_passes_every_checkpoint_and_hard_case() {
         for info in CHAPTERS {
-            for case in (info.checkpoints)().iter().chain(&(info.robustness)()) {
+            for case in catalog::checkpoints(info.number)
+                .iter()
+                .chain(&catalog::robustness(info.number))
+            {
                 assert_eq!(
                     case.run::<crate::Reference>(),
                     Outcome::Pass,
@@ -822,9 +829,9 @@ mod tests {
         let mut names: Vec<&str> = CHAPTERS
             .iter()
             .flat_map(|info| {
-                (info.checkpoints)()
+                catalog::checkpoints(info.number)
                     .into_iter()
-                    .chain((info.robustness)())
+                    .chain(catalog::robustness(info.number))
                     .map(|case| case.name)
             })
             .collect();

@@ -9,7 +9,7 @@ use super::render::{SettingsOverrides, select_scene};
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// Chapter whose stage to time (see `raylab chapters`) [default: 8, or 8 with --scene].
-    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
+    #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]
@@ -41,7 +41,7 @@ pub fn bench<C: Chapters>(args: &BenchArgs) -> Result<i32> {
         Ok::<_, crate::RenderError>((times, warm_up.rays))
     })??;
     let median = median(&times);
-    let samples = if crate::stage::Effects::for_chapter(chapter).antialiasing {
+    let samples = if crate::effects::Effects::for_chapter(chapter).antialiasing {
         settings.samples
     } else {
         1

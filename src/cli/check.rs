@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::check::{CheckOptions, check_all};
+use crate::check::{CheckOptions, Overall, check_all};
 
 /// Check your chapters: checkpoint cases, the image, and robustness.
 ///
@@ -25,7 +25,7 @@ use crate::check::{CheckOptions, check_all};
 #[command(long_about)]
 pub struct CheckArgs {
     /// Check only this chapter (and what it builds on); all by default.
-    #[arg(long, value_name = "N", value_parser = crate::stage::parse_chapter)]
+    #[arg(long, value_name = "N", value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// Where your image and the heatmap go when a chapter's image fails.
     #[arg(long, value_name = "DIR", default_value = "check-failures")]
@@ -41,5 +41,9 @@ pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
     };
     let report = check_all::<C>(args.chapter, &options);
     print!("{}", report.text());
-    Ok(report.exit_code())
+    Ok(match report.overall() {
+        Overall::Pass => 0,
+        Overall::Fail => super::EXIT_FAILED_CHECK,
+        Overall::Error => super::EXIT_ERROR,
+    })
 }

@@ -21,7 +21,7 @@ pub(super) const ENABLE_EMBREE: &str = "this raylab was built without Embree. To
 #[derive(Debug, Args)]
 pub struct CrosscheckArgs {
     /// Chapter whose render to record (see `raylab chapters`) [default: 8].
-    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
+    #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]
@@ -39,7 +39,7 @@ pub struct ProbeArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_ray)]
     pub ray: Ray,
     /// Chapter whose shapes to use (see `raylab chapters`) [default: 8].
-    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
+    #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file instead of the chapter's built-in scene.
     #[arg(short, long, value_name = "FILE")]
@@ -237,9 +237,9 @@ mod with_embree {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
         let settings = args.overrides.settings_for(&scene, chapter)?;
         let stage = Stage::<C>::with_chapters(&scene, chapter, settings)?;
-        let rays = args
-            .overrides
-            .in_pool(|| crosscheck::record_rays_within(&stage, crosscheck::MAX_RECORDED_RAYS))??;
+        let rays = args.overrides.in_pool(|| {
+            crate::record::record_rays_within(&stage, crosscheck::MAX_RECORDED_RAYS)
+        })??;
         let (embree, quads) = build(&stage, &scene)?;
         let reference = Reference {
             shapes: stage.shapes(),

@@ -15,7 +15,7 @@
 use std::panic::{self, AssertUnwindSafe, PanicHookInfo};
 use std::sync::Mutex;
 
-use crate::stage::{CHAPTERS, ChapterInfo};
+use crate::chapters::{CHAPTERS, ChapterInfo};
 
 use super::{EXIT_ERROR, EXIT_FAILED_CHECK};
 
@@ -111,17 +111,19 @@ fn record(info: &PanicHookInfo) -> bool {
 }
 
 /// The chapter whose file `file` is: a workspace's `src/chapters/chNN_name.rs`
-/// or raylab's `chapters/NN_name.rs`.
+/// or a file of raylab's `chapters/NN_name/`.
 fn chapter_of_file(file: &str) -> Option<u8> {
     let path = std::path::Path::new(file);
     let stem = path.file_stem()?.to_str()?;
-    let in_chapters = path
-        .parent()
-        .and_then(|parent| parent.file_name())
-        .is_some_and(|name| name == "chapters");
+    let parent = path.parent()?;
+    let folder = parent.file_name()?.to_str()?;
+    let grandparent = parent.parent().and_then(|p| p.file_name());
     CHAPTERS
         .iter()
-        .find(|info| in_chapters && (stem == info.module() || stem == info.file))
+        .find(|info| {
+            (folder == "chapters" && stem == info.module())
+                || (folder == info.folder && grandparent.is_some_and(|name| name == "chapters"))
+        })
         .map(|info| info.number)
 }
 
@@ -145,7 +147,7 @@ fn chapter_in_backtrace(backtrace: &str) -> Option<u8> {
 
 /// The exit status and the message for a panic.
 fn explain(record: &Record) -> (i32, String) {
-    let info = record.chapter.and_then(crate::stage::chapter);
+    let info = record.chapter.and_then(crate::chapters::chapter);
     let not_started = record
         .message
         .strip_prefix("not yet implemented")
@@ -158,7 +160,7 @@ fn explain(record: &Record) -> (i32, String) {
             .strip_prefix("chapter ")
             .and_then(|rest| rest.split_once(": "))
             .and_then(|(number, function)| {
-                let info = crate::stage::chapter(number.parse().ok()?)?;
+                let info = crate::chapters::chapter(number.parse().ok()?)?;
                 Some((info, function.to_string()))
             });
         if let Some((info, function)) = named {
@@ -213,10 +215,16 @@ fn not_started_message(info: &ChapterInfo, function: Option<&str>) -> String {
 mod tests {
     use super::*;
 
+    /// Chapter `number`'s file in a workspace, from the registry.
+    fn workspace_file(number: u8) -> String {
+        let info = crate::chapters::chapter(number).expect("a chapter");
+        format!("src/chapters/{}.rs", info.module())
+    }
+
     fn record(message: &str, chapter: Option<u8>) -> Record {
         Record {
             message: message.to_string(),
-            location: "src/chapters/ch02_sphere.rs:10:5".to_string(),
+            location: format!("{}:10:5", workspace_file(2)),
             chapter,
         }
     }
@@ -228,20 +236,18 @@ mod tests {
             None,
         ));
         assert_eq!(status, EXIT_FAILED_CHECK);
-        assert!(
-            text.starts_with(
-                "chapter 1 not started: write intersect_plane in src/chapters/ch01_plane.rs"
-            ),
-            "{text}"
+        let expected = format!(
+            "chapter 1 not started: write intersect_plane in {}",
+            workspace_file(1)
         );
+        assert!(text.starts_with(&expected), "{text}");
         let (status, text) = explain(&record("not yet implemented", Some(2)));
         assert_eq!(status, EXIT_FAILED_CHECK);
-        assert!(
-            text.contains(
-                "chapter 2 not started: finish the todo!() at src/chapters/ch02_sphere.rs:10:5"
-            ),
-            "{text}"
+        let expected = format!(
+            "chapter 2 not started: finish the todo!() at {}:10:5",
+            workspace_file(2)
         );
+        assert!(text.contains(&expected), "{text}");
     }
 
     #[test]
@@ -257,17 +263,30 @@ mod tests {
 
     #[test]
     fn chapters_from_files_and_backtraces() {
-        assert_eq!(chapter_of_file("src/chapters/ch04_shadows.rs"), Some(4));
+        assert_eq!(chapter_of_file(&workspace_file(4)), Some(4));
+        let eight = crate::chapters::chapter(8).expect("chapter 8");
         assert_eq!(
-            chapter_of_file("/x/raylab/chapters/08_refraction.rs"),
+            chapter_of_file(&format!("/x/raylab/{}", eight.code_path())),
             Some(8)
         );
         assert_eq!(chapter_of_file("src/render.rs"), None);
-        assert_eq!(chapter_of_file("src/ch04_shadows.rs"), None);
-        let backtrace = "  10: raylab::render::Tracer<C>::trace\n  \
-                         11: me::chapters::ch05_phong::shade_phong\n  \
-                         12: me::chapters::ch06_reflection::shade_mirror\n";
-        assert_eq!(chapter_in_backtrace(backtrace), Some(5));
+        assert_eq!(
+            chapter_of_file(&workspace_file(4).replace("chapters/", "")),
+            None
+        );
+        let module = |number| {
+            crate::chapters::chapter(number)
+                .expect("a chapter")
+                .module()
+        };
+        let backtrace = format!(
+            "  10: raylab::render::Tracer<C>::trace\n  \
+             11: me::chapters::{}::shade_phong\n  \
+             12: me::chapters::{}::shade_mirror\n",
+            module(5),
+            module(6)
+        );
+        assert_eq!(chapter_in_backtrace(&backtrace), Some(5));
         assert_eq!(chapter_in_backtrace("  1: std::panicking\n"), None);
     }
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::stage::CHAPTERS;
+use crate::chapters::CHAPTERS;
 
 #[derive(Debug, Args)]
 pub struct NewArgs {

@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
+use crate::chapters::{CHAPTERS, LAST_CHAPTER};
+use crate::effects::Effects;
 use crate::render::Rendered;
-use crate::stage::{CHAPTERS, Effects, LAST_CHAPTER};
 use crate::{RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
@@ -21,7 +22,7 @@ pub struct RenderArgs {
     /// Chapter whose stage to render (see `raylab chapters`): it switches on
     /// the effects of chapters 1 to N [default: the last chapter when --scene
     /// is given]. Without --scene, the chapter's built-in scene is used.
-    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
+    #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// A TOML scene file to render instead of the built-in one
     /// (`raylab scene --chapter N` prints one to start from) [default: the
@@ -156,8 +157,8 @@ impl SettingsOverrides {
     /// ignores, each with what it needs; and a scene without lights at a
     /// lit stage, which renders dark.
     pub fn unused(&self, scene: &Scene, chapter: u8, settings: &RenderSettings) -> Vec<String> {
+        use crate::effects::Lighting;
         use crate::scene::OffsetRule;
-        use crate::stage::Lighting;
         let effects = Effects::for_chapter(chapter);
         let mut warnings = Vec::new();
         let mut before = |given: bool, option: String, first: u8, what: &str| {
@@ -386,7 +387,7 @@ const PROGRESS_WORK: u64 = 20_000_000;
 /// is what makes a render slow beyond the pixel count: 20,000 spheres at
 /// 320x240 take 20 s with one sample per pixel).
 fn estimated_work(settings: &RenderSettings, chapter: u8, objects: usize) -> u64 {
-    let samples = if crate::stage::Effects::for_chapter(chapter).antialiasing {
+    let samples = if crate::effects::Effects::for_chapter(chapter).antialiasing {
         u64::from(settings.samples)
     } else {
         1
@@ -490,7 +491,7 @@ pub fn chapters() -> Result<i32> {
 #[derive(Debug, Args)]
 pub struct SceneArgs {
     /// The chapter whose built-in scene to print (see `raylab chapters`).
-    #[arg(short, long, value_parser = crate::stage::parse_chapter)]
+    #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: u8,
 }
 

@@ -14,9 +14,9 @@ use super::code::{CodeRun, CodeStatus, last_lines, run_check};
 use super::{
     Grade, Graded, Ignored, References, STYLE, chapter_of, grade_with, html_escape, markdown_escape,
 };
+use crate::chapters::LAST_CHAPTER;
 use crate::course::Chapters;
 use crate::diff::{Criteria, psnr_text};
-use crate::stage::LAST_CHAPTER;
 
 /// What grading one student gave.
 #[derive(Debug, Clone)]

@@ -18,7 +18,6 @@ pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 
-use crate::course::Chapters;
 use crate::{Ray, Vec3, unit_vector};
 
 /// A primitive the tracer can intersect.
@@ -49,22 +48,6 @@ pub struct SurfacePoint {
 }
 
 impl Shape {
-    /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max)
-    }
-
-    /// The nearest hit with `t_min < t < t_max`, by the chapters `C`: the
-    /// reference, a student's, or a variant under test.
-    #[inline(always)]
-    pub fn intersect_with<C: Chapters>(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        match self {
-            Shape::Plane(plane) => C::intersect_plane(plane, ray, t_min, t_max),
-            Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
-            Shape::Triangle(triangle) => C::intersect_triangle(triangle, ray, t_min, t_max),
-        }
-    }
-
     /// The smallest axis-aligned box around the shape, `None` for a shape
     /// no box holds (a plane): chapter 11 keeps those outside its tree.
     pub fn bounds(&self) -> Option<crate::bvh::Aabb> {

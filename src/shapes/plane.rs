@@ -1,7 +1,7 @@
 //! The infinite plane: its data, and where a hit on it lies. How a ray meets
 //! it is chapter 1's lesson ([`crate::chapters::ch01_plane`]).
 
-use crate::{Ray, Vec3, unit_vector};
+use crate::{Vec3, unit_vector};
 
 /// An infinite plane through `point` with unit normal `normal`. Two-sided: a
 /// ray hits it from either side.
@@ -34,12 +34,6 @@ impl Plane {
     /// The unit normal (NaN for a degenerate plane).
     pub fn normal(&self) -> Vec3 {
         self.normal
-    }
-
-    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the plane,
-    /// by the reference solution of chapter 1.
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::chapters::ch01_plane::intersect_plane(self, ray, t_min, t_max)
     }
 
     /// Two axes lying in the plane, perpendicular to each other and to its

@@ -1,7 +1,7 @@
 //! The sphere: its data, and a few facts about it. How a ray meets it is
 //! chapter 2's lesson ([`crate::chapters::ch02_sphere`]).
 
-use crate::{Ray, Vec3};
+use crate::Vec3;
 
 /// A sphere: every point at distance `radius` from `center`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,23 +31,6 @@ impl Sphere {
 
     pub fn radius(&self) -> f32 {
         self.radius
-    }
-
-    /// Both parameters where the ray's line meets the sphere, smaller first
-    /// (chapter 2's reference solution).
-    pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
-        crate::chapters::ch02_sphere::sphere_roots(self, ray)
-    }
-
-    /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere
-    /// (chapter 2's reference solution).
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::chapters::ch02_sphere::intersect_sphere(self, ray, t_min, t_max)
-    }
-
-    /// The same with the textbook quadratic formula, kept for comparison.
-    pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::chapters::ch02_sphere::intersect_sphere_textbook(self, ray, t_min, t_max)
     }
 
     /// Whether `point` is strictly inside the sphere.

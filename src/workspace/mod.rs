@@ -1,7 +1,7 @@
 //! `raylab new`: a student workspace, generated from the reference chapters.
 //!
 //! A workspace is a small crate that depends on this raylab checkout: one
-//! file per chapter of [`crate::stage::CHAPTERS`] where the student writes
+//! file per chapter of [`crate::chapters::CHAPTERS`] where the student writes
 //! that chapter's functions, a type `Mine` that implements
 //! [`crate::course::Chapters`] with them, a three-line `main` that runs
 //! raylab's command line with `Mine`, and a test per chapter that runs
@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
-use crate::stage::{CHAPTERS, ChapterInfo};
+use crate::chapters::{CHAPTERS, ChapterInfo};
 use scan::ItemKind;
 
 /// The raylab checkout this binary was built from: the workspace's path
@@ -160,7 +160,7 @@ pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files>
     ];
     for info in CHAPTERS {
         let text = chapter_file(info, raylab_dir_text, solutions)
-            .with_context(|| format!("cannot cut chapters/{}.rs into a skeleton", info.file))?;
+            .with_context(|| format!("cannot cut {} into a skeleton", info.code_path()))?;
         files.push((format!("src/chapters/{}.rs", info.module()), text));
     }
     Ok(Files(files))
@@ -291,9 +291,9 @@ fn check_tests(lib: &str) -> String {
     );
     for info in CHAPTERS {
         let name = info
-            .file
+            .folder
             .split_once('_')
-            .map_or(info.file, |(_, name)| name);
+            .map_or(info.folder, |(_, name)| name);
         let _ = write!(
             out,
             "\n#[test]\nfn chapter_{}_{name}() {{\n    raylab::check::assert_chapter::<{STUDENT_TYPE}>({});\n}}\n",
@@ -366,11 +366,12 @@ fn chapters_mod_rs() -> Result<String> {
 /// functions but takes no argument of `C`'s).
 fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String> {
     let src = info.source;
-    let items = scan::items(src).map_err(|error| anyhow::anyhow!("{}: {error}", info.file))?;
+    let items =
+        scan::items(src).map_err(|error| anyhow::anyhow!("{}: {error}", info.code_path()))?;
     let item = items
         .iter()
         .find(|item| item.kind == ItemKind::Fn && item.name.as_deref() == Some(function))
-        .with_context(|| format!("{} has no function `{function}`", info.file))?;
+        .with_context(|| format!("{} has no function `{function}`", info.code_path()))?;
     let signature_end = item.body.as_ref().map_or(item.range.end, |body| body.start);
     let parameters = scan::type_parameters(&src[item.header..signature_end])
         .map_err(|error| anyhow::anyhow!("`{function}`'s generics: {error}"))?;
@@ -468,9 +469,7 @@ pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Re
         }
     }
     let module = info.module();
-    let lesson = Path::new(raylab_dir)
-        .join("chapters")
-        .join(format!("{}.md", info.file));
+    let lesson = Path::new(raylab_dir).join(info.lesson_path());
     let functions = info
         .functions
         .iter()
@@ -809,10 +808,10 @@ mod tests {
             let todo = chapter_file(info, "/r", false).expect("cuts");
             let answer = chapter_file(info, "/r", true).expect("cuts");
             for text in [&todo, &answer] {
-                assert!(!text.contains("#![doc"), "{}", info.file);
-                assert!(!text.contains("#[cfg(test)]"), "{}", info.file);
-                assert!(!text.contains("crate::"), "{}", info.file);
-                assert!(text.contains(&format!("/r/chapters/{}.md", info.file)));
+                assert!(!text.contains("#![doc"), "{}", info.folder);
+                assert!(!text.contains("#[cfg(test)]"), "{}", info.folder);
+                assert!(!text.contains("crate::"), "{}", info.folder);
+                assert!(text.contains(&format!("/r/{}", info.lesson_path())));
             }
             for function in info.functions {
                 assert!(todo.contains(&format!("todo!(\"chapter {}: {function}\")", info.number)));
@@ -836,7 +835,10 @@ mod tests {
             assert!(bvh_answer.contains(helper), "{helper}");
             assert!(!bvh_todo.contains(helper), "{helper}");
         }
-        assert!(!bvh_answer.contains("pub use raylab::chapters::ch11_bvh::"));
+        assert!(!bvh_answer.contains(&format!(
+            "pub use raylab::chapters::{}::",
+            CHAPTERS[10].module()
+        )));
         assert!(bvh_todo.contains("use raylab::bvh::{Aabb, Bvh, BvhNode, BvhOptions, SplitRule};"));
         let plane = chapter_file(&CHAPTERS[0], "/r", false).expect("cuts");
         assert!(!plane.contains("PARALLEL_TOLERANCE"));

@@ -1,0 +1,165 @@
+use raylab::{Sampling, Vec3};
+use raylab::course::Chapters;
+use raylab::render::Tracer;
+
+/// Position of sample `index` (of `count`) inside pixel `(x, y)`, as an
+/// offset in `[0, 1)^2` from the pixel's top-left corner.
+///
+/// The random numbers come from a hash of `(seed, x, y, index)` rather than
+/// from a generator shared across pixels: every pixel gets the same samples
+/// whichever thread renders it, in whatever order, so images are identical
+/// on 1 or 64 threads.
+///
+/// `index` runs from 0 to `count - 1`; grid and jittered sampling need a
+/// square `count` (the scene loader checks). Every such input, whatever the
+/// pixel and seed, gives an offset inside the pixel.
+pub fn sample_offset(
+    sampling: Sampling,
+    count: u32,
+    index: u32,
+    pixel: (u32, u32),
+    seed: u64,
+) -> (f32, f32) {
+    let cells_per_side = whole_sqrt(count).max(1);
+    let cell = 1.0 / cells_per_side as f32;
+    let column = (index % cells_per_side) as f32;
+    let row = (index / cells_per_side) as f32;
+    let random = |dimension: u32| unit_random(seed, pixel, index, dimension);
+    match sampling {
+        Sampling::Grid => ((column + 0.5) * cell, (row + 0.5) * cell),
+        Sampling::Jittered => {
+            // (column + r) can round up to the next cell: with two cells,
+            // 1 + (1 - 2^-24) is not an f32 and rounds to 2, which would put
+            // the sample at 1.0, on the next pixel's edge. Clamping to the
+            // largest f32 below 1 keeps every sample inside its own pixel.
+            let inside = |x: f32| x.min(1.0 - f32::EPSILON / 2.0);
+            (
+                inside((column + random(0)) * cell),
+                inside((row + random(1)) * cell),
+            )
+        }
+        Sampling::Random => (random(0), random(1)),
+    }
+}
+
+/// The colour of pixel `(x, y)`: the mean of its samples, each a camera ray
+/// through the sample's position, in linear light.
+///
+/// The mean must be taken in linear light, before the sRGB encoding of the
+/// PNG: light adds linearly, and a pixel half covered by a white edge sends
+/// half the light of a white one. Averaging encoded values instead darkens
+/// every edge. The samples are summed in index order, so the pixel is the
+/// same on any thread.
+pub fn pixel_color<C: Chapters>(tracer: &mut Tracer<C>, x: u32, y: u32) -> Vec3 {
+    let samples = tracer.samples();
+    let mut sum = Vec3::ZERO;
+    for index in 0..samples {
+        let (dx, dy) = tracer.sample_offset(index, (x, y));
+        sum += tracer.sample(x as f32 + dx, y as f32 + dy);
+    }
+    sum / samples as f32
+}
+
+/// `floor(sqrt(n))` in integers.
+pub fn whole_sqrt(n: u32) -> u32 {
+    let n = u64::from(n);
+    let mut root = (n as f64).sqrt() as u64;
+    while root * root > n {
+        root -= 1;
+    }
+    while (root + 1) * (root + 1) <= n {
+        root += 1;
+    }
+    root as u32
+}
+
+/// A number in `[0, 1)` that depends only on its arguments.
+///
+/// The arguments are packed into one 64-bit word and mixed by SplitMix64's
+/// finaliser, whose every output bit depends on every input bit. The top 24
+/// bits become the float: exactly the precision of an `f32` mantissa, so the
+/// result is a multiple of `2^-24` and never rounds up to 1.
+pub fn unit_random(seed: u64, pixel: (u32, u32), index: u32, dimension: u32) -> f32 {
+    let mut word = seed ^ 0x9E37_79B9_7F4A_7C15;
+    for part in [pixel.0, pixel.1, index, dimension] {
+        word = mix(word ^ u64::from(part));
+    }
+    (word >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+}
+
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_of_four_hits_the_quarter_centres() {
+        let positions: Vec<_> = (0..4)
+            .map(|i| sample_offset(Sampling::Grid, 4, i, (3, 7), 1))
+            .collect();
+        assert_eq!(
+            positions,
+            vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]
+        );
+    }
+
+    #[test]
+    fn jittered_samples_stay_in_their_cells() {
+        for index in 0..16 {
+            let (x, y) = sample_offset(Sampling::Jittered, 16, index, (10, 20), 42);
+            let (column, row) = ((index % 4) as f32, (index / 4) as f32);
+            assert!(x >= column / 4.0 && x < (column + 1.0) / 4.0, "x = {x}");
+            assert!(y >= row / 4.0 && y < (row + 1.0) / 4.0, "y = {y}");
+        }
+    }
+
+    #[test]
+    fn a_jittered_sample_never_reaches_the_next_pixel() {
+        // Here 1 + r rounds to 2 in f32: without the clamp, dx would be 1.0.
+        let (dx, _) = sample_offset(Sampling::Jittered, 4, 1, (109_417, 17), 0);
+        assert_eq!(dx, 1.0 - f32::EPSILON / 2.0);
+        for x in 0..20_000 {
+            for index in 0..4 {
+                let (dx, dy) = sample_offset(Sampling::Jittered, 4, index, (x, 3), 0);
+                assert!((0.0..1.0).contains(&dx) && (0.0..1.0).contains(&dy));
+            }
+        }
+    }
+
+    #[test]
+    fn random_samples_depend_only_on_pixel_sample_and_seed() {
+        let a = sample_offset(Sampling::Random, 4, 2, (5, 6), 9);
+        assert_eq!(a, sample_offset(Sampling::Random, 4, 2, (5, 6), 9));
+        assert_ne!(a, sample_offset(Sampling::Random, 4, 2, (6, 5), 9));
+        assert_ne!(a, sample_offset(Sampling::Random, 4, 3, (5, 6), 9));
+        assert_ne!(a, sample_offset(Sampling::Random, 4, 2, (5, 6), 10));
+    }
+
+    #[test]
+    fn unit_random_is_in_range_and_roughly_uniform() {
+        let values: Vec<f32> = (0..10_000).map(|i| unit_random(7, (i, 0), 0, 0)).collect();
+        assert!(values.iter().all(|v| (0.0..1.0).contains(v)));
+        let mean = values.iter().sum::<f32>() / values.len() as f32;
+        assert!((mean - 0.5).abs() < 0.02, "mean {mean}");
+        let below_tenth = values.iter().filter(|v| **v < 0.1).count();
+        assert!(
+            (800..1200).contains(&below_tenth),
+            "{below_tenth} below 0.1"
+        );
+    }
+
+    #[test]
+    fn whole_square_roots() {
+        assert_eq!(whole_sqrt(0), 0);
+        assert_eq!(whole_sqrt(1), 1);
+        assert_eq!(whole_sqrt(15), 3);
+        assert_eq!(whole_sqrt(16), 4);
+        assert_eq!(whole_sqrt(u32::MAX), 65535);
+    }
+}

@@ -1,0 +1,189 @@
+//! Chapter 7's checkpoints (level 1) and hard cases (level 2) for
+//! `raylab check --chapter 7`; the builders they share are in
+//! `raylab::check::catalog`.
+
+use crate::check::catalog::*;
+
+const SAMPLES_7: &str = "Where the samples go";
+
+/// A wall of white and black checkers of size 1 whose corner is on the
+/// camera's axis, seen in 3 x 3 pixels: the middle pixel's four quarters see
+/// white, black, black, white. Ambient light only, `k_a = 1`: each sample is
+/// exactly 1 or 0.
+const QUARTERS_SCENE: &str = r#"
+background = [1.0, 1.0, 1.0]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 0.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 45.0
+[render]
+width = 3
+height = 3
+samples = 4
+sampling = "grid"
+[[objects]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, -1.0] }
+[objects.material]
+color = [1.0, 1.0, 1.0]
+ambient = 1.0
+diffuse = 0.0
+checker = { color = [0.0, 0.0, 0.0], size = 1.0 }
+"#;
+
+fn samples_case(
+    name: &'static str,
+    says: &str,
+    sampling: Sampling,
+    count: u32,
+    pixels: Vec<(u32, u32)>,
+    seed: u64,
+    rule: SampleRule,
+) -> Case {
+    Case::new(
+        name,
+        SAMPLES_7,
+        says,
+        CaseKind::SampleOffsets {
+            sampling,
+            count,
+            pixels,
+            seed,
+            rule,
+        },
+    )
+}
+
+/// Chapter 7's own scene at the reference size: what `pixel_color` is
+/// checked on, pixel by pixel, along three rows that cross edges.
+fn chapter_7_scene() -> String {
+    crate::chapters::chapter(7)
+        .map(|info| {
+            info.scene
+                .replace(
+                    "width = 640",
+                    &format!("width = {}", crate::chapters::REFERENCE_WIDTH),
+                )
+                .replace(
+                    "height = 480",
+                    &format!("height = {}", crate::chapters::REFERENCE_HEIGHT),
+                )
+        })
+        .unwrap_or_default()
+}
+
+pub fn checkpoints() -> Vec<Case> {
+    let rows: Vec<(u32, u32)> = [44u32, 60, 84]
+        .iter()
+        .flat_map(|&y| (0..crate::chapters::REFERENCE_WIDTH).map(move |x| (x, y)))
+        .collect();
+    vec![
+        samples_case(
+            "samples-grid-4",
+            "4 grid samples in pixel (3, 7): the centres of its quarters, (0.25, 0.25), \
+             (0.75, 0.25), (0.25, 0.75) and (0.75, 0.75), in any order",
+            Sampling::Grid,
+            4,
+            vec![(3, 7)],
+            1,
+            SampleRule::GridCentres,
+        ),
+        samples_case(
+            "samples-grid-9",
+            "9 grid samples: the centres of a 3 x 3 grid of cells, (1/6, 1/6) to (5/6, 5/6)",
+            Sampling::Grid,
+            9,
+            vec![(0, 0), (5, 2)],
+            0,
+            SampleRule::GridCentres,
+        ),
+        samples_case(
+            "samples-jittered-16",
+            "16 jittered samples in pixels (10, 20), (0, 0) and (159, 119), seed 42: one in each \
+             cell of a 4 x 4 grid, all inside [0, 1)^2",
+            Sampling::Jittered,
+            16,
+            vec![(10, 20), (0, 0), (159, 119)],
+            42,
+            SampleRule::OnePerCell,
+        ),
+        samples_case(
+            "samples-random-4",
+            "4 random samples: inside [0, 1)^2, not all at the same point",
+            Sampling::Random,
+            4,
+            vec![(5, 6), (100, 50)],
+            9,
+            SampleRule::InsidePixel,
+        ),
+        samples_case(
+            "samples-random-5",
+            "5 random samples: random sampling takes any count, not only squares (5 has no \
+             whole square root: floor(sqrt 5) = 2); inside [0, 1)^2, not all at the same point",
+            Sampling::Random,
+            5,
+            vec![(5, 6), (100, 50)],
+            9,
+            SampleRule::InsidePixel,
+        ),
+        samples_case(
+            "samples-seed-changes-them",
+            "4 random samples in pixels (5, 6) and (100, 50) with seed 1, then with seed 0: the \
+             seed changes the samples (it is hashed with the pixel and the index), so the two \
+             sets must differ",
+            Sampling::Random,
+            4,
+            vec![(5, 6), (100, 50)],
+            1,
+            SampleRule::UnlikeSeed(0),
+        ),
+        Case::new(
+            "pixel-quarters",
+            SAMPLES_7,
+            "the middle pixel of a 3 x 3 view of a black and white checker whose corner is on the \
+             axis: its four grid samples see 1, 0, 0, 1; expected their mean in linear light, 0.5 \
+             (averaging sRGB codes instead gives 0.21)",
+            CaseKind::PixelColor {
+                scene: QUARTERS_SCENE.to_string(),
+                pixels: vec![(1, 1)],
+            },
+        ),
+        Case::new(
+            "pixel-mean-of-own-samples",
+            SAMPLES_7,
+            "every pixel of rows 44, 60 and 84 of the chapter 7 scene at 160 x 120 (they cross \
+             the balls' edges): expected the mean, in linear light, of the pixel's own 4 samples, \
+             at the offsets sample_offset gives; nothing from neighbouring pixels",
+            CaseKind::PixelColor {
+                scene: chapter_7_scene(),
+                pixels: rows,
+            },
+        ),
+    ]
+}
+
+pub fn robustness() -> Vec<Case> {
+    let mut pixels: Vec<(u32, u32)> = (0..20_000).map(|x| (x, 3)).collect();
+    pixels.push((109_417, 17));
+    robust(vec![
+        samples_case(
+            "samples-jittered-never-1",
+            "4 jittered samples in each of 20,000 pixels: (column + r) / 2 can round up to 1.0 \
+             in f32 (pixel (109417, 17), sample 1 does); every offset must stay below 1",
+            Sampling::Jittered,
+            4,
+            pixels.clone(),
+            0,
+            SampleRule::OnePerCell,
+        ),
+        samples_case(
+            "samples-random-never-1",
+            "4 random samples in each of 20,000 pixels: every offset inside [0, 1)^2",
+            Sampling::Random,
+            4,
+            pixels,
+            0,
+            SampleRule::InsidePixel,
+        ),
+    ])
+}

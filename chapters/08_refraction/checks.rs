@@ -1,0 +1,266 @@
+//! Chapter 8's checkpoints (level 1) and hard cases (level 2) for
+//! `raylab check --chapter 8`; the builders they share are in
+//! `raylab::check::catalog`.
+
+use crate::check::catalog::*;
+
+const SNELL_8: &str = "Snell-Descartes";
+const TIR_8: &str = "Total internal reflection";
+const ENTERING_8: &str = "Entering and leaving";
+
+fn refract_case(
+    name: &'static str,
+    section: &'static str,
+    says: &str,
+    d: Vec3,
+    n: Vec3,
+    eta: f32,
+) -> Case {
+    Case::new(name, section, says, CaseKind::Refract { d, n, eta })
+}
+
+/// Incident direction at `degrees` from the normal +y, travelling down.
+fn at_angle(degrees: f64) -> Vec3 {
+    let a = degrees.to_radians();
+    Vec3::new(a.sin() as f32, -a.cos() as f32, 0.0)
+}
+
+/// A water surface y = 0 (object 0: k_t = 0.9, k_r = 0.1, no light of its
+/// own, index 1.33) over a red and blue checkered floor y = -2 lit by
+/// ambient light only; no lights.
+const WATER_SCENE: &str = r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[objects]]
+name = "water surface"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, reflectivity = 0.1, transparency = 0.9, ior = 1.33 }
+[[objects]]
+name = "floor"
+plane = { point = [0.0, -2.0, 0.0], normal = [0.0, 1.0, 0.0] }
+[objects.material]
+color = [0.9, 0.1, 0.1]
+ambient = 1.0
+diffuse = 0.0
+checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
+"#;
+
+pub fn checkpoints() -> Vec<Case> {
+    let glass = 1.5f32;
+    let water = |name, section, says, ray: (Vec3, Vec3), depth| {
+        Case::new(
+            name,
+            section,
+            says,
+            CaseKind::Shade {
+                shading: Shading::Glass,
+                scene: WATER_SCENE.to_string(),
+                ray: Ray::new(ray.0, ray.1),
+                depth,
+            },
+        )
+    };
+    vec![
+        refract_case(
+            "refract-normal-incidence",
+            SNELL_8,
+            "straight down into glass, (0, -2, 0) through a normal (0, 1, 0), eta = 1/1.5: \
+             straight on, as a unit vector (0, -1, 0)",
+            v(0.0, -2.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-air-to-glass-45",
+            SNELL_8,
+            "air to glass at 45 degrees, (1, -1, 0) through (0, 1, 0), eta = 1/1.5: \
+             sin t = sin 45 / 1.5 = 0.4714, so the unit direction (0.4714, -0.8819, 0)",
+            v(1.0, -1.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-glass-to-air",
+            SNELL_8,
+            "glass to air, (0.4, 0.9165, 0) through (0, 1, 0), eta = 1.5: sin i = 0.4, \
+             sin t = 0.6, so (0.6, 0.8, 0): away from the normal",
+            v(0.4, (1.0f32 - 0.16).sqrt(), 0.0),
+            Vec3::Y,
+            glass,
+        ),
+        refract_case(
+            "refract-normal-either-way",
+            SNELL_8,
+            "the 45 degree case with the normal given as (0, -3, 0): its length and side do not \
+             matter, expected (0.4714, -0.8819, 0)",
+            v(1.0, -1.0, 0.0),
+            v(0.0, -3.0, 0.0),
+            1.0 / glass,
+        ),
+        refract_case(
+            "refract-same-medium",
+            SNELL_8,
+            "eta = 1 (same medium on both sides): the ray goes straight on, as a unit vector",
+            v(0.3, -0.5, 0.8),
+            Vec3::Y,
+            1.0,
+        ),
+        refract_case(
+            "refract-total-internal-reflection",
+            TIR_8,
+            "glass to air at 60 degrees, past the critical angle asin(1/1.5) = 41.8 degrees: \
+             sin t would be 1.5 * 0.866 = 1.3 > 1, expected None",
+            at_angle(60.0),
+            Vec3::Y,
+            glass,
+        ),
+        water(
+            "glass-entering",
+            ENTERING_8,
+            "a ray from (0, 1, 0.7) along (1, -1, 0) enters water (index 1.33, k_t = 0.9, \
+             k_r = 0.1) at (1, 0, 0.7): entering, eta = 1/1.33, it bends toward the normal \
+             (sin t = 0.53) and meets the checkered floor y = -2 at x = 2.26; expected \
+             0.9 * that floor colour + 0.1 * the sky",
+            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
+            0,
+        ),
+        water(
+            "glass-total-internal-reflection",
+            TIR_8,
+            "an eye under water at (0, -1, 0.7) looking up along (1, 0.2, 0): leaving the water \
+             at 79 degrees from the normal, past the critical angle (48.8 degrees), nothing \
+             crosses; the transmitted share joins the reflected one: expected \
+             (0.1 + 0.9) * the floor colour at (15, -2, 0.7)",
+            (v(0.0, -1.0, 0.7), v(1.0, 0.2, 0.0)),
+            0,
+        ),
+        Case::new(
+            "glass-fractional-shares",
+            ENTERING_8,
+            "a glass pane (k_r = k_t = 0.5, tinted (1, 0.5, 0.25)) between a floor and a ceiling \
+             pane (k_t = 0.75, own light 0.25 x 0.8 and 0.25 x 0.4), min_contribution 0.5, a ray \
+             from (0, 1, 0) along (1, -1, 0): 0 x its own light + 0.5 x (1, 0.5, 0.25) x 0.2 \
+             through + 0.5 x 0.1 reflected = (0.15, 0.1, 0.075); the rays it casts carry the \
+             weights 0.5, so the floor's and ceiling's (0.5 x 0.75 < 0.5) are not cast",
+            CaseKind::Shade {
+                shading: Shading::Glass,
+                scene: PANES_SCENE.to_string(),
+                ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
+                depth: 0,
+            },
+        ),
+        water(
+            "glass-depth-limit",
+            ENTERING_8,
+            "the entering ray at depth 5 = max_depth: no more rays, only the surface's own \
+             light, which is 0 here",
+            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
+            5,
+        ),
+    ]
+}
+
+pub fn robustness() -> Vec<Case> {
+    let glass = 1.5f32;
+    let water = 1.33f32;
+    let critical = (1.0 / 1.5f64).asin().to_degrees();
+    let r = |name, section, says, d, n, eta| refract_case(name, section, says, d, n, eta);
+    robust(vec![
+        r(
+            "refract-just-below-critical",
+            TIR_8,
+            "glass to air 0.01 degree below the critical angle: cos t = 0.01, the refracted ray \
+             exists and skims the surface",
+            at_angle(critical - 0.01),
+            Vec3::Y,
+            glass,
+        ),
+        r(
+            "refract-just-above-critical",
+            TIR_8,
+            "glass to air 0.01 degree above the critical angle: None",
+            at_angle(critical + 0.01),
+            Vec3::Y,
+            glass,
+        ),
+        r(
+            "refract-grazing",
+            SNELL_8,
+            "air to glass at 89.99 degrees: cos i = 1.7e-4",
+            at_angle(89.99),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-near-normal",
+            SNELL_8,
+            "near-normal incidence, 1e-4 degree: sin^2 i from 1 - cos^2 i would be noise",
+            at_angle(1e-4),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nested-media",
+            SNELL_8,
+            "glass into water at 40 degrees, eta = 1.5 / 1.33",
+            at_angle(40.0),
+            Vec3::Y,
+            glass / water,
+        ),
+        r(
+            "refract-unnormalised-input",
+            SNELL_8,
+            "air to glass at 45 degrees with d = (3, -3, 0) and n = (0, 0.25, 0)",
+            v(3.0, -3.0, 0.0),
+            v(0.0, 0.25, 0.0),
+            1.0 / glass,
+        ),
+        r(
+            "refract-same-medium-short-direction",
+            SNELL_8,
+            "eta = 1 with the short direction (1e-4, -2e-4, 2e-4), length 3e-4: straight on, \
+             as a unit vector (1/3, -2/3, 2/3) (a shortcut for eta = 1 that keeps a direction \
+             already unit must not keep this one)",
+            v(1e-4, -2e-4, 2e-4),
+            Vec3::Y,
+            1.0,
+        ),
+        r(
+            "refract-zero-normal",
+            SNELL_8,
+            "a zero normal: None",
+            at_angle(30.0),
+            Vec3::ZERO,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nan-direction",
+            SNELL_8,
+            "a NaN direction: None",
+            v(f32::NAN, -1.0, 0.0),
+            Vec3::Y,
+            1.0 / glass,
+        ),
+        r(
+            "refract-nan-eta",
+            SNELL_8,
+            "eta = NaN: None",
+            at_angle(30.0),
+            Vec3::Y,
+            f32::NAN,
+        ),
+        r(
+            "refract-zero-eta",
+            SNELL_8,
+            "eta = 0: None",
+            at_angle(30.0),
+            Vec3::Y,
+            0.0,
+        ),
+    ])
+}

@@ -1,0 +1,723 @@
+use raylab::bvh::{Aabb, Bvh, BvhNode, BvhOptions, SplitRule};
+use raylab::course::{Chapters, Hit, Objects};
+use raylab::{Ray, Vec3};
+
+/// `γ3 = 3u / (1 - 3u)`, `u = 2^-24`: the relative error bound of a value
+/// that went through three roundings. A slab distance `(plane - origin) *
+/// inverse` is exactly that: a subtraction, the reciprocal of the direction
+/// and a product.
+pub const GAMMA_3: f32 = 3.0 * (f32::EPSILON / 2.0) / (1.0 - 3.0 * (f32::EPSILON / 2.0));
+
+/// The distance at which `ray` enters `bounds`, if it meets the box at
+/// some `t` with `t_min <= t <= t_max`; `t_min` when it starts inside.
+///
+/// `inverse_direction` is `ray.dir.recip()`, computed once per ray: each
+/// axis' two planes are met at `(plane - origin) * inverse`, the box is the
+/// intersection of the three slabs, so the ray is inside from the largest
+/// entry to the smallest exit.
+///
+/// A direction component of 0 has an infinite inverse (of the zero's sign),
+/// so that axis' distances are `±inf`: the whole line is inside that slab
+/// (`-inf` to `+inf`) or outside it (both infinities of one sign, empty).
+/// Only an origin exactly on one of the planes gives `0 * inf = NaN`, and
+/// then the line lies in the plane, on the box's closed boundary: that axis
+/// must not constrain anything. Two choices make it so. Which plane is the
+/// entry is read off the sign *bit* of the inverse (`-0.0` gives `-inf`,
+/// whose sign bit is set), never by comparing the two distances, which
+/// would pick the NaN's partner, an infinity of either sign. And the
+/// entries and exits are combined by comparisons (`if near > entry`) that
+/// a NaN fails, as `f32::max` and `f32::min` would: a NaN distance leaves
+/// the running entry and exit as they were.
+///
+/// The distances carry up to `γ3` of relative error, so the entry is moved
+/// down and the exit up by `2 γ3` of themselves (pbrt's widening of
+/// `t_far`, made symmetric). Without it a ray along a box's edge or
+/// through its corner, where entry and exit are equal, can come out with
+/// entry a hair beyond exit and miss; and an object touching its box (a
+/// sphere touches each face at one point) can be hit at exactly the entry
+/// distance, which rounded up would make the traversal skip the box as
+/// farther than a hit it already has. Infinite distances are exact and
+/// stay as they are (`inf - inf` would be NaN).
+#[inline(always)]
+pub fn hit_box(
+    bounds: &Aabb,
+    origin: Vec3,
+    inverse_direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+) -> Option<f32> {
+    // Plain arrays: indexing a `Vec3` by a run-time axis is a three-way
+    // branch per access, in the hottest loop of the renderer.
+    let (origin, inverse) = (origin.to_array(), inverse_direction.to_array());
+    let (low, high) = (bounds.min.to_array(), bounds.max.to_array());
+    let mut entry = f32::NEG_INFINITY;
+    let mut exit = f32::INFINITY;
+    for axis in 0..3 {
+        let (near_plane, far_plane) = if inverse[axis].is_sign_negative() {
+            (high[axis], low[axis])
+        } else {
+            (low[axis], high[axis])
+        };
+        let near = (near_plane - origin[axis]) * inverse[axis];
+        let far = (far_plane - origin[axis]) * inverse[axis];
+        // `entry.max(near)`, written as a comparison: a NaN compares false,
+        // so it leaves `entry` as it was, exactly as `f32::max` would, and
+        // the comparison is one instruction where `f32::max`, which must
+        // also sort out which operand is the NaN, takes several.
+        entry = if near > entry { near } else { entry };
+        exit = if far < exit { far } else { exit };
+    }
+    // `2 γ3 |t|`, capped at `f32::MAX` so that an infinite distance moves
+    // by a finite amount and stays infinite (`inf - inf` would be NaN).
+    let slack = |t: f32| {
+        let slack = 2.0 * GAMMA_3 * t.abs();
+        if slack < f32::MAX { slack } else { f32::MAX }
+    };
+    let (entry, exit) = (entry - slack(entry), exit + slack(exit));
+    // A NaN `t_min` or `t_max` is ignored, as `f32::max` would.
+    let entry = if t_min > entry { t_min } else { entry };
+    let exit = if t_max < exit { t_max } else { exit };
+    (entry <= exit).then_some(entry)
+}
+
+/// The estimated cost of visiting an inner node (testing its two child
+/// boxes), in units of the cost of testing one object. A box test is a few
+/// subtractions, products and comparisons, about the price of the first
+/// half of a sphere test; we estimate two of them, plus the stack, at about
+/// one whole object test. Only the ratio matters, and
+/// `raylab cost --chapter 11` measures what the choice buys.
+pub const TRAVERSAL_COST: f64 = 1.0;
+
+/// How many `f32::EPSILON`s of its largest coordinate each object's box is
+/// grown by before it goes into the tree. A box computed from a shape
+/// (`center ± radius`) is rounded, and so is the shape's own hit point: a
+/// sphere test may report a hit a few roundings outside the exact sphere,
+/// where the exact box would refuse the ray. The same allowance as the
+/// error of a surface point ([`raylab::shapes::SURFACE_ERROR_EPSILONS`]).
+///
+/// It covers errors that scale with the shape's coordinates. Part of a
+/// sphere test's error scales with the ray's distance to the sphere
+/// instead, so a ray from far away grazing a sphere exactly where it
+/// touches its box could in principle be reported by chapter 3 and refused
+/// by the padded box; the random comparisons in `tests/bvh.rs` have not
+/// met one.
+pub const BOX_PADDING_EPSILONS: f32 = 4.0;
+
+/// The most bins the SAH build sorts centroids into: the bins are allocated
+/// per node, and a cap keeps a careless `bins = 4e9` from asking for
+/// gigabytes.
+pub const MAX_BINS: u32 = 1024;
+
+/// Builds a BVH over the objects whose boxes are `bounds` (object `i` has
+/// box `bounds[i]`, `None` when no box holds it).
+///
+/// Objects go into `Bvh::unbounded`, outside the tree, when they have no
+/// box (planes), or when their box is not finite or is empty (NaN, or `min`
+/// above `max`). Refusing them would drop objects from the picture; in the
+/// loop, each is asked by its own test exactly as chapter 3 asks it, so the
+/// answer cannot change, and a NaN or infinite box never reaches the
+/// surface-area arithmetic, where `inf - inf` would poison every cost.
+///
+/// Each node's objects are cut in two by the position of their boxes'
+/// centroids along the axis where the centroids spread the most. The cut is
+/// chosen by `options.split`: the surface-area heuristic over
+/// `options.bins` bins, or the middle. A node becomes a leaf when it holds
+/// `options.max_leaf` objects or fewer, when no cut is possible (every
+/// centroid in the same place, as for a thousand copies of one sphere), or,
+/// with SAH, when no cut is estimated cheaper than the leaf.
+///
+/// Single-threaded and iterative (a stack of nodes to build, not
+/// recursion): the same input gives the same tree, and a degenerate input
+/// whose tree is as deep as it has objects cannot overflow the call stack.
+///
+/// # Panics
+///
+/// With more than `2^31` objects, which the tree's `u32` indices cannot
+/// number (nor would that many fit in memory).
+pub fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
+    assert!(
+        bounds.len() <= 1 << 31,
+        "a BVH numbers at most 2^31 objects"
+    );
+    let mut bvh = Bvh::default();
+    // Indexed by object: its padded box and centroid (unused for the
+    // unbounded ones).
+    let mut boxes = Vec::with_capacity(bounds.len());
+    let mut centroids = Vec::with_capacity(bounds.len());
+    for (object, bound) in bounds.iter().enumerate() {
+        let padded = bound.map(padded).filter(is_finite_box);
+        if padded.is_some() {
+            bvh.primitives.push(object as u32);
+        } else {
+            bvh.unbounded.push(object as u32);
+        }
+        let padded = padded.unwrap_or(Aabb::EMPTY);
+        boxes.push(padded);
+        // Half of each, then the sum: `min + max` could overflow.
+        centroids.push(0.5 * padded.min + 0.5 * padded.max);
+    }
+    if bvh.primitives.is_empty() {
+        return bvh;
+    }
+
+    let placeholder = BvhNode {
+        bounds: Aabb::EMPTY,
+        first: 0,
+        count: 0,
+    };
+    bvh.nodes.push(placeholder);
+    // Nodes still to build: (node index, range of `bvh.primitives`).
+    let mut to_build = vec![(0usize, 0..bvh.primitives.len())];
+    while let Some((node, range)) = to_build.pop() {
+        let objects = &mut bvh.primitives[range.clone()];
+        let node_box = objects.iter().fold(Aabb::EMPTY, |sum, &object| {
+            sum.union(boxes[object as usize])
+        });
+        let cut = if objects.len() <= options.max_leaf.max(1) as usize {
+            None
+        } else {
+            choose_cut(objects, &boxes, &centroids, &node_box, options)
+        };
+        let Some(cut) = cut else {
+            bvh.nodes[node] = BvhNode {
+                bounds: node_box,
+                first: range.start as u32,
+                count: objects.len() as u32,
+            };
+            continue;
+        };
+        let left_count = partition(objects, |object| cut.goes_left(centroids[object as usize]));
+        let first = bvh.nodes.len();
+        bvh.nodes.push(placeholder);
+        bvh.nodes.push(placeholder);
+        bvh.nodes[node] = BvhNode {
+            bounds: node_box,
+            first: first as u32,
+            count: 0,
+        };
+        let middle = range.start + left_count;
+        to_build.push((first + 1, middle..range.end));
+        to_build.push((first, range.start..middle));
+    }
+    bvh
+}
+
+/// `bounds` grown by [`BOX_PADDING_EPSILONS`] of its largest coordinate.
+fn padded(bounds: Aabb) -> Aabb {
+    let magnitude = bounds
+        .min
+        .abs()
+        .max_element()
+        .max(bounds.max.abs().max_element());
+    let pad = Vec3::splat(BOX_PADDING_EPSILONS * f32::EPSILON * magnitude);
+    Aabb::new(bounds.min - pad, bounds.max + pad)
+}
+
+/// Finite and not empty (NaN fails both tests).
+fn is_finite_box(bounds: &Aabb) -> bool {
+    bounds.min.is_finite() && bounds.max.is_finite() && bounds.min.cmple(bounds.max).all()
+}
+
+/// Half the surface area, in `f64`: the `f32` product of two sides of a box
+/// 1e20 wide would overflow, and the SAH sums many of them.
+fn half_area(bounds: &Aabb) -> f64 {
+    if bounds.is_empty() {
+        return 0.0;
+    }
+    let size = bounds.max.as_dvec3() - bounds.min.as_dvec3();
+    size.x * size.y + size.y * size.z + size.z * size.x
+}
+
+/// Where centroids fall along one axis: `bins` equal bins spanning
+/// `[low, low + bins / scale]`, in `f64`, where the difference of two `f32`
+/// coordinates has room to be exact and `bins / extent` cannot overflow.
+#[derive(Clone, Copy)]
+struct Bins {
+    axis: usize,
+    low: f64,
+    scale: f64,
+    count: usize,
+}
+
+impl Bins {
+    /// The bin of a centroid; the largest lands in the last bin, not past it.
+    fn of(&self, centroid: Vec3) -> usize {
+        let offset = (f64::from(centroid[self.axis]) - self.low) * self.scale;
+        (offset as usize).min(self.count - 1)
+    }
+}
+
+/// How a node's objects are cut in two.
+#[derive(Clone, Copy)]
+enum Cut {
+    /// Centroids below `position` along `axis` go left.
+    Below { axis: usize, position: f64 },
+    /// Centroids in the bins before `boundary` go left.
+    BinsBefore { bins: Bins, boundary: usize },
+}
+
+impl Cut {
+    fn goes_left(&self, centroid: Vec3) -> bool {
+        match *self {
+            Cut::Below { axis, position } => f64::from(centroid[axis]) < position,
+            Cut::BinsBefore { bins, boundary } => bins.of(centroid) < boundary,
+        }
+    }
+}
+
+/// The cut for a node holding `objects`, or `None` when it should stay a
+/// leaf. Either side of a returned cut holds at least one object.
+fn choose_cut(
+    objects: &[u32],
+    boxes: &[Aabb],
+    centroids: &[Vec3],
+    node_box: &Aabb,
+    options: &BvhOptions,
+) -> Option<Cut> {
+    let spread = objects.iter().fold(Aabb::EMPTY, |sum, &object| {
+        sum.grow(centroids[object as usize])
+    });
+    let extent = spread.max.as_dvec3() - spread.min.as_dvec3();
+    // The first widest axis, so that ties are decided the same way each time.
+    let axis = (0..3).fold(0, |widest, axis| {
+        if extent[axis] > extent[widest] {
+            axis
+        } else {
+            widest
+        }
+    });
+    // Every centroid in one place: no plane can separate them.
+    if !(extent[axis] > 0.0) {
+        return None;
+    }
+    let low = f64::from(spread.min[axis]);
+    if options.split == SplitRule::Midpoint {
+        // In f64 the middle of two distinct f32 values lies strictly between
+        // them, so the lowest centroid goes left and the highest right.
+        return Some(Cut::Below {
+            axis,
+            position: low + 0.5 * extent[axis],
+        });
+    }
+
+    let count = options.bins.clamp(2, MAX_BINS) as usize;
+    let bins = Bins {
+        axis,
+        low,
+        scale: count as f64 / extent[axis],
+        count,
+    };
+    let mut bin_count = vec![0usize; count];
+    let mut bin_box = vec![Aabb::EMPTY; count];
+    for &object in objects {
+        let bin = bins.of(centroids[object as usize]);
+        bin_count[bin] += 1;
+        bin_box[bin] = bin_box[bin].union(boxes[object as usize]);
+    }
+    // The SAH: a ray that meets the node meets a child with probability
+    // (child's area) / (node's area), and then tests its objects. Costs are
+    // multiplied through by the node's area so that a flat node (area 0)
+    // needs no division.
+    //
+    // right_cost[b] = area(bins b..) * objects(b..), swept from the right.
+    let mut right_cost = vec![0.0f64; count];
+    let (mut right_box, mut right_count) = (Aabb::EMPTY, 0usize);
+    for bin in (1..count).rev() {
+        right_box = right_box.union(bin_box[bin]);
+        right_count += bin_count[bin];
+        right_cost[bin] = half_area(&right_box) * right_count as f64;
+    }
+    let node_area = half_area(node_box);
+    let leaf_cost = node_area * objects.len() as f64;
+    let mut best: Option<(usize, f64)> = None;
+    let (mut left_box, mut left_count) = (Aabb::EMPTY, 0usize);
+    for boundary in 1..count {
+        left_box = left_box.union(bin_box[boundary - 1]);
+        left_count += bin_count[boundary - 1];
+        if left_count == 0 || left_count == objects.len() {
+            continue;
+        }
+        let cost = TRAVERSAL_COST * node_area
+            + half_area(&left_box) * left_count as f64
+            + right_cost[boundary];
+        // Strictly lower: of equal costs, the first boundary wins.
+        if best.is_none_or(|(_, best_cost)| cost < best_cost) {
+            best = Some((boundary, cost));
+        }
+    }
+    let (boundary, cost) = best?;
+    (cost < leaf_cost).then_some(Cut::BinsBefore { bins, boundary })
+}
+
+/// Reorders `objects` so that those for which `goes_left` holds come
+/// first, and returns how many they are.
+fn partition(objects: &mut [u32], goes_left: impl Fn(u32) -> bool) -> usize {
+    let (mut left, mut right) = (0, objects.len());
+    while left < right {
+        if goes_left(objects[left]) {
+            left += 1;
+        } else {
+            right -= 1;
+            objects.swap(left, right);
+        }
+    }
+    left
+}
+
+/// How many nodes the traversal keeps waiting on the stack without
+/// allocating. The traversal descends into one child and leaves at most
+/// its sibling waiting, so the stack never holds more entries than the tree
+/// is deep, and a balanced tree over `n` objects is about
+/// `log2(n / max_leaf)` deep (20 for a million objects, one per leaf). A
+/// degenerate tree can be deeper; the excess goes to a `Vec`, allocated
+/// only then.
+pub const TRAVERSAL_STACK: usize = 64;
+
+/// The nodes waiting to be visited, each with the distance at which the
+/// ray enters its box: a fixed array, and a `Vec` when that is full.
+///
+/// The array holds node indices as `u32`, as the tree itself numbers them
+/// ([`BvhNode::first`]): 8 bytes an entry rather than 16 for a `usize`,
+/// so each ray clears 512 bytes instead of a kilobyte when its walk begins,
+/// and moves half as much on each push. A render's walks are short, so that
+/// weighs: `raylab race` put ours at 0.50 to 0.58 of Embree's speed on a
+/// render's rays before, 0.60 to 0.68 after (100 k and 1 M triangles).
+struct NodeStack {
+    fixed: [(u32, f32); TRAVERSAL_STACK],
+    len: usize,
+    spilled: Vec<(usize, f32)>,
+}
+
+impl NodeStack {
+    fn new() -> NodeStack {
+        NodeStack {
+            fixed: [(0, 0.0); TRAVERSAL_STACK],
+            len: 0,
+            spilled: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, node: usize, entry: f32) {
+        if self.len < TRAVERSAL_STACK {
+            self.fixed[self.len] = (node as u32, entry);
+            self.len += 1;
+        } else {
+            self.spilled.push((node, entry));
+        }
+    }
+
+    /// The last pushed: entries only spill while the array is full, so the
+    /// spilled ones are always the most recent.
+    fn pop(&mut self) -> Option<(usize, f32)> {
+        if let Some(top) = self.spilled.pop() {
+            return Some(top);
+        }
+        self.len = self.len.checked_sub(1)?;
+        let (node, entry) = self.fixed[self.len];
+        Some((node as usize, entry))
+    }
+}
+
+/// The best hit so far, compared as chapter 3 compares them.
+struct Nearest {
+    hit: Option<Hit>,
+    t_max: f32,
+}
+
+impl Nearest {
+    /// The farthest a box may be entered and still hold a better hit.
+    fn closest(&self) -> f32 {
+        self.hit.map_or(self.t_max, |hit| hit.t)
+    }
+
+    /// Asks object `object` and keeps its hit if it beats the best so far.
+    ///
+    /// Chapter 3 walks the objects in list order and only takes a hit
+    /// strictly nearer than the best, so of two hits at exactly the same
+    /// `t` the lower index wins. The tree visits objects in another order,
+    /// so it asks up to and including the best `t` (`next_up` is the next
+    /// `f32` above it: `t < next_up(best)` is `t <= best`) and breaks the
+    /// tie by index itself. An object's answer does not depend on the
+    /// interval it is asked in, only whether it is reported, so the winner
+    /// is chapter 3's: same object, same `t`.
+    #[inline(always)]
+    fn consider<C: Chapters>(&mut self, objects: &Objects<C>, object: u32, ray: &Ray, t_min: f32) {
+        let object = object as usize;
+        let limit = self.hit.map_or(self.t_max, |hit| hit.t.next_up());
+        if let Some(t) = objects.intersect(object, ray, t_min, limit) {
+            let better = self
+                .hit
+                .is_none_or(|best| t < best.t || (t == best.t && object < best.object));
+            if better {
+                self.hit = Some(Hit { object, t });
+            }
+        }
+    }
+}
+
+/// The closest hit with `t_min < t < t_max` among `objects`, found through
+/// `bvh` (built from the same objects' boxes): chapter 3's answer, the
+/// same object at the same `t`.
+///
+/// The unbounded objects (planes) are asked first, by a loop; a plane's
+/// hit then shortens the interval every box is tested against. The tree is
+/// walked depth first with an explicit stack, nearer child first, so that
+/// a near hit is found early, and every box entered beyond the best hit so
+/// far is skipped, with everything under it. A box entered exactly at the
+/// best hit is still opened: an object in it could tie, and win by index.
+pub fn nearest_hit_bvh<C: Chapters>(
+    bvh: &Bvh,
+    objects: &Objects<C>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let mut nearest = Nearest { hit: None, t_max };
+    for &object in &bvh.unbounded {
+        nearest.consider(objects, object, ray, t_min);
+    }
+    let Some(root) = bvh.nodes.first() else {
+        return nearest.hit;
+    };
+    let inverse = ray.dir.recip();
+    if C::hit_box(&root.bounds, ray.origin, inverse, t_min, nearest.closest()).is_none() {
+        return nearest.hit;
+    }
+    let mut stack = NodeStack::new();
+    let mut visiting = 0;
+    loop {
+        let node = &bvh.nodes[visiting];
+        if let Some((left, right)) = node.children() {
+            let closest = nearest.closest();
+            let (left_box, right_box) = (&bvh.nodes[left].bounds, &bvh.nodes[right].bounds);
+            let left_entry = C::hit_box(left_box, ray.origin, inverse, t_min, closest);
+            let right_entry = C::hit_box(right_box, ray.origin, inverse, t_min, closest);
+            // Go on into the nearer child at once; the farther one waits.
+            match (left_entry, right_entry) {
+                (Some(left_entry), Some(right_entry)) if right_entry < left_entry => {
+                    stack.push(left, left_entry);
+                    visiting = right;
+                    continue;
+                }
+                (Some(_), Some(right_entry)) => {
+                    stack.push(right, right_entry);
+                    visiting = left;
+                    continue;
+                }
+                (Some(_), None) => {
+                    visiting = left;
+                    continue;
+                }
+                (None, Some(_)) => {
+                    visiting = right;
+                    continue;
+                }
+                (None, None) => {}
+            }
+        } else {
+            for &object in &bvh.primitives[node.primitive_range()] {
+                nearest.consider(objects, object, ray, t_min);
+            }
+        }
+        // The next waiting node, unless a hit found since it was pushed is
+        // nearer than its box.
+        loop {
+            let Some((waiting, entry)) = stack.pop() else {
+                return nearest.hit;
+            };
+            if entry <= nearest.closest() {
+                visiting = waiting;
+                break;
+            }
+        }
+    }
+}
+
+/// Some hit with `t_min < t < t_max` among `objects`, the first the walk
+/// through `bvh` finds: for shadow rays, where any blocker will do.
+///
+/// No order helps here, so children are visited as they come and the
+/// first hit ends the walk. Which object it reports may differ from
+/// [`raylab::course::Objects::first_hit`]; whether there is one does not.
+pub fn any_hit_bvh<C: Chapters>(
+    bvh: &Bvh,
+    objects: &Objects<C>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let hit = |object: u32| {
+        let object = object as usize;
+        objects
+            .intersect(object, ray, t_min, t_max)
+            .map(|t| Hit { object, t })
+    };
+    if let Some(found) = bvh.unbounded.iter().find_map(|&object| hit(object)) {
+        return Some(found);
+    }
+    let inverse = ray.dir.recip();
+    let enters = |node: usize| {
+        C::hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, t_max).is_some()
+    };
+    let mut stack = NodeStack::new();
+    if !bvh.nodes.is_empty() && enters(0) {
+        stack.push(0, t_min);
+    }
+    while let Some((index, _)) = stack.pop() {
+        let node = &bvh.nodes[index];
+        let Some((left, right)) = node.children() else {
+            let leaf = &bvh.primitives[node.primitive_range()];
+            if let Some(found) = leaf.iter().find_map(|&object| hit(object)) {
+                return Some(found);
+            }
+            continue;
+        };
+        for child in [right, left] {
+            if enters(child) {
+                stack.push(child, t_min);
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::chapters::Reference;
+    use crate::{Plane, Shape, Sphere};
+
+    fn unit_box() -> Aabb {
+        Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0))
+    }
+
+    fn enter(origin: Vec3, dir: Vec3) -> Option<f32> {
+        hit_box(&unit_box(), origin, dir.recip(), 0.0, f32::INFINITY)
+    }
+
+    /// `t` within the widening of `expected` (entries move down by 2 γ3).
+    fn about(t: Option<f32>, expected: f32) -> bool {
+        t.is_some_and(|t| t <= expected && t >= expected * (1.0 - 3.0 * GAMMA_3))
+    }
+
+    #[test]
+    fn from_outside_the_entry_is_the_nearest_face() {
+        // Along +x from x = -5: enters the face x = -1 at t = 4.
+        assert!(about(enter(Vec3::new(-5.0, 0.0, 0.0), Vec3::X), 4.0));
+        // Away from the box, and beyond t_max: no hit.
+        assert_eq!(enter(Vec3::new(-5.0, 0.0, 0.0), -Vec3::X), None);
+        let origin = Vec3::new(-5.0, 0.0, 0.0);
+        assert_eq!(
+            hit_box(&unit_box(), origin, Vec3::X.recip(), 0.0, 3.9),
+            None
+        );
+    }
+
+    #[test]
+    fn from_inside_the_entry_is_t_min() {
+        assert_eq!(enter(Vec3::ZERO, Vec3::new(0.3, -0.2, 1.0)), Some(0.0));
+        let inside = hit_box(&unit_box(), Vec3::ZERO, Vec3::X.recip(), 0.5, 10.0);
+        assert_eq!(inside, Some(0.5));
+    }
+
+    #[test]
+    fn parallel_to_a_slab_inside_it_or_outside_it() {
+        // dir.y = 0: the y slab holds the line (y = 0.5) or never does (y = 2).
+        assert!(about(enter(Vec3::new(0.0, 0.5, -5.0), Vec3::Z), 4.0));
+        assert_eq!(enter(Vec3::new(0.0, 2.0, -5.0), Vec3::Z), None);
+        // Same with the zero's sign flipped: 1 / -0 = -inf.
+        let dir = Vec3::new(0.0, -0.0, 1.0);
+        assert!(about(enter(Vec3::new(0.0, 0.5, -5.0), dir), 4.0));
+        assert_eq!(enter(Vec3::new(0.0, 2.0, -5.0), dir), None);
+    }
+
+    #[test]
+    fn zero_direction_component_with_the_origin_on_the_slab_plane() {
+        // y = 1 and y = -1 are the box's planes; (plane - origin) * inf is
+        // 0 * inf = NaN there. Both signs of zero, both planes: a hit.
+        for y in [1.0, -1.0] {
+            for zero in [0.0, -0.0] {
+                let origin = Vec3::new(0.0, y, -5.0);
+                let dir = Vec3::new(0.0, zero, 1.0);
+                assert!(about(enter(origin, dir), 4.0), "y = {y}, dir.y = {zero}");
+            }
+        }
+        // A flat box (min.y = max.y = 0) and a ray in its plane: both
+        // distances of the y axis are NaN.
+        let flat = Aabb::new(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 0.0, 1.0));
+        let hit = hit_box(&flat, Vec3::new(0.0, 0.0, -5.0), Vec3::Z.recip(), 0.0, 9.0);
+        assert!(about(hit, 4.0));
+    }
+
+    #[test]
+    fn a_ray_along_an_edge_hits() {
+        // The line y = 1, z = 1 is an edge of the box: entry = exit on two
+        // axes, which rounding must not turn into a miss.
+        assert!(about(enter(Vec3::new(-5.0, 1.0, 1.0), Vec3::X), 4.0));
+        // Touching the box at one point, the corner (1, 1, 1), at t = 1:
+        // entry (x, y planes) and exit (z plane) are both exactly 1.
+        let corner = enter(Vec3::new(2.0, 2.0, 0.0), Vec3::new(-1.0, -1.0, 1.0));
+        assert!(about(corner, 1.0));
+    }
+
+    fn bounds(shapes: &[Shape]) -> Vec<Option<Aabb>> {
+        shapes.iter().map(Shape::bounds).collect()
+    }
+
+    #[test]
+    fn planes_stay_out_of_the_tree() {
+        let shapes: Vec<Shape> = vec![
+            Sphere::new(Vec3::new(-3.0, 0.0, 0.0), 1.0).into(),
+            Plane::new(Vec3::ZERO, Vec3::Y).into(),
+            Sphere::new(Vec3::new(3.0, 0.0, 0.0), 1.0).into(),
+        ];
+        let options = BvhOptions {
+            max_leaf: 1,
+            ..BvhOptions::default()
+        };
+        let bvh = build_bvh(&bounds(&shapes), &options);
+        assert_eq!(bvh.unbounded, vec![1]);
+        // Two spheres, one per leaf, under one root.
+        assert_eq!(bvh.node_count(), 3);
+        assert_eq!(bvh.depth(), 2);
+        let mut in_tree = bvh.primitives.clone();
+        in_tree.sort();
+        assert_eq!(in_tree, vec![0, 2]);
+    }
+
+    #[test]
+    fn non_finite_boxes_are_looped_over_not_built_into_the_tree() {
+        let nan = Aabb::new(Vec3::NAN, Vec3::ONE);
+        let infinite = Aabb::new(Vec3::NEG_INFINITY, Vec3::ONE);
+        let bvh = build_bvh(
+            &[
+                Some(unit_box()),
+                Some(nan),
+                Some(infinite),
+                Some(Aabb::EMPTY),
+            ],
+            &BvhOptions::default(),
+        );
+        assert_eq!(bvh.unbounded, vec![1, 2, 3]);
+        assert_eq!(bvh.primitives, vec![0]);
+    }
+
+    #[test]
+    fn a_tie_goes_to_the_lower_index_as_in_chapter_3() {
+        // The same sphere twice, far apart in the tree's leaves if need be.
+        let ball: Shape = Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0).into();
+        let other: Shape = Sphere::new(Vec3::new(10.0, 0.0, 5.0), 1.0).into();
+        let shapes = vec![other, ball, other, ball];
+        let options = BvhOptions {
+            max_leaf: 1,
+            ..BvhOptions::default()
+        };
+        let bvh = build_bvh(&bounds(&shapes), &options);
+        let ray = Ray::new(Vec3::ZERO, Vec3::Z);
+        let objects = Objects::<Reference>::new(&shapes);
+        let hit = nearest_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY);
+        assert_eq!(hit, Some(Hit { object: 1, t: 4.0 }));
+        assert!(any_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY).is_some());
+        assert_eq!(any_hit_bvh(&bvh, &objects, &ray, 0.0, 3.0), None);
+    }
+}

@@ -1,0 +1,185 @@
+//! The effects a render simulates: what each chapter's stage switches on,
+//! and which of those a given scene can show.
+
+use crate::Scene;
+use crate::chapters::CHAPTERS;
+use crate::scene::FresnelModel;
+
+/// How a hit point is coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lighting {
+    /// Chapters 1 to 3: the material's colour, no light at all.
+    Unlit,
+    /// Chapter 4: ambient, plus a constant share from each visible light.
+    Flat,
+    /// Chapter 5 on: Phong's ambient, diffuse and specular terms.
+    Phong,
+}
+
+/// The effects a render simulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Effects {
+    pub planes: bool,
+    pub spheres: bool,
+    /// Nearest hit (chapter 3) rather than first hit in list order.
+    pub nearest_hit: bool,
+    pub lighting: Lighting,
+    pub shadows: bool,
+    pub specular: bool,
+    pub reflection: bool,
+    pub antialiasing: bool,
+    pub refraction: bool,
+    /// Chapter 9: each ray knows the media it travels through, so every
+    /// crossing has the right pair of indices.
+    pub nested_media: bool,
+    /// Chapter 9: reflection and transmission weighted by Fresnel (exact
+    /// or Schlick) rather than chapter 8's constants.
+    pub fresnel: bool,
+    /// Chapter 9: Beer-Lambert absorption inside solids.
+    pub absorption: bool,
+    /// Chapter 10: triangles (meshes).
+    pub triangles: bool,
+    /// Chapter 10: vertex normals blended across smooth triangles, and
+    /// their shadow rays lifted off the terminator.
+    pub smooth_shading: bool,
+    /// Chapter 11: rays find their hits through a bounding volume
+    /// hierarchy instead of testing every object.
+    pub bvh: bool,
+}
+
+/// From how many objects with a box (spheres, triangles) chapter 11 builds
+/// a tree. Below, the loop of chapter 3 is faster: a tree costs a build, and
+/// each ray pays for its box tests before it reaches the objects.
+///
+/// Measured, not guessed: `raylab cost --chapter 11 --knob bvh --repeats 5`
+/// times the loop against building and tracing a tree, with the same 4096
+/// rays, on scenes of 1 to 64 spheres and a floor, and reports the smallest
+/// count from which the tree wins at every larger count (its "loop or
+/// tree" table; lesson 11 quotes a run). On the development machine that
+/// count came out at 6 in two runs; 8 is that, rounded up. (It was 14 and
+/// 15, and this constant 16, until the walk's stack took 8-byte entries:
+/// each ray then cleared a kilobyte before its first box test, a fixed cost
+/// that small scenes felt most.) Near the crossover the two differ by a few
+/// per cent, so a count one or two off costs little either way. (A render
+/// traces more rays per build than the 4096 measured, which moves the
+/// crossover down, not up.)
+pub const BVH_MIN_OBJECTS: usize = 8;
+
+impl Effects {
+    /// Nothing at all: no shape is drawn.
+    pub const NONE: Effects = Effects {
+        planes: false,
+        spheres: false,
+        nearest_hit: false,
+        lighting: Lighting::Unlit,
+        shadows: false,
+        specular: false,
+        reflection: false,
+        antialiasing: false,
+        refraction: false,
+        nested_media: false,
+        fresnel: false,
+        absorption: false,
+        triangles: false,
+        smooth_shading: false,
+        bvh: false,
+    };
+
+    /// Everything chapters `1..=chapter` teach: each chapter of the
+    /// registry, in order, switches on what it adds.
+    pub fn for_chapter(chapter: u8) -> Effects {
+        let mut effects = Effects::NONE;
+        for info in CHAPTERS.iter().filter(|info| info.number <= chapter) {
+            (info.switch_on)(&mut effects);
+        }
+        effects
+    }
+
+    /// Drops the effects that `scene`, rendered with `samples` per pixel,
+    /// cannot show: shadow rays need a light, the specular term a light and
+    /// a material with `specular > 0`, refraction rays a transparent
+    /// material, reflection rays a material that reflects or (total internal
+    /// reflection) one that is transparent while refraction is on, extra
+    /// samples a count above one. What is dropped would only have cost time:
+    /// the image is the same, bit for bit, because every dropped term is a
+    /// product with a zero coefficient that the tracer no longer computes.
+    ///
+    /// Extra samples are never skipped pixel by pixel. The only pixels where
+    /// more samples provably cannot change the result are those whose whole
+    /// square sees one constant colour, and in a Whitted scene that can only
+    /// be the background (lit surfaces vary across every pixel). Proving
+    /// that no ray through a pixel's square hits any shape needs a
+    /// conservative pyramid-versus-shape test that accounts for the rounding
+    /// of every camera ray; checking a few samples instead (adaptive
+    /// sampling) is a guess, since a thin object can pass between them.
+    /// raylab does neither: with `samples = N`, every pixel takes N samples.
+    pub fn needed_by(self, scene: &Scene, samples: u32) -> Effects {
+        let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials().any(test);
+        let lit = !scene.lights.is_empty();
+        let refraction = self.refraction && any(&|m| m.transparency > 0.0);
+        Effects {
+            shadows: self.shadows && lit,
+            specular: self.specular && lit && any(&|m| m.specular > 0.0),
+            // A refracted ray that meets the surface past the critical angle
+            // is reflected instead: glass casts reflection rays even when
+            // its `reflectivity` is 0.
+            reflection: self.reflection
+                && any(&|m| m.reflectivity > 0.0 || (refraction && m.transparency > 0.0)),
+            refraction,
+            antialiasing: self.antialiasing && samples > 1,
+            // Media only matter to rays that cross surfaces; Fresnel only
+            // splits the light of transparent materials (an opaque one has
+            // no transmitted share to weigh), and absorption only happens
+            // inside a transparent solid that absorbs.
+            nested_media: self.nested_media && refraction,
+            fresnel: self.fresnel
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.fresnel != FresnelModel::None),
+            absorption: self.absorption
+                && refraction
+                && any(&|m| m.transparency > 0.0 && m.absorption != crate::Vec3::ZERO),
+            // Only triangles that carry vertex normals are shaded smooth.
+            smooth_shading: self.smooth_shading
+                && self.triangles
+                && scene
+                    .shapes
+                    .iter()
+                    .any(|shape| shape.as_triangle().is_some_and(|t| t.normals().is_some())),
+            bvh: self.bvh
+                && scene
+                    .shapes
+                    .iter()
+                    .filter(|shape| shape.bounds().is_some())
+                    .count()
+                    >= BVH_MIN_OBJECTS,
+            ..self
+        }
+    }
+
+    /// The names of the effects switched on, in chapter order.
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        let mut add = |on: bool, name| {
+            if on {
+                names.push(name)
+            }
+        };
+        add(self.planes, "planes");
+        add(self.spheres, "spheres");
+        add(self.nearest_hit, "nearest-hit");
+        add(self.lighting == Lighting::Flat, "flat-lighting");
+        add(self.lighting == Lighting::Phong, "phong-diffuse");
+        add(self.shadows, "shadows");
+        add(self.specular, "phong-specular");
+        add(self.reflection, "reflection");
+        add(self.antialiasing, "antialiasing");
+        add(self.refraction, "refraction");
+        add(self.nested_media, "nested-media");
+        add(self.fresnel, "fresnel");
+        add(self.absorption, "absorption");
+        add(self.triangles, "triangles");
+        add(self.smooth_shading, "smooth-shading");
+        add(self.bvh, "bvh");
+        names
+    }
+}
