@@ -25,7 +25,7 @@ use crate::scene::{FresnelModel, OffsetRule, SphereFormula, TriangleTest};
 use crate::{RenderSettings, Sampling, Scene};
 
 /// A quality knob the sweep can turn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Knob {
     /// Samples per pixel, 1 to 64, for grid, jittered and random sampling (chapter 7).
     Samples,

@@ -207,9 +207,9 @@ impl<'a, C: Chapters> Stage<'a, C> {
             .iter()
             .zip(&scene.owners)
             .filter(|(shape, _)| match shape {
-                _ if shape.is_sphere() => effects.spheres,
-                _ if shape.is_triangle() => effects.triangles,
-                _ => effects.planes,
+                Shape::Plane(_) => effects.planes,
+                Shape::Sphere(_) => effects.spheres,
+                Shape::Triangle(_) => effects.triangles,
             })
             .unzip();
         let bvh = effects.bvh.then(|| {

@@ -330,7 +330,7 @@ pub struct RenderSettings {
 }
 
 /// Where the rays that leave a smooth-shaded triangle start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum TerminatorRule {
     /// Lifted towards the curved surface the vertex normals describe
@@ -343,7 +343,7 @@ pub enum TerminatorRule {
 }
 
 /// How ray-triangle intersections are found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TriangleTest {
     #[default]
@@ -352,7 +352,7 @@ pub enum TriangleTest {
 }
 
 /// How ray-sphere intersections are solved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SphereFormula {
     #[default]
@@ -361,7 +361,7 @@ pub enum SphereFormula {
 }
 
 /// Where secondary rays start.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum OffsetRule {
     #[default]
@@ -1111,7 +1111,7 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
 }
 
 /// Where inside a pixel the samples go.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Sampling {
     /// A regular `k x k` grid of cell centres (supersampling).

@@ -13,6 +13,7 @@ mod mesh;
 mod new;
 mod race;
 mod render;
+mod values;
 
 /// raylab: learn ray tracing one chapter at a time.
 ///

@@ -79,7 +79,7 @@ impl Shape {
     pub fn as_triangle(&self) -> Option<&Triangle> {
         match self {
             Shape::Triangle(triangle) => Some(triangle),
-            _ => None,
+            Shape::Plane(_) | Shape::Sphere(_) => None,
         }
     }
 

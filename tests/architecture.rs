@@ -1,0 +1,259 @@
+//! The layers of docs/architecture.md, kept by reading the code: every
+//! `crate::` (or, in a chapter file, `raylab::`) path in a file of `src/`
+//! or `chapters/` must name a module of its own layer or of one below, and
+//! only the command line prints or names clap.
+//!
+//! Tests (`#[cfg(test)]` modules and a chapter folder's `tests.rs`) may
+//! use anything, as may `src/lib.rs`, which only declares and re-exports.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The layers, lowest first: a file may use its own layer and those below.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Layer {
+    /// Rays, shapes, scenes, meshes, the camera, image files, input limits:
+    /// nothing of chapters, the course, tools or the command line.
+    Foundation,
+    /// The course trait, the render loop, the registry and the chapters'
+    /// code: no tool, no command line.
+    Engine,
+    /// check, grade, workspace, cost, crosscheck, race, the BVH reports,
+    /// and each chapter's cases: never the command line.
+    Tool,
+    /// The command line: clap, exit codes, printing.
+    Cli,
+}
+
+/// The layer of a source file, by its path; `None` for `src/lib.rs` and
+/// for tests, which the rules do not bind.
+fn layer_of(path: &str) -> Result<Option<Layer>, String> {
+    if path == "src/lib.rs" || path.ends_with("/tests.rs") {
+        return Ok(None);
+    }
+    if let Some(rest) = path.strip_prefix("chapters/") {
+        return match rest {
+            "mod.rs" => Ok(Some(Layer::Engine)),
+            _ if rest.ends_with("/chapter.rs") => Ok(Some(Layer::Engine)),
+            _ if rest.ends_with("/checks.rs") => Ok(Some(Layer::Tool)),
+            _ => Err(format!("{path}: a chapter folder holds chapter.rs, checks.rs and tests.rs")),
+        };
+    }
+    let module = path
+        .strip_prefix("src/")
+        .and_then(|rest| rest.split('/').next())
+        .map(|first| first.trim_end_matches(".rs"))
+        .ok_or_else(|| format!("{path} is not in src/ or chapters/"))?;
+    module_layer(module)
+        .map(Some)
+        .ok_or_else(|| format!("{path}: module `{module}` has no layer; add it to docs/architecture.md and to tests/architecture.rs"))
+}
+
+/// The layer of a top-level module of the crate.
+fn module_layer(module: &str) -> Option<Layer> {
+    Some(match module {
+        "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text"
+        | "medium" | "bvh" | "cleanup" => Layer::Foundation,
+        "course" | "render" | "record" | "effects" | "builtin" | "chapters" => Layer::Engine,
+        "check" | "grade" | "workspace" | "cost" | "crosscheck" | "race" | "bvh_cost"
+        | "bvh_measure" | "bvh_report" | "walk_work" | "leaks" | "diff" | "embree" | "plots" => {
+            Layer::Tool
+        }
+        "cli" | "main" => Layer::Cli,
+        _ => return None,
+    })
+}
+
+/// What the crate root re-exports, by name: `Vec3` is glam's (a
+/// foundation), `Reference` the registry's, `Tracer` the render loop's.
+fn root_names() -> BTreeMap<String, String> {
+    let lib = read("src/lib.rs");
+    let mut names = BTreeMap::new();
+    for statement in lib.split(';') {
+        let statement = statement.trim();
+        let Some(path) = statement.strip_prefix("pub use ") else {
+            continue;
+        };
+        let (module, items) = path.split_once("::").unwrap_or((path, path));
+        for item in items.trim_matches(|c| c == '{' || c == '}').split(',') {
+            let name = item.rsplit("::").next().unwrap_or(item).trim();
+            let module = if module == "glam" { "ray" } else { module };
+            names.insert(name.to_string(), module.to_string());
+        }
+    }
+    names
+}
+
+fn read(path: &str) -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(path))
+        .unwrap_or_else(|error| panic!("{path}: {error}"))
+}
+
+/// `text` without comments, string and character literals (replaced by
+/// spaces, so line numbers stay), and without its `#[cfg(test)]` modules.
+fn code_only(text: &str) -> String {
+    let text = match text.find("#[cfg(test)]\nmod ") {
+        Some(at) => &text[..at],
+        None => text,
+    };
+    let bytes = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    let mut at = 0;
+    let blank = |slice: &str, out: &mut String| {
+        out.extend(slice.chars().map(|c| if c == '\n' { '\n' } else { ' ' }))
+    };
+    while at < bytes.len() {
+        let rest = &text[at..];
+        let end = if rest.starts_with("//") {
+            rest.find('\n').unwrap_or(rest.len())
+        } else if rest.starts_with("/*") {
+            rest.find("*/").map_or(rest.len(), |end| end + 2)
+        } else if let Some(hashes) = raw_string_hashes(rest) {
+            let close = format!("\"{}", "#".repeat(hashes));
+            let open = 2 + hashes;
+            rest[open..].find(&close).map_or(rest.len(), |end| open + end + close.len())
+        } else if rest.starts_with('"') {
+            let mut end = 1;
+            while end < rest.len() && rest.as_bytes()[end] != b'"' {
+                end += if rest.as_bytes()[end] == b'\\' { 2 } else { 1 };
+            }
+            (end + 1).min(rest.len())
+        } else {
+            let c = rest.chars().next().map_or(1, char::len_utf8);
+            out.push_str(&rest[..c]);
+            at += c;
+            continue;
+        };
+        blank(&rest[..end], &mut out);
+        at += end;
+    }
+    out
+}
+
+/// The number of `#` of a raw string starting `text` (`r"`, `r#"`, ...).
+fn raw_string_hashes(text: &str) -> Option<usize> {
+    let rest = text.strip_prefix('r')?;
+    let hashes = rest.len() - rest.trim_start_matches('#').len();
+    rest[hashes..].starts_with('"').then_some(hashes)
+}
+
+/// The rule broken by each `crate::` path of `text` (the file `path`,
+/// of `layer`), one message a violation.
+fn violations(path: &str, layer: Layer, text: &str, roots: &BTreeMap<String, String>) -> Vec<String> {
+    let code = code_only(text);
+    let line_of = |at: usize| code[..at].matches('\n').count() + 1;
+    let mut found = Vec::new();
+    for prefix in ["crate::", "raylab::"] {
+        for (at, _) in code.match_indices(prefix) {
+            let before = code[..at].chars().next_back();
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                continue;
+            }
+            let after = &code[at + prefix.len()..];
+            // `crate::{a, b::c}`: each name of the group.
+            let names: Vec<String> = match after.strip_prefix('{') {
+                Some(group) => group[..group.find('}').unwrap_or(group.len())]
+                    .split(',')
+                    .map(|item| item.trim().split("::").next().unwrap_or("").to_string())
+                    .collect(),
+                None => vec![after.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or("").to_string()],
+            };
+            for name in names.into_iter().filter(|name| !name.is_empty()) {
+                let module = roots.get(&name).cloned().unwrap_or(name.clone());
+                let Some(target) = module_layer(&module) else {
+                    continue;
+                };
+                if target > layer {
+                    found.push(format!(
+                        "{path}:{}: {layer:?} code uses {prefix}{name} ({module}, {target:?} layer)",
+                        line_of(at)
+                    ));
+                }
+            }
+        }
+    }
+    if layer != Layer::Cli {
+        for (number, line) in code.lines().enumerate() {
+            if line.contains("clap::") || line.split_whitespace().any(|word| word == "clap") {
+                found.push(format!("{path}:{}: only the command line names clap", number + 1));
+            }
+            let prints = ["println!", "eprintln!", "print!(", "eprint!("]
+                .iter()
+                .any(|mac| line.contains(mac));
+            if prints && !PRINTS_ALLOWED.contains(&path) {
+                found.push(format!("{path}:{}: only the command line prints", number + 1));
+            }
+        }
+    }
+    found
+}
+
+/// Files outside the command line allowed to print, each with its reason:
+/// cleanup's pause exists only for the command line's signal tests, which
+/// wait for its line on stderr.
+const PRINTS_ALLOWED: &[&str] = &["src/cleanup.rs"];
+
+fn source_files(folder: &Path, out: &mut Vec<PathBuf>) {
+    let mut entries: Vec<_> = std::fs::read_dir(folder)
+        .unwrap_or_else(|error| panic!("{}: {error}", folder.display()))
+        .map(|entry| entry.expect("a folder entry").path())
+        .collect();
+    entries.sort();
+    for path in entries {
+        if path.is_dir() {
+            source_files(&path, out);
+        } else if path.extension().is_some_and(|extension| extension == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn every_file_keeps_to_its_layer() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let roots = root_names();
+    let mut files = Vec::new();
+    source_files(&root.join("src"), &mut files);
+    source_files(&root.join("chapters"), &mut files);
+    assert!(files.len() > 50, "only {} files", files.len());
+    let mut broken = Vec::new();
+    for file in files {
+        let path = file
+            .strip_prefix(root)
+            .expect("inside the crate")
+            .to_string_lossy()
+            .replace('\\', "/");
+        match layer_of(&path) {
+            Ok(Some(layer)) => broken.extend(violations(&path, layer, &read(&path), &roots)),
+            Ok(None) => {}
+            Err(problem) => broken.push(problem),
+        }
+    }
+    assert!(broken.is_empty(), "layer rules broken (docs/architecture.md):\n{}", broken.join("\n"));
+}
+
+/// The rule can fail: an upward import planted in a foundation, a tool
+/// that reaches for the command line, a chapter's cases that print, a
+/// scene that derives clap's trait.
+#[test]
+fn planted_upward_imports_are_named() {
+    let roots = root_names();
+    let cases = [
+        ("src/scene.rs", Layer::Foundation, "use crate::render::Tracer;\n", "crate::render"),
+        ("src/shapes/plane.rs", Layer::Foundation, "fn f() { crate::Reference::default(); }\n", "crate::Reference"),
+        ("src/render.rs", Layer::Engine, "use crate::crosscheck::MAX_RECORDED_RAYS;\n", "crate::crosscheck"),
+        ("src/check/mod.rs", Layer::Tool, "const X: i32 = crate::cli::EXIT_ERROR;\n", "crate::cli"),
+        ("chapters/01_plane/chapter.rs", Layer::Engine, "use raylab::check::Case;\n", "raylab::check"),
+        ("chapters/01_plane/checks.rs", Layer::Tool, "fn f() { println!(\"x\"); }\n", "prints"),
+        ("src/cost.rs", Layer::Tool, "#[derive(clap::ValueEnum)]\nenum K { A }\n", "clap"),
+    ];
+    for (path, layer, text, named) in cases {
+        let found = violations(path, layer, text, &roots);
+        assert!(found.len() == 1 && found[0].contains(named), "{path}: {found:?}");
+    }
+    // Comments, strings and tests are not code.
+    let quiet = "// crate::cli\nconst S: &str = \"crate::cli::X\";\nconst R: &str = r#\"raylab::cli\"#;\n\
+                 #[cfg(test)]\nmod tests { use crate::cli; }\n";
+    assert_eq!(violations("src/scene.rs", Layer::Foundation, quiet, &roots), Vec::<String>::new());
+    assert!(layer_of("src/new_module.rs").is_err());
+}
