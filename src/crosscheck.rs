@@ -909,6 +909,7 @@ mod tests {
     use super::*;
     use crate::Sphere;
     use crate::record::{TooManyRays, record_rays_within};
+    use crate::render::Stage;
 
     fn cast(origin: Vec3, dir: Vec3) -> CastRay {
         CastRay {

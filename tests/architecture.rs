@@ -36,7 +36,9 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
             "mod.rs" => Ok(Some(Layer::Engine)),
             _ if rest.ends_with("/chapter.rs") => Ok(Some(Layer::Engine)),
             _ if rest.ends_with("/checks.rs") => Ok(Some(Layer::Tool)),
-            _ => Err(format!("{path}: a chapter folder holds chapter.rs, checks.rs and tests.rs")),
+            _ => Err(format!(
+                "{path}: a chapter folder holds chapter.rs, checks.rs and tests.rs"
+            )),
         };
     }
     let module = path
@@ -52,8 +54,8 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
 /// The layer of a top-level module of the crate.
 fn module_layer(module: &str) -> Option<Layer> {
     Some(match module {
-        "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text"
-        | "medium" | "bvh" | "cleanup" => Layer::Foundation,
+        "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
+        | "bvh" | "cleanup" => Layer::Foundation,
         "course" | "render" | "record" | "effects" | "builtin" | "chapters" => Layer::Engine,
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "race" | "bvh_cost"
         | "bvh_measure" | "bvh_report" | "walk_work" | "leaks" | "diff" | "embree" | "plots" => {
@@ -111,7 +113,9 @@ fn code_only(text: &str) -> String {
         } else if let Some(hashes) = raw_string_hashes(rest) {
             let close = format!("\"{}", "#".repeat(hashes));
             let open = 2 + hashes;
-            rest[open..].find(&close).map_or(rest.len(), |end| open + end + close.len())
+            rest[open..]
+                .find(&close)
+                .map_or(rest.len(), |end| open + end + close.len())
         } else if rest.starts_with('"') {
             let mut end = 1;
             while end < rest.len() && rest.as_bytes()[end] != b'"' {
@@ -139,7 +143,12 @@ fn raw_string_hashes(text: &str) -> Option<usize> {
 
 /// The rule broken by each `crate::` path of `text` (the file `path`,
 /// of `layer`), one message a violation.
-fn violations(path: &str, layer: Layer, text: &str, roots: &BTreeMap<String, String>) -> Vec<String> {
+fn violations(
+    path: &str,
+    layer: Layer,
+    text: &str,
+    roots: &BTreeMap<String, String>,
+) -> Vec<String> {
     let code = code_only(text);
     let line_of = |at: usize| code[..at].matches('\n').count() + 1;
     let mut found = Vec::new();
@@ -156,7 +165,13 @@ fn violations(path: &str, layer: Layer, text: &str, roots: &BTreeMap<String, Str
                     .split(',')
                     .map(|item| item.trim().split("::").next().unwrap_or("").to_string())
                     .collect(),
-                None => vec![after.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap_or("").to_string()],
+                None => vec![
+                    after
+                        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                        .next()
+                        .unwrap_or("")
+                        .to_string(),
+                ],
             };
             for name in names.into_iter().filter(|name| !name.is_empty()) {
                 let module = roots.get(&name).cloned().unwrap_or(name.clone());
@@ -175,13 +190,19 @@ fn violations(path: &str, layer: Layer, text: &str, roots: &BTreeMap<String, Str
     if layer != Layer::Cli {
         for (number, line) in code.lines().enumerate() {
             if line.contains("clap::") || line.split_whitespace().any(|word| word == "clap") {
-                found.push(format!("{path}:{}: only the command line names clap", number + 1));
+                found.push(format!(
+                    "{path}:{}: only the command line names clap",
+                    number + 1
+                ));
             }
             let prints = ["println!", "eprintln!", "print!(", "eprint!("]
                 .iter()
                 .any(|mac| line.contains(mac));
             if prints && !PRINTS_ALLOWED.contains(&path) {
-                found.push(format!("{path}:{}: only the command line prints", number + 1));
+                found.push(format!(
+                    "{path}:{}: only the command line prints",
+                    number + 1
+                ));
             }
         }
     }
@@ -229,7 +250,11 @@ fn every_file_keeps_to_its_layer() {
             Err(problem) => broken.push(problem),
         }
     }
-    assert!(broken.is_empty(), "layer rules broken (docs/architecture.md):\n{}", broken.join("\n"));
+    assert!(
+        broken.is_empty(),
+        "layer rules broken (docs/architecture.md):\n{}",
+        broken.join("\n")
+    );
 }
 
 /// The rule can fail: an upward import planted in a foundation, a tool
@@ -239,21 +264,62 @@ fn every_file_keeps_to_its_layer() {
 fn planted_upward_imports_are_named() {
     let roots = root_names();
     let cases = [
-        ("src/scene.rs", Layer::Foundation, "use crate::render::Tracer;\n", "crate::render"),
-        ("src/shapes/plane.rs", Layer::Foundation, "fn f() { crate::Reference::default(); }\n", "crate::Reference"),
-        ("src/render.rs", Layer::Engine, "use crate::crosscheck::MAX_RECORDED_RAYS;\n", "crate::crosscheck"),
-        ("src/check/mod.rs", Layer::Tool, "const X: i32 = crate::cli::EXIT_ERROR;\n", "crate::cli"),
-        ("chapters/01_plane/chapter.rs", Layer::Engine, "use raylab::check::Case;\n", "raylab::check"),
-        ("chapters/01_plane/checks.rs", Layer::Tool, "fn f() { println!(\"x\"); }\n", "prints"),
-        ("src/cost.rs", Layer::Tool, "#[derive(clap::ValueEnum)]\nenum K { A }\n", "clap"),
+        (
+            "src/scene.rs",
+            Layer::Foundation,
+            "use crate::render::Tracer;\n",
+            "crate::render",
+        ),
+        (
+            "src/shapes/plane.rs",
+            Layer::Foundation,
+            "fn f() { crate::Reference::default(); }\n",
+            "crate::Reference",
+        ),
+        (
+            "src/render.rs",
+            Layer::Engine,
+            "use crate::crosscheck::MAX_RECORDED_RAYS;\n",
+            "crate::crosscheck",
+        ),
+        (
+            "src/check/mod.rs",
+            Layer::Tool,
+            "const X: i32 = crate::cli::EXIT_ERROR;\n",
+            "crate::cli",
+        ),
+        (
+            "chapters/01_plane/chapter.rs",
+            Layer::Engine,
+            "use raylab::check::Case;\n",
+            "raylab::check",
+        ),
+        (
+            "chapters/01_plane/checks.rs",
+            Layer::Tool,
+            "fn f() { println!(\"x\"); }\n",
+            "prints",
+        ),
+        (
+            "src/cost.rs",
+            Layer::Tool,
+            "#[derive(clap::ValueEnum)]\nenum K { A }\n",
+            "clap",
+        ),
     ];
     for (path, layer, text, named) in cases {
         let found = violations(path, layer, text, &roots);
-        assert!(found.len() == 1 && found[0].contains(named), "{path}: {found:?}");
+        assert!(
+            found.len() == 1 && found[0].contains(named),
+            "{path}: {found:?}"
+        );
     }
     // Comments, strings and tests are not code.
     let quiet = "// crate::cli\nconst S: &str = \"crate::cli::X\";\nconst R: &str = r#\"raylab::cli\"#;\n\
                  #[cfg(test)]\nmod tests { use crate::cli; }\n";
-    assert_eq!(violations("src/scene.rs", Layer::Foundation, quiet, &roots), Vec::<String>::new());
+    assert_eq!(
+        violations("src/scene.rs", Layer::Foundation, quiet, &roots),
+        Vec::<String>::new()
+    );
     assert!(layer_of("src/new_module.rs").is_err());
 }
