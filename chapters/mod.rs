@@ -16,7 +16,9 @@
 use crate::effects::{Effects, Lighting};
 
 /// Calls `$then! { ... }` with one line per chapter:
-/// `number module "folder" "title" "adds" |effects| { switch-ons } [functions];`.
+/// `number module "folder" "title" "adds" |effects| { switch-ons } [functions]`,
+/// then, where the chapter had them, `kept { paths }`: names its module
+/// re-exports because student workspaces made before name them there.
 /// It is the registry: a new chapter is its folder and one line here.
 #[doc(hidden)]
 #[macro_export]
@@ -37,7 +39,8 @@ macro_rules! for_each_chapter {
             6 ch06_reflection "06_reflection" "Mirror reflection" "reflection"
                 |e| { e.reflection = true } [reflect, shade_mirror];
             7 ch07_antialiasing "07_antialiasing" "Anti-aliasing" "supersampling"
-                |e| { e.antialiasing = true } [sample_offset, pixel_color];
+                |e| { e.antialiasing = true } [sample_offset, pixel_color]
+                kept { crate::scene::Sampling };
             8 ch08_refraction "08_refraction" "Refraction" "refraction"
                 |e| { e.refraction = true } [refract, shade_glass];
             9 ch09_glass "09_glass" "Glass done right"
@@ -110,7 +113,7 @@ pub const REFERENCE_HEIGHT: u32 = 120;
 
 macro_rules! declare_chapters {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
-       |$effects:ident| $switch_on:block [$($function:ident),*];)*) => {
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
         $(
             // Each chapter's module is its folder: the code a student reads
             // in `chapter.rs`, re-exported, and the checker's cases beside it.
@@ -120,6 +123,7 @@ macro_rules! declare_chapters {
                 #[path = "chapter.rs"]
                 mod code;
                 pub use code::*;
+                $($(#[doc(hidden)] pub use $kept;)*)?
                 pub mod checks;
             }
         )*
@@ -172,3 +176,27 @@ pub use ch09_glass::{fresnel, schlick};
 pub struct Reference;
 
 impl crate::course::Chapters for Reference {}
+
+#[cfg(test)]
+mod tests {
+    /// A workspace made before the samples' placement became a scene
+    /// setting imports it from chapter 7's module: that path still resolves.
+    #[test]
+    fn kept_names_resolve_where_old_workspaces_look() {
+        let kept: super::ch07_antialiasing::Sampling = crate::Sampling::Grid;
+        assert_eq!(kept, crate::scene::Sampling::Grid);
+    }
+
+    #[test]
+    fn each_stage_switches_on_what_its_chapters_add() {
+        use crate::effects::{Effects, Lighting};
+        assert_eq!(Effects::for_chapter(0), Effects::NONE);
+        let four = Effects::for_chapter(4);
+        assert!(four.planes && four.spheres && four.nearest_hit && four.shadows);
+        assert_eq!(four.lighting, Lighting::Flat);
+        assert!(!four.specular && !four.reflection);
+        let all = Effects::for_chapter(super::LAST_CHAPTER);
+        assert_eq!(all.lighting, Lighting::Phong);
+        assert!(all.bvh && all.smooth_shading && all.fresnel && all.antialiasing);
+    }
+}

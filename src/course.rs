@@ -270,6 +270,12 @@ pub trait Chapters: Sized + Send + Sync + 'static {
 /// chapter 2's quadratic formula when `SPHERE` (the comparison setting
 /// `sphere_formula = "textbook"`), chapter 10's Moller-Trumbore test when
 /// `TRIANGLE` (`triangle_test = "moller-trumbore"`).
+///
+/// It forwards to `C` every method it can (tests/architecture.rs keeps
+/// that): the functions that take the chapters' own tracer or objects
+/// (`Tracer<Self>`, `Objects<Self>`: the shading, the loops, the walks)
+/// cannot be handed to `C`, and run the reference's, which call back into
+/// `Textbook<C>`, so `C`'s own intersections and formulas still answer.
 pub struct Textbook<C, const SPHERE: bool, const TRIANGLE: bool>(std::marker::PhantomData<C>);
 
 /// The chapters `C` with chapter 2's textbook quadratic formula.
@@ -303,6 +309,13 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
         C::terminator_point(triangle, normals, point)
+    }
+    fn smooth_hit_point<'a>(
+        point: HitPoint<'a>,
+        triangle: &Triangle,
+        normals: &[Vec3; 3],
+    ) -> HitPoint<'a> {
+        C::smooth_hit_point(point, triangle, normals)
     }
     fn hit_box(
         bounds: &Aabb,

@@ -56,10 +56,9 @@ pub struct Effects {
 /// rays, on scenes of 1 to 64 spheres and a floor, and reports the smallest
 /// count from which the tree wins at every larger count (its "loop or
 /// tree" table; lesson 11 quotes a run). On the development machine that
-/// count came out at 6 in two runs; 8 is that, rounded up. (It was 14 and
-/// 15, and this constant 16, until the walk's stack took 8-byte entries:
-/// each ray then cleared a kilobyte before its first box test, a fixed cost
-/// that small scenes felt most.) Near the crossover the two differ by a few
+/// count came out at 6 in two runs; 8 is that, rounded up. (Each ray
+/// clears its walk's stack before its first box test: a fixed cost that
+/// small scenes feel most.) Near the crossover the two differ by a few
 /// per cent, so a count one or two off costs little either way. (A render
 /// traces more rays per build than the 4096 measured, which moves the
 /// crossover down, not up.)

@@ -323,3 +323,64 @@ fn planted_upward_imports_are_named() {
     );
     assert!(layer_of("src/new_module.rs").is_err());
 }
+
+/// `Textbook<C>` swaps in the textbook intersections and must otherwise be
+/// `C`: every method of `Chapters` that does not take the chapters' own
+/// tracer or objects (which `Textbook<C>` cannot hand to `C`) forwards to
+/// `C`. A method added to the trait and not forwarded would silently run
+/// the reference under `--sphere-formula textbook`.
+#[test]
+fn textbook_forwards_every_method_it_can() {
+    use raylab::workspace::scan::{ItemKind, items};
+    let course = read("src/course.rs");
+    let top = items(&course).expect("src/course.rs scans");
+    let block = |item: &raylab::workspace::scan::Item| {
+        let text = &course[item.header..item.range.end];
+        let open = text.find('{').expect("a block");
+        text[open + 1..text.len() - 1].to_string()
+    };
+    let methods = |text: &str| -> Vec<(String, String)> {
+        items(text)
+            .expect("a block scans")
+            .into_iter()
+            .filter(|item| item.kind == ItemKind::Fn)
+            .map(|item| {
+                let end = item.body.clone().map_or(item.range.end, |body| body.start);
+                (
+                    item.name.clone().unwrap_or_default(),
+                    text[item.header..end].to_string(),
+                )
+            })
+            .collect()
+    };
+    let trait_block = top
+        .iter()
+        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
+        .map(block)
+        .expect("trait Chapters");
+    let textbook_block = top
+        .iter()
+        .find(|item| {
+            item.kind == ItemKind::Impl
+                && course[item.header..item.range.end].contains("for Textbook<")
+        })
+        .map(block)
+        .expect("impl Chapters for Textbook");
+    let forwarded: Vec<String> = methods(&textbook_block)
+        .into_iter()
+        .map(|(name, _)| name)
+        .collect();
+    let mut missing = Vec::new();
+    for (name, signature) in methods(&trait_block) {
+        let own_types = ["Tracer<Self>", "Objects<Self>"];
+        let forwardable = !own_types.iter().any(|own| signature.contains(own));
+        if forwardable && !forwarded.contains(&name) {
+            missing.push(name);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "Textbook does not forward {missing:?} to its C"
+    );
+    assert!(forwarded.len() >= 15, "only {forwarded:?}");
+}

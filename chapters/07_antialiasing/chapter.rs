@@ -1,6 +1,6 @@
-use raylab::{Sampling, Vec3};
 use raylab::course::Chapters;
 use raylab::render::Tracer;
+use raylab::{Sampling, Vec3};
 
 /// Position of sample `index` (of `count`) inside pixel `(x, y)`, as an
 /// offset in `[0, 1)^2` from the pixel's top-left corner.

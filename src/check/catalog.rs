@@ -201,7 +201,7 @@ pub const TWO_LIGHTS: &str = "[[lights]]\nposition = [0.0, 10.0, 0.0]\n\
 /// A chapter's two lists of cases, by chapter number, from the registry.
 macro_rules! case_table {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
-       |$effects:ident| $switch_on:block [$($function:ident),*];)*) => {
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
         /// Chapter `number`'s checkpoints (level 1); none for an unknown chapter.
         pub fn checkpoints(number: u8) -> Vec<Case> {
             match number {
