@@ -1,0 +1,69 @@
+//! Tests of chapter 7's reference code, beside it (they may use its
+//! private helpers: this is a child module of `chapter.rs`).
+
+use super::*;
+
+#[test]
+fn grid_of_four_hits_the_quarter_centres() {
+    let positions: Vec<_> = (0..4)
+        .map(|i| sample_offset(Sampling::Grid, 4, i, (3, 7), 1))
+        .collect();
+    assert_eq!(
+        positions,
+        vec![(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]
+    );
+}
+
+#[test]
+fn jittered_samples_stay_in_their_cells() {
+    for index in 0..16 {
+        let (x, y) = sample_offset(Sampling::Jittered, 16, index, (10, 20), 42);
+        let (column, row) = ((index % 4) as f32, (index / 4) as f32);
+        assert!(x >= column / 4.0 && x < (column + 1.0) / 4.0, "x = {x}");
+        assert!(y >= row / 4.0 && y < (row + 1.0) / 4.0, "y = {y}");
+    }
+}
+
+#[test]
+fn a_jittered_sample_never_reaches_the_next_pixel() {
+    // Here 1 + r rounds to 2 in f32: without the clamp, dx would be 1.0.
+    let (dx, _) = sample_offset(Sampling::Jittered, 4, 1, (109_417, 17), 0);
+    assert_eq!(dx, 1.0 - f32::EPSILON / 2.0);
+    for x in 0..20_000 {
+        for index in 0..4 {
+            let (dx, dy) = sample_offset(Sampling::Jittered, 4, index, (x, 3), 0);
+            assert!((0.0..1.0).contains(&dx) && (0.0..1.0).contains(&dy));
+        }
+    }
+}
+
+#[test]
+fn random_samples_depend_only_on_pixel_sample_and_seed() {
+    let a = sample_offset(Sampling::Random, 4, 2, (5, 6), 9);
+    assert_eq!(a, sample_offset(Sampling::Random, 4, 2, (5, 6), 9));
+    assert_ne!(a, sample_offset(Sampling::Random, 4, 2, (6, 5), 9));
+    assert_ne!(a, sample_offset(Sampling::Random, 4, 3, (5, 6), 9));
+    assert_ne!(a, sample_offset(Sampling::Random, 4, 2, (5, 6), 10));
+}
+
+#[test]
+fn unit_random_is_in_range_and_roughly_uniform() {
+    let values: Vec<f32> = (0..10_000).map(|i| unit_random(7, (i, 0), 0, 0)).collect();
+    assert!(values.iter().all(|v| (0.0..1.0).contains(v)));
+    let mean = values.iter().sum::<f32>() / values.len() as f32;
+    assert!((mean - 0.5).abs() < 0.02, "mean {mean}");
+    let below_tenth = values.iter().filter(|v| **v < 0.1).count();
+    assert!(
+        (800..1200).contains(&below_tenth),
+        "{below_tenth} below 0.1"
+    );
+}
+
+#[test]
+fn whole_square_roots() {
+    assert_eq!(whole_sqrt(0), 0);
+    assert_eq!(whole_sqrt(1), 1);
+    assert_eq!(whole_sqrt(15), 3);
+    assert_eq!(whole_sqrt(16), 4);
+    assert_eq!(whole_sqrt(u32::MAX), 65535);
+}
