@@ -40,7 +40,7 @@ macro_rules! for_each_chapter {
                 |e| { e.reflection = true } [reflect, shade_mirror];
             7 ch07_antialiasing "07_antialiasing" "Anti-aliasing" "supersampling"
                 |e| { e.antialiasing = true } [sample_offset, pixel_color]
-                kept { crate::scene::Sampling };
+                kept { $crate::scene::Sampling };
             8 ch08_refraction "08_refraction" "Refraction" "refraction"
                 |e| { e.refraction = true } [refract, shade_glass];
             9 ch09_glass "09_glass" "Glass done right"

@@ -1,7 +1,7 @@
 //! The data of a bounding volume hierarchy: boxes, nodes, the tree.
 //!
 //! How a ray meets a box, how the tree is built and how a ray walks it is
-//! chapter 11's lesson ([`crate::chapters::ch11_bvh`]); this module only
+//! chapter 11's lesson; this module only
 //! holds the shapes of the data those functions share with the renderer.
 
 use crate::Vec3;
@@ -152,7 +152,7 @@ impl Bvh {
     }
 }
 
-/// How [`build_bvh`](crate::chapters::ch11_bvh::build_bvh) chooses where to
+/// How [`Chapters::build_bvh`](crate::Chapters::build_bvh) chooses where to
 /// cut a node in two.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SplitRule {

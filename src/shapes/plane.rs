@@ -1,5 +1,5 @@
 //! The infinite plane: its data, and where a hit on it lies. How a ray meets
-//! it is chapter 1's lesson ([`crate::chapters::ch01_plane`]).
+//! it is chapter 1's lesson.
 
 use crate::{Vec3, unit_vector};
 

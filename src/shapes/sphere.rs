@@ -1,5 +1,5 @@
 //! The sphere: its data, and a few facts about it. How a ray meets it is
-//! chapter 2's lesson ([`crate::chapters::ch02_sphere`]).
+//! chapter 2's lesson.
 
 use crate::Vec3;
 

@@ -1,5 +1,5 @@
 //! The triangle: its data, and a few facts about it. How a ray meets it is
-//! chapter 10's lesson ([`crate::chapters::ch10_triangles`]).
+//! chapter 10's lesson.
 
 use crate::{Vec3, unit_vector};
 
