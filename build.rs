@@ -7,7 +7,7 @@
 //!    every local image inlined as a `data:` URI, and the chapter modules
 //!    take their docs from there (`#![doc = include_str!(concat!(env!(
 //!    "OUT_DIR"), "/lessons/NN_name.md"))]`). An image that cannot be read is
-//!    left as it was, with a warning; tests/lesson_images.rs fails on it.
+//!    left as it was, with a warning; tests/pictures/lesson_images.rs fails on it.
 //!
 //! 2. Without the `embree` feature, nothing else (the default build needs
 //!    neither Embree nor libclang). With the feature, it tells the linker

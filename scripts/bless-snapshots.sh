@@ -8,5 +8,5 @@
 # look at them) before committing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-RAYLAB_BLESS=1 INSTA_UPDATE=always INSTA_FORCE_PASS=1 cargo test --test snapshots
+RAYLAB_BLESS=1 INSTA_UPDATE=always INSTA_FORCE_PASS=1 cargo test --test pictures snapshots::
 git status --short snapshots/ 2>/dev/null || true

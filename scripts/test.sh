@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup-embree.sh
-# Real OBJ models for tests/mesh.rs: Debian's assimp-testmodels, installed
+# Real OBJ models for tests/cli/mesh.rs: Debian's assimp-testmodels, installed
 # with apt where this machine has apt and root (or password-less sudo). It
 # is optional: without it those tests say they skipped, and the small
 # models the tests write themselves still run. Never fails the script.
@@ -18,7 +18,7 @@ install_test_models() {
         return 0
     fi
     if ! command -v apt-get >/dev/null; then
-        echo "test.sh: no apt-get; skipping $package (tests/mesh.rs uses its own small models)" >&2
+        echo "test.sh: no apt-get; skipping $package (tests/cli/mesh.rs uses its own small models)" >&2
         return 0
     fi
     if [[ $(id -u) -eq 0 ]]; then
@@ -26,7 +26,7 @@ install_test_models() {
     elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
         as_root="sudo -n"
     else
-        echo "test.sh: installing $package needs root; skipping it (tests/mesh.rs uses its own small models)" >&2
+        echo "test.sh: installing $package needs root; skipping it (tests/cli/mesh.rs uses its own small models)" >&2
         return 0
     fi
     # The current package lists first; update them only if that fails.
@@ -43,5 +43,6 @@ cargo test --test cli
 cargo test --doc
 # The lessons are the crate docs: they must build with no broken link.
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
-cargo test --release --test snapshots --test determinism
+# Exactly the snapshot and determinism modules of the `pictures` test binary.
+cargo test --release --test pictures -- snapshots:: determinism::
 cargo bench --no-run

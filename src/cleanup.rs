@@ -168,7 +168,7 @@ mod tests {
 
     #[test]
     fn registration_lasts_until_dropped() {
-        // Removal itself is tested on the binary (tests/cli.rs): calling it
+        // Removal itself is tested on the binary (tests/cli/cli.rs): calling it
         // here would remove the temporary files of tests running alongside.
         let path = std::env::temp_dir().join(".raylab-registry-test.tmp");
         let registration = register(&path);

@@ -907,9 +907,8 @@ pub fn ours(shapes: &[Shape], cast: &CastRay) -> Option<Hit> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Sphere;
     use crate::record::{TooManyRays, record_rays_within};
-    use crate::render::Stage;
+    use crate::{Sphere, Stage};
 
     fn cast(origin: Vec3, dir: Vec3) -> CastRay {
         CastRay {

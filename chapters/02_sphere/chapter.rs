@@ -163,7 +163,7 @@ pub fn choose_root(
 /// off by: each root takes a dozen roundings in a row (`oc`, two dot
 /// products, the foot, its length, `r - l`, `r + l`, a product, a square
 /// root, `q`, a division), each at most `u` of what it touches.
-/// `tests/hard_cases.rs` checks the bound on random rays and huge spheres.
+/// `tests/course/hard_cases.rs` checks the bound on random rays and huge spheres.
 pub const ROOT_ERROR_EPSILONS: f64 = 8.0;
 
 /// A bound on the rounding error of the root `t`, one of `roots` from
@@ -179,7 +179,7 @@ pub const ROOT_ERROR_EPSILONS: f64 = 8.0;
 /// `error = ROOT_ERROR_EPSILONS eps ((|O - C| (1 + r / W) + r) / |D| + |t|)`
 ///
 /// For a ray leaving a sphere of radius 1e5 at 45 degrees that is about
-/// 0.3 (`tests/hard_cases.rs` measures the actual error at under a tenth of
+/// 0.3 (`tests/course/hard_cases.rs` measures the actual error at under a tenth of
 /// the bound): far more than the renderer's `t_min = 0` or any fixed
 /// epsilon a caller might pass. Computed in `f64` so that the bound itself neither
 /// overflows nor underflows where the roots do not.

@@ -99,7 +99,7 @@ pub const TRAVERSAL_COST: f64 = 1.0;
 /// sphere test's error scales with the ray's distance to the sphere
 /// instead, so a ray from far away grazing a sphere exactly where it
 /// touches its box could in principle be reported by chapter 3 and refused
-/// by the padded box; the random comparisons in `tests/bvh.rs` have not
+/// by the padded box; the random comparisons in `tests/course/bvh.rs` have not
 /// met one.
 pub const BOX_PADDING_EPSILONS: f32 = 4.0;
 

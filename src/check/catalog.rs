@@ -3,7 +3,7 @@
 //!
 //! Checkpoints are well-conditioned questions whose answers a student can
 //! work out by hand; robustness cases are the hard inputs of
-//! tests/hard_cases.rs (grazing and tangent rays, far and huge spheres,
+//! tests/course/hard_cases.rs (grazing and tangent rays, far and huge spheres,
 //! origins on surfaces, the critical angle, NaN and infinite input), where
 //! only a numerically careful formula is right. Expected intersection
 //! parameters and directions come from `exact` (f64, separate formulas);

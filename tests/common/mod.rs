@@ -1,6 +1,7 @@
 //! Running the `raylab` binary from the integration tests, as a user would.
-//! Each test file that needs it says `mod common;`; not every file uses every
-//! helper, hence the `dead_code` allowance.
+//! The `cli` test binary declares it once (`tests/cli/main.rs`) and its
+//! modules say `use crate::common;`; not every module uses every helper,
+//! hence the `dead_code` allowance.
 #![allow(dead_code)]
 
 use std::path::Path;

@@ -32,7 +32,7 @@ pub enum Level {
 }
 
 /// Roundings allowed per formula in the robustness cases (the same bound as
-/// tests/hard_cases.rs, where the largest ratio the reference reaches is
+/// tests/course/hard_cases.rs, where the largest ratio the reference reaches is
 /// printed): `16 u` times the scale of the problem.
 pub const ROUNDINGS: f64 = 16.0;
 
@@ -572,7 +572,7 @@ impl Case {
                 let g = wide(got);
                 let pass = got.is_finite()
                     && if robust {
-                        // Direction and length apart, as tests/hard_cases.rs.
+                        // Direction and length apart, as tests/course/hard_cases.rs.
                         let length = expected.length();
                         exact::angle(g, expected) <= ROUNDINGS * U
                             && (g.length() - length).abs() <= ROUNDINGS * U * length
@@ -956,7 +956,7 @@ fn verdict(pass: bool, expected: String, got: String) -> Outcome {
 }
 
 /// Judges an intersection answer `got` against `expect` (see the module
-/// docs of tests/hard_cases.rs for the robustness bound).
+/// docs of tests/course/hard_cases.rs for the robustness bound).
 fn judge_t(
     got: Option<f32>,
     expect: ExpectT,

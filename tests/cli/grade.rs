@@ -2,7 +2,7 @@
 //! snapshot, one at another size (its reference is rendered), one at another
 //! depth (fails), one corrupted, the rest missing, and odd files beside.
 
-mod common;
+use crate::common;
 use common::{raylab, stderr, stdout};
 
 use std::path::{Path, PathBuf};

@@ -667,7 +667,7 @@ fn chapter_9_draws_with_each_of_its_functions() {
 
 #[test]
 fn schlick_plot() {
-    // `RAYLAB_BLESS=1 cargo test --test chapter_9 schlick_plot` rewrites it.
+    // `RAYLAB_BLESS=1 cargo test --test course chapter_9::schlick_plot` rewrites it.
     let svg = raylab::plots::schlick_error_svg().expect("plot");
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/schlick-error.svg");
@@ -692,7 +692,7 @@ fn schlick_plot() {
 
 /// Asserts that `raylab check` fails chapter 9 of the chapters `C` on the
 /// case named `case` (the bug gallery of the course, as for chapters 1-8 in
-/// tests/check.rs).
+/// tests/course/check.rs).
 fn caught_by_check<C: Chapters>(case: &str) {
     let options = raylab::check::CheckOptions {
         failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),

@@ -8,7 +8,7 @@
 //! invocations into this test's own target folder (raylab's dependencies
 //! are already there), and shared by the tests below.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

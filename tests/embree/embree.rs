@@ -7,6 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use raylab::crosscheck::{
     self, Answer, Boundary, PlaneQuad, Primitive, Reference, Verdict, cross_check, plane_quad,
 };
@@ -14,8 +15,7 @@ use raylab::embree::EmbreeScene;
 use raylab::{CastRay, Plane, Ray, RayKind, Shape, Sphere, Stage, Vec3, builtin, record_rays};
 
 /// The `f64` reference of the hard-case tests.
-#[path = "reference/mod.rs"]
-mod reference;
+use crate::reference;
 
 fn embree_answer(embree: &EmbreeScene, cast: &CastRay) -> Option<Answer> {
     embree
@@ -275,7 +275,14 @@ fn rays() -> impl Strategy<Value = Vec<Ray>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    // Failing cases are kept in the .proptest-regressions file beside this
+    // one, as before the tests were grouped (proptest's default would use
+    // tests/proptest-regressions/, since this folder has a main.rs).
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     /// Random rays against random spheres and planes: the same object (or
     /// both a miss) with `t` within the tolerance, except on a silhouette or

@@ -1,7 +1,7 @@
 //! Options the chosen chapter ignores are never ignored without a word, and
 //! `--help` shows every default (issue 12, "options ignored without a word").
 
-mod common;
+use crate::common;
 use common::{raylab, stderr, stdout};
 
 use raylab::RenderSettings;

@@ -1,4 +1,4 @@
-//! Triangles against Embree (feature `embree`, like tests/embree.rs;
+//! Triangles against Embree (feature `embree`, like tests/embree/embree.rs;
 //! `scripts/test.sh` sets Embree up and runs both): a closed mesh is one
 //! Embree geometry whose hits map back to our object indices, random rays
 //! agree, and rays aimed exactly at shared edges and corners from inside
@@ -8,7 +8,7 @@
 //!
 //! The speed race for issue 14's figures is here too, ignored by default
 //! (it takes a minute in release):
-//! `cargo test --release --features embree --test embree_triangles race -- --ignored --nocapture`.
+//! `cargo test --release --features embree --test embree embree_triangles::race -- --ignored --nocapture`.
 #![cfg(feature = "embree")]
 
 use std::collections::HashMap;

@@ -5,6 +5,7 @@
 //! deterministic and keeps planes and non-finite boxes out of the tree.
 
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use raylab::bvh::{Aabb, Bvh, BvhOptions, SplitRule};
 use raylab::chapters::ch03_nearest::nearest_hit;
 use raylab::chapters::ch11_bvh::{TRAVERSAL_STACK, any_hit_bvh, build_bvh, nearest_hit_bvh};
@@ -221,7 +222,14 @@ fn rays(size: f32, count: usize) -> impl Strategy<Value = Vec<(Ray, f32, f32)>> 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    // Failing cases are kept in the .proptest-regressions file beside this
+    // one, as before the tests were grouped (proptest's default would use
+    // tests/proptest-regressions/, since this folder has a main.rs).
+    #![proptest_config(ProptestConfig {
+        cases: 200,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn nearest_and_any_hit_agree_with_chapter_3(

@@ -1,7 +1,7 @@
 //! `raylab diff` on real renders: the metrics it prints are checked against
 //! values computed here independently, from the two images' bytes.
 
-mod common;
+use crate::common;
 use common::{raylab, stderr, stdout};
 
 use std::path::{Path, PathBuf};

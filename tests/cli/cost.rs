@@ -2,7 +2,7 @@
 //! times (machines are noisy); they check what the sweep rendered and how
 //! far each setting is from the reference.
 
-mod common;
+use crate::common;
 use common::{raylab, stderr};
 
 use raylab::cost::{CostConfig, Knob};

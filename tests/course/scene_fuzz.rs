@@ -2,6 +2,7 @@
 //! is a scene or an error message.
 
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 
 /// Small edits a careless hand or a broken file could make.
 #[derive(Debug, Clone)]
@@ -75,7 +76,14 @@ fn apply(text: &str, mutation: &Mutation) -> Vec<u8> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+    // Failing cases are kept in the .proptest-regressions file beside this
+    // one, as before the tests were grouped (proptest's default would use
+    // tests/proptest-regressions/, since this folder has a main.rs).
+    #![proptest_config(ProptestConfig {
+        cases: 400,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn mutated_scenes_load_or_fail_cleanly(

@@ -10,16 +10,15 @@
 //! near-tangent misses are skipped for the hit/miss comparison, since there
 //! rounding legitimately decides.
 
-mod reference;
+use crate::reference;
 
+use crate::rays::{reflected_ray, refracted_ray};
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use raylab::render::RayOffset;
 use raylab::shapes::surface_point;
-#[path = "common/rays.rs"]
-mod rays;
 use raylab::{Plane, Ray, Shape, Sphere, reflect, refract};
-use rays::{reflected_ray, refracted_ray};
 
 const U: f64 = f32::EPSILON as f64 / 2.0;
 /// Roundings allowed per formula (as in `hard_cases.rs`).
@@ -101,7 +100,14 @@ fn agree(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+    // Failing cases are kept in the .proptest-regressions file beside this
+    // one, as before the tests were grouped (proptest's default would use
+    // tests/proptest-regressions/, since this folder has a main.rs).
+    #![proptest_config(ProptestConfig {
+        cases: 2000,
+        failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn sphere_hits_match_the_reference(

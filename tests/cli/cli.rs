@@ -1,7 +1,7 @@
 //! The `raylab` command as a student meets it: renders, listings, and clear
 //! errors with a non-zero exit and no output file for every kind of bad input.
 
-mod common;
+use crate::common;
 use common::{raylab, stderr, stdout};
 
 use std::path::Path;

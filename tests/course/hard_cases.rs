@@ -33,7 +33,7 @@
 //! `cos` being the cosine between the ray and the normal at the hit; rounding
 //! the direction moves `t` by about `u t`. `K = T_K` covers the dozen or so
 //! roundings of each formula (the largest ratio measured is printed by
-//! `cargo test --test hard_cases -- --nocapture`). Near tangency `cos -> 0`
+//! `cargo test --test course hard_cases:: -- --nocapture`). Near tangency `cos -> 0`
 //! and `t` is ill-conditioned: there hit or miss is decided by rounding,
 //! and such cases (marked `Either`) only require that a reported hit lies on
 //! the surface, within `K u S`.
@@ -47,10 +47,8 @@ use glam::{DVec3, Vec3};
 use raylab::render::RayOffset;
 use raylab::shapes::{SurfacePoint, surface_point};
 
-#[path = "common/rays.rs"]
-mod rays;
+use crate::rays::{reflected_ray, refracted_ray, shadow_ray_from};
 use raylab::{Plane, Ray, Shape, Sphere, nearest_hit, reflect, refract};
-use rays::{reflected_ray, refracted_ray, shadow_ray_from};
 
 /// Unit roundoff of `f32`.
 const U: f64 = f32::EPSILON as f64 / 2.0;
@@ -59,7 +57,7 @@ const T_K: f64 = 16.0;
 const INF: f32 = f32::INFINITY;
 
 /// The answer computed in `f64`, independently of the library.
-mod reference;
+use crate::reference;
 
 fn wide(v: Vec3) -> DVec3 {
     v.as_dvec3()

@@ -1,0 +1,14 @@
+//! The `raylab` binary run as a user runs it, and the scripts around it
+//! (one test binary; each module was a file of its own under `tests/`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cli;
+mod cli_options;
+mod cost;
+mod diff;
+mod grade;
+mod mesh;
+mod setup_embree;
+mod workspace;
