@@ -49,3 +49,7 @@ fn clear_channels_transmit_everything_even_for_ever() {
     assert_eq!(t, Vec3::new(1.0, 0.0, 0.0));
     assert_eq!(transmittance(Vec3::splat(3.0), 0.0), Vec3::ONE);
 }
+
+// The bug gallery and the accepted alternatives of this chapter.
+#[path = "gallery.rs"]
+mod gallery;

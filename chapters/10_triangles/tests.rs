@@ -84,3 +84,7 @@ fn terminator_point_moves_out_on_a_convex_patch_only() {
     let flat = [-Vec3::Z; 3];
     assert_eq!(terminator_point(&triangle, &flat, point), point);
 }
+
+// The bug gallery and the accepted alternatives of this chapter.
+#[path = "gallery.rs"]
+mod gallery;

@@ -138,3 +138,7 @@ fn a_tie_goes_to_the_lower_index_as_in_chapter_3() {
     assert!(any_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY).is_some());
     assert_eq!(any_hit_bvh(&bvh, &objects, &ray, 0.0, 3.0), None);
 }
+
+// The bug gallery and the accepted alternatives of this chapter.
+#[path = "gallery.rs"]
+mod gallery;

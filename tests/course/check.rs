@@ -743,8 +743,8 @@ fn gallery_plane_ignoring_t_min() {
 
 // Chapter 9's gallery (Schlick with n1 and n2 swapped, the transmitted
 // cosine under total internal reflection, air outside every solid) is in
-// tests/course/chapter_9.rs, beside its hand-computed values. Chapter 10's (a
+// chapters/09_glass/gallery.rs, beside its hand-computed values. Chapter 10's (a
 // one-sided triangle test, edges left to no triangle, beta and gamma
 // swapped, a smooth normal not made unit, the terminator lifted the wrong
 // way, ...) and Moller-Trumbore, "correct, not yet robust", are in
-// tests/course/chapter_10.rs.
+// chapters/10_triangles/gallery.rs.

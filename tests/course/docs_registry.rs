@@ -81,7 +81,7 @@ fn every_chapter_has_its_code_lesson_scene_and_reference() {
 fn the_course_page_names_every_chapter_gallery() {
     let course = read("docs/course.md");
     for info in CHAPTERS {
-        let gallery = format!("tests/course/chapter_{}.rs", info.number);
+        let gallery = format!("chapters/{}/gallery.rs", info.folder);
         let exists = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join(&gallery)
             .is_file();

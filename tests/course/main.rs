@@ -9,9 +9,6 @@ mod rays;
 mod reference;
 
 mod bvh;
-mod chapter_10;
-mod chapter_11;
-mod chapter_9;
 mod chapter_seam;
 mod check;
 mod docs_registry;
