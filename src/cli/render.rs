@@ -468,10 +468,8 @@ pub fn stats_json(
 
 /// Writes a text file atomically (see [`crate::output::write_atomically`]).
 pub fn write_text_atomic(path: &Path, text: &str) -> Result<()> {
-    crate::output::write_atomically(path, |file| {
-        file.write_all(text.as_bytes())
-            .with_context(|| format!("cannot write {}", path.display()))
-    })
+    crate::output::write_atomically(path, |file| file.write_all(text.as_bytes()))?;
+    Ok(())
 }
 
 pub fn chapters() -> Result<i32> {

@@ -23,7 +23,7 @@ use crate::Vec3;
 
 pub use generate::{MAX_GENERATED_TRIANGLES, closed_mesh_triangle_count, generate_closed_mesh};
 pub use obj::load_obj;
-pub use write::{check_obj_output, is_raylab_obj, write_obj, write_obj_file};
+pub use write::{ObjOutputError, check_obj_output, is_raylab_obj, write_obj, write_obj_file};
 
 /// The largest OBJ file read, in bytes (256 MiB: about 3.3 million triangles
 /// as `raylab mesh` writes them, 82 bytes a triangle with its share of
