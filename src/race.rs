@@ -1,4 +1,4 @@
-//! The speed race of issue 14: our intersector against Embree on the same
+//! The speed race: our intersector against Embree on the same
 //! rays, for the figures of the README and lesson 11 (rays per second on one
 //! thread, median of 5; build times; peak memory). Computing only: the
 //! caller prints.
