@@ -16,12 +16,11 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use anyhow::Result;
-
 use crate::bvh::{BvhOptions, SplitRule};
 use crate::bvh_measure::{self, CpuInstant, MeasureOptions, Measurement, Method};
 use crate::course::Chapters;
 use crate::course::Objects;
+use crate::mesh::MeshError;
 use crate::{Plane, Ray, Reference, Shape, Sphere, Vec3};
 
 /// The torus sizes of the scaling table (requested triangles; the
@@ -81,7 +80,7 @@ pub struct Workload {
 
 /// Raylab's generated closed torus of about `triangles` triangles (radius
 /// about 1.5 around the y axis), as shapes, with [`torus_rays`].
-pub fn torus_workload(triangles: usize) -> Result<Workload> {
+pub fn torus_workload(triangles: usize) -> Result<Workload, MeshError> {
     let mesh = crate::mesh::generate_closed_mesh(triangles)?;
     Ok(Workload {
         requested: triangles,
@@ -202,7 +201,7 @@ impl BvhCostReport {
 
 /// Runs the three measurements; an error only if the mesh generator
 /// refuses a size.
-pub fn run(options: &BvhCostOptions) -> Result<BvhCostReport> {
+pub fn run(options: &BvhCostOptions) -> Result<BvhCostReport, MeshError> {
     let sizes: Vec<usize> = SCALING_SIZES
         .into_iter()
         .filter(|&n| n <= options.max_triangles)

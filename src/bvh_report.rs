@@ -4,8 +4,6 @@
 use std::fmt::Write as _;
 use std::time::Duration;
 
-use anyhow::Result;
-
 use crate::bvh::SplitRule;
 use crate::bvh_cost::{BRUTE_FORCE_MAX_TRIANGLES, BvhCostReport, RAY_COUNT};
 use crate::bvh_measure::{Measurement, Method};
@@ -140,8 +138,8 @@ pub fn markdown(report: &BvhCostReport) -> String {
 
 /// Build and trace time against triangles, both axes logarithmic, with
 /// brute force's trace where it was measured, as SVG.
-pub fn scaling_svg(report: &BvhCostReport) -> Result<String> {
-    draw_scaling(report).map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))
+pub fn scaling_svg(report: &BvhCostReport) -> Result<String, crate::plots::PlotError> {
+    draw_scaling(report).map_err(crate::plots::PlotError::drawing)
 }
 
 fn draw_scaling(report: &BvhCostReport) -> Result<String, Box<dyn std::error::Error>> {

@@ -34,34 +34,19 @@ impl Camera {
     /// The camera for `spec`, or why it has no viewing direction or no
     /// sideways axis: the scene loader's check, so that what it accepts is
     /// exactly what can be built.
-    pub fn try_new(spec: &CameraSpec, width: u32, height: u32) -> Result<Camera, String> {
+    pub fn try_new(spec: &CameraSpec, width: u32, height: u32) -> Result<Camera, CameraError> {
         let view = spec.look_at - spec.position;
         if view == Vec3::ZERO {
-            return Err(format!(
-                "camera.look_at = {}: the same point as camera.position; the camera must look \
-                 at another point",
-                spec.look_at
-            ));
+            return Err(CameraError::LooksAtItself {
+                look_at: spec.look_at,
+            });
         }
-        let forward = direction(view).ok_or_else(|| {
-            format!(
-                "camera.look_at - camera.position = {view}: not a finite direction (f32 \
-                 overflows)"
-            )
-        })?;
-        let up_unit = unit_vector(spec.up).ok_or_else(|| {
-            format!(
-                "camera.up = {}: must be a finite, non-zero direction",
-                spec.up
-            )
-        })?;
+        let forward = direction(view).ok_or(CameraError::ViewOverflows { view })?;
+        let up_unit = unit_vector(spec.up).ok_or(CameraError::NoUp { up: spec.up })?;
         // An `up` within a millionth of a radian of the viewing direction
         // leaves the sideways axis to rounding.
         if !(forward.cross(up_unit).length_squared() > 1e-12) {
-            return Err(format!(
-                "camera.up = {}: must not be parallel to the viewing direction {view}",
-                spec.up
-            ));
+            return Err(CameraError::UpAlongView { up: spec.up, view });
         }
         // `up` as given where its square is a normal `f32`: the pinned
         // images were made so.
@@ -70,8 +55,8 @@ impl Camera {
         } else {
             up_unit
         };
-        let right = direction(forward.cross(up_hint))
-            .ok_or_else(|| format!("camera.up = {}: no sideways axis", spec.up))?;
+        let right =
+            direction(forward.cross(up_hint)).ok_or(CameraError::NoSideways { up: spec.up })?;
         let up = right.cross(forward);
         // `libm::tanf` rather than `f32::tan`: the same bits on every platform.
         let half_height = libm::tanf(spec.fov_degrees.to_radians() * 0.5);
@@ -95,6 +80,28 @@ impl Camera {
         let dir = self.forward + horizontal * self.right_edge + vertical * self.top_edge;
         Ray::new(self.origin, dir.normalize())
     }
+}
+
+/// Why [`Camera::try_new`] can build no camera for a spec, in the words of
+/// the scene file's `[camera]` keys.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    #[error(
+        "camera.look_at = {look_at}: the same point as camera.position; the camera must look \
+         at another point"
+    )]
+    LooksAtItself { look_at: Vec3 },
+    #[error(
+        "camera.look_at - camera.position = {view}: not a finite direction (f32 \
+         overflows)"
+    )]
+    ViewOverflows { view: Vec3 },
+    #[error("camera.up = {up}: must be a finite, non-zero direction")]
+    NoUp { up: Vec3 },
+    #[error("camera.up = {up}: must not be parallel to the viewing direction {view}")]
+    UpAlongView { up: Vec3, view: Vec3 },
+    #[error("camera.up = {up}: no sideways axis")]
+    NoSideways { up: Vec3 },
 }
 
 /// `v` scaled to unit length, or `None` when it is zero or not finite.

@@ -17,8 +17,6 @@
 
 use std::fmt::Write as _;
 
-use anyhow::Result;
-
 use crate::effects::Effects;
 use crate::render::Rendered;
 use crate::scene::{FresnelModel, OffsetRule, SphereFormula, TriangleTest};
@@ -236,18 +234,30 @@ pub struct ImageError {
     pub share_off: f64,
 }
 
+/// Why a sweep stopped: a render refused, or an image that cannot be
+/// measured against its reference.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CostError {
+    #[error(transparent)]
+    Render(#[from] crate::RenderError),
+    /// The two buffers' lengths, in bytes of RGB.
+    #[error(
+        "cannot measure the error of an image of {image} bytes of RGB against a \
+         reference of {reference}: only images of the same size can be compared"
+    )]
+    SizeMismatch { image: usize, reference: usize },
+}
+
 impl ImageError {
     /// The error of `image` against `reference` (same size, RGB8), with the
     /// metrics of `raylab diff` at a threshold of 1 code. Buffers of
     /// different sizes are an error naming both.
-    pub fn between(image: &[u8], reference: &[u8]) -> anyhow::Result<ImageError> {
+    pub fn between(image: &[u8], reference: &[u8]) -> Result<ImageError, CostError> {
         if image.len() != reference.len() || image.len() % 3 != 0 {
-            anyhow::bail!(
-                "cannot measure the error of an image of {} bytes of RGB against a \
-                 reference of {}: only images of the same size can be compared",
-                image.len(),
-                reference.len()
-            );
+            return Err(CostError::SizeMismatch {
+                image: image.len(),
+                reference: reference.len(),
+            });
         }
         let one_code = crate::diff::Criteria {
             threshold: 1,
@@ -416,7 +426,7 @@ pub fn render_count(config: &CostConfig) -> u64 {
 pub fn run<C: crate::Chapters>(
     config: &CostConfig,
     progress: Option<&indicatif::ProgressBar>,
-) -> anyhow::Result<CostReport> {
+) -> Result<CostReport, CostError> {
     let far_scene = far_sphere_scene();
     let chapter = config.chapter;
     let repeats = config.repeats.max(1);
@@ -478,7 +488,7 @@ pub fn run<C: crate::Chapters>(
     };
     let mut rows = references
         .iter()
-        .map(|(far_sphere, rendered)| -> anyhow::Result<Measurement> {
+        .map(|(far_sphere, rendered)| -> Result<Measurement, CostError> {
             let label = if *far_sphere {
                 "reference, far sphere"
             } else {
@@ -494,7 +504,7 @@ pub fn run<C: crate::Chapters>(
             row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
             Ok(row)
         })
-        .collect::<anyhow::Result<Vec<Measurement>>>()?;
+        .collect::<Result<Vec<Measurement>, CostError>>()?;
     // Repeats go round the whole sweep rather than one setting at a time:
     // when the machine gets busier or quieter mid-sweep, every setting's
     // median sees the same mix of conditions.
@@ -709,8 +719,8 @@ impl CostReport {
     /// Error against time, both on log scales, one colour per knob, the
     /// Pareto front of the main scene joined by a line, as SVG. Settings
     /// identical to the reference (RMSE 0) sit on the bottom edge.
-    pub fn svg(&self) -> Result<String> {
-        plot_svg(self).map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))
+    pub fn svg(&self) -> Result<String, crate::plots::PlotError> {
+        plot_svg(self).map_err(crate::plots::PlotError::drawing)
     }
 }
 

@@ -17,9 +17,72 @@
 //! Two images *pass* when the share of pixels over `T` is at most the allowed
 //! percentage ([`Criteria`]; by default no pixel may be over 2 levels).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use crate::input::InputError;
+use crate::output::OutputError;
+
+/// Why an image was not read, two images not compared, or a heatmap not
+/// drawn. Each message is whole, the decoder's reason included.
+#[derive(Debug, thiserror::Error)]
+pub enum DiffError {
+    /// Missing, not a regular file, too large, or declaring a size over
+    /// [`crate::input`]'s limits.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    #[error("not a PNG file (it does not start with the PNG signature)")]
+    NotPng,
+    #[error("corrupted PNG: {0}")]
+    CorruptedHeader(png::DecodingError),
+    #[error("corrupted PNG: {0}")]
+    Corrupted(image::ImageError),
+    /// The decoder's own guard, worded as the limit it is.
+    #[error(
+        "{width}x{height} pixels: decoding needs more memory than raylab's image size \
+         limit allows ({} bytes): {limit}",
+        2 * crate::input::MAX_DECODED_BYTES
+    )]
+    DecodeLimit {
+        width: u32,
+        height: u32,
+        limit: image::error::LimitError,
+    },
+    /// The PNG at `path` does not decode.
+    #[error("{}: {error}", path.display())]
+    InFile {
+        path: PathBuf,
+        error: Box<DiffError>,
+    },
+    /// `names` say what the images are ("student", "reference"); the sizes
+    /// are written `WxH`.
+    #[error(
+        "{} is {} but {} is {}: only images of the same size can be compared",
+        names.0,
+        sizes.0,
+        names.1,
+        sizes.1
+    )]
+    SizeMismatch {
+        names: (String, String),
+        sizes: (String, String),
+    },
+    #[error("{} and {}: no pixels to compare", names.0, names.1)]
+    NoPixels { names: (String, String) },
+    /// The base image is not the one compared: `base_size` is written `WxH`.
+    #[error(
+        "cannot draw a heatmap: the comparison is of {width}x{height} pixels \
+         ({differences} differences) but the base image is {base_size} ({base_bytes} bytes of RGB)"
+    )]
+    HeatmapMismatch {
+        width: u32,
+        height: u32,
+        differences: usize,
+        base_size: String,
+        base_bytes: usize,
+    },
+    #[error("cannot draw a heatmap: {0}")]
+    HeatmapTooLarge(InputError),
+}
 
 /// An 8-bit RGB image, row by row from the top.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -39,29 +102,31 @@ impl Image {
     /// Errors name the file: missing or unreadable, not a regular file (a
     /// FIFO or a device is never read), over the size limits of
     /// [`crate::input`], not a PNG at all, or a PNG whose data is damaged.
-    pub fn load_png(path: &Path) -> Result<Image> {
+    pub fn load_png(path: &Path) -> Result<Image, DiffError> {
         Image::read_png(path, crate::input::Links::Follow)
     }
 
     /// [`Image::load_png`], saying whether `path` may be a symbolic link.
-    pub fn read_png(path: &Path, links: crate::input::Links) -> Result<Image> {
+    pub fn read_png(path: &Path, links: crate::input::Links) -> Result<Image, DiffError> {
         let bytes =
             crate::input::read_bounded(path, crate::input::MAX_PNG_FILE_BYTES, "PNG", links)?;
-        Image::decode_png(&bytes).with_context(|| path.display().to_string())
+        Image::decode_png(&bytes).map_err(|error| DiffError::InFile {
+            path: path.to_path_buf(),
+            error: Box::new(error),
+        })
     }
 
     /// Decodes PNG bytes (see [`Image::load_png`]). The size the PNG
     /// declares is checked against [`crate::input::check_image_size`]
     /// before any pixel is decoded: a small file can declare a huge image.
-    pub fn decode_png(bytes: &[u8]) -> Result<Image> {
+    pub fn decode_png(bytes: &[u8]) -> Result<Image, DiffError> {
         if !bytes.starts_with(&PNG_SIGNATURE) {
-            bail!("not a PNG file (it does not start with the PNG signature)");
+            return Err(DiffError::NotPng);
         }
-        let corrupted = |error: &dyn std::fmt::Display| anyhow::anyhow!("corrupted PNG: {error}");
         let mut header = png::Decoder::new(std::io::Cursor::new(bytes));
         let info = header
             .read_header_info()
-            .map_err(|error| corrupted(&error))?;
+            .map_err(DiffError::CorruptedHeader)?;
         let (width, height) = (info.width, info.height);
         crate::input::check_image_size(width, height)?;
         // A second guard inside the decoder; the check above is the one
@@ -77,14 +142,12 @@ impl Image {
             image::codecs::png::PngDecoder::with_limits(std::io::Cursor::new(bytes), limits)
                 .and_then(image::DynamicImage::from_decoder)
                 .map_err(|error| match error {
-                    image::ImageError::Limits(limit) => anyhow::anyhow!(
-                        "{}x{} pixels: decoding needs more memory than raylab's image size \
-                     limit allows ({} bytes): {limit}",
+                    image::ImageError::Limits(limit) => DiffError::DecodeLimit {
                         width,
                         height,
-                        2 * crate::input::MAX_DECODED_BYTES
-                    ),
-                    other => corrupted(&other),
+                        limit,
+                    },
+                    other => DiffError::Corrupted(other),
                 })?;
         // `into_rgb8` keeps an RGB8 buffer as it is instead of copying it.
         let rgb = decoded.into_rgb8();
@@ -97,12 +160,12 @@ impl Image {
 
     /// The image encoded as a PNG file's bytes; an error, not a panic, when
     /// the pixels do not match the size.
-    pub fn encode_png(&self) -> Result<Vec<u8>> {
+    pub fn encode_png(&self) -> Result<Vec<u8>, OutputError> {
         crate::output::encode_png(self.width, self.height, &self.rgb)
     }
 
     /// Writes the image as a PNG, atomically.
-    pub fn write_png(&self, path: &Path) -> Result<()> {
+    pub fn write_png(&self, path: &Path) -> Result<(), OutputError> {
         crate::output::write_png(path, self.width, self.height, &self.rgb)
     }
 
@@ -195,19 +258,17 @@ pub fn compare(
     b: &Image,
     criteria: Criteria,
     names: (&str, &str),
-) -> Result<Comparison> {
+) -> Result<Comparison, DiffError> {
+    let names = || (names.0.to_string(), names.1.to_string());
     if (a.width, a.height) != (b.width, b.height) {
-        bail!(
-            "{} is {} but {} is {}: only images of the same size can be compared",
-            names.0,
-            a.size(),
-            names.1,
-            b.size()
-        );
+        return Err(DiffError::SizeMismatch {
+            names: names(),
+            sizes: (a.size(), b.size()),
+        });
     }
     let pixels = u64::from(a.width) * u64::from(a.height);
     if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
-        bail!("{} and {}: no pixels to compare", names.0, names.1);
+        return Err(DiffError::NoPixels { names: names() });
     }
     Ok(compare_pixels(&a.rgb, &b.rgb, a.width, criteria))
 }
@@ -322,7 +383,7 @@ impl Comparison {
     }
 
     /// The false-colour heatmap (see [`heatmap`]).
-    pub fn heatmap(&self, base: &Image) -> Result<Image> {
+    pub fn heatmap(&self, base: &Image) -> Result<Image, DiffError> {
         heatmap(self, base)
     }
 }
@@ -380,7 +441,7 @@ fn legend_scale(width: u32) -> u32 {
 /// [`crate::input::check_image_size`]: the heatmap then takes the image's
 /// memory plus a legend of at most 68 rows (3.3 MB at the widest), never
 /// more. Anything else is an error naming the sizes.
-pub fn heatmap(comparison: &Comparison, base: &Image) -> Result<Image> {
+pub fn heatmap(comparison: &Comparison, base: &Image) -> Result<Image, DiffError> {
     let m = &comparison.metrics;
     let (width, image_height) = (m.width, m.height);
     let pixels = u64::from(width) * u64::from(image_height);
@@ -388,15 +449,15 @@ pub fn heatmap(comparison: &Comparison, base: &Image) -> Result<Image> {
         || base.rgb.len() as u64 != 3 * pixels
         || comparison.pixel_differences.len() as u64 != pixels
     {
-        bail!(
-            "cannot draw a heatmap: the comparison is of {width}x{image_height} pixels \
-             ({} differences) but the base image is {} ({} bytes of RGB)",
-            comparison.pixel_differences.len(),
-            base.size(),
-            base.rgb.len()
-        );
+        return Err(DiffError::HeatmapMismatch {
+            width,
+            height: image_height,
+            differences: comparison.pixel_differences.len(),
+            base_size: base.size(),
+            base_bytes: base.rgb.len(),
+        });
     }
-    crate::input::check_image_size(width, image_height).context("cannot draw a heatmap")?;
+    crate::input::check_image_size(width, image_height).map_err(DiffError::HeatmapTooLarge)?;
     let height = image_height + legend_height(width);
     let mut canvas = Canvas {
         width,
@@ -521,7 +582,7 @@ fn draw_legend(canvas: &mut Canvas, top: u32, max: u8, threshold: u8) {
 }
 
 /// Writes `image` as a PNG at `path` atomically, with a clear error.
-pub fn write_heatmap(image: &Image, path: &Path) -> Result<()> {
+pub fn write_heatmap(image: &Image, path: &Path) -> Result<(), OutputError> {
     image.write_png(path)
 }
 

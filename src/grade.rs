@@ -22,7 +22,6 @@ pub mod code;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
 use base64::Engine as _;
 
 use crate::chapters::{LAST_CHAPTER, REFERENCE_HEIGHT, REFERENCE_WIDTH};
@@ -67,27 +66,105 @@ pub struct Grade {
     pub ignored: Vec<Ignored>,
 }
 
+/// Why a folder or a class could not be graded, a hand-in is unreadable
+/// (its [`Unreadable::reason`]) or a report not made. Each message is whole,
+/// the underlying reason included.
+#[derive(Debug, thiserror::Error)]
+pub enum GradeError {
+    #[error("cannot read the folder {}: {error}", folder.display())]
+    Folder {
+        folder: PathBuf,
+        error: std::io::Error,
+    },
+    /// A hand-in that is not a regular file, or too large.
+    #[error(transparent)]
+    Input(#[from] crate::input::InputError),
+    /// A hand-in or a reference that does not decode, or images that cannot
+    /// be compared.
+    #[error(transparent)]
+    Image(#[from] crate::diff::DiffError),
+    #[error(
+        "too small to grade: {width}x{height}; hand in at least {MIN_SIDE}x{MIN_SIDE} pixels \
+         (the references are {REFERENCE_WIDTH}x{REFERENCE_HEIGHT})"
+    )]
+    TooSmall { width: u32, height: u32 },
+    #[error(transparent)]
+    Scene(#[from] crate::SceneError),
+    #[error(transparent)]
+    Render(#[from] crate::RenderError),
+    /// `size` is the hand-in's, written `WxH`.
+    #[error("cannot render a reference at {size}: {error}")]
+    ReferenceSize {
+        size: String,
+        error: crate::scene::SettingsError,
+    },
+    /// The chapters do not reproduce the shipped image; `why` says how.
+    #[error("not graded: {MODIFIED_CHAPTERS} ({why})")]
+    Modified { why: String },
+    #[error("there is no chapter {0}")]
+    NoSuchChapter(u8),
+    #[error("raylab's shipped reference of chapter {chapter}: {error}")]
+    Shipped {
+        chapter: u8,
+        error: crate::diff::DiffError,
+    },
+    #[error(transparent)]
+    Output(#[from] crate::output::OutputError),
+    /// The command that runs a workspace's check could not start.
+    #[error("cannot run {} in {}: {error}", cargo.display(), workspace.display())]
+    Run {
+        cargo: PathBuf,
+        workspace: PathBuf,
+        error: std::io::Error,
+    },
+}
+
+/// The error for reading the folder `folder`, for `map_err`.
+fn folder_error(folder: &Path) -> impl FnOnce(std::io::Error) -> GradeError + '_ {
+    move |error| GradeError::Folder {
+        folder: folder.to_path_buf(),
+        error,
+    }
+}
+
 /// The chapter a file name stands for, or why it stands for none.
-pub fn chapter_of(name: &str) -> Result<u8, String> {
+pub fn chapter_of(name: &str) -> Result<u8, NameError> {
     let Some(stem) = name.strip_suffix(".png") else {
         return Err(if name.to_ascii_lowercase().ends_with(".png") {
-            "the extension must be .png in lower case".into()
+            NameError::ExtensionCase
         } else {
-            "not a .png file".into()
+            NameError::NotPng
         });
     };
     let Some(number) = stem.strip_prefix("chapter-") else {
-        return Err("not named chapter-N.png".into());
+        return Err(NameError::NotChapterName);
     };
     if number.is_empty() || !number.bytes().all(|b| b.is_ascii_digit()) {
-        return Err("not named chapter-N.png (N must be a chapter number)".into());
+        return Err(NameError::NotChapterNumber);
     }
     match number.parse::<u8>() {
         Ok(n) if (1..=LAST_CHAPTER).contains(&n) && !number.starts_with('0') => Ok(n),
-        _ => Err(format!(
-            "there is no chapter {number} (chapters are 1 to {LAST_CHAPTER}, no leading zeros)"
-        )),
+        _ => Err(NameError::NoSuchChapter {
+            number: number.to_string(),
+        }),
     }
+}
+
+/// Why a file name stands for no chapter ([`chapter_of`]): the words a
+/// grade report gives for an ignored file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NameError {
+    #[error("the extension must be .png in lower case")]
+    ExtensionCase,
+    #[error("not a .png file")]
+    NotPng,
+    #[error("not named chapter-N.png")]
+    NotChapterName,
+    #[error("not named chapter-N.png (N must be a chapter number)")]
+    NotChapterNumber,
+    /// `number` as written: digits, maybe with leading zeros.
+    #[error("there is no chapter {number} (chapters are 1 to {LAST_CHAPTER}, no leading zeros)")]
+    NoSuchChapter { number: String },
 }
 
 /// Grades the PNGs in `folder` against raylab's references ([`References`]
@@ -100,7 +177,7 @@ pub fn grade(
     against: Option<&Path>,
     criteria: Criteria,
     skip: Option<&Path>,
-) -> Result<Grade> {
+) -> Result<Grade, GradeError> {
     grade_with(
         folder,
         &mut References::<crate::Reference>::new(against),
@@ -118,25 +195,21 @@ pub fn grade_with<R: Chapters>(
     references: &mut References<R>,
     criteria: Criteria,
     skip: Option<&Path>,
-) -> Result<Grade> {
-    let entries = std::fs::read_dir(folder)
-        .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+) -> Result<Grade, GradeError> {
+    let entries = std::fs::read_dir(folder).map_err(folder_error(folder))?;
     let skip = skip.and_then(|path| path.canonicalize().ok());
     // A chapter's file, and why it is refused unread, if it is.
     let mut found: Vec<(u8, PathBuf, Option<String>)> = Vec::new();
     let mut ignored = Vec::new();
     for entry in entries {
-        let entry =
-            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().into_owned();
         if skip.is_some() && path.canonicalize().ok() == skip {
             continue;
         }
         // The entry itself, not what a link points to.
-        let kind = entry
-            .file_type()
-            .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let kind = entry.file_type().map_err(folder_error(folder))?;
         if kind.is_symlink() {
             // A link could lead out of the folder (to another student's
             // image, to /etc/passwd): it is never followed.
@@ -156,7 +229,10 @@ pub fn grade_with<R: Chapters>(
         }
         match chapter_of(&name) {
             Ok(chapter) => found.push((chapter, path, None)),
-            Err(reason) => ignored.push(Ignored { name, reason }),
+            Err(reason) => ignored.push(Ignored {
+                name,
+                reason: reason.to_string(),
+            }),
         }
     }
     found.sort();
@@ -208,7 +284,7 @@ fn grade_chapter<R: Chapters>(
     file: &Path,
     references: &mut References<R>,
     criteria: Criteria,
-) -> Result<Graded> {
+) -> Result<Graded, GradeError> {
     // Only a regular file, not a link (even one created after the folder
     // was listed), within the size limits of crate::input.
     let bytes = crate::input::read_bounded(
@@ -219,12 +295,10 @@ fn grade_chapter<R: Chapters>(
     )?;
     let student = Image::decode_png(&bytes)?;
     if student.width < MIN_SIDE || student.height < MIN_SIDE {
-        anyhow::bail!(
-            "too small to grade: {}x{}; hand in at least {MIN_SIDE}x{MIN_SIDE} pixels \
-             (the references are {REFERENCE_WIDTH}x{REFERENCE_HEIGHT})",
-            student.width,
-            student.height
-        );
+        return Err(GradeError::TooSmall {
+            width: student.width,
+            height: student.height,
+        });
     }
     let (reference, reference_source) =
         references.reference(chapter, student.width, student.height)?;
@@ -282,7 +356,12 @@ impl<R: Chapters> References<R> {
 
     /// The reference for chapter `chapter` at `width` x `height`, and where
     /// it came from, for people.
-    pub fn reference(&mut self, chapter: u8, width: u32, height: u32) -> Result<(Image, String)> {
+    pub fn reference(
+        &mut self,
+        chapter: u8,
+        width: u32,
+        height: u32,
+    ) -> Result<(Image, String), GradeError> {
         let size = format!("{width}x{height}");
         let mut why_not_against = None;
         if let Some(folder) = &self.against {
@@ -315,7 +394,10 @@ impl<R: Chapters> References<R> {
         };
         settings
             .validate()
-            .map_err(|message| anyhow::anyhow!("cannot render a reference at {size}: {message}"))?;
+            .map_err(|error| GradeError::ReferenceSize {
+                size: size.clone(),
+                error,
+            })?;
         let rendered = crate::render_with::<R>(&scene, chapter, &settings, None)?;
         let why = match why_not_against {
             Some(why) => format!("; {why}"),
@@ -336,7 +418,7 @@ impl<R: Chapters> References<R> {
     /// exactly as `shipped`. The render of a chapter runs the functions of
     /// every chapter up to it, so this covers all the code that renders the
     /// reference.
-    fn check_chapters(&mut self, chapter: u8, shipped: &Image) -> Result<()> {
+    fn check_chapters(&mut self, chapter: u8, shipped: &Image) -> Result<(), GradeError> {
         let verdict = match self.checked.iter().find(|(c, _)| *c == chapter) {
             Some((_, verdict)) => verdict.clone(),
             None => {
@@ -345,14 +427,14 @@ impl<R: Chapters> References<R> {
                 verdict
             }
         };
-        verdict.map_err(|why| anyhow::anyhow!("not graded: {MODIFIED_CHAPTERS} ({why})"))
+        verdict.map_err(|why| GradeError::Modified { why })
     }
 }
 
 /// `Ok(Ok(()))` when the chapters `R` draw chapter `chapter`'s built-in
 /// scene at the size of `shipped` exactly as `shipped`, `Ok(Err(why))` when
 /// not.
-fn reproduces<R: Chapters>(chapter: u8, shipped: &Image) -> Result<Result<(), String>> {
+fn reproduces<R: Chapters>(chapter: u8, shipped: &Image) -> Result<Result<(), String>, GradeError> {
     let scene = crate::builtin::scene(chapter)?;
     let settings = crate::RenderSettings {
         width: shipped.width,
@@ -377,11 +459,9 @@ fn reproduces<R: Chapters>(chapter: u8, shipped: &Image) -> Result<Result<(), St
 }
 
 /// Chapter `chapter`'s reference image as shipped inside raylab.
-pub fn shipped_reference(chapter: u8) -> Result<Image> {
-    let info = crate::chapters::chapter(chapter)
-        .ok_or_else(|| anyhow::anyhow!("there is no chapter {chapter}"))?;
-    Image::decode_png(info.reference_png)
-        .with_context(|| format!("raylab's shipped reference of chapter {chapter}"))
+pub fn shipped_reference(chapter: u8) -> Result<Image, GradeError> {
+    let info = crate::chapters::chapter(chapter).ok_or(GradeError::NoSuchChapter(chapter))?;
+    Image::decode_png(info.reference_png).map_err(|error| GradeError::Shipped { chapter, error })
 }
 
 impl Graded {
@@ -487,7 +567,7 @@ impl Grade {
     }
 
     /// The self-contained HTML report: every image inlined as a base64 PNG.
-    pub fn html(&self) -> Result<String> {
+    pub fn html(&self) -> Result<String, GradeError> {
         let mut h = String::new();
         let c = &self.criteria;
         let title = format!("raylab grade: {}", self.folder.display());
@@ -736,6 +816,7 @@ mod tests {
         assert!(
             chapter_of("chapter-99.png")
                 .unwrap_err()
+                .to_string()
                 .contains("no chapter 99")
         );
     }

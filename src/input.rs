@@ -20,9 +20,7 @@
 
 use std::fs::File;
 use std::io::Read;
-use std::path::Path;
-
-use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
 
 /// The largest scene file read, in bytes (16 MiB: about 300,000 objects of
 /// TOML, three times [`crate::scene::MAX_OBJECTS`]).
@@ -51,9 +49,58 @@ pub enum Links {
     Refuse,
 }
 
+/// Why a file or an image is not read. Every message about a file names it.
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    #[error("{}: no such file", path.display())]
+    NotFound { path: PathBuf },
+    /// An open, a read or a look at the file's metadata failed. The
+    /// system's reason is part of the message, not a `source`, so the words
+    /// are the same however the error is printed.
+    #[error("cannot read {}: {error}", path.display())]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    /// A link where [`Links::Refuse`] asks for the file itself.
+    #[error("{}: {SYMBOLIC_LINK}", path.display())]
+    SymbolicLink { path: PathBuf },
+    /// `kind` says what it is instead: "a folder", "a FIFO (named pipe)".
+    #[error("{}: is {kind}, not a regular file", path.display())]
+    NotRegular { path: PathBuf, kind: &'static str },
+    /// `size` is the file's length in bytes, or "more than that" when the
+    /// file grew past `max` while it was read.
+    #[error("{}: {size} bytes; raylab reads a {what} of at most {max} bytes", path.display())]
+    TooLarge {
+        path: PathBuf,
+        size: String,
+        what: String,
+        max: u64,
+    },
+    /// `offset` is the byte where the text stops being UTF-8.
+    #[error(
+        "scene file {}: not UTF-8 text (invalid byte at offset {offset})",
+        path.display()
+    )]
+    NotUtf8 { path: PathBuf, offset: usize },
+    #[error(
+        "{width}x{height} pixels is over raylab's image size limit: at most \
+         {MAX_IMAGE_SIDE} pixels a side and {MAX_IMAGE_PIXELS} pixels in all \
+         ({MAX_DECODED_BYTES} bytes decoded)"
+    )]
+    ImageTooLarge { width: u32, height: u32 },
+}
+
+fn io_error(path: &Path) -> impl FnOnce(std::io::Error) -> InputError + '_ {
+    move |error| InputError::Io {
+        path: path.to_path_buf(),
+        error,
+    }
+}
+
 /// Opens `path` for reading if it is a regular file, without blocking on a
 /// FIFO. The error names the file and what it is instead.
-pub fn open_regular(path: &Path, links: Links) -> Result<File> {
+pub fn open_regular(path: &Path, links: Links) -> Result<File, InputError> {
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
     #[cfg(unix)]
@@ -69,21 +116,20 @@ pub fn open_regular(path: &Path, links: Links) -> Result<File> {
     if links == Links::Refuse
         && std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
     {
-        bail!("{}: {}", path.display(), SYMBOLIC_LINK);
+        return Err(InputError::SymbolicLink {
+            path: path.to_path_buf(),
+        });
     }
     let file = options
         .open(path)
-        .map_err(|error| open_error(path, &error, links))?;
+        .map_err(|error| open_error(path, error, links))?;
     // The handle's own metadata: the path may have been replaced since.
-    let metadata = file
-        .metadata()
-        .with_context(|| format!("cannot read {}", path.display()))?;
+    let metadata = file.metadata().map_err(io_error(path))?;
     if !metadata.is_file() {
-        bail!(
-            "{}: is {}, not a regular file",
-            path.display(),
-            kind_of(&metadata)
-        );
+        return Err(InputError::NotRegular {
+            path: path.to_path_buf(),
+            kind: kind_of(&metadata),
+        });
     }
     #[cfg(unix)]
     {
@@ -104,15 +150,16 @@ pub fn open_regular(path: &Path, links: Links) -> Result<File> {
 
 const SYMBOLIC_LINK: &str = "is a symbolic link; only a regular file is read here";
 
-fn open_error(path: &Path, error: &std::io::Error, links: Links) -> anyhow::Error {
+fn open_error(path: &Path, error: std::io::Error, links: Links) -> InputError {
+    let path = path.to_path_buf();
     #[cfg(unix)]
     if links == Links::Refuse && error.raw_os_error() == Some(libc::ELOOP) {
-        return anyhow::anyhow!("{}: {SYMBOLIC_LINK}", path.display());
+        return InputError::SymbolicLink { path };
     }
     let _ = links;
     match error.kind() {
-        std::io::ErrorKind::NotFound => anyhow::anyhow!("{}: no such file", path.display()),
-        _ => anyhow::anyhow!("cannot read {}: {error}", path.display()),
+        std::io::ErrorKind::NotFound => InputError::NotFound { path },
+        _ => InputError::Io { path, error },
     }
 }
 
@@ -144,25 +191,27 @@ fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
 /// Reads the regular file `path`, refusing one over `max` bytes before
 /// reading it (and never reading more than `max` should it grow meanwhile).
 /// `what` names the kind of file in the message ("scene file", "PNG").
-pub fn read_bounded(path: &Path, max: u64, what: &str, links: Links) -> Result<Vec<u8>> {
+pub fn read_bounded(
+    path: &Path,
+    max: u64,
+    what: &str,
+    links: Links,
+) -> Result<Vec<u8>, InputError> {
     let file = open_regular(path, links)?;
-    let too_big = |size: &str| {
-        anyhow::anyhow!(
-            "{}: {size} bytes; raylab reads a {what} of at most {max} bytes",
-            path.display()
-        )
+    let too_big = |size: &str| InputError::TooLarge {
+        path: path.to_path_buf(),
+        size: size.to_string(),
+        what: what.to_string(),
+        max,
     };
-    let length = file
-        .metadata()
-        .with_context(|| format!("cannot read {}", path.display()))?
-        .len();
+    let length = file.metadata().map_err(io_error(path))?.len();
     if length > max {
         return Err(too_big(&length.to_string()));
     }
     let mut bytes = Vec::with_capacity(length as usize);
     file.take(max + 1)
         .read_to_end(&mut bytes)
-        .with_context(|| format!("cannot read {}", path.display()))?;
+        .map_err(io_error(path))?;
     if bytes.len() as u64 > max {
         return Err(too_big("more than that"));
     }
@@ -170,27 +219,20 @@ pub fn read_bounded(path: &Path, max: u64, what: &str, links: Links) -> Result<V
 }
 
 /// Reads a scene file's text (at most [`MAX_SCENE_BYTES`]).
-pub fn read_scene_text(path: &Path) -> Result<String> {
+pub fn read_scene_text(path: &Path) -> Result<String, InputError> {
     let bytes = read_bounded(path, MAX_SCENE_BYTES, "scene file", Links::Follow)?;
-    String::from_utf8(bytes).map_err(|error| {
-        anyhow::anyhow!(
-            "scene file {}: not UTF-8 text (invalid byte at offset {})",
-            path.display(),
-            error.utf8_error().valid_up_to()
-        )
+    String::from_utf8(bytes).map_err(|error| InputError::NotUtf8 {
+        path: path.to_path_buf(),
+        offset: error.utf8_error().valid_up_to(),
     })
 }
 
 /// Refuses an image over the size limits, naming them: called with the
 /// dimensions a PNG declares, before any pixel is decoded.
-pub fn check_image_size(width: u32, height: u32) -> Result<()> {
+pub fn check_image_size(width: u32, height: u32) -> Result<(), InputError> {
     let pixels = u64::from(width) * u64::from(height);
     if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE || pixels > MAX_IMAGE_PIXELS {
-        bail!(
-            "{width}x{height} pixels is over raylab's image size limit: at most \
-             {MAX_IMAGE_SIDE} pixels a side and {MAX_IMAGE_PIXELS} pixels in all \
-             ({MAX_DECODED_BYTES} bytes decoded)"
-        );
+        return Err(InputError::ImageTooLarge { width, height });
     }
     Ok(())
 }

@@ -102,7 +102,7 @@ pub fn count_leaks<C: Chapters>(
 pub fn leaks_of_both_tests<C: Chapters>(
     size: usize,
     repeats: u32,
-) -> anyhow::Result<[LeakCount; 2]> {
+) -> Result<[LeakCount; 2], crate::mesh::MeshError> {
     use crate::course::Textbook;
     let mesh = crate::mesh::generate_closed_mesh(size)?;
     let shapes = triangles(&mesh);

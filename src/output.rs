@@ -1,9 +1,7 @@
 //! Turning linear light into an 8-bit sRGB PNG, hashing it, writing it safely.
 
 use std::io::Write;
-use std::path::Path;
-
-use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
 
 /// Encodes a linear light value as an 8-bit sRGB code.
 ///
@@ -84,18 +82,138 @@ pub fn fnv1a64(bytes: impl IntoIterator<Item = u8>) -> u64 {
     hash
 }
 
+/// Why an image was not encoded or a file not written, or why an output
+/// path is refused before any work. `option` is the command-line option
+/// that names the path (`-o`, `--heatmap`). Each message is whole, the
+/// underlying reason included, and no variant has a `source`: callers print
+/// it with `{}` or `{:#}` alike and a chain never repeats it.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("a {width}x{height} image has no pixels to encode")]
+    NoPixels { width: u32, height: u32 },
+    /// `bytes` of RGB where the size needs `needed`.
+    #[error("{bytes} bytes of RGB for a {width}x{height} image, which needs {needed}")]
+    WrongSize {
+        width: u32,
+        height: u32,
+        bytes: usize,
+        needed: u64,
+    },
+    /// The pixels do not fit the size ([`OutputError::NoPixels`] or
+    /// [`OutputError::WrongSize`]).
+    #[error("cannot encode a PNG: {0}")]
+    Pixels(Box<OutputError>),
+    #[error("cannot encode a PNG: {0}")]
+    Png(png::EncodingError),
+    /// The image for `path` could not be encoded.
+    #[error("cannot write {}: {error}", path.display())]
+    Encode {
+        path: PathBuf,
+        error: Box<OutputError>,
+    },
+    #[error("cannot write {}: {error}", path.display())]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("cannot write {}: it is a folder", path.display())]
+    WriteFolder { path: PathBuf },
+    #[error(
+        "cannot write {}: cannot create a file in {}: {error}",
+        path.display(),
+        folder.display()
+    )]
+    Temporary {
+        path: PathBuf,
+        folder: PathBuf,
+        error: std::io::Error,
+    },
+    #[error(
+        "{option} {}: the file exists and raylab did not write it; \
+         use --force to replace it, or another name",
+        path.display()
+    )]
+    NotRaylabs { option: String, path: PathBuf },
+    #[error("{option} {}: it is a folder", path.display())]
+    IsFolder { option: String, path: PathBuf },
+    #[error("{option} {}: names a folder, not a file (remove the trailing /)", path.display())]
+    NamesFolder { option: String, path: PathBuf },
+    #[error("{option} {}: the folder {} does not exist", path.display(), folder.display())]
+    NoFolder {
+        option: String,
+        path: PathBuf,
+        folder: PathBuf,
+    },
+    #[error(
+        "{option} {}: exists and is not a regular file; raylab writes a new \
+         file and renames it into place, which would replace it",
+        path.display()
+    )]
+    NotRegular { option: String, path: PathBuf },
+    #[error(
+        "{option} {}: the file exists and is read-only; raylab does not replace \
+         it without --force (or make it writable, or choose another name)",
+        path.display()
+    )]
+    ReadOnly { option: String, path: PathBuf },
+    /// The probe file in `folder` could not be created.
+    #[error(
+        "{option} {}: cannot create a file in {}: {error}",
+        path.display(),
+        folder.display()
+    )]
+    NotWritable {
+        option: String,
+        path: PathBuf,
+        folder: PathBuf,
+        error: std::io::Error,
+    },
+    #[error(
+        "{option} {}: that is an input ({}); writing it would destroy it",
+        path.display(),
+        input.display()
+    )]
+    IsInput {
+        option: String,
+        path: PathBuf,
+        input: PathBuf,
+    },
+    /// `other` is the option of the earlier output naming the same file.
+    #[error(
+        "{option} {} and {other} name the same file: one would overwrite the other",
+        path.display()
+    )]
+    SameFile {
+        option: String,
+        path: PathBuf,
+        other: String,
+    },
+    #[error("{option} {}: raylab writes PNG images; give a name ending in .png", path.display())]
+    NotPngName { option: String, path: PathBuf },
+}
+
+/// The error for writing `path`, for `map_err`.
+fn write_error(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |error| OutputError::Io {
+        path: path.to_path_buf(),
+        error,
+    }
+}
+
 /// Checks that `rgb` holds exactly the pixels of a `width` x `height` RGB8
 /// image, so that encoding reports a mismatch instead of panicking.
-pub fn check_rgb_size(width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+pub fn check_rgb_size(width: u32, height: u32, rgb: &[u8]) -> Result<(), OutputError> {
     if width == 0 || height == 0 {
-        bail!("a {width}x{height} image has no pixels to encode");
+        return Err(OutputError::NoPixels { width, height });
     }
     let needed = 3 * u64::from(width) * u64::from(height);
     if rgb.len() as u64 != needed {
-        bail!(
-            "{} bytes of RGB for a {width}x{height} image, which needs {needed}",
-            rgb.len()
-        );
+        return Err(OutputError::WrongSize {
+            width,
+            height,
+            bytes: rgb.len(),
+            needed,
+        });
     }
     Ok(())
 }
@@ -108,8 +226,8 @@ const MARKER_TEXT: &str = "raylab";
 
 /// Encodes an RGB8 image as PNG bytes, marked as raylab's (see
 /// [`is_raylab_png`]). A buffer of the wrong size is an error.
-pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>> {
-    check_rgb_size(width, height, rgb).context("cannot encode a PNG")?;
+pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, OutputError> {
+    check_rgb_size(width, height, rgb).map_err(|error| OutputError::Pixels(Box::new(error)))?;
     let mut bytes = Vec::new();
     let mut encoder = png::Encoder::new(&mut bytes, width, height);
     encoder.set_color(png::ColorType::Rgb);
@@ -123,15 +241,17 @@ pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>> {
             writer.write_image_data(rgb)?;
             writer.finish()
         });
-    encoded.context("cannot encode a PNG")?;
+    encoded.map_err(OutputError::Png)?;
     Ok(bytes)
 }
 
 /// Writes an RGB8 image as PNG at `path`, atomically (see
 /// [`write_atomically`]); a buffer of the wrong size is an error.
-pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    let bytes = encode_png(width, height, rgb)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), OutputError> {
+    let bytes = encode_png(width, height, rgb).map_err(|error| OutputError::Encode {
+        path: path.to_path_buf(),
+        error: Box::new(error),
+    })?;
     write_files(&[(path, &bytes)])
 }
 
@@ -171,15 +291,14 @@ pub fn is_raylab_png(path: &Path) -> bool {
 /// Refuses to replace an existing image raylab did not write, unless
 /// `force`: `raylab render -o` must not destroy a student's own picture
 /// (or any other file) by accident. A missing file is fine.
-pub fn check_replaceable_png(option: &str, path: &Path, force: bool) -> Result<()> {
+pub fn check_replaceable_png(option: &str, path: &Path, force: bool) -> Result<(), OutputError> {
     if force || std::fs::symlink_metadata(path).is_err() || is_raylab_png(path) {
         return Ok(());
     }
-    bail!(
-        "{option} {}: the file exists and raylab did not write it; \
-         use --force to replace it, or another name",
-        path.display()
-    )
+    Err(OutputError::NotRaylabs {
+        option: option.to_string(),
+        path: path.to_path_buf(),
+    })
 }
 
 /// Checks, before any work is done, that every output can be written and
@@ -196,49 +315,55 @@ pub fn check_replaceable_png(option: &str, path: &Path, force: bool) -> Result<(
 /// equal to the scene file, a heatmap written over the image it came from,
 /// a report over a student's PNG). `outputs` pairs each path with the
 /// option that names it, for the message.
-pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)], force: bool) -> Result<()> {
+pub fn check_outputs(
+    inputs: &[&Path],
+    outputs: &[(&str, &Path)],
+    force: bool,
+) -> Result<(), OutputError> {
     for (index, &(option, path)) in outputs.iter().enumerate() {
+        let option_text = option.to_string();
+        let path_buf = path.to_path_buf();
         if path.is_dir() {
-            bail!("{option} {}: it is a folder", path.display());
+            return Err(OutputError::IsFolder {
+                option: option_text,
+                path: path_buf,
+            });
         }
         if ends_in_separator(path) || path.file_name().is_none() {
-            bail!(
-                "{option} {}: names a folder, not a file (remove the trailing /)",
-                path.display()
-            );
+            return Err(OutputError::NamesFolder {
+                option: option_text,
+                path: path_buf,
+            });
         }
         let folder = folder_of(path);
         if !folder.is_dir() {
-            bail!(
-                "{option} {}: the folder {} does not exist",
-                path.display(),
-                folder.display()
-            );
+            return Err(OutputError::NoFolder {
+                option: option_text,
+                path: path_buf,
+                folder: folder.to_path_buf(),
+            });
         }
         if let Ok(existing) = std::fs::metadata(path) {
             if !existing.is_file() {
-                bail!(
-                    "{option} {}: exists and is not a regular file; raylab writes a new \
-                     file and renames it into place, which would replace it",
-                    path.display()
-                );
+                return Err(OutputError::NotRegular {
+                    option: option_text,
+                    path: path_buf,
+                });
             }
             if existing.permissions().readonly() && !force {
-                bail!(
-                    "{option} {}: the file exists and is read-only; raylab does not replace \
-                     it without --force (or make it writable, or choose another name)",
-                    path.display()
-                );
+                return Err(OutputError::ReadOnly {
+                    option: option_text,
+                    path: path_buf,
+                });
             }
         }
         let probe = temporary_file_builder()
             .tempfile_in(folder)
-            .with_context(|| {
-                format!(
-                    "{option} {}: cannot create a file in {}",
-                    path.display(),
-                    folder.display()
-                )
+            .map_err(|error| OutputError::NotWritable {
+                option: option.to_string(),
+                path: path.to_path_buf(),
+                folder: folder.to_path_buf(),
+                error,
             })?;
         // Registered like any temporary file: a signal now must not leave it.
         let registration = crate::cleanup::register(probe.path());
@@ -246,20 +371,21 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[(&str, &Path)], force: bool) -
         drop(registration);
         let identity = file_identity(path);
         if let Some(input) = inputs.iter().find(|input| file_identity(input) == identity) {
-            bail!(
-                "{option} {}: that is an input ({}); writing it would destroy it",
-                path.display(),
-                input.display()
-            );
+            return Err(OutputError::IsInput {
+                option: option_text,
+                path: path_buf,
+                input: input.to_path_buf(),
+            });
         }
         if let Some((other, _)) = outputs[..index]
             .iter()
             .find(|(_, other)| file_identity(other) == identity)
         {
-            bail!(
-                "{option} {} and {other} name the same file: one would overwrite the other",
-                path.display()
-            );
+            return Err(OutputError::SameFile {
+                option: option_text,
+                path: path_buf,
+                other: other.to_string(),
+            });
         }
     }
     Ok(())
@@ -276,15 +402,15 @@ fn ends_in_separator(path: &Path) -> bool {
 
 /// Refuses an image name that does not end in `.png`: raylab writes PNG
 /// only, and PNG bytes under `render.jpg` would mislead every viewer.
-pub fn check_png_name(option: &str, path: &Path) -> Result<()> {
+pub fn check_png_name(option: &str, path: &Path) -> Result<(), OutputError> {
     let is_png = path
         .extension()
         .is_some_and(|extension| extension.eq_ignore_ascii_case("png"));
     if !is_png {
-        anyhow::bail!(
-            "{option} {}: raylab writes PNG images; give a name ending in .png",
-            path.display()
-        );
+        return Err(OutputError::NotPngName {
+            option: option.to_string(),
+            path: path.to_path_buf(),
+        });
     }
     Ok(())
 }
@@ -325,11 +451,11 @@ fn temporary_file_builder() -> tempfile::Builder<'static, 'static> {
 /// folder, which is renamed over `path` only once complete. A failed or
 /// interrupted write never leaves a partial file at `path`, nor (see
 /// [`crate::cleanup`]) the temporary file. A file replaced keeps its
-/// permissions.
+/// permissions. An error of `write` is one writing `path`.
 pub fn write_atomically(
     path: &Path,
-    write: impl FnOnce(&mut dyn Write) -> Result<()>,
-) -> Result<()> {
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), OutputError> {
     let staged = stage(path, write)?;
     crate::cleanup::test_pause_before_rename();
     staged.commit()
@@ -341,13 +467,10 @@ pub fn write_atomically(
 /// leaves every old file as it was. (A rename failing after another one
 /// succeeded cannot be undone; renames within a folder fail only if the
 /// folder changes under us.)
-pub fn write_files(files: &[(&Path, &[u8])]) -> Result<()> {
+pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), OutputError> {
     let mut staged = Vec::with_capacity(files.len());
     for &(path, bytes) in files {
-        staged.push(stage(path, |file| {
-            file.write_all(bytes)
-                .with_context(|| format!("cannot write {}", path.display()))
-        })?);
+        staged.push(stage(path, |file| file.write_all(bytes))?);
     }
     crate::cleanup::test_pause_before_rename();
     for file in staged {
@@ -364,19 +487,22 @@ struct Staged {
     path: std::path::PathBuf,
 }
 
-fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<Staged> {
+fn stage(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<Staged, OutputError> {
     let folder = folder_of(path);
     if path.is_dir() {
-        bail!("cannot write {}: it is a folder", path.display());
+        return Err(OutputError::WriteFolder {
+            path: path.to_path_buf(),
+        });
     }
     let temporary = temporary_file_builder()
         .tempfile_in(folder)
-        .with_context(|| {
-            format!(
-                "cannot write {}: cannot create a file in {}",
-                path.display(),
-                folder.display()
-            )
+        .map_err(|error| OutputError::Temporary {
+            path: path.to_path_buf(),
+            folder: folder.to_path_buf(),
+            error,
         })?;
     let registration = crate::cleanup::register(temporary.path());
     let mut staged = Staged {
@@ -386,10 +512,8 @@ fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Resul
     };
     {
         let mut buffered = std::io::BufWriter::new(staged.temporary.as_file_mut());
-        write(&mut buffered)?;
-        buffered
-            .flush()
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        write(&mut buffered).map_err(write_error(path))?;
+        buffered.flush().map_err(write_error(path))?;
     }
     // A file replaced keeps its mode: a read-only image replaced with
     // --force stays read-only, a private one private.
@@ -400,13 +524,13 @@ fn stage(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Resul
             .temporary
             .as_file()
             .set_permissions(existing.permissions())
-            .with_context(|| format!("cannot write {}", path.display()))?;
+            .map_err(write_error(path))?;
     }
     Ok(staged)
 }
 
 impl Staged {
-    fn commit(self) -> Result<()> {
+    fn commit(self) -> Result<(), OutputError> {
         let Staged {
             temporary,
             _registration,
@@ -415,7 +539,7 @@ impl Staged {
         temporary
             .persist(&path)
             .map_err(|error| error.error)
-            .with_context(|| format!("cannot write {}", path.display()))?;
+            .map_err(write_error(&path))?;
         Ok(())
     }
 }
@@ -432,7 +556,7 @@ mod tests {
         let image = folder.path().join("image.png");
         let ok = check_outputs(&[&input], &[("-o", &image)], false);
         assert!(ok.is_ok(), "{ok:?}");
-        let message = |result: Result<()>| format!("{:#}", result.expect_err("refused"));
+        let message = |result: Result<(), OutputError>| result.expect_err("refused").to_string();
         // Another spelling of the input is still the input.
         let respelled = folder.path().join(".").join("scene.toml");
         assert!(message(check_outputs(&[&input], &[("-o", &respelled)], false)).contains("input"));

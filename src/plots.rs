@@ -2,9 +2,20 @@
 //! drift from the code. Each is checked in under `docs/images/` and a test
 //! regenerates it (see the lesson that shows it).
 
-use anyhow::Result;
-
 use crate::{fresnel, schlick};
+
+/// Why a plot could not be drawn: the plotting library's own reason, which
+/// is text (its backends' errors share no type).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("cannot draw the plot: {0}")]
+pub struct PlotError(pub String);
+
+impl PlotError {
+    /// The error of a drawing function of this crate, for `map_err`.
+    pub fn drawing(error: Box<dyn std::error::Error>) -> PlotError {
+        PlotError(error.to_string())
+    }
+}
 
 /// The indices of the Schlick plot: water, glass, diamond.
 pub const SCHLICK_INDICES: [f32; 3] = [1.33, 1.5, 2.4];
@@ -13,8 +24,8 @@ pub const SCHLICK_INDICES: [f32; 3] = [1.33, 1.5, 2.4];
 /// angle of incidence (0 to 90 degrees, every 0.1), for each index of
 /// [`SCHLICK_INDICES`], entering (from air) and leaving (into air), as SVG
 /// (chapter 9, `docs/images/schlick-error.svg`).
-pub fn schlick_error_svg() -> Result<String> {
-    draw_schlick_error().map_err(|error| anyhow::anyhow!("cannot draw the plot: {error}"))
+pub fn schlick_error_svg() -> Result<String, PlotError> {
+    draw_schlick_error().map_err(PlotError::drawing)
 }
 
 /// `(degrees, schlick - fresnel)` from `n1` into `n2`.

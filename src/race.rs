@@ -1,4 +1,4 @@
-//! The speed race of issue 14: our intersector against Embree on the same
+//! The speed race: our intersector against Embree on the same
 //! rays, for the figures of the README and lesson 11 (rays per second on one
 //! thread, median of 5; build times; peak memory). Computing only: the
 //! caller prints.
@@ -269,6 +269,27 @@ pub fn rays_at_the_model(count: usize) -> Vec<CastRay> {
         .collect()
 }
 
+/// Why a race on a model did not run. Each message is whole.
+#[derive(Debug, thiserror::Error)]
+pub enum RaceError {
+    #[error(transparent)]
+    Mesh(#[from] crate::mesh::MeshError),
+    #[error(transparent)]
+    Embree(#[from] EmbreeError),
+    #[error(transparent)]
+    Scene(#[from] crate::SceneError),
+    #[error(transparent)]
+    Render(#[from] crate::RenderError),
+    #[error(transparent)]
+    TooManyRays(#[from] crate::record::TooManyRays),
+    #[error("chapter 11 has no built-in scene")]
+    NoScene,
+    /// The built-in scene's model is not written `model`, so it cannot be
+    /// resized by replacing that text.
+    #[error("chapter 11's built-in scene no longer has a model of `{model}` triangles to resize")]
+    NoModel { model: &'static str },
+}
+
 /// [`race`] of chapter 11's tree (SAH, default options; its build timed)
 /// against Embree over [`rays_at_the_model`], on the generated model of
 /// about `triangles` triangles.
@@ -276,7 +297,7 @@ pub fn race_on_generated_mesh(
     triangles: usize,
     rays: usize,
     runs: usize,
-) -> anyhow::Result<MeshRace> {
+) -> Result<MeshRace, RaceError> {
     use crate::Chapters;
     use crate::course::Objects;
     let mesh = crate::mesh::generate_closed_mesh(triangles)?;
@@ -347,14 +368,12 @@ pub fn race_on_generated_mesh(
 /// `raylab crosscheck` (the plane as a large quad). The build times are
 /// ours for the whole stage, Embree's for its scene; memory is not
 /// measured here ([`race_on_generated_mesh`] does, on the model alone).
-pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> anyhow::Result<MeshRace> {
-    use anyhow::Context;
+pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> Result<MeshRace, RaceError> {
     const MODEL: &str = "generated = 20000";
-    let text = crate::builtin::scene_text(11).context("chapter 11 has no built-in scene")?;
-    anyhow::ensure!(
-        text.contains(MODEL),
-        "chapter 11's built-in scene no longer has a model of `{MODEL}` triangles to resize"
-    );
+    let text = crate::builtin::scene_text(11).ok_or(RaceError::NoScene)?;
+    if !text.contains(MODEL) {
+        return Err(RaceError::NoModel { model: MODEL });
+    }
     let text = text.replacen(MODEL, &format!("generated = {triangles}"), 1);
     let scene = crate::Scene::parse(&text, "chapter 11's built-in scene, resized")?;
     let started = Instant::now();

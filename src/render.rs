@@ -147,7 +147,7 @@ impl RayOffset {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RenderError {
     #[error("invalid render settings: {0}")]
-    Settings(String),
+    Settings(crate::scene::SettingsError),
     #[error("there is no chapter {0}; chapters are 1 to {LAST_CHAPTER}")]
     NoSuchChapter(u8),
 }

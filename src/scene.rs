@@ -388,9 +388,42 @@ impl Default for RenderSettings {
     }
 }
 
+/// Why [`RenderSettings::validate`] refuses settings: the value refused and
+/// the limit it breaks, in the words of the scene file's `[render]` keys.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SettingsError {
+    #[error("resolution {width}x{height}: width and height must be between 1 and {MAX_SIDE}")]
+    Side { width: u32, height: u32 },
+    #[error("resolution {width}x{height} has more than {MAX_PIXELS} pixels")]
+    Pixels { width: u32, height: u32 },
+    #[error("samples = {samples}: samples per pixel must be between 1 and {MAX_SAMPLES}")]
+    Samples { samples: u32 },
+    #[error(
+        "{width}x{height} at {samples} samples per pixel is {total} samples: at most \
+         {MAX_IMAGE_SAMPLES} per image; lower the resolution or the samples"
+    )]
+    ImageSamples {
+        width: u32,
+        height: u32,
+        samples: u32,
+        total: u64,
+    },
+    #[error(
+        "samples = {samples}: {sampling:?} sampling needs a square count (1, 4, 9, 16, ...); \
+         use sampling = \"random\" for other counts"
+    )]
+    NotSquare { samples: u32, sampling: Sampling },
+    #[error("max_depth = {max_depth}: at most {MAX_DEPTH}")]
+    Depth { max_depth: u32 },
+    #[error("min_contribution = {min_contribution}: must be a finite number >= 0")]
+    MinContribution { min_contribution: f32 },
+    #[error("fixed_epsilon = {fixed_epsilon}: must be a finite number >= 0")]
+    FixedEpsilon { fixed_epsilon: f32 },
+}
+
 impl RenderSettings {
     /// Checks the settings, whether they came from a file or the command line.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SettingsError> {
         let RenderSettings {
             width,
             height,
@@ -406,48 +439,37 @@ impl RenderSettings {
             fixed_epsilon,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
-            return Err(format!(
-                "resolution {width}x{height}: width and height must be between 1 and {MAX_SIDE}"
-            ));
+            return Err(SettingsError::Side { width, height });
         }
         if u64::from(width) * u64::from(height) > MAX_PIXELS {
-            return Err(format!(
-                "resolution {width}x{height} has more than {MAX_PIXELS} pixels"
-            ));
+            return Err(SettingsError::Pixels { width, height });
         }
         if samples == 0 || samples > MAX_SAMPLES {
-            return Err(format!(
-                "samples = {samples}: samples per pixel must be between 1 and {MAX_SAMPLES}"
-            ));
+            return Err(SettingsError::Samples { samples });
         }
         let total = u64::from(width) * u64::from(height) * u64::from(samples);
         if total > MAX_IMAGE_SAMPLES {
-            return Err(format!(
-                "{width}x{height} at {samples} samples per pixel is {total} samples: at most \
-                 {MAX_IMAGE_SAMPLES} per image; lower the resolution or the samples"
-            ));
+            return Err(SettingsError::ImageSamples {
+                width,
+                height,
+                samples,
+                total,
+            });
         }
         if sampling.needs_square_count() {
             let side = samples.isqrt();
             if side * side != samples {
-                return Err(format!(
-                    "samples = {samples}: {sampling:?} sampling needs a square count (1, 4, 9, 16, ...); \
-                     use sampling = \"random\" for other counts"
-                ));
+                return Err(SettingsError::NotSquare { samples, sampling });
             }
         }
         if max_depth > MAX_DEPTH {
-            return Err(format!("max_depth = {max_depth}: at most {MAX_DEPTH}"));
+            return Err(SettingsError::Depth { max_depth });
         }
         if !(min_contribution >= 0.0 && min_contribution.is_finite()) {
-            return Err(format!(
-                "min_contribution = {min_contribution}: must be a finite number >= 0"
-            ));
+            return Err(SettingsError::MinContribution { min_contribution });
         }
         if !(fixed_epsilon >= 0.0 && fixed_epsilon.is_finite()) {
-            return Err(format!(
-                "fixed_epsilon = {fixed_epsilon}: must be a finite number >= 0"
-            ));
+            return Err(SettingsError::FixedEpsilon { fixed_epsilon });
         }
         Ok(())
     }
@@ -594,9 +616,9 @@ pub struct SceneObject {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The file could not be read: missing, not a regular file, too large,
-    /// not UTF-8 ([`crate::input::read_scene_text`] says which).
-    #[error("{message}")]
-    Read { path: String, message: String },
+    /// not UTF-8 (the error says which, and names the file).
+    #[error(transparent)]
+    Read(#[from] crate::input::InputError),
     #[error("{origin}: {message}")]
     Syntax { origin: String, message: String },
     #[error("{origin}: {message}")]
@@ -608,10 +630,7 @@ impl Scene {
     /// [`crate::input::MAX_SCENE_BYTES`], so a FIFO or `/dev/zero` given as
     /// a scene is refused instead of blocking or filling memory.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
-        let text = crate::input::read_scene_text(path).map_err(|error| SceneError::Read {
-            path: path.display().to_string(),
-            message: format!("{error:#}"),
-        })?;
+        let text = crate::input::read_scene_text(path)?;
         let folder = path.parent().unwrap_or(Path::new(""));
         Scene::parse_in(
             &text,
@@ -833,7 +852,8 @@ impl SceneFile {
         check_point("camera.position", camera.position)?;
         check_point("camera.look_at", camera.look_at)?;
         check_finite("camera.up", camera.up)?;
-        crate::camera::Camera::try_new(&camera, self.render.width, self.render.height)?;
+        crate::camera::Camera::try_new(&camera, self.render.width, self.render.height)
+            .map_err(|error| error.to_string())?;
         if !(camera.fov_degrees > 0.0 && camera.fov_degrees < 180.0) {
             return Err(format!(
                 "camera.fov_degrees = {}: must be between 0 and 180 (exclusive)",

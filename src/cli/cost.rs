@@ -181,7 +181,7 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
                 crate::leaks::LEAK_MESH_SIZES
                     .iter()
                     .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
-                    .collect::<Result<Vec<_>>>()
+                    .collect::<Result<Vec<_>, crate::mesh::MeshError>>()
             })??;
             leak_table(&counts)
         } else {

@@ -7,12 +7,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use anyhow::{Context, Result};
 use base64::Engine as _;
 
 use super::code::{CodeRun, CodeStatus, last_lines, run_check};
 use super::{
-    Grade, Graded, Ignored, References, STYLE, chapter_of, grade_with, html_escape, markdown_escape,
+    Grade, GradeError, Graded, Ignored, References, STYLE, chapter_of, folder_error, grade_with,
+    html_escape, markdown_escape,
 };
 use crate::chapters::LAST_CHAPTER;
 use crate::course::Chapters;
@@ -55,11 +55,10 @@ pub const LINKED_STUDENT_REFUSED: &str = "a symbolic link; a student's folder mu
 /// Whether `folder` holds a class (students' subfolders) rather than one
 /// student's renders: no entry is named like a chapter's PNG, and at least
 /// one is a folder (or a link to one, which is then refused).
-pub fn is_class(folder: &Path) -> Result<bool> {
+pub fn is_class(folder: &Path) -> Result<bool, GradeError> {
     let mut has_folder = false;
     for entry in read_folder(folder)? {
-        let entry =
-            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let entry = entry.map_err(folder_error(folder))?;
         if chapter_of(&entry.file_name().to_string_lossy()).is_ok() {
             return Ok(false);
         }
@@ -70,29 +69,25 @@ pub fn is_class(folder: &Path) -> Result<bool> {
     Ok(has_folder)
 }
 
-fn read_folder(folder: &Path) -> Result<std::fs::ReadDir> {
-    std::fs::read_dir(folder)
-        .with_context(|| format!("cannot read the folder {}", folder.display()))
+fn read_folder(folder: &Path) -> Result<std::fs::ReadDir, GradeError> {
+    std::fs::read_dir(folder).map_err(folder_error(folder))
 }
 
 /// The students' subfolders of `folder`, sorted by name, with links
 /// refused, and the other entries (files) listed as ignored. `skip` lists
 /// files not to list at all (the report and the CSV).
-fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignored>)> {
+fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignored>), GradeError> {
     let skip: Vec<PathBuf> = skip.iter().filter_map(|p| p.canonicalize().ok()).collect();
     let mut students = Vec::new();
     let mut ignored = Vec::new();
     for entry in read_folder(folder)? {
-        let entry =
-            entry.with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().into_owned();
         if path.canonicalize().is_ok_and(|p| skip.contains(&p)) {
             continue;
         }
-        let kind = entry
-            .file_type()
-            .with_context(|| format!("cannot read the folder {}", folder.display()))?;
+        let kind = entry.file_type().map_err(folder_error(folder))?;
         if kind.is_symlink() {
             // A link could lead to another student's folder, or anywhere:
             // it is never followed.
@@ -125,7 +120,7 @@ pub fn grade_class<R: Chapters>(
     references: &mut References<R>,
     criteria: Criteria,
     skip: &[&Path],
-) -> Result<Class> {
+) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
     for student in &mut students {
         if matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
@@ -151,7 +146,7 @@ pub fn grade_class_code(
     timeout: Duration,
     skip: &[&Path],
     progress: &mut dyn FnMut(&str),
-) -> Result<Class> {
+) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
     for student in &mut students {
         if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
@@ -425,7 +420,7 @@ impl Class {
     /// student's, the reference, the heatmap); a passing chapter is one row
     /// of figures, so that the report of a class of 30 at 640x480 stays a
     /// few megabytes instead of a few hundred.
-    pub fn html(&self) -> Result<String> {
+    pub fn html(&self) -> Result<String, GradeError> {
         let mut h = String::new();
         let title = format!("raylab grade: {} (a class)", self.folder.display());
         let _ = write!(
@@ -534,7 +529,7 @@ impl Class {
 }
 
 /// One student's chapters in the class report.
-fn student_renders_html(h: &mut String, grade: &Grade) -> Result<()> {
+fn student_renders_html(h: &mut String, grade: &Grade) -> Result<(), GradeError> {
     h.push_str("<table>\n<tr><th>chapter</th><th>result</th><th>size</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th><th>detail</th></tr>\n");
     for chapter in 1..=LAST_CHAPTER {
         let status = chapter_status(grade, chapter);

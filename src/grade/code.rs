@@ -16,8 +16,6 @@ use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result};
-
 /// The outcome of one workspace's `check`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CodeStatus {
@@ -80,7 +78,7 @@ const OUTPUT_GRACE: Duration = Duration::from_secs(5);
 /// of `$CARGO` if set, else `cargo` from the PATH), killing it and all it
 /// started when `timeout` passes. An error only when the command cannot be
 /// started at all.
-pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun> {
+pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::GradeError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut command = Command::new(&cargo);
     command
@@ -101,12 +99,10 @@ pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun> {
         use std::os::unix::process::CommandExt;
         command.process_group(0);
     }
-    let mut child = command.spawn().with_context(|| {
-        format!(
-            "cannot run {} in {}",
-            std::path::Path::new(&cargo).display(),
-            workspace.display()
-        )
+    let mut child = command.spawn().map_err(|error| super::GradeError::Run {
+        cargo: cargo.clone().into(),
+        workspace: workspace.to_path_buf(),
+        error,
     })?;
     let (sender, receiver) = mpsc::channel();
     let readers = [

@@ -23,7 +23,7 @@ use crate::Vec3;
 
 pub use generate::{MAX_GENERATED_TRIANGLES, closed_mesh_triangle_count, generate_closed_mesh};
 pub use obj::load_obj;
-pub use write::{check_obj_output, is_raylab_obj, write_obj, write_obj_file};
+pub use write::{ObjOutputError, check_obj_output, is_raylab_obj, write_obj, write_obj_file};
 
 /// The largest OBJ file read, in bytes (256 MiB: about 3.3 million triangles
 /// as `raylab mesh` writes them, 82 bytes a triangle with its share of
@@ -117,22 +117,20 @@ impl MeshTransform {
     /// Checks the numbers themselves: all finite, the scale positive (zero
     /// would flatten the model to a point, a negative scale would turn it
     /// inside out), and the translation within the scene's shape limit.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), TransformError> {
         let limit = crate::scene::MAX_SHAPE_COORDINATE;
         if !self.translate.is_finite() || self.translate.abs().max_element() > limit {
-            return Err(format!(
-                "translate = {}: each coordinate must be a number within {limit:e} of the origin",
-                self.translate
-            ));
+            return Err(TransformError::Translate {
+                translate: self.translate,
+            });
         }
         if !(self.scale > 0.0) || !self.scale.is_finite() {
-            return Err(format!("scale = {}: must be a positive number", self.scale));
+            return Err(TransformError::Scale { scale: self.scale });
         }
         if !self.rotate_degrees.is_finite() {
-            return Err(format!(
-                "rotate_degrees = {}: must be numbers",
-                self.rotate_degrees
-            ));
+            return Err(TransformError::Rotate {
+                rotate_degrees: self.rotate_degrees,
+            });
         }
         Ok(())
     }
@@ -166,6 +164,20 @@ impl MeshTransform {
     }
 }
 
+/// Why [`MeshTransform::validate`] refuses a transform, naming the value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TransformError {
+    #[error(
+        "translate = {translate}: each coordinate must be a number within {:e} of the origin",
+        crate::scene::MAX_SHAPE_COORDINATE
+    )]
+    Translate { translate: Vec3 },
+    #[error("scale = {scale}: must be a positive number")]
+    Scale { scale: f32 },
+    #[error("rotate_degrees = {rotate_degrees}: must be numbers")]
+    Rotate { rotate_degrees: Vec3 },
+}
+
 /// A [`MeshTransform`] with its rotation matrix computed once.
 #[derive(Debug, Clone, Copy)]
 pub struct CompiledTransform {
@@ -190,8 +202,8 @@ impl CompiledTransform {
 pub enum MeshError {
     /// The file could not be read: missing, not a regular file, too large.
     /// The message names the file.
-    #[error("{0}")]
-    Read(String),
+    #[error(transparent)]
+    Read(crate::input::InputError),
     #[error("{}: the file is empty; an OBJ model needs vertices (v lines) and faces (f lines)", path.display())]
     Empty { path: PathBuf },
     #[error("{}:{line}: {message}", path.display())]
@@ -206,7 +218,7 @@ pub enum MeshError {
     #[error("{}: {message}", path.display())]
     Invalid { path: PathBuf, message: String },
     #[error("mesh transform: {0}")]
-    Transform(String),
+    Transform(TransformError),
     #[error(
         "{requested} triangles: raylab generates a model of 1 to {MAX_GENERATED_TRIANGLES} triangles"
     )]

@@ -40,7 +40,7 @@ use crate::scene::MAX_SHAPE_COORDINATE;
 pub fn load_obj(path: &Path, transform: &MeshTransform) -> Result<Mesh, MeshError> {
     transform.validate().map_err(MeshError::Transform)?;
     let mut bytes = read_bounded(path, MAX_OBJ_BYTES, "Wavefront OBJ file", Links::Follow)
-        .map_err(|error| MeshError::Read(format!("{error:#}")))?;
+        .map_err(MeshError::Read)?;
     if bytes.is_empty() {
         return Err(MeshError::Empty {
             path: path.to_path_buf(),

@@ -1,11 +1,20 @@
 //! Writing a mesh as an OBJ file.
 
 use std::io::{Read, Write};
-use std::path::Path;
-
-use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
 
 use super::Mesh;
+use crate::output::OutputError;
+
+/// Why [`check_obj_output`] refuses a path for a model.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjOutputError {
+    #[error("{option} {}: raylab writes OBJ models; give a name ending in .obj", path.display())]
+    NotObjName { option: String, path: PathBuf },
+    /// Refused as any output is, or as a file raylab did not write.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
 
 /// The first line of every OBJ file raylab writes: how `raylab mesh` tells
 /// its own earlier output, which it may replace, from a model someone
@@ -81,34 +90,32 @@ pub fn is_raylab_obj(path: &Path) -> bool {
 /// accepts files, not a folder itself, not read-only unless `force`), a
 /// name ending in `.obj`, and no existing file replaced unless raylab wrote
 /// it or `force`. `option` names the path in messages (`-o`).
-pub fn check_obj_output(option: &str, path: &Path, force: bool) -> Result<()> {
+pub fn check_obj_output(option: &str, path: &Path, force: bool) -> Result<(), ObjOutputError> {
     let is_obj = path
         .extension()
         .is_some_and(|extension| extension.eq_ignore_ascii_case("obj"));
     if !is_obj {
-        bail!(
-            "{option} {}: raylab writes OBJ models; give a name ending in .obj",
-            path.display()
-        );
+        return Err(ObjOutputError::NotObjName {
+            option: option.to_string(),
+            path: path.to_path_buf(),
+        });
     }
     crate::output::check_outputs(&[], &[(option, path)], force)?;
     if force || std::fs::symlink_metadata(path).is_err() || is_raylab_obj(path) {
         return Ok(());
     }
-    bail!(
-        "{option} {}: the file exists and raylab did not write it; use --force to replace \
-         it, or another name",
-        path.display()
-    )
+    Err(OutputError::NotRaylabs {
+        option: option.to_string(),
+        path: path.to_path_buf(),
+    }
+    .into())
 }
 
 /// Writes `mesh` to `path` all or nothing: into a temporary file renamed
 /// over `path` only once complete ([`crate::output::write_atomically`]).
 /// Call [`check_obj_output`] first.
-pub fn write_obj_file(path: &Path, mesh: &Mesh) -> Result<()> {
-    crate::output::write_atomically(path, |out| {
-        write_obj(mesh, out).with_context(|| format!("cannot write {}", path.display()))
-    })
+pub fn write_obj_file(path: &Path, mesh: &Mesh) -> Result<(), OutputError> {
+    crate::output::write_atomically(path, |out| write_obj(mesh, out))
 }
 
 #[cfg(test)]
@@ -164,7 +171,9 @@ mod tests {
         // A second run may replace raylab's own file, not someone else's.
         check_obj_output("-o", &path, false).expect("raylab's own file");
         std::fs::write(&path, "v 0 0 0\n").expect("write");
-        let message = format!("{:#}", check_obj_output("-o", &path, false).unwrap_err());
+        let message = check_obj_output("-o", &path, false)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("--force"), "{message}");
         check_obj_output("-o", &path, true).expect("forced");
     }

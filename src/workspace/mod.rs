@@ -20,10 +20,91 @@ pub mod scan;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
-
 use crate::chapters::{CHAPTERS, ChapterInfo};
-use scan::ItemKind;
+use scan::{ItemKind, ScanError};
+
+/// Why a workspace was not made. The folder's problems name it, the I/O
+/// errors name the path; each message is whole (the system's reason
+/// included, no `source`), as [`crate::output::OutputError`]'s are.
+#[derive(Debug, thiserror::Error)]
+pub enum WorkspaceError {
+    #[error("the raylab folder's path is not valid UTF-8")]
+    RaylabPathNotUtf8,
+    /// The checkout a workspace depends on is gone (the binary names where
+    /// it was built).
+    #[error(
+        "this raylab was built from {}, which is no longer there; a workspace depends on \
+         that checkout: rebuild raylab where it now is",
+        dir.display()
+    )]
+    RaylabMissing { dir: PathBuf },
+    /// `action` is what was tried on `path`: "read", "resolve", "create",
+    /// "write in" or "write".
+    #[error("cannot {action} {}: {error}", path.display())]
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("{} exists and is not empty: choose a new folder", dir.display())]
+    NotEmpty { dir: PathBuf },
+    #[error("{} exists and is not a folder", dir.display())]
+    NotAFolder { dir: PathBuf },
+    #[error("the folder needs a name in UTF-8")]
+    NoName,
+    #[error("cannot make a workspace at the root of the file system")]
+    AtRoot,
+    /// `src/chapters/mod.rs` could not be written from the trait.
+    #[error(transparent)]
+    Bridge(#[from] SkeletonError),
+    /// The chapter file at `path` could not be cut into a skeleton.
+    #[error("cannot cut {path} into a skeleton: {error}")]
+    Skeleton { path: String, error: SkeletonError },
+}
+
+/// Why raylab's own sources (a chapter file, `src/course.rs`) could not be
+/// cut into a workspace's files: each names the function or file at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum SkeletonError {
+    /// `file` names the text that was scanned: a path or "trait Chapters".
+    #[error("{file}: {error}")]
+    Scan { file: String, error: ScanError },
+    /// A chapter file that does not scan; the caller names the file.
+    #[error("{0}")]
+    Items(ScanError),
+    #[error("chapter {chapter} lists `{function}`, which is not a method of Chapters")]
+    NotAMethod { chapter: u8, function: String },
+    #[error("`{function}`'s signature: {error}")]
+    Signature { function: String, error: ScanError },
+    #[error("`{function}`'s generics: {error}")]
+    Generics { function: String, error: ScanError },
+    #[error("{path} has no function `{function}`")]
+    NoFunctionIn { path: String, function: String },
+    /// The chapter file being cut lacks a function the registry lists for it.
+    #[error("it has no function `{function}`")]
+    NoFunction { function: String },
+    #[error(
+        "`{function}`'s type parameter `{parameter}` is not the chapters (`Chapters`), and a \
+         workspace cannot name it"
+    )]
+    ForeignTypeParameter { function: String, parameter: String },
+    #[error("src/course.rs has no trait Chapters")]
+    NoChaptersTrait,
+    #[error("a method without a name")]
+    UnnamedMethod,
+}
+
+/// The error for `action` on `path`, for `map_err`.
+fn io_error<'a>(
+    action: &'static str,
+    path: &'a Path,
+) -> impl FnOnce(std::io::Error) -> WorkspaceError + 'a {
+    move |error| WorkspaceError::Io {
+        action,
+        path: path.to_path_buf(),
+        error,
+    }
+}
 
 /// The raylab checkout this binary was built from: the workspace's path
 /// dependency.
@@ -132,11 +213,11 @@ impl Files {
 /// The files of a workspace whose package is `package`, depending on the
 /// raylab at `raylab_dir`: with `todo!()` bodies, or the reference bodies
 /// when `solutions` is set.
-pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files> {
+pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files, WorkspaceError> {
     let lib = package.replace('-', "_");
     let raylab_dir_text = raylab_dir
         .to_str()
-        .context("the raylab folder's path is not valid UTF-8")?;
+        .ok_or(WorkspaceError::RaylabPathNotUtf8)?;
     let mut files = vec![
         (
             "Cargo.toml".to_string(),
@@ -159,8 +240,12 @@ pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files>
         ("tests/check.rs".to_string(), check_tests(&lib)),
     ];
     for info in CHAPTERS {
-        let text = chapter_file(info, raylab_dir_text, solutions)
-            .with_context(|| format!("cannot cut {} into a skeleton", info.code_path()))?;
+        let text = chapter_file(info, raylab_dir_text, solutions).map_err(|error| {
+            WorkspaceError::Skeleton {
+                path: info.code_path(),
+                error,
+            }
+        })?;
         files.push((format!("src/chapters/{}.rs", info.module()), text));
     }
     Ok(Files(files))
@@ -307,7 +392,7 @@ fn check_tests(lib: &str) -> String {
 /// student's type, each method sending its arguments to the function of the
 /// same name in the chapter that the registry says writes it. The
 /// signatures are the trait's own, read from `src/course.rs`.
-fn chapters_mod_rs() -> Result<String> {
+fn chapters_mod_rs() -> Result<String, SkeletonError> {
     let methods = trait_methods()?;
     let mut out = String::from(
         "//! Connects raylab to your chapters (made by `raylab new`; you should not\n\
@@ -335,13 +420,16 @@ fn chapters_mod_rs() -> Result<String> {
     for info in CHAPTERS {
         for &function in info.functions {
             let Some((_, signature)) = methods.iter().find(|(name, _)| name == function) else {
-                bail!(
-                    "chapter {} lists `{function}`, which is not a method of Chapters",
-                    info.number
-                );
+                return Err(SkeletonError::NotAMethod {
+                    chapter: info.number,
+                    function: function.to_string(),
+                });
             };
-            let arguments = scan::parameter_names(signature)
-                .map_err(|error| anyhow::anyhow!("`{function}`'s signature: {error}"))?;
+            let arguments =
+                scan::parameter_names(signature).map_err(|error| SkeletonError::Signature {
+                    function: function.to_string(),
+                    error,
+                })?;
             if !first {
                 out.push('\n');
             }
@@ -364,17 +452,26 @@ fn chapters_mod_rs() -> Result<String> {
 /// Chapters>(tracer: &mut Tracer<C>, ..)`), else `::<Self>`, the student's
 /// type, for each (`smooth_hit_point<'a, C: Chapters>` calls `C`'s other
 /// functions but takes no argument of `C`'s).
-fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String> {
+fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String, SkeletonError> {
     let src = info.source;
-    let items =
-        scan::items(src).map_err(|error| anyhow::anyhow!("{}: {error}", info.code_path()))?;
+    let items = scan::items(src).map_err(|error| SkeletonError::Scan {
+        file: info.code_path(),
+        error,
+    })?;
     let item = items
         .iter()
         .find(|item| item.kind == ItemKind::Fn && item.name.as_deref() == Some(function))
-        .with_context(|| format!("{} has no function `{function}`", info.code_path()))?;
+        .ok_or_else(|| SkeletonError::NoFunctionIn {
+            path: info.code_path(),
+            function: function.to_string(),
+        })?;
     let signature_end = item.body.as_ref().map_or(item.range.end, |body| body.start);
-    let parameters = scan::type_parameters(&src[item.header..signature_end])
-        .map_err(|error| anyhow::anyhow!("`{function}`'s generics: {error}"))?;
+    let parameters = scan::type_parameters(&src[item.header..signature_end]).map_err(|error| {
+        SkeletonError::Generics {
+            function: function.to_string(),
+            error,
+        }
+    })?;
     if parameters.iter().all(|parameter| parameter.in_parameters) {
         return Ok(String::new());
     }
@@ -385,11 +482,10 @@ fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String
             .split(['+', ' '])
             .any(|bound| bound == "Chapters" || bound.ends_with("::Chapters"))
         {
-            bail!(
-                "`{function}`'s type parameter `{}` is not the chapters (`Chapters`), and a \
-                 workspace cannot name it",
-                parameter.name
-            );
+            return Err(SkeletonError::ForeignTypeParameter {
+                function: function.to_string(),
+                parameter: parameter.name.clone(),
+            });
         }
         arguments.push("Self");
     }
@@ -398,9 +494,12 @@ fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String
 
 /// Every method of `Chapters` in `src/course.rs`, as (name, signature from
 /// `fn` to just before its body).
-fn trait_methods() -> Result<Vec<(String, String)>> {
+fn trait_methods() -> Result<Vec<(String, String)>, SkeletonError> {
     let src = COURSE_SOURCE;
-    let items = scan::items(src).map_err(|error| anyhow::anyhow!("src/course.rs: {error}"))?;
+    let items = scan::items(src).map_err(|error| SkeletonError::Scan {
+        file: "src/course.rs".to_string(),
+        error,
+    })?;
     let body = items
         .iter()
         .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
@@ -410,9 +509,12 @@ fn trait_methods() -> Result<Vec<(String, String)>> {
                 .find('{')
                 .map(|open| item.header + open + 1..item.range.end - 1)
         })
-        .context("src/course.rs has no trait Chapters")?;
+        .ok_or(SkeletonError::NoChaptersTrait)?;
     let inner = &src[body];
-    let methods = scan::items(inner).map_err(|error| anyhow::anyhow!("trait Chapters: {error}"))?;
+    let methods = scan::items(inner).map_err(|error| SkeletonError::Scan {
+        file: "trait Chapters".to_string(),
+        error,
+    })?;
     let mut out = Vec::new();
     for method in methods.iter().filter(|item| item.kind == ItemKind::Fn) {
         let signature_end = method
@@ -420,7 +522,7 @@ fn trait_methods() -> Result<Vec<(String, String)>> {
             .as_ref()
             .map_or(method.range.end, |body| body.start);
         let signature = inner[method.header..signature_end].trim_end();
-        let name = method.name.clone().context("a method without a name")?;
+        let name = method.name.clone().ok_or(SkeletonError::UnnamedMethod)?;
         out.push((name, signature.to_string()));
     }
     Ok(out)
@@ -428,9 +530,12 @@ fn trait_methods() -> Result<Vec<(String, String)>> {
 
 /// An import of the public types `src/course.rs` defines itself, and its
 /// `use` lines as a workspace writes them.
-fn course_imports() -> Result<(String, Vec<String>)> {
+fn course_imports() -> Result<(String, Vec<String>), SkeletonError> {
     let src = COURSE_SOURCE;
-    let items = scan::items(src).map_err(|error| anyhow::anyhow!("src/course.rs: {error}"))?;
+    let items = scan::items(src).map_err(|error| SkeletonError::Scan {
+        file: "src/course.rs".to_string(),
+        error,
+    })?;
     let mut lines = Vec::new();
     for item in items.iter().filter(|item| item.kind == ItemKind::Use) {
         let line = &src[item.header..item.range.end];
@@ -457,15 +562,21 @@ fn course_imports() -> Result<(String, Vec<String>)> {
 }
 
 /// One chapter's file in the workspace, cut from the reference.
-pub fn chapter_file(info: &ChapterInfo, raylab_dir: &str, solutions: bool) -> Result<String> {
+pub fn chapter_file(
+    info: &ChapterInfo,
+    raylab_dir: &str,
+    solutions: bool,
+) -> Result<String, SkeletonError> {
     let src = info.source;
-    let items = scan::items(src).map_err(|error| anyhow::anyhow!("{error}"))?;
+    let items = scan::items(src).map_err(SkeletonError::Items)?;
     for &function in info.functions {
         if !items
             .iter()
             .any(|item| item.kind == ItemKind::Fn && item.name.as_deref() == Some(function))
         {
-            bail!("it has no function `{function}`");
+            return Err(SkeletonError::NoFunction {
+                function: function.to_string(),
+            });
         }
     }
     let module = info.module();
@@ -659,70 +770,56 @@ fn student_function(
 /// Creates the workspace in `dir`, which must not exist or be an empty
 /// folder, all or nothing: the files are written in a temporary folder
 /// beside it, then moved in place. Returns the package name.
-pub fn create(dir: &Path, solutions: bool) -> Result<String> {
+pub fn create(dir: &Path, solutions: bool) -> Result<String, WorkspaceError> {
     let raylab_dir = Path::new(RAYLAB_DIR);
     if !raylab_dir.join("Cargo.toml").is_file() {
-        bail!(
-            "this raylab was built from {}, which is no longer there; a workspace depends on \
-             that checkout: rebuild raylab where it now is",
-            raylab_dir.display()
-        );
+        return Err(WorkspaceError::RaylabMissing {
+            dir: raylab_dir.to_path_buf(),
+        });
     }
-    let dir =
-        std::path::absolute(dir).with_context(|| format!("cannot resolve {}", dir.display()))?;
+    let dir = std::path::absolute(dir).map_err(io_error("resolve", dir))?;
     let existing_empty = match std::fs::read_dir(&dir) {
         Ok(mut entries) => {
             if entries.next().is_some() {
-                bail!(
-                    "{} exists and is not empty: choose a new folder",
-                    dir.display()
-                );
+                return Err(WorkspaceError::NotEmpty { dir });
             }
             true
         }
         Err(error) if error.kind() == std::io::ErrorKind::NotFound => false,
         Err(_) if dir.exists() && !dir.is_dir() => {
-            bail!("{} exists and is not a folder", dir.display())
+            return Err(WorkspaceError::NotAFolder { dir });
         }
-        Err(error) => {
-            return Err(error).with_context(|| format!("cannot read {}", dir.display()));
-        }
+        Err(error) => return Err(io_error("read", &dir)(error)),
     };
     // The folder's own name (for `.`, the current folder's).
     let resolved = if existing_empty {
-        dir.canonicalize()
-            .with_context(|| format!("cannot resolve {}", dir.display()))?
+        dir.canonicalize().map_err(io_error("resolve", &dir))?
     } else {
         dir.clone()
     };
     let folder = resolved
         .file_name()
         .and_then(|name| name.to_str())
-        .context("the folder needs a name in UTF-8")?;
+        .ok_or(WorkspaceError::NoName)?;
     let package = package_name(folder);
     let files = files(&package, raylab_dir, solutions)?;
-    let parent = resolved
-        .parent()
-        .context("cannot make a workspace at the root of the file system")?;
-    std::fs::create_dir_all(parent)
-        .with_context(|| format!("cannot create {}", parent.display()))?;
+    let parent = resolved.parent().ok_or(WorkspaceError::AtRoot)?;
+    std::fs::create_dir_all(parent).map_err(io_error("create", parent))?;
     let staging = tempfile::Builder::new()
         .prefix(".raylab-new-")
         .tempdir_in(parent)
-        .with_context(|| format!("cannot write in {}", parent.display()))?;
+        .map_err(io_error("write in", parent))?;
     for (path, text) in &files.0 {
         let path = staging.path().join(path);
         if let Some(folder) = path.parent() {
-            std::fs::create_dir_all(folder)
-                .with_context(|| format!("cannot create {}", folder.display()))?;
+            std::fs::create_dir_all(folder).map_err(io_error("create", folder))?;
         }
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        std::fs::write(&path, text).map_err(io_error("write", &path))?;
     }
     if existing_empty {
         move_into(staging.path(), &resolved)?;
     } else {
-        std::fs::rename(staging.path(), &resolved)
-            .with_context(|| format!("cannot create {}", resolved.display()))?;
+        std::fs::rename(staging.path(), &resolved).map_err(io_error("create", &resolved))?;
         // Renamed: nothing left for the guard to remove.
         let _ = staging.keep();
     }
@@ -731,12 +828,12 @@ pub fn create(dir: &Path, solutions: bool) -> Result<String> {
 
 /// Moves the entries of `staging` into the empty folder `dir` (which may be
 /// the current folder, so it is not replaced), undoing the moves if one fails.
-fn move_into(staging: &Path, dir: &Path) -> Result<()> {
+fn move_into(staging: &Path, dir: &Path) -> Result<(), WorkspaceError> {
     let entries: Vec<PathBuf> = std::fs::read_dir(staging)
-        .with_context(|| format!("cannot read {}", staging.display()))?
+        .map_err(io_error("read", staging))?
         .map(|entry| entry.map(|entry| entry.path()))
         .collect::<std::io::Result<_>>()
-        .with_context(|| format!("cannot read {}", staging.display()))?;
+        .map_err(io_error("read", staging))?;
     let mut moved = Vec::new();
     for from in entries {
         let Some(name) = from.file_name() else {
@@ -747,7 +844,7 @@ fn move_into(staging: &Path, dir: &Path) -> Result<()> {
             for (from, to) in moved.iter().rev() {
                 let _ = std::fs::rename(to, from);
             }
-            return Err(error).with_context(|| format!("cannot write {}", to.display()));
+            return Err(io_error("write", &to)(error));
         }
         moved.push((from, to));
     }

@@ -40,9 +40,53 @@ pub struct Token {
     pub end: usize,
 }
 
+/// Why the scanner refuses a text: what it could not cut, and the byte
+/// offset where that starts when there is one.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ScanError {
+    #[error("unterminated block comment at byte {at}")]
+    UnterminatedComment { at: usize },
+    #[error("unterminated string at byte {at}")]
+    UnterminatedString { at: usize },
+    #[error("bad byte literal at byte {at}")]
+    BadByteLiteral { at: usize },
+    #[error("unterminated raw string at byte {at}")]
+    UnterminatedRawString { at: usize },
+    #[error("unmatched `{bracket}` at byte {at}")]
+    Unmatched { bracket: char, at: usize },
+    /// `bracket` at `at` closes the different `opening` at `opening_at`.
+    #[error("`{bracket}` at byte {at} closes `{opening}` at byte {opening_at}")]
+    Mismatched {
+        bracket: char,
+        at: usize,
+        opening: String,
+        opening_at: usize,
+    },
+    #[error("unclosed bracket at byte {at}")]
+    Unclosed { at: usize },
+    /// A bracket with no partner, in the part of the text named.
+    #[error("unbalanced {0}")]
+    Unbalanced(&'static str),
+    /// The item whose header starts at byte `header` has no `;` or block.
+    #[error("item at byte {header} never ends")]
+    NeverEnds { header: usize },
+    #[error("item at byte {header} is cut short")]
+    CutShort { header: usize },
+    #[error("no `fn` in the signature")]
+    NoFn,
+    #[error("no parameter list")]
+    NoParameterList,
+    #[error("parameter `{pattern}` is not a plain name")]
+    NotPlainName { pattern: String },
+    #[error("unclosed generics")]
+    UnclosedGenerics,
+    #[error("a `const` generic parameter")]
+    ConstGeneric,
+}
+
 /// Splits `src` into tokens. Errors name the byte offset of an unterminated
 /// comment or literal.
-pub fn lex(src: &str) -> Result<Vec<Token>, String> {
+pub fn lex(src: &str) -> Result<Vec<Token>, ScanError> {
     let bytes = src.as_bytes();
     let mut tokens = Vec::new();
     let mut i = 0;
@@ -65,7 +109,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, String> {
                 let mut depth = 0usize;
                 loop {
                     if i + 1 >= bytes.len() {
-                        return Err(format!("unterminated block comment at byte {start}"));
+                        return Err(ScanError::UnterminatedComment { at: start });
                     }
                     match (bytes[i], bytes[i + 1]) {
                         (b'/', b'*') => {
@@ -89,7 +133,7 @@ pub fn lex(src: &str) -> Result<Vec<Token>, String> {
             }
             b'"' => {
                 i = end_of_string(bytes, i + 1)
-                    .ok_or_else(|| format!("unterminated string at byte {start}"))?;
+                    .ok_or(ScanError::UnterminatedString { at: start })?;
                 Tok::Literal
             }
             b'\'' => match char_literal_end(src, i) {
@@ -125,12 +169,12 @@ pub fn lex(src: &str) -> Result<Vec<Token>, String> {
                     // b"..", c"..": an escaped string with a prefix.
                     ("b" | "c", Some(b'"')) => {
                         i = end_of_string(bytes, i + 1)
-                            .ok_or_else(|| format!("unterminated string at byte {start}"))?;
+                            .ok_or(ScanError::UnterminatedString { at: start })?;
                         Tok::Literal
                     }
                     ("b", Some(b'\'')) => {
                         i = char_literal_end(src, i)
-                            .ok_or_else(|| format!("bad byte literal at byte {start}"))?;
+                            .ok_or(ScanError::BadByteLiteral { at: start })?;
                         Tok::Literal
                     }
                     // r"..", r#".."#, br"..", cr"..": raw strings.
@@ -139,9 +183,9 @@ pub fn lex(src: &str) -> Result<Vec<Token>, String> {
                         if bytes.get(i + hashes) == Some(&b'"') {
                             let closing = format!("\"{}", "#".repeat(hashes));
                             let body = i + hashes + 1;
-                            let end = src[body..].find(&closing).ok_or_else(|| {
-                                format!("unterminated raw string at byte {start}")
-                            })?;
+                            let end = src[body..]
+                                .find(&closing)
+                                .ok_or(ScanError::UnterminatedRawString { at: start })?;
                             i = body + end + closing.len();
                             Tok::Literal
                         } else if word == "r" && hashes == 1 {
@@ -217,7 +261,7 @@ fn char_literal_end(src: &str, at: usize) -> Option<usize> {
 
 /// For each opening bracket token, the index of its closing one (and the
 /// reverse), or an error when they do not balance.
-pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>, String> {
+pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>, ScanError> {
     let mut partner = vec![None; tokens.len()];
     let mut open: Vec<usize> = Vec::new();
     for (index, token) in tokens.iter().enumerate() {
@@ -225,7 +269,10 @@ pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>,
             Tok::Open(_) => open.push(index),
             Tok::Close(c) => {
                 let Some(opening) = open.pop() else {
-                    return Err(format!("unmatched `{}` at byte {}", c as char, token.start));
+                    return Err(ScanError::Unmatched {
+                        bracket: c as char,
+                        at: token.start,
+                    });
                 };
                 let expected = match tokens[opening].kind {
                     Tok::Open(b'(') => b')',
@@ -233,13 +280,12 @@ pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>,
                     _ => b'}',
                 };
                 if c != expected {
-                    return Err(format!(
-                        "`{}` at byte {} closes `{}` at byte {}",
-                        c as char,
-                        token.start,
-                        &src[tokens[opening].start..tokens[opening].end],
-                        tokens[opening].start
-                    ));
+                    return Err(ScanError::Mismatched {
+                        bracket: c as char,
+                        at: token.start,
+                        opening: src[tokens[opening].start..tokens[opening].end].to_string(),
+                        opening_at: tokens[opening].start,
+                    });
                 }
                 partner[opening] = Some(index);
                 partner[index] = Some(opening);
@@ -248,7 +294,9 @@ pub fn match_brackets(src: &str, tokens: &[Token]) -> Result<Vec<Option<usize>>,
         }
     }
     match open.pop() {
-        Some(index) => Err(format!("unclosed bracket at byte {}", tokens[index].start)),
+        Some(index) => Err(ScanError::Unclosed {
+            at: tokens[index].start,
+        }),
         None => Ok(partner),
     }
 }
@@ -299,10 +347,10 @@ impl Item {
 }
 
 /// The items of `src` in order. Comments after the last item are dropped.
-pub fn items(src: &str) -> Result<Vec<Item>, String> {
+pub fn items(src: &str) -> Result<Vec<Item>, ScanError> {
     let tokens = lex(src)?;
     let partner = match_brackets(src, &tokens)?;
-    let closing = |index: usize| partner[index].ok_or_else(|| "unbalanced brackets".to_string());
+    let closing = |index: usize| partner[index].ok_or(ScanError::Unbalanced("brackets"));
     let word = |index: usize| {
         tokens
             .get(index)
@@ -353,7 +401,7 @@ pub fn items(src: &str) -> Result<Vec<Item>, String> {
         let mut j = i;
         let (kind, name) = loop {
             let Some(token) = tokens.get(j) else {
-                return Err(format!("item at byte {header} never ends"));
+                return Err(ScanError::NeverEnds { header });
             };
             let text = &src[token.start..token.end];
             match (token.kind, text) {
@@ -408,7 +456,7 @@ pub fn items(src: &str) -> Result<Vec<Item>, String> {
         let mut k = j;
         let (end, body) = loop {
             let Some(token) = tokens.get(k) else {
-                return Err(format!("item at byte {header} never ends"));
+                return Err(ScanError::NeverEnds { header });
             };
             match token.kind {
                 Tok::Semi => break (k, None),
@@ -417,7 +465,7 @@ pub fn items(src: &str) -> Result<Vec<Item>, String> {
                     break (end, Some(token.start..tokens[end].end));
                 }
                 Tok::Open(_) => k = closing(k)? + 1,
-                Tok::Close(_) => return Err(format!("item at byte {header} is cut short")),
+                Tok::Close(_) => return Err(ScanError::CutShort { header }),
                 _ => k += 1,
             }
         };
@@ -437,13 +485,13 @@ pub fn items(src: &str) -> Result<Vec<Item>, String> {
 /// The names of a function's parameters, in order, from its signature
 /// (`fn f<C: X>(a: &A, mut b: (u32, u32)) -> R`). Patterns other than a
 /// plain name (with `mut`) are an error.
-pub fn parameter_names(signature: &str) -> Result<Vec<String>, String> {
+pub fn parameter_names(signature: &str) -> Result<Vec<String>, ScanError> {
     let tokens = lex(signature)?;
     let partner = match_brackets(signature, &tokens)?;
     let fn_at = tokens
         .iter()
         .position(|t| t.kind == Tok::Word && &signature[t.start..t.end] == "fn")
-        .ok_or("no `fn` in the signature")?;
+        .ok_or(ScanError::NoFn)?;
     // The first `(` after the name outside the generics' angle brackets.
     let mut angle = 0i32;
     let mut open = None;
@@ -459,8 +507,8 @@ pub fn parameter_names(signature: &str) -> Result<Vec<String>, String> {
             _ => {}
         }
     }
-    let open = open.ok_or("no parameter list")?;
-    let close = partner[open].ok_or("unbalanced parameter list")?;
+    let open = open.ok_or(ScanError::NoParameterList)?;
+    let close = partner[open].ok_or(ScanError::Unbalanced("parameter list"))?;
     let mut names = Vec::new();
     let mut k = open + 1;
     while k < close {
@@ -478,15 +526,14 @@ pub fn parameter_names(signature: &str) -> Result<Vec<String>, String> {
                 names.push((*name).to_string())
             }
             _ => {
-                return Err(format!(
-                    "parameter `{}` is not a plain name",
-                    name_tokens.join(" ")
-                ));
+                return Err(ScanError::NotPlainName {
+                    pattern: name_tokens.join(" "),
+                });
             }
         }
         while k < close && tokens[k].kind != Tok::Comma {
             k = match tokens[k].kind {
-                Tok::Open(_) => partner[k].ok_or("unbalanced type")? + 1,
+                Tok::Open(_) => partner[k].ok_or(ScanError::Unbalanced("type"))? + 1,
                 _ => k + 1,
             };
         }
@@ -508,13 +555,13 @@ pub struct TypeParameter {
 /// The type parameters of the function `signature` (from `fn` to its
 /// body), in order; lifetimes are left out (a call never names them).
 /// `const` parameters are an error: no chapter function has one.
-pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
+pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, ScanError> {
     let tokens = lex(signature)?;
     let partner = match_brackets(signature, &tokens)?;
     let fn_at = tokens
         .iter()
         .position(|t| t.kind == Tok::Word && &signature[t.start..t.end] == "fn")
-        .ok_or("no `fn` in the signature")?;
+        .ok_or(ScanError::NoFn)?;
     let text = |index: usize| &signature[tokens[index].start..tokens[index].end];
     let generics_open = fn_at + 2;
     // Each parameter's tokens, split at the commas of the generics' top
@@ -530,7 +577,7 @@ pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
         let mut k = generics_open + 1;
         loop {
             let Some(token) = tokens.get(k) else {
-                return Err("unclosed generics".into());
+                return Err(ScanError::UnclosedGenerics);
             };
             let word = text(k);
             let arrow = signature[..token.start].ends_with('-');
@@ -544,7 +591,7 @@ pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
                     continue;
                 }
                 Tok::Open(_) => {
-                    let close = partner[k].ok_or("unbalanced generics")?;
+                    let close = partner[k].ok_or(ScanError::Unbalanced("generics"))?;
                     current.extend(k..=close);
                     k = close + 1;
                     continue;
@@ -559,8 +606,8 @@ pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
     }
     let open = (after_generics..tokens.len())
         .find(|&k| tokens[k].kind == Tok::Open(b'('))
-        .ok_or("no parameter list")?;
-    let close = partner[open].ok_or("unbalanced parameter list")?;
+        .ok_or(ScanError::NoParameterList)?;
+    let close = partner[open].ok_or(ScanError::Unbalanced("parameter list"))?;
     let mut out = Vec::new();
     for param in params.iter().filter(|param| !param.is_empty()) {
         let first = text(param[0]);
@@ -568,7 +615,7 @@ pub fn type_parameters(signature: &str) -> Result<Vec<TypeParameter>, String> {
             continue;
         }
         if first == "const" {
-            return Err("a `const` generic parameter".into());
+            return Err(ScanError::ConstGeneric);
         }
         let bounds = match param.iter().position(|&k| tokens[k].kind == Tok::Colon) {
             Some(colon) if colon + 1 < param.len() => signature

@@ -76,7 +76,7 @@ fn compare_with_reference(
     let mut wrote =
         |path: &Path, image: &raylab::diff::Image| match std::fs::create_dir_all(failures)
             .map_err(anyhow::Error::from)
-            .and_then(|()| image.write_png(path))
+            .and_then(|()| image.write_png(path).map_err(anyhow::Error::from))
         {
             Ok(()) => notes.push(format!("  {}", path.display())),
             Err(error) => notes.push(format!("  (could not write {}: {error:#})", path.display())),
