@@ -7,6 +7,10 @@ use crate::check::catalog::*;
 const EQUATION_1: &str = "The equation";
 const CODE_1: &str = "The code: `intersect_plane`";
 
+/// Chapter 1's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let floor = (Vec3::ZERO, Vec3::Y);
     vec![
@@ -113,6 +117,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 1's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let floor = (Vec3::ZERO, Vec3::Y);
     robust(vec![

@@ -7,6 +7,10 @@ use crate::check::catalog::*;
 const EQUATION_2: &str = "The equation";
 const ROOTS_2: &str = "Two ways to compute the roots";
 
+/// Chapter 2's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let ball = (Vec3::new(0.0, 0.0, 5.0), 1.0);
     vec![
@@ -146,6 +150,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 2's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let tiny_far = (Vec3::new(0.0, 0.0, 10.0), 1e-3);
     let unit_at_5 = (Vec3::new(0.0, 0.0, 5.0), 1.0);

@@ -40,6 +40,10 @@ impl From<NearestQuestion> for Case {
     }
 }
 
+/// Chapter 3's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let three = || -> Vec<Shape> {
         vec![
@@ -114,6 +118,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 3's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     // 100 spheres of radius 0.25 along +z, listed far to near.
     let row: Vec<Shape> = (1..=100)

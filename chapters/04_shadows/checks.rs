@@ -95,6 +95,10 @@ impl From<ShadowQuestion> for Case {
     }
 }
 
+/// Chapter 4's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let floor: Shape = Plane::new(Vec3::ZERO, Vec3::Y).into();
     let ball: Shape = Sphere::new(Vec3::new(0.0, 1.0, 0.0), 1.0).into();
@@ -263,6 +267,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 4's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let far_ball: Shape = Sphere::new(Vec3::new(1e4, 1.0, 1e4), 1.0).into();
     let side = surface(

@@ -47,6 +47,10 @@ impl From<PhongTermsQuestion> for Case {
     }
 }
 
+/// Chapter 5's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let half_sqrt3 = 3f32.sqrt() / 2.0;
     let mirror = Vec3::new(1.0, 1.0, 0.0).normalize();
@@ -181,6 +185,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 5's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     robust(vec![Case::from(PhongTermsQuestion {
         name: "phong-grazing-light",

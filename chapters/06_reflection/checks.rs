@@ -78,6 +78,10 @@ material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivit
     )
 }
 
+/// Chapter 6's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     vec![
         Case::from(ReflectQuestion {
@@ -178,6 +182,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 6's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     robust(vec![
         Case::from(ReflectQuestion {

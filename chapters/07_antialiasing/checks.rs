@@ -79,6 +79,10 @@ fn chapter_7_scene() -> String {
         .unwrap_or_default()
 }
 
+/// Chapter 7's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let rows: Vec<(u32, u32)> = [44u32, 60, 84]
         .iter()
@@ -176,6 +180,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 7's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let mut pixels: Vec<(u32, u32)> = (0..20_000).map(|x| (x, 3)).collect();
     pixels.push((109_417, 17));

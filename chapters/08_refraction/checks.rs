@@ -64,6 +64,10 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
+/// Chapter 8's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let glass = 1.5f32;
     vec![
@@ -172,6 +176,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 8's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let glass = 1.5f32;
     let water = 1.33f32;

@@ -80,6 +80,10 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
+/// Chapter 9's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let cos45 = std::f32::consts::FRAC_1_SQRT_2;
     vec![
@@ -227,6 +231,9 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// Chapter 9's hard cases.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let critical = (1.0f64 / 1.5).asin();
     let just_below = (critical - 1e-4).cos() as f32;

@@ -144,6 +144,9 @@ impl From<SharedDiagonalQuestion> for Case {
 
 /// Chapter 10's checkpoint cases. The first two are the ones the lesson's
 /// "Your turn" paragraph promises.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let up = (Vec3::new(0.25, 0.25, 0.0), Vec3::Z);
     vec![
@@ -580,6 +583,9 @@ pub fn checkpoints() -> Vec<Case> {
 /// Chapter 10's hard cases: rays through the shared edges and corners of
 /// closed meshes (where Moller-Trumbore leaks), huge and tiny triangles,
 /// degenerate triangles and non-finite input.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     // Found by trying edge midpoints of tetrahedra with coordinates in
     // tenths around the origin: along these, Moller-Trumbore in f32 misses

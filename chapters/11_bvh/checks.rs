@@ -117,6 +117,9 @@ const SAH_ONE_PER_LEAF: BvhOptions = BvhOptions {
 };
 
 /// Chapter 11's checkpoint cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let x = Vec3::X;
     let z = Vec3::Z;
@@ -631,6 +634,9 @@ impl RandomSpheres {
 }
 
 /// Chapter 11's hard cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let default = BvhOptions::default();
     let (thousand, thousand_rays) = RandomSpheres {
