@@ -237,10 +237,10 @@ mod tests {
     #[test]
     fn every_expected_hit_has_an_exact_value() {
         for case in checkpoints().into_iter().chain(robustness()) {
-            if let CaseKind::Plane {
+            if let CaseKind::Plane(PlaneCase {
                 expect: ExpectT::Hit(t),
                 ..
-            } = case.kind
+            }) = case.kind
             {
                 assert!(t.is_finite(), "{}: the exact reference misses", case.name);
             }

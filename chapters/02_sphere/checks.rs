@@ -480,7 +480,9 @@ mod tests {
     #[test]
     fn every_expected_hit_has_an_exact_value() {
         for case in checkpoints().into_iter().chain(robustness()) {
-            if let CaseKind::Plane { expect, .. } | CaseKind::Sphere { expect, .. } = case.kind {
+            if let CaseKind::Plane(PlaneCase { expect, .. })
+            | CaseKind::Sphere(SphereCase { expect, .. }) = case.kind
+            {
                 if let ExpectT::Hit(t) = expect {
                     assert!(t.is_finite(), "{}: the exact reference misses", case.name);
                 }
@@ -498,12 +500,12 @@ mod tests {
                 .into_iter()
                 .find(|case| case.name == name)
                 .unwrap();
-            let CaseKind::Sphere {
+            let CaseKind::Sphere(SphereCase {
                 center,
                 radius,
                 ray,
                 ..
-            } = case.kind
+            }) = case.kind
             else {
                 panic!("{name} is not a sphere case")
             };

@@ -29,13 +29,13 @@ impl From<NearestQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Nearest {
+            CaseKind::Nearest(NearestCase {
                 shapes: question.shapes,
                 ray: Ray::new(origin, dir),
                 t_min,
                 t_max,
                 expect: question.expect,
-            },
+            }),
         )
     }
 }

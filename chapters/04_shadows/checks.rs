@@ -56,11 +56,11 @@ impl From<OffsetQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Offset {
+            CaseKind::Offset(OffsetCase {
                 surface: question.surface,
                 dir: question.dir,
                 at_most: question.at_most,
-            },
+            }),
         )
     }
 }
@@ -84,13 +84,13 @@ impl From<ShadowQuestion> for Case {
             question.name,
             SHADOW_RAYS_4,
             question.says,
-            CaseKind::Shadow {
+            CaseKind::Shadow(ShadowCase {
                 scene: floor_and_ball(question.scene_lights),
                 object: if question.rays.len() > 1 { 1 } else { 0 },
                 rays: question.rays,
                 light: question.light,
                 expect: question.expect,
-            },
+            }),
         )
     }
 }
@@ -200,13 +200,13 @@ pub fn checkpoints() -> Vec<Case> {
              shadow. A tilted plane's points are rounded in every coordinate, so a shadow ray \
              started exactly on it meets it again just past its origin (chapter 2's stable sphere \
              test hides this on balls; the offset is what keeps planes clean)",
-            CaseKind::Shadow {
+            CaseKind::Shadow(ShadowCase {
                 scene: TILTED_FLOOR.to_string(),
                 object: 0,
                 rays: rays_from_light(Vec3::new(-4.0, 6.0, -3.0), Vec3::new(0.3, 0.1, 0.7), 2.0),
                 light: Vec3::new(-4.0, 6.0, -3.0),
                 expect: false,
-            },
+            }),
         ),
         Case::from(ShadeQuestion {
             name: "flat-lit",
@@ -257,12 +257,12 @@ pub fn checkpoints() -> Vec<Case> {
              ambient light (0.5, 0.25, 1): the ambient term is albedo * k_a * ambient light, 0.1 * \
              (0.5, 0.25, 1), and the light's share 0.3 is not scaled by it: expected \
              (0.35, 0.325, 0.4)",
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Flat,
                 scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
                 ray: Ray::new(beside_ball.0, beside_ball.1),
                 depth: 0,
-            },
+            }),
         ),
     ]
 }
@@ -326,7 +326,7 @@ sphere = { center = [10000.0, 1.0, 10000.0], radius = 1.0 }
             SHADOW_RAYS_4,
             "64 rays from the light at (9996, 6, 9997) to a unit ball at (1e4, 1, 1e4): every \
              point they reach sees the light, none may be in shadow",
-            CaseKind::Shadow {
+            CaseKind::Shadow(ShadowCase {
                 scene: far_scene.to_string(),
                 object: 0,
                 rays: rays_from_light(
@@ -336,7 +336,7 @@ sphere = { center = [10000.0, 1.0, 10000.0], radius = 1.0 }
                 ),
                 light: Vec3::new(9996.0, 6.0, 9997.0),
                 expect: false,
-            },
+            }),
         ),
     ])
 }

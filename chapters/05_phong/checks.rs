@@ -29,7 +29,7 @@ impl From<PhongTermsQuestion> for Case {
             question.name,
             TERMS_5,
             question.says,
-            CaseKind::PhongTerms {
+            CaseKind::PhongTerms(PhongTermsCase {
                 material: Material {
                     diffuse: question.k_d,
                     specular: question.k_s,
@@ -42,7 +42,7 @@ impl From<PhongTermsQuestion> for Case {
                 to_eye: question.to_eye,
                 light: question.light,
                 expect: question.expect,
-            },
+            }),
         )
     }
 }
@@ -175,12 +175,12 @@ pub fn checkpoints() -> Vec<Case> {
             "phong-sum-lit under a dim, coloured ambient light (0.5, 0.25, 1): the ambient term is \
              albedo * k_a * ambient light = 0.1 * (0.5, 0.25, 1), the light's terms are as before: \
              diffuse (0.3373, 0.3123, 0.3873), specular 0.354",
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Phong,
                 scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
                 ray: Ray::new(Vec3::new(3.0, 5.0, 0.0), -Vec3::Y),
                 depth: 0,
-            },
+            }),
         ),
     ]
 }

@@ -22,10 +22,10 @@ impl From<ReflectQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Reflect {
+            CaseKind::Reflect(ReflectCase {
                 d: question.dir,
                 n: question.normal,
-            },
+            }),
         )
     }
 }

@@ -50,13 +50,13 @@ impl From<SamplesQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::SampleOffsets {
+            CaseKind::SampleOffsets(SampleOffsetsCase {
                 sampling: question.sampling,
                 count: question.count,
                 pixels: question.pixels,
                 seed: question.seed,
                 rule: question.rule,
-            },
+            }),
         )
     }
 }
@@ -161,10 +161,10 @@ pub fn checkpoints() -> Vec<Case> {
             "the middle pixel of a 3 x 3 view of a black and white checker whose corner is on the \
              axis: its four grid samples see 1, 0, 0, 1; expected their mean in linear light, 0.5 \
              (averaging sRGB codes instead gives 0.21)",
-            CaseKind::PixelColor {
+            CaseKind::PixelColor(PixelColorCase {
                 scene: QUARTERS_SCENE.to_string(),
                 pixels: vec![(1, 1)],
-            },
+            }),
         ),
         Case::new(
             "pixel-mean-of-own-samples",
@@ -172,10 +172,10 @@ pub fn checkpoints() -> Vec<Case> {
             "every pixel of rows 44, 60 and 84 of the chapter 7 scene at 160 x 120 \
              (they cross the balls' edges): expected the mean, in linear light, of the pixel's own \
              4 samples, at the offsets sample_offset gives; nothing from neighbouring pixels",
-            CaseKind::PixelColor {
+            CaseKind::PixelColor(PixelColorCase {
                 scene: chapter_7_scene(),
                 pixels: rows,
-            },
+            }),
         ),
     ]
 }

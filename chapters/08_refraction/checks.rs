@@ -24,11 +24,11 @@ impl From<RefractQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Refract {
+            CaseKind::Refract(RefractCase {
                 d: question.dir,
                 n: question.normal,
                 eta: question.eta,
-            },
+            }),
         )
     }
 }
@@ -156,12 +156,12 @@ pub fn checkpoints() -> Vec<Case> {
              from (0, 1, 0) along (1, -1, 0): 0 x its own light + 0.5 x (1, 0.5, 0.25) x 0.2 \
              through + 0.5 x 0.1 reflected = (0.15, 0.1, 0.075); the rays it casts carry the \
              weights 0.5, so the floor's and ceiling's (0.5 x 0.75 < 0.5) are not cast",
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Glass,
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
-            },
+            }),
         ),
         Case::from(ShadeQuestion {
             name: "glass-depth-limit",

@@ -40,13 +40,13 @@ impl From<ReflectanceQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Reflectance {
+            CaseKind::Reflectance(ReflectanceCase {
                 schlick: question.schlick,
                 cos_i: question.cos_i,
                 n1: question.n1,
                 n2: question.n2,
                 expect: question.expect,
-            },
+            }),
         )
     }
 }
@@ -185,10 +185,10 @@ pub fn checkpoints() -> Vec<Case> {
             ABSORPTION_9,
             "through 2 units of glass absorbing (0.5, 0.1, 0) per unit: exp(-1) = 0.3679, \
              exp(-0.2) = 0.8187 and 1",
-            CaseKind::Transmittance {
+            CaseKind::Transmittance(TransmittanceCase {
                 absorption: Vec3::new(0.5, 0.1, 0.0),
                 distance: 2.0,
-            },
+            }),
         ),
         Case::from(ShadeQuestion {
             name: "dielectric-nested-balls",
@@ -210,12 +210,12 @@ pub fn checkpoints() -> Vec<Case> {
              the transmitted ray (weight 0.5) sees the floor's own light 0.2, the reflected one \
              (weight 0.5) the ceiling's, 0.1, neither casting further \
              (0.5 x 0.75 < min_contribution 0.5): expected (0.15, 0.1, 0.075)",
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Dielectric,
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
-            },
+            }),
         ),
         Case::from(ShadeQuestion {
             name: "dielectric-off-centre",
@@ -307,10 +307,10 @@ pub fn robustness() -> Vec<Case> {
             ABSORPTION_9,
             "a channel that absorbs nothing keeps everything even over an infinite distance \
              (0 x inf would be NaN): (0, 0, 0) over inf gives (1, 1, 1)",
-            CaseKind::Transmittance {
+            CaseKind::Transmittance(TransmittanceCase {
                 absorption: Vec3::ZERO,
                 distance: f32::INFINITY,
-            },
+            }),
         ),
     ]
 }

@@ -88,13 +88,13 @@ impl From<TrianglesQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Triangles {
+            CaseKind::Triangles(TrianglesCase {
                 triangles: question.triangles,
                 ray: Ray::new(origin, dir),
                 t_min,
                 t_max,
                 expect,
-            },
+            }),
         )
     }
 }
@@ -168,10 +168,10 @@ pub fn checkpoints() -> Vec<Case> {
             BARYCENTRIC_10,
             "the lesson's triangle and that hit point (0.25, 0.25, 2): p - a = 0.25 e1 + 0.25 e2, \
              so beta = gamma = 0.25 and alpha = 1 - 0.25 - 0.25: expected (0.5, 0.25, 0.25)",
-            CaseKind::Barycentric {
+            CaseKind::Barycentric(BarycentricCase {
                 corners: LESSON_TRIANGLE,
                 point: Vec3::new(0.25, 0.25, 2.0),
-            },
+            }),
         ),
         Case::from(TrianglesQuestion {
             name: "triangle-hit-from-the-front",
@@ -389,65 +389,65 @@ pub fn checkpoints() -> Vec<Case> {
             BARYCENTRIC_10,
             "the lesson's triangle at its corner b = (1, 0, 2): all of the weight on b: expected \
              (0, 1, 0)",
-            CaseKind::Barycentric {
+            CaseKind::Barycentric(BarycentricCase {
                 corners: LESSON_TRIANGLE,
                 point: LESSON_TRIANGLE[1],
-            },
+            }),
         ),
         Case::new(
             "barycentric-corner-c",
             BARYCENTRIC_10,
             "the lesson's triangle at its corner c = (0, 1, 2): expected (0, 0, 1)",
-            CaseKind::Barycentric {
+            CaseKind::Barycentric(BarycentricCase {
                 corners: LESSON_TRIANGLE,
                 point: LESSON_TRIANGLE[2],
-            },
+            }),
         ),
         Case::new(
             "barycentric-centroid",
             BARYCENTRIC_10,
             "the lesson's triangle at its centroid (1/3, 1/3, 2), the mean of the corners: \
              expected (1/3, 1/3, 1/3)",
-            CaseKind::Barycentric {
+            CaseKind::Barycentric(BarycentricCase {
                 corners: LESSON_TRIANGLE,
                 point: Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0),
-            },
+            }),
         ),
         Case::new(
             "barycentric-skewed-triangle",
             BARYCENTRIC_10,
             "the triangle (0, 0, 0), (2, 0, 0), (1, 2, 0), whose edges are not perpendicular \
              (e1.e2 = 2), at (1, 1, 0) = 0.25 a + 0.25 b + 0.5 c: expected (0.25, 0.25, 0.5)",
-            CaseKind::Barycentric {
+            CaseKind::Barycentric(BarycentricCase {
                 corners: [
                     Vec3::ZERO,
                     Vec3::new(2.0, 0.0, 0.0),
                     Vec3::new(1.0, 2.0, 0.0),
                 ],
                 point: Vec3::new(1.0, 1.0, 0.0),
-            },
+            }),
         ),
         Case::new(
             "smooth-normal-at-corner",
             SMOOTH_10,
             "the lesson's triangle with vertex normals (1, 0, 0), (0, 1, 0), (0, 0, 1), at its \
              corner b = (1, 0, 2): the weights are (0, 1, 0): expected b's normal (0, 1, 0)",
-            CaseKind::SmoothNormal {
+            CaseKind::SmoothNormal(SmoothNormalCase {
                 corners: LESSON_TRIANGLE,
                 normals: AXIS_NORMALS,
                 point: LESSON_TRIANGLE[1],
-            },
+            }),
         ),
         Case::new(
             "smooth-normal-centroid",
             SMOOTH_10,
             "the same normals at the centroid (1/3, 1/3, 2): the blend is (1/3, 1/3, 1/3), of \
              length 0.577, made unit again: expected (0.57735, 0.57735, 0.57735)",
-            CaseKind::SmoothNormal {
+            CaseKind::SmoothNormal(SmoothNormalCase {
                 corners: LESSON_TRIANGLE,
                 normals: AXIS_NORMALS,
                 point: Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0),
-            },
+            }),
         ),
         Case::new(
             "smooth-normal-lesson-point",
@@ -455,11 +455,11 @@ pub fn checkpoints() -> Vec<Case> {
             "the same normals at (0.25, 0.25, 2), weights (0.5, 0.25, 0.25): the blend \
              (0.5, 0.25, 0.25) has length sqrt(0.375) = 0.61237: expected \
              (0.8165, 0.40825, 0.40825)",
-            CaseKind::SmoothNormal {
+            CaseKind::SmoothNormal(SmoothNormalCase {
                 corners: LESSON_TRIANGLE,
                 normals: AXIS_NORMALS,
                 point: Vec3::new(0.25, 0.25, 2.0),
-            },
+            }),
         ),
         Case::new(
             "terminator-flat-unchanged",
@@ -467,11 +467,11 @@ pub fn checkpoints() -> Vec<Case> {
             "the triangle (0, 0, 0), (1, 0, 0), (0, 1, 0) with every vertex normal (0, 0, 1), at \
              (0.25, 0.25, 0): the point is on every corner's tangent plane (height 0): expected \
              the point itself",
-            CaseKind::Terminator {
+            CaseKind::Terminator(TerminatorCase {
                 corners: FLOOR_TRIANGLE,
                 normals: [Vec3::Z; 3],
                 point: Vec3::new(0.25, 0.25, 0.0),
-            },
+            }),
         ),
         Case::new(
             "terminator-convex-lifted",
@@ -481,22 +481,22 @@ pub fn checkpoints() -> Vec<Case> {
              planes: a: (0.25, 0.25, 0).n_a = -0.15, b: (-0.75, 0.25, 0).n_b = -0.45, c: \
              (0.25, -0.75, 0).n_c = -0.15, all below: the point rises by 0.5 x 0.15 n_a + 0.25 x \
              0.45 n_b + 0.25 x 0.15 n_c = (0, 0, 0.18): expected (0.25, 0.25, 0.18)",
-            CaseKind::Terminator {
+            CaseKind::Terminator(TerminatorCase {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 point: Vec3::new(0.25, 0.25, 0.0),
-            },
+            }),
         ),
         Case::new(
             "terminator-concave-unchanged",
             TERMINATOR_10,
             "the same with the tilts reversed, a hollow: heights +0.15, +0.45, +0.15, the point is \
              above every tangent plane already: expected the point itself",
-            CaseKind::Terminator {
+            CaseKind::Terminator(TerminatorCase {
                 corners: FLOOR_TRIANGLE,
                 normals: CONCAVE_NORMALS,
                 point: Vec3::new(0.25, 0.25, 0.0),
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-convex",
@@ -505,12 +505,12 @@ pub fn checkpoints() -> Vec<Case> {
              along -z at (0.25, 0.25, 0): expected the normal \
              normalize(0.5 n_a + 0.25 n_b + 0.25 n_c) = (-0.3, 0, 0.8) / 0.8544 = \
              (-0.35112, 0, 0.93633), and the point lifted to (0.25, 0.25, 0.18)",
-            CaseKind::SmoothHit {
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
                 transparent: false,
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-from-below",
@@ -519,12 +519,12 @@ pub fn checkpoints() -> Vec<Case> {
              normals face away from the ray, so they are turned first; from that side the bulge is \
              a hollow: expected the normal (0.35112, 0, -0.93633) and the point unchanged, \
              (0.25, 0.25, 0)",
-            CaseKind::SmoothHit {
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, -5.0), Vec3::new(0.0, 0.0, 1.0)),
                 transparent: false,
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-transparent",
@@ -532,12 +532,12 @@ pub fn checkpoints() -> Vec<Case> {
             "the bulge of smooth-hit-convex, fully transparent: the smooth normal \
              (-0.35112, 0, 0.93633), but the point stays on the triangle, (0.25, 0.25, 0): the \
              refracted ray must start below the surface, not above it",
-            CaseKind::SmoothHit {
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
                 transparent: true,
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-steep-normals-b",
@@ -549,7 +549,7 @@ pub fn checkpoints() -> Vec<Case> {
              (0.96, 0.96, 1.56) is on the ray's side, so they are kept; blended with the weights \
              (0.5, 0.25, 0.25): (0.48, 0.24, 0.46) / 0.70682 = (0.67909, 0.33955, 0.6508) \
              (the side is the sum's: with n_a - n_b + n_c, z = -0.44, they would be turned)",
-            CaseKind::SmoothHit {
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
                 normals: [
                     Vec3::new(0.96, 0.0, 0.28),
@@ -558,7 +558,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
                 transparent: true,
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-steep-normals-c",
@@ -566,7 +566,7 @@ pub fn checkpoints() -> Vec<Case> {
             "the same with the vertex normals (0.96, 0, 0.28), (0, 0.96, 0.28), (0, 0, 1): the \
              same sum, kept, the same blend (0.67909, 0.33955, 0.6508) \
              (with n_a + n_b - n_c, z = -0.44, they would be turned)",
-            CaseKind::SmoothHit {
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
                 normals: [
                     Vec3::new(0.96, 0.0, 0.28),
@@ -575,7 +575,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
                 transparent: true,
-            },
+            }),
         ),
     ]
 }
@@ -762,10 +762,10 @@ mod tests {
     #[test]
     fn every_expected_triangle_hit_has_an_exact_value() {
         for case in checkpoints().into_iter().chain(robustness()) {
-            if let CaseKind::Triangles {
+            if let CaseKind::Triangles(TrianglesCase {
                 expect: ExpectT::Hit(t),
                 ..
-            } = case.kind
+            }) = case.kind
             {
                 assert!(t.is_finite(), "{}: the exact reference misses", case.name);
             }

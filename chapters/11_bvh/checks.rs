@@ -41,7 +41,7 @@ impl From<BoxQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::HitBox {
+            CaseKind::HitBox(HitBoxCase {
                 min,
                 max,
                 origin,
@@ -49,7 +49,7 @@ impl From<BoxQuestion> for Case {
                 t_min,
                 t_max,
                 expect: question.expect,
-            },
+            }),
         )
     }
 }
@@ -75,14 +75,14 @@ impl From<BvhHitsQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::BvhHits {
+            CaseKind::BvhHits(BvhHitsCase {
                 shapes: question.shapes,
                 options: question.options,
                 rays: question.rays,
                 t_min,
                 t_max,
                 any: question.any_hit,
-            },
+            }),
         )
     }
 }
@@ -259,7 +259,7 @@ pub fn checkpoints() -> Vec<Case> {
             "five unit spheres at x = 0, 3, 6, 9, 12 (listed out of order), one per leaf: every \
              sphere exactly once in a leaf whose box holds the sphere's box (x - 1 to x + 1), \
              every inner node's box holding its two children's, nothing in unbounded",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(6.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
@@ -269,7 +269,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
-            },
+            }),
         ),
         Case::from(BvhHitsQuestion {
             name: "bvh-nearest-behind-a-nearer-box",
@@ -292,11 +292,11 @@ pub fn checkpoints() -> Vec<Case> {
             "a unit sphere at (0, 0, 10) (object 0), the plane z = 5 \
              (object 1, no box: Shape::bounds is None) and a unit sphere at (0, 0, 3) (object 2): \
              expected unbounded = [1], and objects 0 and 2 in the tree",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: plane_between(),
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
-            },
+            }),
         ),
         Case::from(BvhHitsQuestion {
             name: "bvh-plane-still-hit",
@@ -378,14 +378,14 @@ pub fn checkpoints() -> Vec<Case> {
              both, its box their boxes' union \
              (x from -1/128 to 5/128, y and z from -1/128 to 1/128) grown by BOX_PADDING_EPSILONS \
              (4) epsilons of its largest coordinate, 5/128: about 2e-8",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(0.0, 0.0, 0.0), 1.0 / 128.0),
                     sphere(Vec3::new(1.0 / 32.0, 0.0, 0.0), 1.0 / 128.0),
                 ],
                 options: MIDDLE_TWO_PER_LEAF,
                 expect: TreeShape::RootLeaf,
-            },
+            }),
         ),
         Case::new(
             "bvh-one-more-than-max-leaf-is-cut",
@@ -394,7 +394,7 @@ pub fn checkpoints() -> Vec<Case> {
              more than max_leaf, so the root is cut; the centroids (the centres) spread along x \
              from 0 to 6, the middle is 3: expected the root cut into objects [0, 1] (x = 0, 2) \
              and [2] (x = 6)",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(2.0, 0.0, 0.0), 1.0),
@@ -402,7 +402,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: MIDDLE_TWO_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-middle-of-the-centroids",
@@ -411,7 +411,7 @@ pub fn checkpoints() -> Vec<Case> {
              centroids are the centres (the middle of each box), spread 3 along x and 0 along y \
              and z; the middle of that spread is 4.5: expected the root cut into objects [0, 1] \
              and [2, 3]",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(3.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(4.0, 0.0, 0.0), 3.0),
@@ -420,7 +420,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-sah-cut-not-the-middle",
@@ -435,7 +435,7 @@ pub fn checkpoints() -> Vec<Case> {
              objects [0, 1] and [2, 3, 4]; or, from a build that always cuts at the middle \
              (the split rule is the student's choice), [0, 1, 2] and [3, 4] \
              (the middle of the centroids is 105.5). Not a leaf, and not [0] alone",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(100.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(101.0, 0.0, 0.0), 1.0),
@@ -445,7 +445,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: SAH_ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
-            },
+            }),
         ),
         // The example above has boxes of one height and depth, so any half
         // area of the form a L + b with a, b > 0 ranks some cuts alike; these
@@ -462,7 +462,7 @@ pub fn checkpoints() -> Vec<Case> {
              by 4 by 4, 68: 264 + 136 + 384 = 784; [0, 1, 2] | [3]: left 10 by 4 by 4, 96: 264 + \
              288 + 192 = 744. Expected the root cut into [0, 1, 2] and [3] \
              (or, cut at the middle of the centroids, 7.25: [0] and [1, 2, 3])",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(4.0, 0.0, 0.0), 2.0),
                     sphere(Vec3::new(7.5, 0.0, 0.0), 1.0),
@@ -471,7 +471,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: SAH_ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1, 2], vec![0]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-sah-three-sides-count",
@@ -485,7 +485,7 @@ pub fn checkpoints() -> Vec<Case> {
              + 384 + 184 = 896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, and 48: 328 + \
              624 + 48 = 1000. Expected the root cut into [0, 1] and [2, 3] \
              (or, cut at the middle of the centroids, 6.25: [0, 1, 2] and [3])",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(1.0, 0.0, -1.0), 4.0),
                     sphere(Vec3::new(2.0, 0.0, 1.0), 2.0),
@@ -494,7 +494,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: SAH_ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-sah-the-first-alone",
@@ -507,7 +507,7 @@ pub fn checkpoints() -> Vec<Case> {
              (35, -2, -1) to (58, 2, 3), 200 x 2: 588 + 672 + 400 = 1660; [0, 1, 2] | [3]: 588 + \
              336 x 3 + 48 = 1644. Expected the root cut into [0] and [1, 2, 3] \
              (or, cut at the middle of the centroids, 35.5: [0, 1] and [2, 3])",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(15.0, 0.0, 0.0), 3.0),
                     sphere(Vec3::new(35.0, 0.0, -1.0), 2.0),
@@ -516,7 +516,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: SAH_ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0], vec![0, 1]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-sah-leaf-cheaper-than-any-cut",
@@ -530,7 +530,7 @@ pub fn checkpoints() -> Vec<Case> {
              it: expected the root a leaf holding all three \
              (or, cut at the middle of the centroids, 4.25: [0] and [1, 2]). The cost of visiting \
              the node, TRAVERSAL_COST x 132, is what makes the cut [0, 1] | [2] dearer",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(3.0, 0.0, 0.0), 3.0),
                     sphere(Vec3::new(4.5, 0.0, 0.0), 3.0),
@@ -538,7 +538,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: SAH_ONE_PER_LEAF,
                 expect: TreeShape::RootLeafOrCut(vec![vec![0]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-cut-along-z",
@@ -547,7 +547,7 @@ pub fn checkpoints() -> Vec<Case> {
              centroids spread 0 along x and y and 7 along z, so z is the axis to cut, at 3.5: \
              expected the root cut into [0, 1] and [2] \
              (a widest-axis search that stays on x or y finds no spread there and makes a leaf)",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(0.0, 0.0, 3.0), 1.0),
@@ -555,7 +555,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1]]),
-            },
+            }),
         ),
         Case::new(
             "bvh-nan-and-infinite-boxes-stay-out",
@@ -564,7 +564,7 @@ pub fn checkpoints() -> Vec<Case> {
              a NaN centre (its box is NaN); object 2 centred at x = 3e38 with radius 1e38, whose \
              box reaches x = 4e38, past f32::MAX (3.4e38): max.x = inf. Neither box is finite: \
              expected unbounded = [1, 2], objects 0 and 3 in the tree",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
                     sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
                     sphere(Vec3::new(f32::NAN, 0.0, 0.0), 1.0),
@@ -573,7 +573,7 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
-            },
+            }),
         ),
         Case::from(BoxQuestion {
             name: "box-entry-close-to-the-origin",
@@ -809,12 +809,12 @@ pub fn robustness() -> Vec<Case> {
              (-1.3, 0.2, 2.7) to (0.9, 1.7, 3.1): where the exact ray (in f64) meets the box, even \
              along a sliver, hit_box must say so; the rounded crossings can put the entry a hair \
              past the exit, which the widening by 2 gamma_3 absorbs",
-            CaseKind::BoxEdges {
+            CaseKind::BoxEdges(BoxEdgesCase {
                 min: Vec3::new(-1.3, 0.2, 2.7),
                 max: Vec3::new(0.9, 1.7, 3.1),
                 rays: 20_000,
                 seed: 0x2545_f491_4f6c_dd1d,
-            },
+            }),
         ),
         Case::from(BvhHitsQuestion {
             name: "bvh-deeper-than-the-stack",

@@ -11,6 +11,12 @@
 
 pub use glam::Vec3;
 
+pub use super::cases::{
+    BarycentricCase, BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase, NearestCase, OffsetCase,
+    PhongTermsCase, PixelColorCase, PlaneCase, ReflectCase, ReflectanceCase, RefractCase,
+    SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase, SmoothNormalCase, SphereCase,
+    TerminatorCase, TransmittanceCase, TrianglesCase,
+};
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 pub use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
@@ -90,14 +96,14 @@ impl From<PlaneQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Plane {
+            CaseKind::Plane(PlaneCase {
                 point,
                 normal,
                 ray: Ray::new(origin, dir),
                 t_min,
                 t_max,
                 expect,
-            },
+            }),
         )
     }
 }
@@ -137,14 +143,14 @@ impl From<SphereQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Sphere {
+            CaseKind::Sphere(SphereCase {
                 center,
                 radius,
                 ray: Ray::new(origin, dir),
                 t_min,
                 t_max,
                 expect,
-            },
+            }),
         )
     }
 }
@@ -169,12 +175,12 @@ impl From<ShadeQuestion> for Case {
             question.name,
             question.section,
             question.says,
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: question.shading,
                 scene: question.scene,
                 ray: Ray::new(origin, dir),
                 depth: question.depth,
-            },
+            }),
         )
     }
 }
