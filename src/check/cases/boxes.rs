@@ -43,9 +43,9 @@ impl HitBoxCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let HitBoxCase {
             min,
             max,
@@ -106,9 +106,9 @@ impl BoxEdgesCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let BoxEdgesCase {
             min,
             max,
@@ -150,9 +150,9 @@ impl BvhBuildCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let BvhBuildCase {
             shapes,
             options,
@@ -229,9 +229,9 @@ impl BvhHitsCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let BvhHitsCase {
             shapes,
             options,

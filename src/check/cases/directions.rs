@@ -24,7 +24,7 @@ impl ReflectCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let ReflectCase { d, n } = self;
         let got = C::reflect(*d, *n);
         let expected = exact::reflect(wide(*d), wide(*n));
@@ -73,7 +73,7 @@ impl RefractCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let RefractCase { d, n, eta } = self;
         let got = C::refract(*d, *n, *eta);
         let expected = if eta.is_finite() && *eta > 0.0 {
@@ -147,9 +147,9 @@ impl ReflectanceCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let ReflectanceCase {
             schlick,
             cos_i,
@@ -202,9 +202,9 @@ impl TransmittanceCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let TransmittanceCase {
             absorption,
             distance,

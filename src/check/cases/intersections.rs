@@ -41,7 +41,7 @@ impl PlaneCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let PlaneCase {
             point,
             normal,
@@ -104,7 +104,7 @@ impl SphereCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let SphereCase {
             center,
             radius,
@@ -160,9 +160,9 @@ impl NearestCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let NearestCase {
             shapes,
             ray,
@@ -233,7 +233,7 @@ impl TrianglesCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let TrianglesCase {
             triangles,
             ray,

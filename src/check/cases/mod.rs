@@ -195,7 +195,7 @@ impl CaseKind {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         match self {
             CaseKind::Plane(case) => case.evaluate::<C>(robust),
             CaseKind::Sphere(case) => case.evaluate::<C>(robust),

@@ -36,9 +36,9 @@ impl SampleOffsetsCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let SampleOffsetsCase {
             sampling,
             count,
@@ -104,9 +104,9 @@ impl PixelColorCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let PixelColorCase { scene, pixels } = self;
         let scene = match parse(scene) {
             Ok(scene) => scene,

@@ -34,7 +34,7 @@ impl OffsetCase {
 
     /// Asks the question of the chapters `C`; `robust`: at the robustness
     /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
         let OffsetCase {
             surface,
             dir,
@@ -113,9 +113,9 @@ impl ShadowCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let ShadowCase {
             scene,
             object,
@@ -201,9 +201,9 @@ impl ShadeCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let ShadeCase {
             shading,
             scene,
@@ -256,9 +256,9 @@ impl PhongTermsCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let PhongTermsCase {
             material,
             albedo,

@@ -23,9 +23,9 @@ impl BarycentricCase {
         format!("barycentric({}, {})", corners_text(*corners), vec(*point))
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let BarycentricCase { corners, point } = self;
         let [a, b, c] = *corners;
         let got = C::barycentric(&Triangle::new(a, b, c), *point);
@@ -70,9 +70,9 @@ impl SmoothNormalCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let SmoothNormalCase {
             corners,
             normals,
@@ -120,9 +120,9 @@ impl TerminatorCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let TerminatorCase {
             corners,
             normals,
@@ -174,9 +174,9 @@ impl SmoothHitCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
         let SmoothHitCase {
             corners,
             normals,
