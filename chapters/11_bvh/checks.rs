@@ -121,8 +121,6 @@ const SAH_ONE_PER_LEAF: BvhOptions = BvhOptions {
 /// A list of cases that reads as data, one entry per case: kept whole,
 /// however long.
 pub fn checkpoints() -> Vec<Case> {
-    let x = Vec3::X;
-    let z = Vec3::Z;
     // Behind each other on the z axis, the first-hit one not the first-entered.
     let behind = || {
         vec![
@@ -134,7 +132,7 @@ pub fn checkpoints() -> Vec<Case> {
     let plane_between = || {
         vec![
             sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
-            Plane::new(Vec3::new(0.0, 0.0, 5.0), -z).into(),
+            Plane::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z).into(),
             sphere(Vec3::new(0.0, 0.0, 3.0), 1.0),
         ]
     };
@@ -165,7 +163,7 @@ pub fn checkpoints() -> Vec<Case> {
             says: "the same box; a ray from (5, 0, 0) along (-1, 0, 0) meets the plane x = 1 \
                    (max.x) first, at t = 4, and x = -1 at t = 6: expected 4",
             bounds: CUBE,
-            ray: (Vec3::new(5.0, 0.0, 0.0), -x),
+            ray: (Vec3::new(5.0, 0.0, 0.0), -Vec3::X),
             range: IN_FRONT,
             expect: Some(4.0),
         }),
@@ -185,7 +183,7 @@ pub fn checkpoints() -> Vec<Case> {
             says: "the same box; a ray from (-5, 0, 0) along (-1, 0, 0): the box is behind it \
                    (t from -6 to -4): expected None",
             bounds: CUBE,
-            ray: (Vec3::new(-5.0, 0.0, 0.0), -x),
+            ray: (Vec3::new(-5.0, 0.0, 0.0), -Vec3::X),
             range: IN_FRONT,
             expect: None,
         }),
@@ -195,7 +193,7 @@ pub fn checkpoints() -> Vec<Case> {
             says: "the same box; a ray from (-5, 0, 0) along (1, 0, 0) with t_max = 3.9: the box \
                    starts at t = 4, too far: expected None",
             bounds: CUBE,
-            ray: (Vec3::new(-5.0, 0.0, 0.0), x),
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::X),
             range: (0.0, 3.9),
             expect: None,
         }),
@@ -216,7 +214,7 @@ pub fn checkpoints() -> Vec<Case> {
                    = inf and the y slab gives (-1 - 0.5) x inf = -inf to (1 - 0.5) x inf = inf, \
                    always inside; the z slab from 4 to 6: expected 4",
             bounds: CUBE,
-            ray: (Vec3::new(0.0, 0.5, -5.0), z),
+            ray: (Vec3::new(0.0, 0.5, -5.0), Vec3::Z),
             range: IN_FRONT,
             expect: Some(4.0),
         }),
@@ -226,7 +224,7 @@ pub fn checkpoints() -> Vec<Case> {
             says: "the same box; a ray from (0, 2, -5) along (0, 0, 1): the y slab gives (-1 - 2) \
                    x inf = -inf to (1 - 2) x inf = -inf, never inside: expected None",
             bounds: CUBE,
-            ray: (Vec3::new(0.0, 2.0, -5.0), z),
+            ray: (Vec3::new(0.0, 2.0, -5.0), Vec3::Z),
             range: IN_FRONT,
             expect: None,
         }),
@@ -238,7 +236,7 @@ pub fn checkpoints() -> Vec<Case> {
                    x inf = NaN. The ray runs along the box's top face, on its closed boundary: the \
                    y axis must not constrain it. The z slab from 4 to 6: expected 4",
             bounds: CUBE,
-            ray: (Vec3::new(0.0, 1.0, -5.0), z),
+            ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::Z),
             range: IN_FRONT,
             expect: Some(4.0),
         }),
@@ -282,7 +280,7 @@ pub fn checkpoints() -> Vec<Case> {
                    (a walk that stops at the first leaf with a hit says object 0 at t = 7)",
             shapes: behind(),
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z)],
+            rays: vec![from_origin(Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
         }),
@@ -307,7 +305,7 @@ pub fn checkpoints() -> Vec<Case> {
                    object 2 at t = 2, then object 1 at t = 6.25",
             shapes: plane_between(),
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
             range: IN_FRONT,
             any_hit: false,
         }),
@@ -319,7 +317,7 @@ pub fn checkpoints() -> Vec<Case> {
                    hit; one along +y meets nothing: expected none",
             shapes: blockers(),
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z), from_origin(Vec3::Y)],
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::Y)],
             range: (0.0, 10.0),
             any_hit: true,
         }),
@@ -332,10 +330,10 @@ pub fn checkpoints() -> Vec<Case> {
                    although the plane, outside the tree, is asked first",
             shapes: vec![
                 sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
-                Plane::new(Vec3::new(0.0, 0.0, 4.0), -z).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
             ],
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z)],
+            rays: vec![from_origin(Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
         }),
@@ -347,7 +345,7 @@ pub fn checkpoints() -> Vec<Case> {
                    it: expected no hit",
             shapes: blockers(),
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z)],
+            rays: vec![from_origin(Vec3::Z)],
             range: (0.0, 3.5),
             any_hit: true,
         }),
@@ -359,11 +357,11 @@ pub fn checkpoints() -> Vec<Case> {
                    plane z = 3 at t = 3: expected a hit; one along +x runs parallel to both and \
                    must get past an empty tree without asking for its root: expected none",
             shapes: vec![
-                Plane::new(Vec3::new(0.0, 0.0, 8.0), -z).into(),
-                Plane::new(Vec3::new(0.0, 0.0, 3.0), -z).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 8.0), -Vec3::Z).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 3.0), -Vec3::Z).into(),
             ],
             options: ONE_PER_LEAF,
-            rays: vec![from_origin(z), from_origin(x)],
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::X)],
             range: (0.0, 10.0),
             any_hit: true,
         }),
