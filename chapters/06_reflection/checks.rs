@@ -7,8 +7,27 @@ use crate::check::catalog::*;
 const FORMULA_6: &str = "The reflection formula";
 const RECURSION_6: &str = "The recursion";
 
-fn reflect_case(name: &'static str, section: &'static str, says: &str, d: Vec3, n: Vec3) -> Case {
-    Case::new(name, section, says, CaseKind::Reflect { d, n })
+/// A `reflect(dir, normal)` question.
+struct ReflectQuestion {
+    name: &'static str,
+    section: &'static str,
+    says: &'static str,
+    dir: Vec3,
+    normal: Vec3,
+}
+
+impl From<ReflectQuestion> for Case {
+    fn from(question: ReflectQuestion) -> Case {
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Reflect(ReflectCase {
+                d: question.dir,
+                n: question.normal,
+            }),
+        )
+    }
 }
 
 /// A mirror floor (object 0, k_r = 0.5, grey 0.4 lit by ambient light only)
@@ -59,150 +78,157 @@ material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivit
     )
 }
 
+/// Chapter 6's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
-    let mirror = |name, says, ray: (Vec3, Vec3), depth| {
-        Case::new(
-            name,
-            RECURSION_6,
-            says,
-            CaseKind::Shade {
-                shading: Shading::Mirror,
-                scene: MIRROR_SCENE.to_string(),
-                ray: Ray::new(ray.0, ray.1),
-                depth,
-            },
-        )
-    };
-    let between_mirrors = |name, says, render: &str| {
-        Case::new(
-            name,
-            RECURSION_6,
-            says,
-            CaseKind::Shade {
-                shading: Shading::Mirror,
-                scene: two_mirrors(render),
-                ray: Ray::new(v(0.0, 1.0, 0.0), v(0.0, -1.0, 1.0)),
-                depth: 0,
-            },
-        )
-    };
     vec![
-        reflect_case(
-            "reflect-floor",
-            FORMULA_6,
-            "(1, -1, 0) bouncing off a floor with normal (0, 1, 0) leaves along (1, 1, 0)",
-            v(1.0, -1.0, 0.0),
-            Vec3::Y,
-        ),
-        reflect_case(
-            "reflect-normal-length",
-            FORMULA_6,
-            "the normal's length does not matter: (1, -2, 3) off a normal (0, 7, 0) gives (1, 2, 3)",
-            v(1.0, -2.0, 3.0),
-            v(0.0, 7.0, 0.0),
-        ),
-        reflect_case(
-            "reflect-normal-flipped",
-            FORMULA_6,
-            "nor its orientation: (1, -2, 3) off a normal (0, -0.25, 0) gives (1, 2, 3)",
-            v(1.0, -2.0, 3.0),
-            v(0.0, -0.25, 0.0),
-        ),
-        reflect_case(
-            "reflect-normal-incidence",
-            FORMULA_6,
-            "straight at a wall: (0, 0, -2) off a normal (0, 0, 1) comes back as (0, 0, 2), \
-             the same length",
-            v(0.0, 0.0, -2.0),
-            Vec3::Z,
-        ),
-        reflect_case(
-            "reflect-45-mirror",
-            FORMULA_6,
-            "a mirror at 45 degrees (normal (-1, 1, 0)) turns +x into +y",
-            Vec3::X,
-            v(-1.0, 1.0, 0.0),
-        ),
-        mirror(
-            "mirror-sees-sky",
-            "a ray from (0, 1, -5) along (0, -1, 1) meets the mirror floor (k_r = 0.5, own colour \
-             0.4) at (0, 0, -4) and is reflected to the sky (0.55, 0.7, 0.9): expected \
-             (1 - 0.5) * 0.4 + 0.5 * sky = (0.475, 0.55, 0.65)",
-            (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
-            0,
-        ),
-        mirror(
-            "mirror-sees-ball",
-            "a ray from (0, 1, 1) along (0, -1, 1.5) meets the mirror floor at (0, 0, 2.5) and is \
-             reflected into the red ball (0.9, 0.1, 0.1): expected 0.2 + 0.5 * ball = (0.65, 0.25, 0.25)",
-            (v(0.0, 1.0, 1.0), v(0.0, -1.0, 1.5)),
-            0,
-        ),
-        mirror(
-            "mirror-depth-limit",
-            "the sky case at depth 5 = max_depth: no more bounces, only the local share \
-             (1 - 0.5) * 0.4 = 0.2",
-            (v(0.0, 1.0, -5.0), v(0.0, -1.0, 1.0)),
-            5,
-        ),
-        between_mirrors(
-            "mirror-depth-counts-bounces",
-            "a ray from (0, 1, 0) along (0, -1, 1) between two facing mirrors (k_r = 0.5, own \
-             share 0.2 each), max_depth = 2: the floor at depth 0, the ceiling at depth 1, the \
-             floor again at depth 2 = max_depth, where the recursion stops. Expected \
-             0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected ray one deeper; without the \
-             limit the weights alone stop it after 10 points, 0.3996)",
-            "max_depth = 2",
-        ),
-        between_mirrors(
-            "mirror-min-contribution",
-            "the same ray between the two mirrors with max_depth = 5 but min_contribution = 0.2: \
-             the reflected rays weigh 0.5 and 0.25 in the pixel, the next would weigh 0.125 < 0.2 \
-             and is not cast. Expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected \
-             ray's weight is its parent's times k_r; traced to max_depth, 0.39375)",
-            "max_depth = 5\nmin_contribution = 0.2",
-        ),
+        Case::from(ReflectQuestion {
+            name: "reflect-floor",
+            section: FORMULA_6,
+            says: "(1, -1, 0) bouncing off a floor with normal (0, 1, 0) leaves along (1, 1, 0)",
+            dir: Vec3::new(1.0, -1.0, 0.0),
+            normal: Vec3::Y,
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-normal-length",
+            section: FORMULA_6,
+            says: "the normal's length does not matter: (1, -2, 3) off a normal (0, 7, 0) gives \
+                   (1, 2, 3)",
+            dir: Vec3::new(1.0, -2.0, 3.0),
+            normal: Vec3::new(0.0, 7.0, 0.0),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-normal-flipped",
+            section: FORMULA_6,
+            says: "nor its orientation: (1, -2, 3) off a normal (0, -0.25, 0) gives (1, 2, 3)",
+            dir: Vec3::new(1.0, -2.0, 3.0),
+            normal: Vec3::new(0.0, -0.25, 0.0),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-normal-incidence",
+            section: FORMULA_6,
+            says: "straight at a wall: (0, 0, -2) off a normal (0, 0, 1) comes back as (0, 0, 2), \
+                   the same length",
+            dir: Vec3::new(0.0, 0.0, -2.0),
+            normal: Vec3::Z,
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-45-mirror",
+            section: FORMULA_6,
+            says: "a mirror at 45 degrees (normal (-1, 1, 0)) turns +x into +y",
+            dir: Vec3::X,
+            normal: Vec3::new(-1.0, 1.0, 0.0),
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-sees-sky",
+            section: RECURSION_6,
+            says: "a ray from (0, 1, -5) along (0, -1, 1) meets the mirror floor \
+                   (k_r = 0.5, own colour 0.4) at (0, 0, -4) and is reflected to the sky \
+                   (0.55, 0.7, 0.9): expected (1 - 0.5) * 0.4 + 0.5 * sky = (0.475, 0.55, 0.65)",
+            shading: Shading::Mirror,
+            scene: MIRROR_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::new(0.0, -1.0, 1.0)),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-sees-ball",
+            section: RECURSION_6,
+            says: "a ray from (0, 1, 1) along (0, -1, 1.5) meets the mirror floor at (0, 0, 2.5) \
+                   and is reflected into the red ball (0.9, 0.1, 0.1): expected 0.2 + 0.5 * ball = \
+                   (0.65, 0.25, 0.25)",
+            shading: Shading::Mirror,
+            scene: MIRROR_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 1.0), Vec3::new(0.0, -1.0, 1.5)),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-depth-limit",
+            section: RECURSION_6,
+            says: "the sky case at depth 5 = max_depth: no more bounces, only the local share \
+                   (1 - 0.5) * 0.4 = 0.2",
+            shading: Shading::Mirror,
+            scene: MIRROR_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::new(0.0, -1.0, 1.0)),
+            depth: 5,
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-depth-counts-bounces",
+            section: RECURSION_6,
+            says: "a ray from (0, 1, 0) along (0, -1, 1) between two facing mirrors \
+                   (k_r = 0.5, own share 0.2 each), max_depth = 2: the floor at depth 0, the \
+                   ceiling at depth 1, the floor again at depth 2 = max_depth, where the recursion \
+                   stops. Expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 (each reflected ray one \
+                   deeper; without the limit the weights alone stop it after 10 points, 0.3996)",
+            shading: Shading::Mirror,
+            scene: two_mirrors("max_depth = 2"),
+            ray: (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 1.0)),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-min-contribution",
+            section: RECURSION_6,
+            says: "the same ray between the two mirrors with max_depth = 5 but min_contribution = \
+                   0.2: the reflected rays weigh 0.5 and 0.25 in the pixel, the next would weigh \
+                   0.125 < 0.2 and is not cast. Expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35 \
+                   (each reflected ray's weight is its parent's times k_r; traced to max_depth, \
+                   0.39375)",
+            shading: Shading::Mirror,
+            scene: two_mirrors("max_depth = 5\nmin_contribution = 0.2"),
+            ray: (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 1.0)),
+            depth: 0,
+        }),
     ]
 }
 
+/// Chapter 6's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
-    let r = |name, says, d, n| reflect_case(name, FORMULA_6, says, d, n);
     robust(vec![
-        r(
-            "reflect-huge-direction",
-            "a direction (3e38, -3e38, 0) near f32::MAX: 2 (d.n) overflows, the answer (3e38, 3e38, 0) does not",
-            v(3e38, -3e38, 0.0),
-            Vec3::Y,
-        ),
-        r(
-            "reflect-tiny-normal",
-            "a normal of length 1e-30: n.n underflows to 0",
-            v(1.0, -1.0, 0.5),
-            v(0.0, 1e-30, 1e-30),
-        ),
-        r(
-            "reflect-huge-normal",
-            "a normal of length 1e30: n.n overflows",
-            v(1.0, -1.0, 0.5),
-            v(1e30, 1e30, 0.0),
-        ),
-        r(
-            "reflect-tiny-direction",
-            "a direction of length 1e-20 keeps its length",
-            v(1e-20, -2e-20, 3e-20),
-            v(0.2, 0.9, -0.4),
-        ),
-        r(
-            "reflect-awkward-normal",
-            "a slanted normal with awkward components",
-            v(0.1, 0.7, -0.3),
-            v(0.577, -0.123, 0.808),
-        ),
-        r(
-            "reflect-zero-normal",
-            "a zero normal: NaN, not a plausible direction",
-            Vec3::X,
-            Vec3::ZERO,
-        ),
+        Case::from(ReflectQuestion {
+            name: "reflect-huge-direction",
+            section: FORMULA_6,
+            says: "a direction (3e38, -3e38, 0) near f32::MAX: 2 (d.n) overflows, the answer \
+                   (3e38, 3e38, 0) does not",
+            dir: Vec3::new(3e38, -3e38, 0.0),
+            normal: Vec3::Y,
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-tiny-normal",
+            section: FORMULA_6,
+            says: "a normal of length 1e-30: n.n underflows to 0",
+            dir: Vec3::new(1.0, -1.0, 0.5),
+            normal: Vec3::new(0.0, 1e-30, 1e-30),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-huge-normal",
+            section: FORMULA_6,
+            says: "a normal of length 1e30: n.n overflows",
+            dir: Vec3::new(1.0, -1.0, 0.5),
+            normal: Vec3::new(1e30, 1e30, 0.0),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-tiny-direction",
+            section: FORMULA_6,
+            says: "a direction of length 1e-20 keeps its length",
+            dir: Vec3::new(1e-20, -2e-20, 3e-20),
+            normal: Vec3::new(0.2, 0.9, -0.4),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-awkward-normal",
+            section: FORMULA_6,
+            says: "a slanted normal with awkward components",
+            dir: Vec3::new(0.1, 0.7, -0.3),
+            normal: Vec3::new(0.577, -0.123, 0.808),
+        }),
+        Case::from(ReflectQuestion {
+            name: "reflect-zero-normal",
+            section: FORMULA_6,
+            says: "a zero normal: NaN, not a plausible direction",
+            dir: Vec3::X,
+            normal: Vec3::ZERO,
+        }),
     ])
 }

@@ -31,27 +31,34 @@ diffuse = 0.0
 checker = { color = [0.0, 0.0, 0.0], size = 1.0 }
 "#;
 
-fn samples_case(
+/// A `sample_offset` question: `count` samples of `sampling` in each of
+/// `pixels`, from `seed`, must follow `rule`.
+struct SamplesQuestion {
     name: &'static str,
-    says: &str,
+    section: &'static str,
+    says: &'static str,
     sampling: Sampling,
     count: u32,
     pixels: Vec<(u32, u32)>,
     seed: u64,
     rule: SampleRule,
-) -> Case {
-    Case::new(
-        name,
-        SAMPLES_7,
-        says,
-        CaseKind::SampleOffsets {
-            sampling,
-            count,
-            pixels,
-            seed,
-            rule,
-        },
-    )
+}
+
+impl From<SamplesQuestion> for Case {
+    fn from(question: SamplesQuestion) -> Case {
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::SampleOffsets(SampleOffsetsCase {
+                sampling: question.sampling,
+                count: question.count,
+                pixels: question.pixels,
+                seed: question.seed,
+                rule: question.rule,
+            }),
+        )
+    }
 }
 
 /// Chapter 7's own scene at the reference size: what `pixel_color` is
@@ -72,118 +79,134 @@ fn chapter_7_scene() -> String {
         .unwrap_or_default()
 }
 
+/// Chapter 7's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let rows: Vec<(u32, u32)> = [44u32, 60, 84]
         .iter()
         .flat_map(|&y| (0..crate::chapters::REFERENCE_WIDTH).map(move |x| (x, y)))
         .collect();
     vec![
-        samples_case(
-            "samples-grid-4",
-            "4 grid samples in pixel (3, 7): the centres of its quarters, (0.25, 0.25), \
-             (0.75, 0.25), (0.25, 0.75) and (0.75, 0.75), in any order",
-            Sampling::Grid,
-            4,
-            vec![(3, 7)],
-            1,
-            SampleRule::GridCentres,
-        ),
-        samples_case(
-            "samples-grid-9",
-            "9 grid samples: the centres of a 3 x 3 grid of cells, (1/6, 1/6) to (5/6, 5/6)",
-            Sampling::Grid,
-            9,
-            vec![(0, 0), (5, 2)],
-            0,
-            SampleRule::GridCentres,
-        ),
-        samples_case(
-            "samples-jittered-16",
-            "16 jittered samples in pixels (10, 20), (0, 0) and (159, 119), seed 42: one in each \
-             cell of a 4 x 4 grid, all inside [0, 1)^2",
-            Sampling::Jittered,
-            16,
-            vec![(10, 20), (0, 0), (159, 119)],
-            42,
-            SampleRule::OnePerCell,
-        ),
-        samples_case(
-            "samples-random-4",
-            "4 random samples: inside [0, 1)^2, not all at the same point",
-            Sampling::Random,
-            4,
-            vec![(5, 6), (100, 50)],
-            9,
-            SampleRule::InsidePixel,
-        ),
-        samples_case(
-            "samples-random-5",
-            "5 random samples: random sampling takes any count, not only squares (5 has no \
-             whole square root: floor(sqrt 5) = 2); inside [0, 1)^2, not all at the same point",
-            Sampling::Random,
-            5,
-            vec![(5, 6), (100, 50)],
-            9,
-            SampleRule::InsidePixel,
-        ),
-        samples_case(
-            "samples-seed-changes-them",
-            "4 random samples in pixels (5, 6) and (100, 50) with seed 1, then with seed 0: the \
-             seed changes the samples (it is hashed with the pixel and the index), so the two \
-             sets must differ",
-            Sampling::Random,
-            4,
-            vec![(5, 6), (100, 50)],
-            1,
-            SampleRule::UnlikeSeed(0),
-        ),
+        Case::from(SamplesQuestion {
+            name: "samples-grid-4",
+            section: SAMPLES_7,
+            says: "4 grid samples in pixel (3, 7): the centres of its quarters, (0.25, 0.25), \
+                   (0.75, 0.25), (0.25, 0.75) and (0.75, 0.75), in any order",
+            sampling: Sampling::Grid,
+            count: 4,
+            pixels: vec![(3, 7)],
+            seed: 1,
+            rule: SampleRule::GridCentres,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-grid-9",
+            section: SAMPLES_7,
+            says: "9 grid samples: the centres of a 3 x 3 grid of cells, (1/6, 1/6) to (5/6, 5/6)",
+            sampling: Sampling::Grid,
+            count: 9,
+            pixels: vec![(0, 0), (5, 2)],
+            seed: 0,
+            rule: SampleRule::GridCentres,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-jittered-16",
+            section: SAMPLES_7,
+            says: "16 jittered samples in pixels (10, 20), (0, 0) and (159, 119), seed 42: one in \
+                   each cell of a 4 x 4 grid, all inside [0, 1)^2",
+            sampling: Sampling::Jittered,
+            count: 16,
+            pixels: vec![(10, 20), (0, 0), (159, 119)],
+            seed: 42,
+            rule: SampleRule::OnePerCell,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-random-4",
+            section: SAMPLES_7,
+            says: "4 random samples: inside [0, 1)^2, not all at the same point",
+            sampling: Sampling::Random,
+            count: 4,
+            pixels: vec![(5, 6), (100, 50)],
+            seed: 9,
+            rule: SampleRule::InsidePixel,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-random-5",
+            section: SAMPLES_7,
+            says: "5 random samples: random sampling takes any count, not only squares \
+                   (5 has no whole square root: floor(sqrt 5) = 2); inside [0, 1)^2, not all at \
+                   the same point",
+            sampling: Sampling::Random,
+            count: 5,
+            pixels: vec![(5, 6), (100, 50)],
+            seed: 9,
+            rule: SampleRule::InsidePixel,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-seed-changes-them",
+            section: SAMPLES_7,
+            says: "4 random samples in pixels (5, 6) and (100, 50) with seed 1, then with seed 0: \
+                   the seed changes the samples (it is hashed with the pixel and the index), so \
+                   the two sets must differ",
+            sampling: Sampling::Random,
+            count: 4,
+            pixels: vec![(5, 6), (100, 50)],
+            seed: 1,
+            rule: SampleRule::UnlikeSeed(0),
+        }),
         Case::new(
             "pixel-quarters",
             SAMPLES_7,
             "the middle pixel of a 3 x 3 view of a black and white checker whose corner is on the \
              axis: its four grid samples see 1, 0, 0, 1; expected their mean in linear light, 0.5 \
              (averaging sRGB codes instead gives 0.21)",
-            CaseKind::PixelColor {
+            CaseKind::PixelColor(PixelColorCase {
                 scene: QUARTERS_SCENE.to_string(),
                 pixels: vec![(1, 1)],
-            },
+            }),
         ),
         Case::new(
             "pixel-mean-of-own-samples",
             SAMPLES_7,
-            "every pixel of rows 44, 60 and 84 of the chapter 7 scene at 160 x 120 (they cross \
-             the balls' edges): expected the mean, in linear light, of the pixel's own 4 samples, \
-             at the offsets sample_offset gives; nothing from neighbouring pixels",
-            CaseKind::PixelColor {
+            "every pixel of rows 44, 60 and 84 of the chapter 7 scene at 160 x 120 \
+             (they cross the balls' edges): expected the mean, in linear light, of the pixel's own \
+             4 samples, at the offsets sample_offset gives; nothing from neighbouring pixels",
+            CaseKind::PixelColor(PixelColorCase {
                 scene: chapter_7_scene(),
                 pixels: rows,
-            },
+            }),
         ),
     ]
 }
 
+/// Chapter 7's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let mut pixels: Vec<(u32, u32)> = (0..20_000).map(|x| (x, 3)).collect();
     pixels.push((109_417, 17));
     robust(vec![
-        samples_case(
-            "samples-jittered-never-1",
-            "4 jittered samples in each of 20,000 pixels: (column + r) / 2 can round up to 1.0 \
-             in f32 (pixel (109417, 17), sample 1 does); every offset must stay below 1",
-            Sampling::Jittered,
-            4,
-            pixels.clone(),
-            0,
-            SampleRule::OnePerCell,
-        ),
-        samples_case(
-            "samples-random-never-1",
-            "4 random samples in each of 20,000 pixels: every offset inside [0, 1)^2",
-            Sampling::Random,
-            4,
+        Case::from(SamplesQuestion {
+            name: "samples-jittered-never-1",
+            section: SAMPLES_7,
+            says: "4 jittered samples in each of 20,000 pixels: (column + r) / 2 can round up to \
+                   1.0 in f32 (pixel (109417, 17), sample 1 does); every offset must stay below 1",
+            sampling: Sampling::Jittered,
+            count: 4,
+            pixels: pixels.clone(),
+            seed: 0,
+            rule: SampleRule::OnePerCell,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-random-never-1",
+            section: SAMPLES_7,
+            says: "4 random samples in each of 20,000 pixels: every offset inside [0, 1)^2",
+            sampling: Sampling::Random,
+            count: 4,
             pixels,
-            0,
-            SampleRule::InsidePixel,
-        ),
+            seed: 0,
+            rule: SampleRule::InsidePixel,
+        }),
     ])
 }

@@ -8,15 +8,29 @@ const SNELL_8: &str = "Snell-Descartes";
 const TIR_8: &str = "Total internal reflection";
 const ENTERING_8: &str = "Entering and leaving";
 
-fn refract_case(
+/// A `refract(dir, normal, eta)` question.
+struct RefractQuestion {
     name: &'static str,
     section: &'static str,
-    says: &str,
-    d: Vec3,
-    n: Vec3,
+    says: &'static str,
+    dir: Vec3,
+    normal: Vec3,
     eta: f32,
-) -> Case {
-    Case::new(name, section, says, CaseKind::Refract { d, n, eta })
+}
+
+impl From<RefractQuestion> for Case {
+    fn from(question: RefractQuestion) -> Case {
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Refract(RefractCase {
+                d: question.dir,
+                n: question.normal,
+                eta: question.eta,
+            }),
+        )
+    }
 }
 
 /// Incident direction at `degrees` from the normal +y, travelling down.
@@ -50,95 +64,90 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
+/// Chapter 8's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let glass = 1.5f32;
-    let water = |name, section, says, ray: (Vec3, Vec3), depth| {
-        Case::new(
-            name,
-            section,
-            says,
-            CaseKind::Shade {
-                shading: Shading::Glass,
-                scene: WATER_SCENE.to_string(),
-                ray: Ray::new(ray.0, ray.1),
-                depth,
-            },
-        )
-    };
     vec![
-        refract_case(
-            "refract-normal-incidence",
-            SNELL_8,
-            "straight down into glass, (0, -2, 0) through a normal (0, 1, 0), eta = 1/1.5: \
-             straight on, as a unit vector (0, -1, 0)",
-            v(0.0, -2.0, 0.0),
-            Vec3::Y,
-            1.0 / glass,
-        ),
-        refract_case(
-            "refract-air-to-glass-45",
-            SNELL_8,
-            "air to glass at 45 degrees, (1, -1, 0) through (0, 1, 0), eta = 1/1.5: \
-             sin t = sin 45 / 1.5 = 0.4714, so the unit direction (0.4714, -0.8819, 0)",
-            v(1.0, -1.0, 0.0),
-            Vec3::Y,
-            1.0 / glass,
-        ),
-        refract_case(
-            "refract-glass-to-air",
-            SNELL_8,
-            "glass to air, (0.4, 0.9165, 0) through (0, 1, 0), eta = 1.5: sin i = 0.4, \
-             sin t = 0.6, so (0.6, 0.8, 0): away from the normal",
-            v(0.4, (1.0f32 - 0.16).sqrt(), 0.0),
-            Vec3::Y,
-            glass,
-        ),
-        refract_case(
-            "refract-normal-either-way",
-            SNELL_8,
-            "the 45 degree case with the normal given as (0, -3, 0): its length and side do not \
-             matter, expected (0.4714, -0.8819, 0)",
-            v(1.0, -1.0, 0.0),
-            v(0.0, -3.0, 0.0),
-            1.0 / glass,
-        ),
-        refract_case(
-            "refract-same-medium",
-            SNELL_8,
-            "eta = 1 (same medium on both sides): the ray goes straight on, as a unit vector",
-            v(0.3, -0.5, 0.8),
-            Vec3::Y,
-            1.0,
-        ),
-        refract_case(
-            "refract-total-internal-reflection",
-            TIR_8,
-            "glass to air at 60 degrees, past the critical angle asin(1/1.5) = 41.8 degrees: \
-             sin t would be 1.5 * 0.866 = 1.3 > 1, expected None",
-            at_angle(60.0),
-            Vec3::Y,
-            glass,
-        ),
-        water(
-            "glass-entering",
-            ENTERING_8,
-            "a ray from (0, 1, 0.7) along (1, -1, 0) enters water (index 1.33, k_t = 0.9, \
-             k_r = 0.1) at (1, 0, 0.7): entering, eta = 1/1.33, it bends toward the normal \
-             (sin t = 0.53) and meets the checkered floor y = -2 at x = 2.26; expected \
-             0.9 * that floor colour + 0.1 * the sky",
-            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
-            0,
-        ),
-        water(
-            "glass-total-internal-reflection",
-            TIR_8,
-            "an eye under water at (0, -1, 0.7) looking up along (1, 0.2, 0): leaving the water \
-             at 79 degrees from the normal, past the critical angle (48.8 degrees), nothing \
-             crosses; the transmitted share joins the reflected one: expected \
-             (0.1 + 0.9) * the floor colour at (15, -2, 0.7)",
-            (v(0.0, -1.0, 0.7), v(1.0, 0.2, 0.0)),
-            0,
-        ),
+        Case::from(RefractQuestion {
+            name: "refract-normal-incidence",
+            section: SNELL_8,
+            says: "straight down into glass, (0, -2, 0) through a normal (0, 1, 0), eta = 1/1.5: \
+                   straight on, as a unit vector (0, -1, 0)",
+            dir: Vec3::new(0.0, -2.0, 0.0),
+            normal: Vec3::Y,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-air-to-glass-45",
+            section: SNELL_8,
+            says: "air to glass at 45 degrees, (1, -1, 0) through (0, 1, 0), eta = 1/1.5: sin t = \
+                   sin 45 / 1.5 = 0.4714, so the unit direction (0.4714, -0.8819, 0)",
+            dir: Vec3::new(1.0, -1.0, 0.0),
+            normal: Vec3::Y,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-glass-to-air",
+            section: SNELL_8,
+            says: "glass to air, (0.4, 0.9165, 0) through (0, 1, 0), eta = 1.5: sin i = 0.4, sin t \
+                   = 0.6, so (0.6, 0.8, 0): away from the normal",
+            dir: Vec3::new(0.4, (1.0f32 - 0.16).sqrt(), 0.0),
+            normal: Vec3::Y,
+            eta: glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-normal-either-way",
+            section: SNELL_8,
+            says: "the 45 degree case with the normal given as (0, -3, 0): its length and side do \
+                   not matter, expected (0.4714, -0.8819, 0)",
+            dir: Vec3::new(1.0, -1.0, 0.0),
+            normal: Vec3::new(0.0, -3.0, 0.0),
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-same-medium",
+            section: SNELL_8,
+            says: "eta = 1 (same medium on both sides): the ray goes straight on, as a unit vector",
+            dir: Vec3::new(0.3, -0.5, 0.8),
+            normal: Vec3::Y,
+            eta: 1.0,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-total-internal-reflection",
+            section: TIR_8,
+            says: "glass to air at 60 degrees, past the critical angle asin(1/1.5) = 41.8 degrees: \
+                   sin t would be 1.5 * 0.866 = 1.3 > 1, expected None",
+            dir: at_angle(60.0),
+            normal: Vec3::Y,
+            eta: glass,
+        }),
+        Case::from(ShadeQuestion {
+            name: "glass-entering",
+            section: ENTERING_8,
+            says: "a ray from (0, 1, 0.7) along (1, -1, 0) enters water \
+                   (index 1.33, k_t = 0.9, k_r = 0.1) at (1, 0, 0.7): entering, eta = 1/1.33, it \
+                   bends toward the normal (sin t = 0.53) and meets the checkered floor y = -2 at \
+                   x = 2.26; expected 0.9 * that floor colour + 0.1 * the sky",
+            shading: Shading::Glass,
+            scene: WATER_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.7), Vec3::new(1.0, -1.0, 0.0)),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "glass-total-internal-reflection",
+            section: TIR_8,
+            says: "an eye under water at (0, -1, 0.7) looking up along (1, 0.2, 0): leaving the \
+                   water at 79 degrees from the normal, past the critical angle (48.8 degrees), \
+                   nothing crosses; the transmitted share joins the reflected one: expected \
+                   (0.1 + 0.9) * the floor colour at (15, -2, 0.7)",
+            shading: Shading::Glass,
+            scene: WATER_SCENE.to_string(),
+            ray: (Vec3::new(0.0, -1.0, 0.7), Vec3::new(1.0, 0.2, 0.0)),
+            depth: 0,
+        }),
         Case::new(
             "glass-fractional-shares",
             ENTERING_8,
@@ -147,120 +156,124 @@ pub fn checkpoints() -> Vec<Case> {
              from (0, 1, 0) along (1, -1, 0): 0 x its own light + 0.5 x (1, 0.5, 0.25) x 0.2 \
              through + 0.5 x 0.1 reflected = (0.15, 0.1, 0.075); the rays it casts carry the \
              weights 0.5, so the floor's and ceiling's (0.5 x 0.75 < 0.5) are not cast",
-            CaseKind::Shade {
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Glass,
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
-            },
+            }),
         ),
-        water(
-            "glass-depth-limit",
-            ENTERING_8,
-            "the entering ray at depth 5 = max_depth: no more rays, only the surface's own \
-             light, which is 0 here",
-            (v(0.0, 1.0, 0.7), v(1.0, -1.0, 0.0)),
-            5,
-        ),
+        Case::from(ShadeQuestion {
+            name: "glass-depth-limit",
+            section: ENTERING_8,
+            says: "the entering ray at depth 5 = max_depth: no more rays, only the surface's own \
+                   light, which is 0 here",
+            shading: Shading::Glass,
+            scene: WATER_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.7), Vec3::new(1.0, -1.0, 0.0)),
+            depth: 5,
+        }),
     ]
 }
 
+/// Chapter 8's hard cases (level 2).
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let glass = 1.5f32;
     let water = 1.33f32;
     let critical = (1.0 / 1.5f64).asin().to_degrees();
-    let r = |name, section, says, d, n, eta| refract_case(name, section, says, d, n, eta);
     robust(vec![
-        r(
-            "refract-just-below-critical",
-            TIR_8,
-            "glass to air 0.01 degree below the critical angle: cos t = 0.01, the refracted ray \
-             exists and skims the surface",
-            at_angle(critical - 0.01),
-            Vec3::Y,
-            glass,
-        ),
-        r(
-            "refract-just-above-critical",
-            TIR_8,
-            "glass to air 0.01 degree above the critical angle: None",
-            at_angle(critical + 0.01),
-            Vec3::Y,
-            glass,
-        ),
-        r(
-            "refract-grazing",
-            SNELL_8,
-            "air to glass at 89.99 degrees: cos i = 1.7e-4",
-            at_angle(89.99),
-            Vec3::Y,
-            1.0 / glass,
-        ),
-        r(
-            "refract-near-normal",
-            SNELL_8,
-            "near-normal incidence, 1e-4 degree: sin^2 i from 1 - cos^2 i would be noise",
-            at_angle(1e-4),
-            Vec3::Y,
-            1.0 / glass,
-        ),
-        r(
-            "refract-nested-media",
-            SNELL_8,
-            "glass into water at 40 degrees, eta = 1.5 / 1.33",
-            at_angle(40.0),
-            Vec3::Y,
-            glass / water,
-        ),
-        r(
-            "refract-unnormalised-input",
-            SNELL_8,
-            "air to glass at 45 degrees with d = (3, -3, 0) and n = (0, 0.25, 0)",
-            v(3.0, -3.0, 0.0),
-            v(0.0, 0.25, 0.0),
-            1.0 / glass,
-        ),
-        r(
-            "refract-same-medium-short-direction",
-            SNELL_8,
-            "eta = 1 with the short direction (1e-4, -2e-4, 2e-4), length 3e-4: straight on, \
-             as a unit vector (1/3, -2/3, 2/3) (a shortcut for eta = 1 that keeps a direction \
-             already unit must not keep this one)",
-            v(1e-4, -2e-4, 2e-4),
-            Vec3::Y,
-            1.0,
-        ),
-        r(
-            "refract-zero-normal",
-            SNELL_8,
-            "a zero normal: None",
-            at_angle(30.0),
-            Vec3::ZERO,
-            1.0 / glass,
-        ),
-        r(
-            "refract-nan-direction",
-            SNELL_8,
-            "a NaN direction: None",
-            v(f32::NAN, -1.0, 0.0),
-            Vec3::Y,
-            1.0 / glass,
-        ),
-        r(
-            "refract-nan-eta",
-            SNELL_8,
-            "eta = NaN: None",
-            at_angle(30.0),
-            Vec3::Y,
-            f32::NAN,
-        ),
-        r(
-            "refract-zero-eta",
-            SNELL_8,
-            "eta = 0: None",
-            at_angle(30.0),
-            Vec3::Y,
-            0.0,
-        ),
+        Case::from(RefractQuestion {
+            name: "refract-just-below-critical",
+            section: TIR_8,
+            says: "glass to air 0.01 degree below the critical angle: cos t = 0.01, the refracted \
+                   ray exists and skims the surface",
+            dir: at_angle(critical - 0.01),
+            normal: Vec3::Y,
+            eta: glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-just-above-critical",
+            section: TIR_8,
+            says: "glass to air 0.01 degree above the critical angle: None",
+            dir: at_angle(critical + 0.01),
+            normal: Vec3::Y,
+            eta: glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-grazing",
+            section: SNELL_8,
+            says: "air to glass at 89.99 degrees: cos i = 1.7e-4",
+            dir: at_angle(89.99),
+            normal: Vec3::Y,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-near-normal",
+            section: SNELL_8,
+            says: "near-normal incidence, 1e-4 degree: sin^2 i from 1 - cos^2 i would be noise",
+            dir: at_angle(1e-4),
+            normal: Vec3::Y,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-nested-media",
+            section: SNELL_8,
+            says: "glass into water at 40 degrees, eta = 1.5 / 1.33",
+            dir: at_angle(40.0),
+            normal: Vec3::Y,
+            eta: glass / water,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-unnormalised-input",
+            section: SNELL_8,
+            says: "air to glass at 45 degrees with d = (3, -3, 0) and n = (0, 0.25, 0)",
+            dir: Vec3::new(3.0, -3.0, 0.0),
+            normal: Vec3::new(0.0, 0.25, 0.0),
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-same-medium-short-direction",
+            section: SNELL_8,
+            says: "eta = 1 with the short direction (1e-4, -2e-4, 2e-4), length 3e-4: straight on, \
+                   as a unit vector (1/3, -2/3, 2/3) (a shortcut for eta = 1 that keeps a \
+                   direction already unit must not keep this one)",
+            dir: Vec3::new(1e-4, -2e-4, 2e-4),
+            normal: Vec3::Y,
+            eta: 1.0,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-zero-normal",
+            section: SNELL_8,
+            says: "a zero normal: None",
+            dir: at_angle(30.0),
+            normal: Vec3::ZERO,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-nan-direction",
+            section: SNELL_8,
+            says: "a NaN direction: None",
+            dir: Vec3::new(f32::NAN, -1.0, 0.0),
+            normal: Vec3::Y,
+            eta: 1.0 / glass,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-nan-eta",
+            section: SNELL_8,
+            says: "eta = NaN: None",
+            dir: at_angle(30.0),
+            normal: Vec3::Y,
+            eta: f32::NAN,
+        }),
+        Case::from(RefractQuestion {
+            name: "refract-zero-eta",
+            section: SNELL_8,
+            says: "eta = 0: None",
+            dir: at_angle(30.0),
+            normal: Vec3::Y,
+            eta: 0.0,
+        }),
     ])
 }

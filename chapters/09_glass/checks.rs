@@ -22,26 +22,33 @@ fn exact_fresnel(cos_i: f64, n1: f64, n2: f64) -> f64 {
     (r_s * r_s + r_p * r_p) / 2.0
 }
 
-fn reflectance(
+/// A `fresnel(cos_i, n1, n2)` question, or `schlick` when `schlick` is set.
+struct ReflectanceQuestion {
     name: &'static str,
     section: &'static str,
-    says: &str,
+    says: &'static str,
     schlick: bool,
-    (cos_i, n1, n2): (f32, f32, f32),
+    cos_i: f32,
+    n1: f32,
+    n2: f32,
     expect: f64,
-) -> Case {
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::Reflectance {
-            schlick,
-            cos_i,
-            n1,
-            n2,
-            expect,
-        },
-    )
+}
+
+impl From<ReflectanceQuestion> for Case {
+    fn from(question: ReflectanceQuestion) -> Case {
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Reflectance(ReflectanceCase {
+                schlick: question.schlick,
+                cos_i: question.cos_i,
+                n1: question.n1,
+                n2: question.n2,
+                expect: question.expect,
+            }),
+        )
+    }
 }
 
 /// A glass ball (ior 1.5, Fresnel exact) holding a water ball (1.33) over a
@@ -73,203 +80,237 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
+/// Chapter 9's checkpoints (level 1), in the order they run: the first
+/// that fails is the one reported.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
     let cos45 = std::f32::consts::FRAC_1_SQRT_2;
-    let shade = |name, says: &str, ray: (Vec3, Vec3)| {
-        Case::new(
-            name,
-            STACK_9,
-            says,
-            CaseKind::Shade {
-                shading: Shading::Dielectric,
-                scene: NESTED_SCENE.to_string(),
-                ray: Ray::new(ray.0, ray.1),
-                depth: 0,
-            },
-        )
-    };
     vec![
-        reflectance(
-            "fresnel-normal-incidence",
-            FRESNEL_9,
-            "air to glass head-on: cos_i = 1, n1 = 1, n2 = 1.5: R = ((1 - 1.5) / (1 + 1.5))^2 = 0.04",
-            false,
-            (1.0, 1.0, 1.5),
-            0.04,
-        ),
-        reflectance(
-            "schlick-normal-incidence",
-            SCHLICK_9,
-            "the same with Schlick: R0 = 0.04, and (1 - cos_i)^5 = 0 head-on: 0.04",
-            true,
-            (1.0, 1.0, 1.5),
-            0.04,
-        ),
-        reflectance(
-            "fresnel-45-degrees",
-            FRESNEL_9,
-            "air to glass at 45 degrees: sin t = 0.7071 / 1.5 = 0.4714, cos t = 0.8819; \
-             r_s = (0.7071 - 1.5 x 0.8819) / (0.7071 + 1.5 x 0.8819) = -0.3034, \
-             r_p = (0.8819 - 1.5 x 0.7071) / (0.8819 + 1.5 x 0.7071) = -0.0921: \
-             R = (r_s^2 + r_p^2) / 2 = 0.0503",
-            false,
-            (cos45, 1.0, 1.5),
-            exact_fresnel(f64::from(cos45), 1.0, 1.5),
-        ),
-        reflectance(
-            "fresnel-total-internal-reflection",
-            FRESNEL_9,
-            "glass to air at 60 degrees (cos_i = 0.5): sin t = 1.5 x 0.866 = 1.3 > 1, no \
-             transmitted ray: R = 1 exactly",
-            false,
-            (0.5, 1.5, 1.0),
-            1.0,
-        ),
-        reflectance(
-            "fresnel-grazing",
-            FRESNEL_9,
-            "air to glass at grazing incidence (cos_i = 0): everything is reflected, R = 1",
-            false,
-            (0.0, 1.0, 1.5),
-            1.0,
-        ),
-        reflectance(
-            "schlick-leaving-glass",
-            SCHLICK_9,
-            "glass to air with cos_i = 0.9: Schlick takes the cosine in the less dense medium, \
-             here the transmitted one: sin t = 1.5 x 0.4359 = 0.6538, cos t = 0.7566, \
-             R = 0.04 + 0.96 x (1 - 0.7566)^5 = 0.04081 (with cos_i it would be 0.04001)",
-            true,
-            (0.9, 1.5, 1.0),
-            {
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-normal-incidence",
+            section: FRESNEL_9,
+            says: "air to glass head-on: cos_i = 1, n1 = 1, n2 = 1.5: R = \
+                   ((1 - 1.5) / (1 + 1.5))^2 = 0.04",
+            schlick: false,
+            cos_i: 1.0,
+            n1: 1.0,
+            n2: 1.5,
+            expect: 0.04,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "schlick-normal-incidence",
+            section: SCHLICK_9,
+            says: "the same with Schlick: R0 = 0.04, and (1 - cos_i)^5 = 0 head-on: 0.04",
+            schlick: true,
+            cos_i: 1.0,
+            n1: 1.0,
+            n2: 1.5,
+            expect: 0.04,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-45-degrees",
+            section: FRESNEL_9,
+            says: "air to glass at 45 degrees: sin t = 0.7071 / 1.5 = 0.4714, cos t = 0.8819; r_s \
+                   = (0.7071 - 1.5 x 0.8819) / (0.7071 + 1.5 x 0.8819) = -0.3034, r_p = \
+                   (0.8819 - 1.5 x 0.7071) / (0.8819 + 1.5 x 0.7071) = -0.0921: R = \
+                   (r_s^2 + r_p^2) / 2 = 0.0503",
+            schlick: false,
+            cos_i: cos45,
+            n1: 1.0,
+            n2: 1.5,
+            expect: exact_fresnel(f64::from(cos45), 1.0, 1.5),
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-total-internal-reflection",
+            section: FRESNEL_9,
+            says: "glass to air at 60 degrees (cos_i = 0.5): sin t = 1.5 x 0.866 = 1.3 > 1, no \
+                   transmitted ray: R = 1 exactly",
+            schlick: false,
+            cos_i: 0.5,
+            n1: 1.5,
+            n2: 1.0,
+            expect: 1.0,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-grazing",
+            section: FRESNEL_9,
+            says: "air to glass at grazing incidence (cos_i = 0): everything is reflected, R = 1",
+            schlick: false,
+            cos_i: 0.0,
+            n1: 1.0,
+            n2: 1.5,
+            expect: 1.0,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "schlick-leaving-glass",
+            section: SCHLICK_9,
+            says: "glass to air with cos_i = 0.9: Schlick takes the cosine in the less dense \
+                   medium, here the transmitted one: sin t = 1.5 x 0.4359 = 0.6538, cos t = \
+                   0.7566, R = 0.04 + 0.96 x (1 - 0.7566)^5 = 0.04081 \
+                   (with cos_i it would be 0.04001)",
+            schlick: true,
+            cos_i: 0.9,
+            n1: 1.5,
+            n2: 1.0,
+            expect: {
                 let cos_t = (1.0 - 2.25 * (1.0 - 0.81f64)).sqrt();
                 0.04 + 0.96 * (1.0 - cos_t).powi(5)
             },
-        ),
-        reflectance(
-            "schlick-past-the-critical-angle",
-            SCHLICK_9,
-            "glass to air at 60 degrees (cos_i = 0.5), past the critical angle of 41.8 degrees: \
-             no transmitted ray, so R = 1, with Schlick too",
-            true,
-            (0.5, 1.5, 1.0),
-            1.0,
-        ),
-        reflectance(
-            "fresnel-water-in-glass",
-            FRESNEL_9,
-            "from glass (1.5) into water (1.33) head-on: R = ((1.5 - 1.33) / (1.5 + 1.33))^2 = \
-             0.00361, ten times less than into air: the pair of media matters",
-            false,
-            (1.0, 1.5, 1.33),
-            ((1.5f64 - 1.33) / (1.5 + 1.33)).powi(2),
-        ),
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "schlick-past-the-critical-angle",
+            section: SCHLICK_9,
+            says: "glass to air at 60 degrees (cos_i = 0.5), past the critical angle of 41.8 \
+                   degrees: no transmitted ray, so R = 1, with Schlick too",
+            schlick: true,
+            cos_i: 0.5,
+            n1: 1.5,
+            n2: 1.0,
+            expect: 1.0,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-water-in-glass",
+            section: FRESNEL_9,
+            says: "from glass (1.5) into water (1.33) head-on: R = ((1.5 - 1.33) / (1.5 + 1.33))^2 \
+                   = 0.00361, ten times less than into air: the pair of media matters",
+            schlick: false,
+            cos_i: 1.0,
+            n1: 1.5,
+            n2: 1.33,
+            expect: ((1.5f64 - 1.33) / (1.5 + 1.33)).powi(2),
+        }),
         Case::new(
             "transmittance-slab",
             ABSORPTION_9,
             "through 2 units of glass absorbing (0.5, 0.1, 0) per unit: exp(-1) = 0.3679, \
              exp(-0.2) = 0.8187 and 1",
-            CaseKind::Transmittance {
-                absorption: v(0.5, 0.1, 0.0),
+            CaseKind::Transmittance(TransmittanceCase {
+                absorption: Vec3::new(0.5, 0.1, 0.0),
                 distance: 2.0,
-            },
+            }),
         ),
-        shade(
-            "dielectric-nested-balls",
-            "a ray from (0, 1, -6) along +z meets a glass ball (ior 1.5, exact Fresnel, absorbing) \
-             holding a water ball (ior 1.33, Schlick): expected the reference colour, with every \
-             crossing between the right pair of media",
-            (v(0.0, 1.0, -6.0), Vec3::Z),
-        ),
+        Case::from(ShadeQuestion {
+            name: "dielectric-nested-balls",
+            section: STACK_9,
+            says: "a ray from (0, 1, -6) along +z meets a glass ball \
+                   (ior 1.5, exact Fresnel, absorbing) holding a water ball (ior 1.33, Schlick): \
+                   expected the reference colour, with every crossing between the right pair of \
+                   media",
+            shading: Shading::Dielectric,
+            scene: NESTED_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, -6.0), Vec3::Z),
+            depth: 0,
+        }),
         Case::new(
             "dielectric-fractional-shares",
             STACK_9,
-            "chapter 8's glass-fractional-shares scene, no Fresnel (fresnel = \"none\": R = 0): \
-             a pane with k_r = k_t = 0.5, tinted (1, 0.5, 0.25), of its own light 1 - 0.5 - 0.5 = \
-             0; the transmitted ray (weight 0.5) sees the floor's own light 0.2, the reflected \
-             one (weight 0.5) the ceiling's, 0.1, neither casting further (0.5 x 0.75 < \
-             min_contribution 0.5): expected (0.15, 0.1, 0.075)",
-            CaseKind::Shade {
+            "chapter 8's glass-fractional-shares scene, no Fresnel (fresnel = \"none\": R = 0): a \
+             pane with k_r = k_t = 0.5, tinted (1, 0.5, 0.25), of its own light 1 - 0.5 - 0.5 = 0; \
+             the transmitted ray (weight 0.5) sees the floor's own light 0.2, the reflected one \
+             (weight 0.5) the ceiling's, 0.1, neither casting further \
+             (0.5 x 0.75 < min_contribution 0.5): expected (0.15, 0.1, 0.075)",
+            CaseKind::Shade(ShadeCase {
                 shading: Shading::Dielectric,
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
-            },
+            }),
         ),
-        shade(
-            "dielectric-off-centre",
-            "the same balls, the ray from (0.3, 1.2, -6) along +z: it crosses glass and water at \
-             an angle, where Fresnel's share and the bending both depend on the pair of media",
-            (v(0.3, 1.2, -6.0), Vec3::Z),
-        ),
+        Case::from(ShadeQuestion {
+            name: "dielectric-off-centre",
+            section: STACK_9,
+            says: "the same balls, the ray from (0.3, 1.2, -6) along +z: it crosses glass and \
+                   water at an angle, where Fresnel's share and the bending both depend on the \
+                   pair of media",
+            shading: Shading::Dielectric,
+            scene: NESTED_SCENE.to_string(),
+            ray: (Vec3::new(0.3, 1.2, -6.0), Vec3::Z),
+            depth: 0,
+        }),
     ]
 }
 
+/// Chapter 9's hard cases.
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let critical = (1.0f64 / 1.5).asin();
     let just_below = (critical - 1e-4).cos() as f32;
     let just_above = (critical + 1e-4).cos() as f32;
     vec![
-        reflectance(
-            "fresnel-just-below-the-critical-angle",
-            FRESNEL_9,
-            "glass to air 1e-4 rad before the critical angle: R is continuous and rises steeply \
-             to 1 (a square-root singularity): no NaN, no value above 1",
-            false,
-            (just_below, 1.5, 1.0),
-            exact_fresnel(f64::from(just_below), 1.5, 1.0),
-        ),
-        reflectance(
-            "fresnel-just-past-the-critical-angle",
-            FRESNEL_9,
-            "glass to air 1e-4 rad past the critical angle: total internal reflection, R = 1",
-            false,
-            (just_above, 1.5, 1.0),
-            1.0,
-        ),
-        reflectance(
-            "fresnel-equal-media",
-            FRESNEL_9,
-            "water to water (1.33 to 1.33): no boundary, nothing reflected, R = 0 (not 0/0)",
-            false,
-            (0.3, 1.33, 1.33),
-            0.0,
-        ),
-        reflectance(
-            "fresnel-zero-index",
-            FRESNEL_9,
-            "n1 = 0, not an index (no medium has one below 1, and 0 makes n1 / n2 = 0): \
-             expected NaN, a loud answer, not a plausible R",
-            false,
-            (0.8, 0.0, 1.5),
-            f64::NAN,
-        ),
-        reflectance(
-            "schlick-negative-index",
-            SCHLICK_9,
-            "n2 = -1.5, not an index: expected NaN (Schlick's R0 = ((1 + 1.5) / (1 - 1.5))^2 \
-             = 25 would be no reflectance at all)",
-            true,
-            (0.8, 1.0, -1.5),
-            f64::NAN,
-        ),
-        reflectance(
-            "schlick-nearly-grazing",
-            SCHLICK_9,
-            "air to glass with cos_i = 1e-7: R = 0.04 + 0.96 (1 - 1e-7)^5, just below 1",
-            true,
-            (1e-7, 1.0, 1.5),
-            0.04 + 0.96 * (1.0 - f64::from(1e-7f32)).powi(5),
-        ),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-just-below-the-critical-angle",
+            section: FRESNEL_9,
+            says: "glass to air 1e-4 rad before the critical angle: R is continuous and rises \
+                   steeply to 1 (a square-root singularity): no NaN, no value above 1",
+            schlick: false,
+            cos_i: just_below,
+            n1: 1.5,
+            n2: 1.0,
+            expect: exact_fresnel(f64::from(just_below), 1.5, 1.0),
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-just-past-the-critical-angle",
+            section: FRESNEL_9,
+            says: "glass to air 1e-4 rad past the critical angle: total internal reflection, R = 1",
+            schlick: false,
+            cos_i: just_above,
+            n1: 1.5,
+            n2: 1.0,
+            expect: 1.0,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-equal-media",
+            section: FRESNEL_9,
+            says: "water to water (1.33 to 1.33): no boundary, nothing reflected, R = 0 (not 0/0)",
+            schlick: false,
+            cos_i: 0.3,
+            n1: 1.33,
+            n2: 1.33,
+            expect: 0.0,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "fresnel-zero-index",
+            section: FRESNEL_9,
+            says: "n1 = 0, not an index (no medium has one below 1, and 0 makes n1 / n2 = 0): \
+                   expected NaN, a loud answer, not a plausible R",
+            schlick: false,
+            cos_i: 0.8,
+            n1: 0.0,
+            n2: 1.5,
+            expect: f64::NAN,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "schlick-negative-index",
+            section: SCHLICK_9,
+            says: "n2 = -1.5, not an index: expected NaN \
+                   (Schlick's R0 = ((1 + 1.5) / (1 - 1.5))^2 = 25 would be no reflectance at all)",
+            schlick: true,
+            cos_i: 0.8,
+            n1: 1.0,
+            n2: -1.5,
+            expect: f64::NAN,
+        }),
+        Case::from(ReflectanceQuestion {
+            name: "schlick-nearly-grazing",
+            section: SCHLICK_9,
+            says: "air to glass with cos_i = 1e-7: R = 0.04 + 0.96 (1 - 1e-7)^5, just below 1",
+            schlick: true,
+            cos_i: 1e-7,
+            n1: 1.0,
+            n2: 1.5,
+            expect: 0.04 + 0.96 * (1.0 - f64::from(1e-7f32)).powi(5),
+        }),
         Case::new(
             "transmittance-no-absorption-forever",
             ABSORPTION_9,
             "a channel that absorbs nothing keeps everything even over an infinite distance \
              (0 x inf would be NaN): (0, 0, 0) over inf gives (1, 1, 1)",
-            CaseKind::Transmittance {
+            CaseKind::Transmittance(TransmittanceCase {
                 absorption: Vec3::ZERO,
                 distance: f32::INFINITY,
-            },
+            }),
         ),
     ]
 }

@@ -50,285 +50,280 @@ fn tetrahedron(corners: [Vec3; 4]) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
-/// A case of `intersect_triangle` on each of `triangles`; a hit's `t` is
-/// the nearest exact one among them.
-fn triangles_case(
+/// An `intersect_triangle` question on each of `triangles`, the ray from
+/// `ray.0` along `ray.1`, hits wanted for `range.0 < t < range.1`; a hit's
+/// `t` is the nearest exact one among them.
+struct TrianglesQuestion {
     name: &'static str,
     section: &'static str,
-    says: &str,
+    says: &'static str,
     triangles: Vec<[Vec3; 3]>,
+    /// `(origin, dir)`.
     ray: (Vec3, Vec3),
+    /// `(t_min, t_max)`.
     range: (f32, f32),
-    expect: E,
-) -> Case {
-    let expect = match expect {
-        E::Hit => ExpectT::Hit(
-            triangles
+    expect: Expect,
+}
+
+impl From<TrianglesQuestion> for Case {
+    fn from(question: TrianglesQuestion) -> Case {
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        let expect = question.expect.with_exact_t(|| {
+            question
+                .triangles
                 .iter()
                 .filter_map(|corners| {
                     exact::triangle(
                         corners.map(wide),
-                        wide(ray.0),
-                        wide(ray.1),
-                        f64::from(range.0),
-                        f64::from(range.1),
+                        wide(origin),
+                        wide(dir),
+                        f64::from(t_min),
+                        f64::from(t_max),
                     )
                 })
                 .reduce(f64::min)
-                .unwrap_or(f64::NAN),
-        ),
-        E::Miss => ExpectT::Miss,
-        E::Either => ExpectT::Either,
-    };
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::Triangles {
-            triangles,
-            ray: Ray::new(ray.0, ray.1),
-            t_min: range.0,
-            t_max: range.1,
-            expect,
-        },
-    )
-}
-
-/// The lesson's triangle alone.
-fn lesson_triangle_case(
-    name: &'static str,
-    says: &str,
-    ray: (Vec3, Vec3),
-    range: (f32, f32),
-    expect: E,
-) -> Case {
-    triangles_case(
-        name,
-        HIT_10,
-        says,
-        vec![LESSON_TRIANGLE],
-        ray,
-        range,
-        expect,
-    )
+        });
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Triangles(TrianglesCase {
+                triangles: question.triangles,
+                ray: Ray::new(origin, dir),
+                t_min,
+                t_max,
+                expect,
+            }),
+        )
+    }
 }
 
 /// The unit square at z = 2 as two triangles sharing its diagonal
-/// (1, 0, 2)-(0, 1, 2): the first takes the square's corners `first` (indices
-/// into (0, 0), (1, 0), (1, 1), (0, 1)), the second the same turned half a
-/// turn about the square's centre, which keeps the winding and puts the
-/// diagonal (reversed) in the same place of both. A ray from
-/// (0.5, 0.5, `from_z`) toward z = 2 goes through the middle of the diagonal.
-fn shared_diagonal_case(name: &'static str, says: &str, first: [usize; 3], from_z: f32) -> Case {
-    let square = [
-        v(0.0, 0.0, 2.0),
-        v(1.0, 0.0, 2.0),
-        v(1.0, 1.0, 2.0),
-        v(0.0, 1.0, 2.0),
-    ];
-    let turned = |i: usize| square[(i + 2) % 4];
-    let direction = if from_z > 2.0 { -Vec3::Z } else { Vec3::Z };
-    triangles_case(
-        name,
-        WATERTIGHT_10,
-        says,
-        vec![first.map(|i| square[i]), first.map(turned)],
-        (v(0.5, 0.5, from_z), direction),
-        ALL,
-        E::Hit,
-    )
+/// (1, 0, 2)-(0, 1, 2): the first takes the square's corners
+/// `first_triangle` (indices into (0, 0), (1, 0), (1, 1), (0, 1)), the
+/// second the same turned half a turn about the square's centre, which
+/// keeps the winding and puts the diagonal (reversed) in the same place of
+/// both. A ray from (0.5, 0.5, `ray_from_z`) toward z = 2 goes through the
+/// middle of the diagonal: expected a hit.
+struct SharedDiagonalQuestion {
+    name: &'static str,
+    says: &'static str,
+    first_triangle: [usize; 3],
+    ray_from_z: f32,
 }
 
-fn barycentric_case(name: &'static str, says: &str, corners: [Vec3; 3], point: Vec3) -> Case {
-    Case::new(
-        name,
-        BARYCENTRIC_10,
-        says,
-        CaseKind::Barycentric { corners, point },
-    )
-}
-
-fn smooth_normal_case(name: &'static str, says: &str, point: Vec3) -> Case {
-    Case::new(
-        name,
-        SMOOTH_10,
-        says,
-        CaseKind::SmoothNormal {
-            corners: LESSON_TRIANGLE,
-            normals: AXIS_NORMALS,
-            point,
-        },
-    )
-}
-
-fn terminator_case(name: &'static str, says: &str, normals: [Vec3; 3]) -> Case {
-    Case::new(
-        name,
-        TERMINATOR_10,
-        says,
-        CaseKind::Terminator {
-            corners: FLOOR_TRIANGLE,
-            normals,
-            point: v(0.25, 0.25, 0.0),
-        },
-    )
-}
-
-fn smooth_hit_case(name: &'static str, says: &str, from_z: f32, transparent: bool) -> Case {
-    Case::new(
-        name,
-        TERMINATOR_10,
-        says,
-        CaseKind::SmoothHit {
-            corners: FLOOR_TRIANGLE,
-            normals: CONVEX_NORMALS,
-            ray: Ray::new(v(0.25, 0.25, from_z), v(0.0, 0.0, -from_z.signum())),
-            transparent,
-        },
-    )
+impl From<SharedDiagonalQuestion> for Case {
+    fn from(question: SharedDiagonalQuestion) -> Case {
+        let square = [
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::new(1.0, 0.0, 2.0),
+            Vec3::new(1.0, 1.0, 2.0),
+            Vec3::new(0.0, 1.0, 2.0),
+        ];
+        let turned = |i: usize| square[(i + 2) % 4];
+        let direction = if question.ray_from_z > 2.0 {
+            -Vec3::Z
+        } else {
+            Vec3::Z
+        };
+        Case::from(TrianglesQuestion {
+            name: question.name,
+            section: WATERTIGHT_10,
+            says: question.says,
+            triangles: vec![
+                question.first_triangle.map(|i| square[i]),
+                question.first_triangle.map(turned),
+            ],
+            ray: (Vec3::new(0.5, 0.5, question.ray_from_z), direction),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        })
+    }
 }
 
 /// Chapter 10's checkpoint cases. The first two are the ones the lesson's
 /// "Your turn" paragraph promises.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
-    let up = (v(0.25, 0.25, 0.0), Vec3::Z);
+    let up = (Vec3::new(0.25, 0.25, 0.0), Vec3::Z);
     vec![
-        lesson_triangle_case(
-            "triangle-hit-from-behind",
-            "the lesson's triangle (0, 0, 2), (1, 0, 2), (0, 1, 2) and a ray from \
-             (0.25, 0.25, 0) along +z: it meets the plane z = 2 at (0.25, 0.25, 2), inside \
-             (beta = gamma = 0.25): expected t = 2. By the winding a -> b -> c the normal is +z, \
-             away from the ray: the ray meets the triangle's back, and a triangle is two-sided",
-            up,
-            ALL,
-            E::Hit,
-        ),
-        barycentric_case(
+        Case::from(TrianglesQuestion {
+            name: "triangle-hit-from-behind",
+            section: HIT_10,
+            says: "the lesson's triangle (0, 0, 2), (1, 0, 2), (0, 1, 2) and a ray from \
+                   (0.25, 0.25, 0) along +z: it meets the plane z = 2 at (0.25, 0.25, 2), inside \
+                   (beta = gamma = 0.25): expected t = 2. By the winding a -> b -> c the normal is \
+                   +z, away from the ray: the ray meets the triangle's back, and a triangle is \
+                   two-sided",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::new(
             "barycentric-lesson-point",
+            BARYCENTRIC_10,
             "the lesson's triangle and that hit point (0.25, 0.25, 2): p - a = 0.25 e1 + 0.25 e2, \
              so beta = gamma = 0.25 and alpha = 1 - 0.25 - 0.25: expected (0.5, 0.25, 0.25)",
-            LESSON_TRIANGLE,
-            v(0.25, 0.25, 2.0),
+            CaseKind::Barycentric(BarycentricCase {
+                corners: LESSON_TRIANGLE,
+                point: Vec3::new(0.25, 0.25, 2.0),
+            }),
         ),
-        lesson_triangle_case(
-            "triangle-hit-from-the-front",
-            "the lesson's triangle and a ray from (0.25, 0.25, 5) along -z, on the side its \
-             normal points to: expected t = 5 - 2 = 3",
-            (v(0.25, 0.25, 5.0), -Vec3::Z),
-            ALL,
-            E::Hit,
-        ),
-        lesson_triangle_case(
-            "triangle-miss-beyond-bc",
-            "a ray from (0.75, 0.75, 0) along +z meets the plane z = 2 past the long edge \
-             (beta + gamma = 1.5 > 1): expected no hit",
-            (v(0.75, 0.75, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-miss-beyond-ca",
-            "a ray from (-0.25, 0.5, 0) along +z meets the plane left of the edge x = 0 \
-             (beta = -0.25): expected no hit",
-            (v(-0.25, 0.5, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-miss-beyond-ab",
-            "a ray from (0.5, -0.25, 0) along +z meets the plane below the edge y = 0 \
-             (gamma = -0.25): expected no hit",
-            (v(0.5, -0.25, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-direction-not-unit",
-            "a ray from the origin along (0.5, 0.5, 4), not unit: z reaches 2 at t = 2 / 4, \
-             at the point (0.25, 0.25, 2), inside: expected t = 0.5 (in units of the direction)",
-            (Vec3::ZERO, v(0.5, 0.5, 4.0)),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-along-x",
-            HIT_10,
-            "the triangle (2, 0, 0), (2, 1, 0), (2, 0, 1) in the plane x = 2 and a ray from \
-             (0, 0.25, 0.25) along +x (the ray's largest component is x, not z): expected t = 2",
-            vec![[v(2.0, 0.0, 0.0), v(2.0, 1.0, 0.0), v(2.0, 0.0, 1.0)]],
-            (v(0.0, 0.25, 0.25), Vec3::X),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-along-minus-y",
-            HIT_10,
-            "the triangle (0, -3, 0), (1, -3, 0), (0, -3, 1) in the plane y = -3 and a ray from \
-             (0.25, 0, 0.25) along (0, -2, 0): 3 units away at 2 per unit of t: expected t = 1.5",
-            vec![[v(0.0, -3.0, 0.0), v(1.0, -3.0, 0.0), v(0.0, -3.0, 1.0)]],
-            (v(0.25, 0.0, 0.25), v(0.0, -2.0, 0.0)),
-            ALL,
-            E::Hit,
-        ),
-        lesson_triangle_case(
-            "triangle-before-t-min",
-            "the first case's ray with t_min = 2.5: the only hit, t = 2, is before it: expected \
-             no hit",
-            up,
-            (2.5, INF),
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-beyond-t-max",
-            "the first case's ray with t_max = 1.5 (a shadow ray that stops at its light): the \
-             hit at t = 2 is beyond it: expected no hit",
-            up,
-            (0.0, 1.5),
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-parallel-ray",
-            "a ray from (0.25, 0.25, 0) along +x, parallel to the plane z = 2: it never \
-             reaches it: expected no hit (and no division by zero)",
-            (v(0.25, 0.25, 0.0), Vec3::X),
-            ALL,
-            E::Miss,
-        ),
-        triangles_case(
-            "triangle-shared-edge",
-            LEAK_10,
-            "the lesson's triangle and its neighbour (1, 0, 2), (1, 1, 2), (0, 1, 2) make the \
-             unit square at z = 2; a ray from (0.5, 0.5, 0) along +z goes through the middle \
-             of the diagonal they share: at least one of them must claim it: expected t = 2",
-            vec![
+        Case::from(TrianglesQuestion {
+            name: "triangle-hit-from-the-front",
+            section: HIT_10,
+            says: "the lesson's triangle and a ray from (0.25, 0.25, 5) along -z, on the side its \
+                   normal points to: expected t = 5 - 2 = 3",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-miss-beyond-bc",
+            section: HIT_10,
+            says: "a ray from (0.75, 0.75, 0) along +z meets the plane z = 2 past the long edge \
+                   (beta + gamma = 1.5 > 1): expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.75, 0.75, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-miss-beyond-ca",
+            section: HIT_10,
+            says: "a ray from (-0.25, 0.5, 0) along +z meets the plane left of the edge x = 0 \
+                   (beta = -0.25): expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(-0.25, 0.5, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-miss-beyond-ab",
+            section: HIT_10,
+            says: "a ray from (0.5, -0.25, 0) along +z meets the plane below the edge y = 0 \
+                   (gamma = -0.25): expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.5, -0.25, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-direction-not-unit",
+            section: HIT_10,
+            says: "a ray from the origin along (0.5, 0.5, 4), not unit: z reaches 2 at t = 2 / 4, \
+                   at the point (0.25, 0.25, 2), inside: expected t = 0.5 \
+                   (in units of the direction)",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::ZERO, Vec3::new(0.5, 0.5, 4.0)),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-along-x",
+            section: HIT_10,
+            says: "the triangle (2, 0, 0), (2, 1, 0), (2, 0, 1) in the plane x = 2 and a ray from \
+                   (0, 0.25, 0.25) along +x (the ray's largest component is x, not z): expected t \
+                   = 2",
+            triangles: vec![[
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(2.0, 1.0, 0.0),
+                Vec3::new(2.0, 0.0, 1.0),
+            ]],
+            ray: (Vec3::new(0.0, 0.25, 0.25), Vec3::X),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-along-minus-y",
+            section: HIT_10,
+            says: "the triangle (0, -3, 0), (1, -3, 0), (0, -3, 1) in the plane y = -3 and a ray \
+                   from (0.25, 0, 0.25) along (0, -2, 0): 3 units away at 2 per unit of t: \
+                   expected t = 1.5",
+            triangles: vec![[
+                Vec3::new(0.0, -3.0, 0.0),
+                Vec3::new(1.0, -3.0, 0.0),
+                Vec3::new(0.0, -3.0, 1.0),
+            ]],
+            ray: (Vec3::new(0.25, 0.0, 0.25), Vec3::new(0.0, -2.0, 0.0)),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-before-t-min",
+            section: HIT_10,
+            says: "the first case's ray with t_min = 2.5: the only hit, t = 2, is before it: \
+                   expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: (2.5, INF),
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-beyond-t-max",
+            section: HIT_10,
+            says: "the first case's ray with t_max = 1.5 (a shadow ray that stops at its light): \
+                   the hit at t = 2 is beyond it: expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: (0.0, 1.5),
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-parallel-ray",
+            section: HIT_10,
+            says: "a ray from (0.25, 0.25, 0) along +x, parallel to the plane z = 2: it never \
+                   reaches it: expected no hit (and no division by zero)",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.25, 0.25, 0.0), Vec3::X),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-shared-edge",
+            section: LEAK_10,
+            says: "the lesson's triangle and its neighbour (1, 0, 2), (1, 1, 2), (0, 1, 2) make \
+                   the unit square at z = 2; a ray from (0.5, 0.5, 0) along +z goes through the \
+                   middle of the diagonal they share: at least one of them must claim it: expected \
+                   t = 2",
+            triangles: vec![
                 LESSON_TRIANGLE,
-                [v(1.0, 0.0, 2.0), v(1.0, 1.0, 2.0), v(0.0, 1.0, 2.0)],
+                [
+                    Vec3::new(1.0, 0.0, 2.0),
+                    Vec3::new(1.0, 1.0, 2.0),
+                    Vec3::new(0.0, 1.0, 2.0),
+                ],
             ],
-            (v(0.5, 0.5, 0.0), Vec3::Z),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-shared-vertex",
-            LEAK_10,
-            "four triangles around the corner (0, 0, 2), one per quadrant of the plane z = 2 \
-             (their far corners are (1, 0, 2), (0, 1, 2), (-1, 0, 2), (0, -1, 2)); a ray from \
-             the origin along +z goes through that corner: at least one must claim it: \
-             expected t = 2",
-            {
-                let centre = v(0.0, 0.0, 2.0);
+            ray: (Vec3::new(0.5, 0.5, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-shared-vertex",
+            section: LEAK_10,
+            says: "four triangles around the corner (0, 0, 2), one per quadrant of the plane z = 2 \
+                   (their far corners are (1, 0, 2), (0, 1, 2), (-1, 0, 2), (0, -1, 2)); a ray \
+                   from the origin along +z goes through that corner: at least one must claim it: \
+                   expected t = 2",
+            triangles: {
+                let centre = Vec3::new(0.0, 0.0, 2.0);
                 let rim = [
-                    v(1.0, 0.0, 2.0),
-                    v(0.0, 1.0, 2.0),
-                    v(-1.0, 0.0, 2.0),
-                    v(0.0, -1.0, 2.0),
+                    Vec3::new(1.0, 0.0, 2.0),
+                    Vec3::new(0.0, 1.0, 2.0),
+                    Vec3::new(-1.0, 0.0, 2.0),
+                    Vec3::new(0.0, -1.0, 2.0),
                 ];
                 (0..4).map(|i| [centre, rim[i], rim[(i + 1) % 4]]).collect()
             },
-            (Vec3::ZERO, Vec3::Z),
-            ALL,
-            E::Hit,
-        ),
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
         // The unit square at z = 2 cut along its diagonal (1, 0, 2)-(0, 1, 2)
         // into two triangles wound the same way (normal +z), listed so that
         // the diagonal is the same edge of both: b -> c, c -> a or a -> b.
@@ -337,178 +332,250 @@ pub fn checkpoints() -> Vec<Case> {
         // inside on every edge, from either side, claims it. (In
         // triangle-shared-edge above the diagonal is a different edge of each
         // triangle, which hides a test that is strict on one edge only.)
-        shared_diagonal_case(
-            "triangle-shared-diagonal-bc",
-            "the unit square at z = 2 as the triangles (0, 0, 2), (1, 0, 2), (0, 1, 2) and \
-             (1, 1, 2), (0, 1, 2), (1, 0, 2), the diagonal their edge b -> c in both; a ray \
-             from (0.5, 0.5, 5) along -z, from the side the normals face, through the middle \
-             of the diagonal: at least one must claim it: expected t = 3",
-            [0, 1, 3],
-            5.0,
-        ),
-        shared_diagonal_case(
-            "triangle-shared-diagonal-bc-from-behind",
-            "the same two triangles and the ray from (0.5, 0.5, 0) along +z, from behind: \
-             expected t = 2",
-            [0, 1, 3],
-            0.0,
-        ),
-        shared_diagonal_case(
-            "triangle-shared-diagonal-ca",
-            "the same square as the triangles (0, 1, 2), (0, 0, 2), (1, 0, 2) and \
-             (1, 0, 2), (1, 1, 2), (0, 1, 2), the diagonal their edge c -> a in both, and the ray \
-             from (0.5, 0.5, 5) along -z: expected t = 3",
-            [3, 0, 1],
-            5.0,
-        ),
-        shared_diagonal_case(
-            "triangle-shared-diagonal-ab",
-            "the same square as the triangles (1, 0, 2), (0, 1, 2), (0, 0, 2) and \
-             (0, 1, 2), (1, 0, 2), (1, 1, 2), the diagonal their edge a -> b in both, and the ray \
-             from (0.5, 0.5, 5) along -z: expected t = 3",
-            [1, 3, 0],
-            5.0,
-        ),
-        lesson_triangle_case(
-            "triangle-at-t-min",
-            "the first case's ray with t_min = 2: the hit, at exactly t = 2, is not beyond \
-             t_min: expected no hit (as for planes and spheres)",
-            up,
-            (2.0, INF),
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-at-t-max",
-            "the first case's ray with t_max = 2: the hit, at exactly t = 2, is not before \
-             t_max: expected no hit",
-            up,
-            (0.0, 2.0),
-            E::Miss,
-        ),
-        barycentric_case(
+        Case::from(SharedDiagonalQuestion {
+            name: "triangle-shared-diagonal-bc",
+            says: "the unit square at z = 2 as the triangles (0, 0, 2), (1, 0, 2), (0, 1, 2) and \
+                   (1, 1, 2), (0, 1, 2), (1, 0, 2), the diagonal their edge b -> c in both; a ray \
+                   from (0.5, 0.5, 5) along -z, from the side the normals face, through the middle \
+                   of the diagonal: at least one must claim it: expected t = 3",
+            first_triangle: [0, 1, 3],
+            ray_from_z: 5.0,
+        }),
+        Case::from(SharedDiagonalQuestion {
+            name: "triangle-shared-diagonal-bc-from-behind",
+            says: "the same two triangles and the ray from (0.5, 0.5, 0) along +z, from behind: \
+                   expected t = 2",
+            first_triangle: [0, 1, 3],
+            ray_from_z: 0.0,
+        }),
+        Case::from(SharedDiagonalQuestion {
+            name: "triangle-shared-diagonal-ca",
+            says: "the same square as the triangles (0, 1, 2), (0, 0, 2), (1, 0, 2) and (1, 0, 2), \
+                   (1, 1, 2), (0, 1, 2), the diagonal their edge c -> a in both, and the ray from \
+                   (0.5, 0.5, 5) along -z: expected t = 3",
+            first_triangle: [3, 0, 1],
+            ray_from_z: 5.0,
+        }),
+        Case::from(SharedDiagonalQuestion {
+            name: "triangle-shared-diagonal-ab",
+            says: "the same square as the triangles (1, 0, 2), (0, 1, 2), (0, 0, 2) and (0, 1, 2), \
+                   (1, 0, 2), (1, 1, 2), the diagonal their edge a -> b in both, and the ray from \
+                   (0.5, 0.5, 5) along -z: expected t = 3",
+            first_triangle: [1, 3, 0],
+            ray_from_z: 5.0,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-at-t-min",
+            section: HIT_10,
+            says: "the first case's ray with t_min = 2: the hit, at exactly t = 2, is not beyond \
+                   t_min: expected no hit (as for planes and spheres)",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: (2.0, INF),
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-at-t-max",
+            section: HIT_10,
+            says: "the first case's ray with t_max = 2: the hit, at exactly t = 2, is not before \
+                   t_max: expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: (0.0, 2.0),
+            expect: Expect::Miss,
+        }),
+        Case::new(
             "barycentric-corner-b",
-            "the lesson's triangle at its corner b = (1, 0, 2): all of the weight on b: \
-             expected (0, 1, 0)",
-            LESSON_TRIANGLE,
-            LESSON_TRIANGLE[1],
+            BARYCENTRIC_10,
+            "the lesson's triangle at its corner b = (1, 0, 2): all of the weight on b: expected \
+             (0, 1, 0)",
+            CaseKind::Barycentric(BarycentricCase {
+                corners: LESSON_TRIANGLE,
+                point: LESSON_TRIANGLE[1],
+            }),
         ),
-        barycentric_case(
+        Case::new(
             "barycentric-corner-c",
+            BARYCENTRIC_10,
             "the lesson's triangle at its corner c = (0, 1, 2): expected (0, 0, 1)",
-            LESSON_TRIANGLE,
-            LESSON_TRIANGLE[2],
+            CaseKind::Barycentric(BarycentricCase {
+                corners: LESSON_TRIANGLE,
+                point: LESSON_TRIANGLE[2],
+            }),
         ),
-        barycentric_case(
+        Case::new(
             "barycentric-centroid",
+            BARYCENTRIC_10,
             "the lesson's triangle at its centroid (1/3, 1/3, 2), the mean of the corners: \
              expected (1/3, 1/3, 1/3)",
-            LESSON_TRIANGLE,
-            v(1.0 / 3.0, 1.0 / 3.0, 2.0),
+            CaseKind::Barycentric(BarycentricCase {
+                corners: LESSON_TRIANGLE,
+                point: Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0),
+            }),
         ),
-        barycentric_case(
+        Case::new(
             "barycentric-skewed-triangle",
+            BARYCENTRIC_10,
             "the triangle (0, 0, 0), (2, 0, 0), (1, 2, 0), whose edges are not perpendicular \
              (e1.e2 = 2), at (1, 1, 0) = 0.25 a + 0.25 b + 0.5 c: expected (0.25, 0.25, 0.5)",
-            [Vec3::ZERO, v(2.0, 0.0, 0.0), v(1.0, 2.0, 0.0)],
-            v(1.0, 1.0, 0.0),
+            CaseKind::Barycentric(BarycentricCase {
+                corners: [
+                    Vec3::ZERO,
+                    Vec3::new(2.0, 0.0, 0.0),
+                    Vec3::new(1.0, 2.0, 0.0),
+                ],
+                point: Vec3::new(1.0, 1.0, 0.0),
+            }),
         ),
-        smooth_normal_case(
+        Case::new(
             "smooth-normal-at-corner",
-            "the lesson's triangle with vertex normals (1, 0, 0), (0, 1, 0), (0, 0, 1), at \
-             its corner b = (1, 0, 2): the weights are (0, 1, 0): expected b's normal (0, 1, 0)",
-            LESSON_TRIANGLE[1],
+            SMOOTH_10,
+            "the lesson's triangle with vertex normals (1, 0, 0), (0, 1, 0), (0, 0, 1), at its \
+             corner b = (1, 0, 2): the weights are (0, 1, 0): expected b's normal (0, 1, 0)",
+            CaseKind::SmoothNormal(SmoothNormalCase {
+                corners: LESSON_TRIANGLE,
+                normals: AXIS_NORMALS,
+                point: LESSON_TRIANGLE[1],
+            }),
         ),
-        smooth_normal_case(
+        Case::new(
             "smooth-normal-centroid",
+            SMOOTH_10,
             "the same normals at the centroid (1/3, 1/3, 2): the blend is (1/3, 1/3, 1/3), of \
              length 0.577, made unit again: expected (0.57735, 0.57735, 0.57735)",
-            v(1.0 / 3.0, 1.0 / 3.0, 2.0),
+            CaseKind::SmoothNormal(SmoothNormalCase {
+                corners: LESSON_TRIANGLE,
+                normals: AXIS_NORMALS,
+                point: Vec3::new(1.0 / 3.0, 1.0 / 3.0, 2.0),
+            }),
         ),
-        smooth_normal_case(
+        Case::new(
             "smooth-normal-lesson-point",
+            SMOOTH_10,
             "the same normals at (0.25, 0.25, 2), weights (0.5, 0.25, 0.25): the blend \
              (0.5, 0.25, 0.25) has length sqrt(0.375) = 0.61237: expected \
              (0.8165, 0.40825, 0.40825)",
-            v(0.25, 0.25, 2.0),
+            CaseKind::SmoothNormal(SmoothNormalCase {
+                corners: LESSON_TRIANGLE,
+                normals: AXIS_NORMALS,
+                point: Vec3::new(0.25, 0.25, 2.0),
+            }),
         ),
-        terminator_case(
+        Case::new(
             "terminator-flat-unchanged",
-            "the triangle (0, 0, 0), (1, 0, 0), (0, 1, 0) with every vertex normal (0, 0, 1), \
-             at (0.25, 0.25, 0): the point is on every corner's tangent plane (height 0): \
-             expected the point itself",
-            [Vec3::Z; 3],
+            TERMINATOR_10,
+            "the triangle (0, 0, 0), (1, 0, 0), (0, 1, 0) with every vertex normal (0, 0, 1), at \
+             (0.25, 0.25, 0): the point is on every corner's tangent plane (height 0): expected \
+             the point itself",
+            CaseKind::Terminator(TerminatorCase {
+                corners: FLOOR_TRIANGLE,
+                normals: [Vec3::Z; 3],
+                point: Vec3::new(0.25, 0.25, 0.0),
+            }),
         ),
-        terminator_case(
+        Case::new(
             "terminator-convex-lifted",
+            TERMINATOR_10,
             "the same triangle and point with the normals of a bulge, (-0.6, 0, 0.8) at a and c, \
              (0.6, 0, 0.8) at b; weights (0.5, 0.25, 0.25). Heights above the corners' tangent \
-             planes: a: (0.25, 0.25, 0).n_a = -0.15, b: (-0.75, 0.25, 0).n_b = -0.45, \
-             c: (0.25, -0.75, 0).n_c = -0.15, all below: the point rises by \
-             0.5 x 0.15 n_a + 0.25 x 0.45 n_b + 0.25 x 0.15 n_c = (0, 0, 0.18): expected \
-             (0.25, 0.25, 0.18)",
-            CONVEX_NORMALS,
+             planes: a: (0.25, 0.25, 0).n_a = -0.15, b: (-0.75, 0.25, 0).n_b = -0.45, c: \
+             (0.25, -0.75, 0).n_c = -0.15, all below: the point rises by 0.5 x 0.15 n_a + 0.25 x \
+             0.45 n_b + 0.25 x 0.15 n_c = (0, 0, 0.18): expected (0.25, 0.25, 0.18)",
+            CaseKind::Terminator(TerminatorCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONVEX_NORMALS,
+                point: Vec3::new(0.25, 0.25, 0.0),
+            }),
         ),
-        terminator_case(
+        Case::new(
             "terminator-concave-unchanged",
-            "the same with the tilts reversed, a hollow: heights +0.15, +0.45, +0.15, the point \
-             is above every tangent plane already: expected the point itself",
-            CONCAVE_NORMALS,
+            TERMINATOR_10,
+            "the same with the tilts reversed, a hollow: heights +0.15, +0.45, +0.15, the point is \
+             above every tangent plane already: expected the point itself",
+            CaseKind::Terminator(TerminatorCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONCAVE_NORMALS,
+                point: Vec3::new(0.25, 0.25, 0.0),
+            }),
         ),
-        smooth_hit_case(
+        Case::new(
             "smooth-hit-convex",
+            TERMINATOR_10,
             "the bulge of terminator-convex-lifted, opaque, hit by a ray from (0.25, 0.25, 5) \
-             along -z at (0.25, 0.25, 0): expected the normal normalize(0.5 n_a + 0.25 n_b + \
-             0.25 n_c) = (-0.3, 0, 0.8) / 0.8544 = (-0.35112, 0, 0.93633), and the point lifted \
-             to (0.25, 0.25, 0.18)",
-            5.0,
-            false,
+             along -z at (0.25, 0.25, 0): expected the normal \
+             normalize(0.5 n_a + 0.25 n_b + 0.25 n_c) = (-0.3, 0, 0.8) / 0.8544 = \
+             (-0.35112, 0, 0.93633), and the point lifted to (0.25, 0.25, 0.18)",
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONVEX_NORMALS,
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+                transparent: false,
+            }),
         ),
-        smooth_hit_case(
+        Case::new(
             "smooth-hit-from-below",
+            TERMINATOR_10,
             "the same bulge hit from below, by a ray from (0.25, 0.25, -5) along +z: the vertex \
-             normals face away from the ray, so they are turned first; from that side the bulge \
-             is a hollow: expected the normal (0.35112, 0, -0.93633) and the point unchanged, \
+             normals face away from the ray, so they are turned first; from that side the bulge is \
+             a hollow: expected the normal (0.35112, 0, -0.93633) and the point unchanged, \
              (0.25, 0.25, 0)",
-            -5.0,
-            false,
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONVEX_NORMALS,
+                ray: Ray::new(Vec3::new(0.25, 0.25, -5.0), Vec3::new(0.0, 0.0, 1.0)),
+                transparent: false,
+            }),
         ),
-        smooth_hit_case(
+        Case::new(
             "smooth-hit-transparent",
+            TERMINATOR_10,
             "the bulge of smooth-hit-convex, fully transparent: the smooth normal \
              (-0.35112, 0, 0.93633), but the point stays on the triangle, (0.25, 0.25, 0): the \
              refracted ray must start below the surface, not above it",
-            5.0,
-            true,
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONVEX_NORMALS,
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+                transparent: true,
+            }),
         ),
         Case::new(
             "smooth-hit-steep-normals-b",
             TERMINATOR_10,
             "the lesson's floor triangle with the vertex normals (0.96, 0, 0.28), (0, 0, 1), \
-             (0, 0.96, 0.28) (two of them 74 degrees from the face's, a coarse and strongly \
-             curved mesh), transparent, hit at (0.25, 0.25, 0) by a ray from (0.25, 0.25, 5) \
-             along -z: their sum (0.96, 0.96, 1.56) is on the ray's side, so they are kept; \
-             blended with the weights (0.5, 0.25, 0.25): (0.48, 0.24, 0.46) / 0.70682 = \
-             (0.67909, 0.33955, 0.6508) (the side is the sum's: with n_a - n_b + n_c, \
-             z = -0.44, they would be turned)",
-            CaseKind::SmoothHit {
+             (0, 0.96, 0.28) \
+             (two of them 74 degrees from the face's, a coarse and strongly curved mesh), \
+             transparent, hit at (0.25, 0.25, 0) by a ray from (0.25, 0.25, 5) along -z: their sum \
+             (0.96, 0.96, 1.56) is on the ray's side, so they are kept; blended with the weights \
+             (0.5, 0.25, 0.25): (0.48, 0.24, 0.46) / 0.70682 = (0.67909, 0.33955, 0.6508) \
+             (the side is the sum's: with n_a - n_b + n_c, z = -0.44, they would be turned)",
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
-                normals: [v(0.96, 0.0, 0.28), Vec3::Z, v(0.0, 0.96, 0.28)],
-                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                normals: [
+                    Vec3::new(0.96, 0.0, 0.28),
+                    Vec3::Z,
+                    Vec3::new(0.0, 0.96, 0.28),
+                ],
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
                 transparent: true,
-            },
+            }),
         ),
         Case::new(
             "smooth-hit-steep-normals-c",
             TERMINATOR_10,
             "the same with the vertex normals (0.96, 0, 0.28), (0, 0.96, 0.28), (0, 0, 1): the \
-             same sum, kept, the same blend (0.67909, 0.33955, 0.6508) (with n_a + n_b - n_c, \
-             z = -0.44, they would be turned)",
-            CaseKind::SmoothHit {
+             same sum, kept, the same blend (0.67909, 0.33955, 0.6508) \
+             (with n_a + n_b - n_c, z = -0.44, they would be turned)",
+            CaseKind::SmoothHit(SmoothHitCase {
                 corners: FLOOR_TRIANGLE,
-                normals: [v(0.96, 0.0, 0.28), v(0.0, 0.96, 0.28), Vec3::Z],
-                ray: Ray::new(v(0.25, 0.25, 5.0), -Vec3::Z),
+                normals: [
+                    Vec3::new(0.96, 0.0, 0.28),
+                    Vec3::new(0.0, 0.96, 0.28),
+                    Vec3::Z,
+                ],
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
                 transparent: true,
-            },
+            }),
         ),
     ]
 }
@@ -516,150 +583,175 @@ pub fn checkpoints() -> Vec<Case> {
 /// Chapter 10's hard cases: rays through the shared edges and corners of
 /// closed meshes (where Moller-Trumbore leaks), huge and tiny triangles,
 /// degenerate triangles and non-finite input.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     // Found by trying edge midpoints of tetrahedra with coordinates in
     // tenths around the origin: along these, Moller-Trumbore in f32 misses
     // every face, the watertight test does not.
     let leaky_edge = [
-        v(1.8, 1.0, 0.4),
-        v(0.0, -0.4, -0.8),
-        v(-0.4, -1.4, 1.7),
-        v(0.0, 1.4, 1.2),
+        Vec3::new(1.8, 1.0, 0.4),
+        Vec3::new(0.0, -0.4, -0.8),
+        Vec3::new(-0.4, -1.4, 1.7),
+        Vec3::new(0.0, 1.4, 1.2),
     ];
     let leaky_vertex = [
-        v(0.5, -1.2, 0.6),
-        v(0.7, -0.6, -1.9),
-        v(-0.2, 1.8, 0.0),
-        v(-1.8, -0.6, -0.8),
+        Vec3::new(0.5, -1.2, 0.6),
+        Vec3::new(0.7, -0.6, -1.9),
+        Vec3::new(-0.2, 1.8, 0.0),
+        Vec3::new(-1.8, -0.6, -0.8),
     ];
     let far = Vec3::splat(1e5);
-    let tiny = [v(0.0, 0.0, 1.0), v(1e-5, 0.0, 1.0), v(0.0, 1e-5, 1.0)];
-    let up = (v(0.25, 0.25, 0.0), Vec3::Z);
+    let tiny = [
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1e-5, 0.0, 1.0),
+        Vec3::new(0.0, 1e-5, 1.0),
+    ];
+    let up = (Vec3::new(0.25, 0.25, 0.0), Vec3::Z);
     robust(vec![
-        triangles_case(
-            "triangle-closed-mesh-edge",
-            WATERTIGHT_10,
-            "a closed tetrahedron (1.8, 1, 0.4), (0, -0.4, -0.8), (-0.4, -1.4, 1.7), \
-             (0, 1.4, 1.2) around the origin, and a ray from the origin along (0.9, 0.3, -0.2), \
-             to the middle of the edge the first two corners share: from inside a closed mesh \
-             every ray hits something: expected t = 1 (Moller-Trumbore in f32 lets this one \
-             through both triangles of the edge)",
-            tetrahedron(leaky_edge),
-            (Vec3::ZERO, 0.5 * (leaky_edge[0] + leaky_edge[1])),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-closed-mesh-vertex",
-            WATERTIGHT_10,
-            "a closed tetrahedron (0.5, -1.2, 0.6), (0.7, -0.6, -1.9), (-0.2, 1.8, 0), \
-             (-1.8, -0.6, -0.8) around the origin, and a ray from the origin straight at its \
-             first corner: one of the three faces there must claim it: expected t = 1",
-            tetrahedron(leaky_vertex),
-            (Vec3::ZERO, leaky_vertex[0]),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-huge-coordinates-edge",
-            WATERTIGHT_10,
-            "the first tetrahedron moved by (1e5, 1e5, 1e5) (its corners rounded to f32, 1/128 \
-             apart there, shared exactly), and the same ray from (1e5, 1e5, 1e5): still closed, \
-             still hit, near t = 1",
-            tetrahedron(leaky_edge.map(|corner| corner + far)),
-            (far, 0.5 * (leaky_edge[0] + leaky_edge[1])),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-far-and-huge",
-            HIT_10,
-            "the triangle (1e5, 0, 1e5), (0, 1e5, 1e5), (0, 0, 1e5) and a ray from the origin \
-             along (0.25, 0.25, 1): expected t = 1e5",
-            vec![[v(1e5, 0.0, 1e5), v(0.0, 1e5, 1e5), v(0.0, 0.0, 1e5)]],
-            (Vec3::ZERO, v(0.25, 0.25, 1.0)),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-tiny-hit",
-            HIT_10,
-            "a triangle of side 1e-5, (0, 0, 1), (1e-5, 0, 1), (0, 1e-5, 1), and a ray from \
-             (2.5e-6, 2.5e-6, 0) along +z (its area is 5e-11: no absolute epsilon may swallow \
-             it): expected t = 1",
-            vec![tiny],
-            (v(2.5e-6, 2.5e-6, 0.0), Vec3::Z),
-            ALL,
-            E::Hit,
-        ),
-        triangles_case(
-            "triangle-tiny-miss",
-            HIT_10,
-            "the same tiny triangle and a ray from (7.5e-6, 7.5e-6, 0) along +z, past its long \
-             edge: expected no hit",
-            vec![tiny],
-            (v(7.5e-6, 7.5e-6, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        triangles_case(
-            "triangle-degenerate-line",
-            WATERTIGHT_10,
-            "a zero-area triangle (0, 0, 2), (1, 0, 2), (2, 0, 2), its corners on a line, and a \
-             ray from (0.5, 0, 0) along +z straight through that line: expected no hit (and no \
-             NaN)",
-            vec![[v(0.0, 0.0, 2.0), v(1.0, 0.0, 2.0), v(2.0, 0.0, 2.0)]],
-            (v(0.5, 0.0, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        triangles_case(
-            "triangle-degenerate-point",
-            WATERTIGHT_10,
-            "a triangle whose three corners are the point (1, 1, 2), and a ray from (1, 1, 0) \
-             along +z through it: expected no hit (and no NaN)",
-            vec![[v(1.0, 1.0, 2.0); 3]],
-            (v(1.0, 1.0, 0.0), Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-edge-on",
-            "a ray from (-1, 0.25, 2) along +x, inside the lesson triangle's own plane: the \
-             triangle is seen edge-on; either no hit or a hit on the triangle's plane",
-            (v(-1.0, 0.25, 2.0), Vec3::X),
-            ALL,
-            E::Either,
-        ),
-        lesson_triangle_case(
-            "triangle-nan-origin",
-            "the first case with a NaN origin: expected no hit",
-            (Vec3::NAN, Vec3::Z),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-nan-direction",
-            "the first case with a NaN direction: expected no hit",
-            (v(0.25, 0.25, 0.0), Vec3::NAN),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-zero-direction",
-            "the first case with the direction (0, 0, 0), a ray that goes nowhere: expected no \
-             hit",
-            (v(0.25, 0.25, 0.0), Vec3::ZERO),
-            ALL,
-            E::Miss,
-        ),
-        lesson_triangle_case(
-            "triangle-nan-t-max",
-            "the first case with t_max = NaN: no t is below it: expected no hit",
-            up,
-            (0.0, f32::NAN),
-            E::Miss,
-        ),
+        Case::from(TrianglesQuestion {
+            name: "triangle-closed-mesh-edge",
+            section: WATERTIGHT_10,
+            says: "a closed tetrahedron (1.8, 1, 0.4), (0, -0.4, -0.8), (-0.4, -1.4, 1.7), \
+                   (0, 1.4, 1.2) around the origin, and a ray from the origin along \
+                   (0.9, 0.3, -0.2), to the middle of the edge the first two corners share: from \
+                   inside a closed mesh every ray hits something: expected t = 1 \
+                   (Moller-Trumbore in f32 lets this one through both triangles of the edge)",
+            triangles: tetrahedron(leaky_edge),
+            ray: (Vec3::ZERO, 0.5 * (leaky_edge[0] + leaky_edge[1])),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-closed-mesh-vertex",
+            section: WATERTIGHT_10,
+            says: "a closed tetrahedron (0.5, -1.2, 0.6), (0.7, -0.6, -1.9), (-0.2, 1.8, 0), \
+                   (-1.8, -0.6, -0.8) around the origin, and a ray from the origin straight at its \
+                   first corner: one of the three faces there must claim it: expected t = 1",
+            triangles: tetrahedron(leaky_vertex),
+            ray: (Vec3::ZERO, leaky_vertex[0]),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-huge-coordinates-edge",
+            section: WATERTIGHT_10,
+            says: "the first tetrahedron moved by (1e5, 1e5, 1e5) \
+                   (its corners rounded to f32, 1/128 apart there, shared exactly), and the same \
+                   ray from (1e5, 1e5, 1e5): still closed, still hit, near t = 1",
+            triangles: tetrahedron(leaky_edge.map(|corner| corner + far)),
+            ray: (far, 0.5 * (leaky_edge[0] + leaky_edge[1])),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-far-and-huge",
+            section: HIT_10,
+            says: "the triangle (1e5, 0, 1e5), (0, 1e5, 1e5), (0, 0, 1e5) and a ray from the \
+                   origin along (0.25, 0.25, 1): expected t = 1e5",
+            triangles: vec![[
+                Vec3::new(1e5, 0.0, 1e5),
+                Vec3::new(0.0, 1e5, 1e5),
+                Vec3::new(0.0, 0.0, 1e5),
+            ]],
+            ray: (Vec3::ZERO, Vec3::new(0.25, 0.25, 1.0)),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-tiny-hit",
+            section: HIT_10,
+            says: "a triangle of side 1e-5, (0, 0, 1), (1e-5, 0, 1), (0, 1e-5, 1), and a ray from \
+                   (2.5e-6, 2.5e-6, 0) along +z \
+                   (its area is 5e-11: no absolute epsilon may swallow it): expected t = 1",
+            triangles: vec![tiny],
+            ray: (Vec3::new(2.5e-6, 2.5e-6, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-tiny-miss",
+            section: HIT_10,
+            says: "the same tiny triangle and a ray from (7.5e-6, 7.5e-6, 0) along +z, past its \
+                   long edge: expected no hit",
+            triangles: vec![tiny],
+            ray: (Vec3::new(7.5e-6, 7.5e-6, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-degenerate-line",
+            section: WATERTIGHT_10,
+            says: "a zero-area triangle (0, 0, 2), (1, 0, 2), (2, 0, 2), its corners on a line, \
+                   and a ray from (0.5, 0, 0) along +z straight through that line: expected no hit \
+                   (and no NaN)",
+            triangles: vec![[
+                Vec3::new(0.0, 0.0, 2.0),
+                Vec3::new(1.0, 0.0, 2.0),
+                Vec3::new(2.0, 0.0, 2.0),
+            ]],
+            ray: (Vec3::new(0.5, 0.0, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-degenerate-point",
+            section: WATERTIGHT_10,
+            says: "a triangle whose three corners are the point (1, 1, 2), and a ray from \
+                   (1, 1, 0) along +z through it: expected no hit (and no NaN)",
+            triangles: vec![[Vec3::new(1.0, 1.0, 2.0); 3]],
+            ray: (Vec3::new(1.0, 1.0, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-edge-on",
+            section: HIT_10,
+            says: "a ray from (-1, 0.25, 2) along +x, inside the lesson triangle's own plane: the \
+                   triangle is seen edge-on; either no hit or a hit on the triangle's plane",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(-1.0, 0.25, 2.0), Vec3::X),
+            range: IN_FRONT,
+            expect: Expect::Either,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-nan-origin",
+            section: HIT_10,
+            says: "the first case with a NaN origin: expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::NAN, Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-nan-direction",
+            section: HIT_10,
+            says: "the first case with a NaN direction: expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.25, 0.25, 0.0), Vec3::NAN),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-zero-direction",
+            section: HIT_10,
+            says: "the first case with the direction (0, 0, 0), a ray that goes nowhere: expected \
+                   no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: (Vec3::new(0.25, 0.25, 0.0), Vec3::ZERO),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
+        Case::from(TrianglesQuestion {
+            name: "triangle-nan-t-max",
+            section: HIT_10,
+            says: "the first case with t_max = NaN: no t is below it: expected no hit",
+            triangles: vec![LESSON_TRIANGLE],
+            ray: up,
+            range: (0.0, f32::NAN),
+            expect: Expect::Miss,
+        }),
     ])
 }
 
@@ -670,10 +762,10 @@ mod tests {
     #[test]
     fn every_expected_triangle_hit_has_an_exact_value() {
         for case in checkpoints().into_iter().chain(robustness()) {
-            if let CaseKind::Triangles {
+            if let CaseKind::Triangles(TrianglesCase {
                 expect: ExpectT::Hit(t),
                 ..
-            } = case.kind
+            }) = case.kind
             {
                 assert!(t.is_finite(), "{}: the exact reference misses", case.name);
             }
@@ -685,12 +777,18 @@ mod tests {
         let lifted = exact::terminator_point(
             FLOOR_TRIANGLE.map(wide),
             CONVEX_NORMALS.map(wide),
-            wide(v(0.25, 0.25, 0.0)),
+            wide(Vec3::new(0.25, 0.25, 0.0)),
         );
         assert!((lifted - glam::DVec3::new(0.25, 0.25, 0.18)).length() < 1e-7);
-        let weights = exact::barycentric(LESSON_TRIANGLE.map(wide), wide(v(0.25, 0.25, 2.0)));
+        let weights =
+            exact::barycentric(LESSON_TRIANGLE.map(wide), wide(Vec3::new(0.25, 0.25, 2.0)));
         assert!((weights - glam::DVec3::new(0.5, 0.25, 0.25)).length() < 1e-12);
-        let skewed = [Vec3::ZERO, v(2.0, 0.0, 0.0), v(1.0, 2.0, 0.0)].map(wide);
+        let skewed = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+        ]
+        .map(wide);
         let weights = exact::barycentric(skewed, glam::DVec3::new(1.0, 1.0, 0.0));
         assert!((weights - glam::DVec3::new(0.25, 0.25, 0.5)).length() < 1e-12);
     }

@@ -16,31 +16,79 @@ const PLANES_11: &str = "Why planes stay out";
 /// The box of every `hit_box` checkpoint: the cube from -1 to 1.
 const CUBE: (Vec3, Vec3) = (Vec3::splat(-1.0), Vec3::splat(1.0));
 
-/// A `hit_box` case on `bounds`, for the ray `(origin, dir)` and
-/// `t_min < t < t_max`, expecting the entry `t` or a miss.
-fn box_case(
+/// A `hit_box` question: the box from `bounds.0` to `bounds.1`, the ray
+/// from `ray.0` along `ray.1`, `range.0 < t < range.1`; expected the entry
+/// `t`, or a miss.
+struct BoxQuestion {
     name: &'static str,
     section: &'static str,
-    says: &str,
+    says: &'static str,
+    /// `(min, max)`.
     bounds: (Vec3, Vec3),
+    /// `(origin, dir)`.
     ray: (Vec3, Vec3),
+    /// `(t_min, t_max)`.
     range: (f32, f32),
     expect: Option<f64>,
-) -> Case {
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::HitBox {
-            min: bounds.0,
-            max: bounds.1,
-            origin: ray.0,
-            dir: ray.1,
-            t_min: range.0,
-            t_max: range.1,
-            expect,
-        },
-    )
+}
+
+impl From<BoxQuestion> for Case {
+    fn from(question: BoxQuestion) -> Case {
+        let (min, max) = question.bounds;
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::HitBox(HitBoxCase {
+                min,
+                max,
+                origin,
+                dir,
+                t_min,
+                t_max,
+                expect: question.expect,
+            }),
+        )
+    }
+}
+
+/// A `nearest_hit_bvh` question over a tree of `shapes` (or `any_hit_bvh`,
+/// when `any_hit`), for each of `rays`, `range.0 < t < range.1`.
+struct BvhHitsQuestion {
+    name: &'static str,
+    section: &'static str,
+    says: &'static str,
+    shapes: Vec<Shape>,
+    options: BvhOptions,
+    rays: Vec<Ray>,
+    /// `(t_min, t_max)`.
+    range: (f32, f32),
+    any_hit: bool,
+}
+
+impl From<BvhHitsQuestion> for Case {
+    fn from(question: BvhHitsQuestion) -> Case {
+        let (t_min, t_max) = question.range;
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::BvhHits(BvhHitsCase {
+                shapes: question.shapes,
+                options: question.options,
+                rays: question.rays,
+                t_min,
+                t_max,
+                any: question.any_hit,
+            }),
+        )
+    }
+}
+
+fn sphere(center: Vec3, radius: f32) -> Shape {
+    Sphere::new(center, radius).into()
 }
 
 /// The tree's shape is the student's choice, but the checkpoints ask for
@@ -52,10 +100,6 @@ const ONE_PER_LEAF: BvhOptions = BvhOptions {
     bins: 16,
     max_leaf: 1,
 };
-
-fn sphere(x: f32, y: f32, z: f32, radius: f32) -> Shape {
-    Sphere::new(v(x, y, z), radius).into()
-}
 
 /// The middle cut, two objects per leaf: the `max_leaf` checkpoints.
 const MIDDLE_TWO_PER_LEAF: BvhOptions = BvhOptions {
@@ -72,720 +116,738 @@ const SAH_ONE_PER_LEAF: BvhOptions = BvhOptions {
     max_leaf: 1,
 };
 
-/// A `build_bvh` case over the boxes of `shapes`: a valid tree of the
-/// shape `expect`.
-fn build_case(
-    name: &'static str,
-    section: &'static str,
-    says: &str,
-    shapes: Vec<Shape>,
-    options: BvhOptions,
-    expect: TreeShape,
-) -> Case {
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::BvhBuild {
-            shapes,
-            options,
-            expect,
-        },
-    )
-}
-
-/// A `nearest_hit_bvh` (or, `any`, `any_hit_bvh`) case over `shapes`.
-#[allow(clippy::too_many_arguments)]
-fn bvh_case(
-    name: &'static str,
-    section: &'static str,
-    says: &str,
-    shapes: Vec<Shape>,
-    options: BvhOptions,
-    rays: Vec<Ray>,
-    range: (f32, f32),
-    any: bool,
-) -> Case {
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::BvhHits {
-            shapes,
-            options,
-            rays,
-            t_min: range.0,
-            t_max: range.1,
-            any,
-        },
-    )
-}
-
 /// Chapter 11's checkpoint cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn checkpoints() -> Vec<Case> {
-    let x = Vec3::X;
-    let z = Vec3::Z;
     // Behind each other on the z axis, the first-hit one not the first-entered.
     let behind = || {
         vec![
-            sphere(0.0, 4.0, 10.0, 5.0),
-            sphere(0.0, 0.0, 7.0, 1.0),
-            sphere(0.0, 0.0, 20.0, 1.0),
+            sphere(Vec3::new(0.0, 4.0, 10.0), 5.0),
+            sphere(Vec3::new(0.0, 0.0, 7.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 20.0), 1.0),
         ]
     };
     let plane_between = || {
         vec![
-            sphere(0.0, 0.0, 10.0, 1.0),
-            Plane::new(v(0.0, 0.0, 5.0), -z).into(),
-            sphere(0.0, 0.0, 3.0, 1.0),
+            sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+            Plane::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z).into(),
+            sphere(Vec3::new(0.0, 0.0, 3.0), 1.0),
         ]
     };
     let blockers = || {
         vec![
-            sphere(3.0, 0.0, 5.0, 1.0),
-            sphere(0.0, 0.0, 5.0, 1.0),
-            sphere(-3.0, 0.0, 5.0, 1.0),
+            sphere(Vec3::new(3.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(-3.0, 0.0, 5.0), 1.0),
         ]
     };
     let from_origin = |dir: Vec3| Ray::new(Vec3::ZERO, dir);
     vec![
-        box_case(
-            "box-from-outside",
-            SLAB_11,
-            "the box from (-1, -1, -1) to (1, 1, 1); a ray from (-5, -2.5, 0) along (2, 1, 0): \
-             inside the x slab for t from 2 to 3, the y slab from 1.5 to 3.5, the z slab always \
-             (dir.z = 0, origin inside it); inside all three from t = 2 to 3: expected 2",
-            CUBE,
-            (v(-5.0, -2.5, 0.0), v(2.0, 1.0, 0.0)),
-            ALL,
-            Some(2.0),
-        ),
-        box_case(
-            "box-negative-direction",
-            SLAB_11,
-            "the same box; a ray from (5, 0, 0) along (-1, 0, 0) meets the plane x = 1 (max.x) \
-             first, at t = 4, and x = -1 at t = 6: expected 4",
-            CUBE,
-            (v(5.0, 0.0, 0.0), -x),
-            ALL,
-            Some(4.0),
-        ),
-        box_case(
-            "box-from-inside",
-            SLAB_11,
-            "the same box; a ray from its centre along (0.3, -0.2, 1) with t_min = 0.5: it starts \
-             inside, so it is in the box from t_min on: expected 0.5",
-            CUBE,
-            (Vec3::ZERO, v(0.3, -0.2, 1.0)),
-            (0.5, 10.0),
-            Some(0.5),
-        ),
-        box_case(
-            "box-behind",
-            SLAB_11,
-            "the same box; a ray from (-5, 0, 0) along (-1, 0, 0): the box is behind it (t from \
-             -6 to -4): expected None",
-            CUBE,
-            (v(-5.0, 0.0, 0.0), -x),
-            ALL,
-            None,
-        ),
-        box_case(
-            "box-beyond-t-max",
-            SLAB_11,
-            "the same box; a ray from (-5, 0, 0) along (1, 0, 0) with t_max = 3.9: the box starts \
-             at t = 4, too far: expected None",
-            CUBE,
-            (v(-5.0, 0.0, 0.0), x),
-            (0.0, 3.9),
-            None,
-        ),
-        box_case(
-            "box-missed",
-            SLAB_11,
-            "the same box; a ray from (-5, 0, 0) along (1, 1, 0): inside the x slab for t from 4 \
-             to 6, the y slab from -1 to 1, never both: expected None",
-            CUBE,
-            (v(-5.0, 0.0, 0.0), v(1.0, 1.0, 0.0)),
-            ALL,
-            None,
-        ),
-        box_case(
-            "box-parallel-inside-slab",
-            NAN_11,
-            "the same box; a ray from (0, 0.5, -5) along (0, 0, 1): dir.y = 0, so 1 / dir.y = inf \
-             and the y slab gives (-1 - 0.5) x inf = -inf to (1 - 0.5) x inf = inf, always \
-             inside; the z slab from 4 to 6: expected 4",
-            CUBE,
-            (v(0.0, 0.5, -5.0), z),
-            ALL,
-            Some(4.0),
-        ),
-        box_case(
-            "box-parallel-outside-slab",
-            NAN_11,
-            "the same box; a ray from (0, 2, -5) along (0, 0, 1): the y slab gives \
-             (-1 - 2) x inf = -inf to (1 - 2) x inf = -inf, never inside: expected None",
-            CUBE,
-            (v(0.0, 2.0, -5.0), z),
-            ALL,
-            None,
-        ),
-        box_case(
-            "box-zero-direction-on-slab-plane",
-            NAN_11,
-            "the same box; a ray from (0, 1, -5) along (0, 0, 1): dir.y = 0 and the origin lies \
-             on the plane y = 1 (max.y), so that plane's crossing is (1 - 1) x inf = 0 x inf = \
-             NaN. The ray runs along the box's top face, on its closed boundary: the y axis must \
-             not constrain it. The z slab from 4 to 6: expected 4",
-            CUBE,
-            (v(0.0, 1.0, -5.0), z),
-            ALL,
-            Some(4.0),
-        ),
-        box_case(
-            "box-negative-zero-on-min-plane",
-            NAN_11,
-            "the same box; a ray from (0, -1, -5) along (0, -0, 1): 1 / -0 = -inf, and the origin \
-             is on the plane y = -1 (min.y): (-1 - -1) x -inf = NaN again, on the bottom face: \
-             expected 4",
-            CUBE,
-            (v(0.0, -1.0, -5.0), v(0.0, -0.0, 1.0)),
-            ALL,
-            Some(4.0),
-        ),
+        Case::from(BoxQuestion {
+            name: "box-from-outside",
+            section: SLAB_11,
+            says: "the box from (-1, -1, -1) to (1, 1, 1); a ray from (-5, -2.5, 0) along \
+                   (2, 1, 0): inside the x slab for t from 2 to 3, the y slab from 1.5 to 3.5, the \
+                   z slab always (dir.z = 0, origin inside it); inside all three from t = 2 to 3: \
+                   expected 2",
+            bounds: CUBE,
+            ray: (Vec3::new(-5.0, -2.5, 0.0), Vec3::new(2.0, 1.0, 0.0)),
+            range: IN_FRONT,
+            expect: Some(2.0),
+        }),
+        Case::from(BoxQuestion {
+            name: "box-negative-direction",
+            section: SLAB_11,
+            says: "the same box; a ray from (5, 0, 0) along (-1, 0, 0) meets the plane x = 1 \
+                   (max.x) first, at t = 4, and x = -1 at t = 6: expected 4",
+            bounds: CUBE,
+            ray: (Vec3::new(5.0, 0.0, 0.0), -Vec3::X),
+            range: IN_FRONT,
+            expect: Some(4.0),
+        }),
+        Case::from(BoxQuestion {
+            name: "box-from-inside",
+            section: SLAB_11,
+            says: "the same box; a ray from its centre along (0.3, -0.2, 1) with t_min = 0.5: it \
+                   starts inside, so it is in the box from t_min on: expected 0.5",
+            bounds: CUBE,
+            ray: (Vec3::ZERO, Vec3::new(0.3, -0.2, 1.0)),
+            range: (0.5, 10.0),
+            expect: Some(0.5),
+        }),
+        Case::from(BoxQuestion {
+            name: "box-behind",
+            section: SLAB_11,
+            says: "the same box; a ray from (-5, 0, 0) along (-1, 0, 0): the box is behind it \
+                   (t from -6 to -4): expected None",
+            bounds: CUBE,
+            ray: (Vec3::new(-5.0, 0.0, 0.0), -Vec3::X),
+            range: IN_FRONT,
+            expect: None,
+        }),
+        Case::from(BoxQuestion {
+            name: "box-beyond-t-max",
+            section: SLAB_11,
+            says: "the same box; a ray from (-5, 0, 0) along (1, 0, 0) with t_max = 3.9: the box \
+                   starts at t = 4, too far: expected None",
+            bounds: CUBE,
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::X),
+            range: (0.0, 3.9),
+            expect: None,
+        }),
+        Case::from(BoxQuestion {
+            name: "box-missed",
+            section: SLAB_11,
+            says: "the same box; a ray from (-5, 0, 0) along (1, 1, 0): inside the x slab for t \
+                   from 4 to 6, the y slab from -1 to 1, never both: expected None",
+            bounds: CUBE,
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
+            range: IN_FRONT,
+            expect: None,
+        }),
+        Case::from(BoxQuestion {
+            name: "box-parallel-inside-slab",
+            section: NAN_11,
+            says: "the same box; a ray from (0, 0.5, -5) along (0, 0, 1): dir.y = 0, so 1 / dir.y \
+                   = inf and the y slab gives (-1 - 0.5) x inf = -inf to (1 - 0.5) x inf = inf, \
+                   always inside; the z slab from 4 to 6: expected 4",
+            bounds: CUBE,
+            ray: (Vec3::new(0.0, 0.5, -5.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Some(4.0),
+        }),
+        Case::from(BoxQuestion {
+            name: "box-parallel-outside-slab",
+            section: NAN_11,
+            says: "the same box; a ray from (0, 2, -5) along (0, 0, 1): the y slab gives (-1 - 2) \
+                   x inf = -inf to (1 - 2) x inf = -inf, never inside: expected None",
+            bounds: CUBE,
+            ray: (Vec3::new(0.0, 2.0, -5.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: None,
+        }),
+        Case::from(BoxQuestion {
+            name: "box-zero-direction-on-slab-plane",
+            section: NAN_11,
+            says: "the same box; a ray from (0, 1, -5) along (0, 0, 1): dir.y = 0 and the origin \
+                   lies on the plane y = 1 (max.y), so that plane's crossing is (1 - 1) x inf = 0 \
+                   x inf = NaN. The ray runs along the box's top face, on its closed boundary: the \
+                   y axis must not constrain it. The z slab from 4 to 6: expected 4",
+            bounds: CUBE,
+            ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Some(4.0),
+        }),
+        Case::from(BoxQuestion {
+            name: "box-negative-zero-on-min-plane",
+            section: NAN_11,
+            says: "the same box; a ray from (0, -1, -5) along (0, -0, 1): 1 / -0 = -inf, and the \
+                   origin is on the plane y = -1 (min.y): (-1 - -1) x -inf = NaN again, on the \
+                   bottom face: expected 4",
+            bounds: CUBE,
+            ray: (Vec3::new(0.0, -1.0, -5.0), Vec3::new(0.0, -0.0, 1.0)),
+            range: IN_FRONT,
+            expect: Some(4.0),
+        }),
         Case::new(
             "bvh-build-holds-every-sphere",
             BUILD_11,
             "five unit spheres at x = 0, 3, 6, 9, 12 (listed out of order), one per leaf: every \
              sphere exactly once in a leaf whose box holds the sphere's box (x - 1 to x + 1), \
              every inner node's box holding its two children's, nothing in unbounded",
-            CaseKind::BvhBuild {
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: vec![
-                    sphere(6.0, 0.0, 0.0, 1.0),
-                    sphere(0.0, 0.0, 0.0, 1.0),
-                    sphere(12.0, 0.0, 0.0, 1.0),
-                    sphere(3.0, 0.0, 0.0, 1.0),
-                    sphere(9.0, 0.0, 0.0, 1.0),
+                    sphere(Vec3::new(6.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(12.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(3.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(9.0, 0.0, 0.0), 1.0),
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
-            },
+            }),
         ),
-        bvh_case(
-            "bvh-nearest-behind-a-nearer-box",
-            WALK_11,
-            "a ray from the origin along +z; object 0, centre (0, 4, 10) radius 5: its box starts \
-             at z = 5, and the ray passes 4 from its centre, so it is hit at z = 10 - sqrt(25 - \
-             16) = 7; object 1, centre (0, 0, 7) radius 1: box from z = 6, hit at 6; object 2 at \
-             (0, 0, 20), radius 1. Object 0's box is entered first but object 1 is hit nearer: \
-             expected object 1 at t = 6 (a walk that stops at the first leaf with a hit says \
-             object 0 at t = 7)",
-            behind(),
-            ONE_PER_LEAF,
-            vec![from_origin(z)],
-            ALL,
-            false,
-        ),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-nearest-behind-a-nearer-box",
+            section: WALK_11,
+            says: "a ray from the origin along +z; object 0, centre (0, 4, 10) radius 5: its box \
+                   starts at z = 5, and the ray passes 4 from its centre, so it is hit at z = 10 - \
+                   sqrt(25 - 16) = 7; object 1, centre (0, 0, 7) radius 1: box from z = 6, hit at \
+                   6; object 2 at (0, 0, 20), radius 1. Object 0's box is entered first but object \
+                   1 is hit nearer: expected object 1 at t = 6 \
+                   (a walk that stops at the first leaf with a hit says object 0 at t = 7)",
+            shapes: behind(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
         Case::new(
             "bvh-plane-stays-out",
             PLANES_11,
-            "a unit sphere at (0, 0, 10) (object 0), the plane z = 5 (object 1, no box: \
-             Shape::bounds is None) and a unit sphere at (0, 0, 3) (object 2): expected \
-             unbounded = [1], and objects 0 and 2 in the tree",
-            CaseKind::BvhBuild {
+            "a unit sphere at (0, 0, 10) (object 0), the plane z = 5 \
+             (object 1, no box: Shape::bounds is None) and a unit sphere at (0, 0, 3) (object 2): \
+             expected unbounded = [1], and objects 0 and 2 in the tree",
+            CaseKind::BvhBuild(BvhBuildCase {
                 shapes: plane_between(),
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
-            },
+            }),
         ),
-        bvh_case(
-            "bvh-plane-still-hit",
-            PLANES_11,
-            "the same three objects; a ray from the origin along +z hits object 2 at t = 2 first; \
-             one along (0.6, 0, 0.8) passes 1.8 from the sphere at z = 3 and 6 from the one at \
-             z = 10, and meets only the plane, at t = 5 / 0.8 = 6.25: expected object 2 at t = 2, \
-             then object 1 at t = 6.25",
-            plane_between(),
-            ONE_PER_LEAF,
-            vec![from_origin(z), from_origin(v(0.6, 0.0, 0.8))],
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-any-hit-finds-the-blocker",
-            ANY_11,
-            "unit spheres at (3, 0, 5), (0, 0, 5) and (-3, 0, 5); a shadow ray from the origin \
-             along +z with t_max = 10 is blocked by object 1 at t = 4: expected a hit; one along \
-             +y meets nothing: expected none",
-            blockers(),
-            ONE_PER_LEAF,
-            vec![from_origin(z), from_origin(Vec3::Y)],
-            (0.0, 10.0),
-            true,
-        ),
-        bvh_case(
-            "bvh-nearest-tie-goes-to-the-first-listed",
-            WALK_11,
-            "a unit sphere at (0, 0, 5) (object 0) and the plane z = 4 (object 1); a ray from \
-             the origin along +z meets both at exactly t = 4 (5 - 1, and 4 / 1). Chapter 3 keeps \
-             the first listed of equal hits: expected object 0 at t = 4, although the plane, \
-             outside the tree, is asked first",
-            vec![
-                sphere(0.0, 0.0, 5.0, 1.0),
-                Plane::new(v(0.0, 0.0, 4.0), -z).into(),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-plane-still-hit",
+            section: PLANES_11,
+            says: "the same three objects; a ray from the origin along +z hits object 2 at t = 2 \
+                   first; one along (0.6, 0, 0.8) passes 1.8 from the sphere at z = 3 and 6 from \
+                   the one at z = 10, and meets only the plane, at t = 5 / 0.8 = 6.25: expected \
+                   object 2 at t = 2, then object 1 at t = 6.25",
+            shapes: plane_between(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-any-hit-finds-the-blocker",
+            section: ANY_11,
+            says: "unit spheres at (3, 0, 5), (0, 0, 5) and (-3, 0, 5); a shadow ray from the \
+                   origin along +z with t_max = 10 is blocked by object 1 at t = 4: expected a \
+                   hit; one along +y meets nothing: expected none",
+            shapes: blockers(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::Y)],
+            range: (0.0, 10.0),
+            any_hit: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-nearest-tie-goes-to-the-first-listed",
+            section: WALK_11,
+            says: "a unit sphere at (0, 0, 5) (object 0) and the plane z = 4 (object 1); a ray \
+                   from the origin along +z meets both at exactly t = 4 (5 - 1, and 4 / 1). \
+                   Chapter 3 keeps the first listed of equal hits: expected object 0 at t = 4, \
+                   although the plane, outside the tree, is asked first",
+            shapes: vec![
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
             ],
-            ONE_PER_LEAF,
-            vec![from_origin(z)],
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-any-hit-beyond-the-light",
-            ANY_11,
-            "the same spheres; the ray along +z with t_max = 3.5 (a light between the origin and \
-             the spheres): the blocker at t = 4 is beyond it: expected no hit",
-            blockers(),
-            ONE_PER_LEAF,
-            vec![from_origin(z)],
-            (0.0, 3.5),
-            true,
-        ),
-        bvh_case(
-            "bvh-any-hit-only-planes",
-            ANY_11,
-            "the planes z = 8 and z = 3 and nothing with a box, so the tree has no nodes at all; \
-             a shadow ray from the origin along +z with t_max = 10 is blocked by the plane z = 3 \
-             at t = 3: expected a hit; one along +x runs parallel to both and must get past an \
-             empty tree without asking for its root: expected none",
-            vec![
-                Plane::new(v(0.0, 0.0, 8.0), -z).into(),
-                Plane::new(v(0.0, 0.0, 3.0), -z).into(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-any-hit-beyond-the-light",
+            section: ANY_11,
+            says: "the same spheres; the ray along +z with t_max = 3.5 \
+                   (a light between the origin and the spheres): the blocker at t = 4 is beyond \
+                   it: expected no hit",
+            shapes: blockers(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: (0.0, 3.5),
+            any_hit: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-any-hit-only-planes",
+            section: ANY_11,
+            says: "the planes z = 8 and z = 3 and nothing with a box, so the tree has no nodes at \
+                   all; a shadow ray from the origin along +z with t_max = 10 is blocked by the \
+                   plane z = 3 at t = 3: expected a hit; one along +x runs parallel to both and \
+                   must get past an empty tree without asking for its root: expected none",
+            shapes: vec![
+                Plane::new(Vec3::new(0.0, 0.0, 8.0), -Vec3::Z).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 3.0), -Vec3::Z).into(),
             ],
-            ONE_PER_LEAF,
-            vec![from_origin(z), from_origin(x)],
-            (0.0, 10.0),
-            true,
-        ),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::X)],
+            range: (0.0, 10.0),
+            any_hit: true,
+        }),
         // The build's own rules, which the walks above cannot see (any
         // valid tree gives their answers). Which child is left is the
         // student's choice: a cut is compared as a partition.
-        build_case(
+        Case::new(
             "bvh-max-leaf-objects-stay-a-leaf",
             BUILD_11,
-            "two spheres of radius 1/128 at x = 0 and x = 1/32, max_leaf 2 (cut at the middle): \
-             a node of max_leaf objects or fewer stays a leaf: expected the root a leaf holding \
-             both, its box their boxes' union (x from -1/128 to 5/128, y and z from -1/128 to \
-             1/128) grown by BOX_PADDING_EPSILONS (4) epsilons of its largest coordinate, 5/128: \
-             about 2e-8",
-            vec![
-                sphere(0.0, 0.0, 0.0, 1.0 / 128.0),
-                sphere(1.0 / 32.0, 0.0, 0.0, 1.0 / 128.0),
-            ],
-            MIDDLE_TWO_PER_LEAF,
-            TreeShape::RootLeaf,
+            "two spheres of radius 1/128 at x = 0 and x = 1/32, max_leaf 2 (cut at the middle): a \
+             node of max_leaf objects or fewer stays a leaf: expected the root a leaf holding \
+             both, its box their boxes' union \
+             (x from -1/128 to 5/128, y and z from -1/128 to 1/128) grown by BOX_PADDING_EPSILONS \
+             (4) epsilons of its largest coordinate, 5/128: about 2e-8",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0 / 128.0),
+                    sphere(Vec3::new(1.0 / 32.0, 0.0, 0.0), 1.0 / 128.0),
+                ],
+                options: MIDDLE_TWO_PER_LEAF,
+                expect: TreeShape::RootLeaf,
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-one-more-than-max-leaf-is-cut",
             BUILD_11,
             "unit spheres at x = 0, 2 and 6, max_leaf 2, cut at the middle: three objects are one \
              more than max_leaf, so the root is cut; the centroids (the centres) spread along x \
              from 0 to 6, the middle is 3: expected the root cut into objects [0, 1] (x = 0, 2) \
              and [2] (x = 6)",
-            vec![
-                sphere(0.0, 0.0, 0.0, 1.0),
-                sphere(2.0, 0.0, 0.0, 1.0),
-                sphere(6.0, 0.0, 0.0, 1.0),
-            ],
-            MIDDLE_TWO_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1]]),
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(2.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(6.0, 0.0, 0.0), 1.0),
+                ],
+                options: MIDDLE_TWO_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-middle-of-the-centroids",
             BUILD_11,
-            "spheres at x = 3, 4, 5, 6 with radii 1, 3, 3, 1, one per leaf, cut at the middle: \
-             the centroids are the centres (the middle of each box), spread 3 along x and 0 along \
-             y and z; the middle of that spread is 4.5: expected the root cut into objects [0, 1] \
+            "spheres at x = 3, 4, 5, 6 with radii 1, 3, 3, 1, one per leaf, cut at the middle: the \
+             centroids are the centres (the middle of each box), spread 3 along x and 0 along y \
+             and z; the middle of that spread is 4.5: expected the root cut into objects [0, 1] \
              and [2, 3]",
-            vec![
-                sphere(3.0, 0.0, 0.0, 1.0),
-                sphere(4.0, 0.0, 0.0, 3.0),
-                sphere(5.0, 0.0, 0.0, 3.0),
-                sphere(6.0, 0.0, 0.0, 1.0),
-            ],
-            ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1]]),
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(3.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(4.0, 0.0, 0.0), 3.0),
+                    sphere(Vec3::new(5.0, 0.0, 0.0), 3.0),
+                    sphere(Vec3::new(6.0, 0.0, 0.0), 1.0),
+                ],
+                options: ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-sah-cut-not-the-middle",
             SAH_11,
             "unit spheres at x = 100, 101, 105, 106, 111 (objects 0 to 4), the surface-area \
              heuristic with 16 bins, TRAVERSAL_COST 1, max_leaf 1. Each box is 2 by 2 in y and z \
-             and L long in x: half its area is 2 L + 2 L + 4 = 4 L + 4. The root's is 56 (L = \
-             13), so the leaf costs 56 x 5 = 280; multiplied through by 56, a cut costs 56 + \
+             and L long in x: half its area is 2 L + 2 L + 4 = 4 L + 4. The root's is 56 (L = 13), \
+             so the leaf costs 56 x 5 = 280; multiplied through by 56, a cut costs 56 + \
              (half area x count) of each side: [0] | [1, 2, 3, 4]: 56 + 12 x 1 + 52 x 4 = 276; \
              [0, 1] | [2, 3, 4]: 56 + 16 x 2 + 36 x 3 = 196; [0, 1, 2] | [3, 4]: 56 + 32 x 3 + 32 \
-             x 2 = 216; [0, 1, 2, 3] | [4]: 56 + 36 x 4 + 12 x 1 = 212. Expected the root cut \
-             into objects [0, 1] and [2, 3, 4]; or, from a build that always cuts at the middle \
-             (the split rule is the student's choice), [0, 1, 2] and [3, 4] (the middle of the \
-             centroids is 105.5). Not a leaf, and not [0] alone",
-            vec![
-                sphere(100.0, 0.0, 0.0, 1.0),
-                sphere(101.0, 0.0, 0.0, 1.0),
-                sphere(105.0, 0.0, 0.0, 1.0),
-                sphere(106.0, 0.0, 0.0, 1.0),
-                sphere(111.0, 0.0, 0.0, 1.0),
-            ],
-            SAH_ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+             x 2 = 216; [0, 1, 2, 3] | [4]: 56 + 36 x 4 + 12 x 1 = 212. Expected the root cut into \
+             objects [0, 1] and [2, 3, 4]; or, from a build that always cuts at the middle \
+             (the split rule is the student's choice), [0, 1, 2] and [3, 4] \
+             (the middle of the centroids is 105.5). Not a leaf, and not [0] alone",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(100.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(101.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(105.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(106.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(111.0, 0.0, 0.0), 1.0),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+            }),
         ),
         // The example above has boxes of one height and depth, so any half
         // area of the form a L + b with a, b > 0 ranks some cuts alike; these
         // have boxes of several sizes, each of whose sides counts.
-        build_case(
+        Case::new(
             "bvh-sah-the-big-box-alone",
             SAH_11,
-            "spheres on the x axis at x = 4, 7.5, 10 and 10.5, radii 2, 1, 2 and 4 (objects 0 \
-             to 3), the SAH, 16 bins, max_leaf 1. A sphere's box is a cube of side 2 r, half \
-             area 3 (2 r)^2: 48, 12, 48, 192. The root, from (2, -4, -4) to (14.5, 4, 4), has \
+            "spheres on the x axis at x = 4, 7.5, 10 and 10.5, radii 2, 1, 2 and 4 \
+             (objects 0 to 3), the SAH, 16 bins, max_leaf 1. A sphere's box is a cube of side 2 r, \
+             half area 3 (2 r)^2: 48, 12, 48, 192. The root, from (2, -4, -4) to (14.5, 4, 4), has \
              12.5 x 8 + 8 x 8 + 8 x 12.5 = 264 (the leaf: 264 x 4 = 1056). Object 3's box holds \
-             every box right of any cut, so each cut costs 264 + (left half area) x (left \
-             count) + 192 x (right count): [0] | [1, 2, 3]: 264 + 48 + 576 = 888; [0, 1] | \
-             [2, 3]: left 6.5 by 4 by 4, 68: 264 + 136 + 384 = 784; [0, 1, 2] | [3]: left 10 \
-             by 4 by 4, 96: 264 + 288 + 192 = 744. Expected the root cut into [0, 1, 2] and \
-             [3] (or, cut at the middle of the centroids, 7.25: [0] and [1, 2, 3])",
-            vec![
-                sphere(4.0, 0.0, 0.0, 2.0),
-                sphere(7.5, 0.0, 0.0, 1.0),
-                sphere(10.0, 0.0, 0.0, 2.0),
-                sphere(10.5, 0.0, 0.0, 4.0),
-            ],
-            SAH_ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1, 2], vec![0]]),
+             every box right of any cut, so each cut costs 264 + (left half area) x (left count) + \
+             192 x (right count): [0] | [1, 2, 3]: 264 + 48 + 576 = 888; [0, 1] | [2, 3]: left 6.5 \
+             by 4 by 4, 68: 264 + 136 + 384 = 784; [0, 1, 2] | [3]: left 10 by 4 by 4, 96: 264 + \
+             288 + 192 = 744. Expected the root cut into [0, 1, 2] and [3] \
+             (or, cut at the middle of the centroids, 7.25: [0] and [1, 2, 3])",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(4.0, 0.0, 0.0), 2.0),
+                    sphere(Vec3::new(7.5, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(10.0, 0.0, 0.0), 2.0),
+                    sphere(Vec3::new(10.5, 0.0, 0.0), 4.0),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1, 2], vec![0]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-sah-three-sides-count",
             SAH_11,
             "spheres at (1, 0, -1), (2, 0, 1), (5, 0, 0) and (11.5, 0, 0), radii 4, 2, 1 and 2 \
-             (objects 0 to 3; half areas 192, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The \
-             root from (-3, -4, -5) to (13.5, 4, 3): 16.5 x 8 + 8 x 8 + 8 x 16.5 = 328. [0] | \
+             (objects 0 to 3; half areas 192, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The root \
+             from (-3, -4, -5) to (13.5, 4, 3): 16.5 x 8 + 8 x 8 + 8 x 16.5 = 328. [0] | \
              [1, 2, 3]: the right box from (0, -2, -2) to (13.5, 2, 3), 13.5 x 4 + 4 x 5 + 5 x \
              13.5 = 141.5: 328 + 192 + 141.5 x 3 = 944.5; [0, 1] | [2, 3]: object 0's box holds \
-             object 1's, 192 x 2, and the right box from (4, -2, -2) to (13.5, 2, 2), 92 x 2: \
-             328 + 384 + 184 = 896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, and \
-             48: 328 + 624 + 48 = 1000. Expected the root cut into [0, 1] and [2, 3] (or, cut \
-             at the middle of the centroids, 6.25: [0, 1, 2] and [3])",
-            vec![
-                sphere(1.0, 0.0, -1.0, 4.0),
-                sphere(2.0, 0.0, 1.0, 2.0),
-                sphere(5.0, 0.0, 0.0, 1.0),
-                sphere(11.5, 0.0, 0.0, 2.0),
-            ],
-            SAH_ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+             object 1's, 192 x 2, and the right box from (4, -2, -2) to (13.5, 2, 2), 92 x 2: 328 \
+             + 384 + 184 = 896; [0, 1, 2] | [3]: the left box 9 by 8 by 8, 208 x 3, and 48: 328 + \
+             624 + 48 = 1000. Expected the root cut into [0, 1] and [2, 3] \
+             (or, cut at the middle of the centroids, 6.25: [0, 1, 2] and [3])",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(1.0, 0.0, -1.0), 4.0),
+                    sphere(Vec3::new(2.0, 0.0, 1.0), 2.0),
+                    sphere(Vec3::new(5.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(11.5, 0.0, 0.0), 2.0),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-sah-the-first-alone",
             SAH_11,
             "spheres at (15, 0, 0), (35, 0, -1), (36, 0, 0) and (56, 0, 1), radii 3, 2, 1 and 2 \
-             (objects 0 to 3; half areas 108, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The \
-             root from (12, -3, -3) to (58, 3, 3): 46 x 6 + 6 x 6 + 6 x 46 = 588. [0] | [1, 2, \
-             3]: the right box from (33, -2, -3) to (58, 2, 3), 25 x 4 + 4 x 6 + 6 x 25 = 274: \
-             588 + 108 + 274 x 3 = 1518; [0, 1] | [2, 3]: the left box 25 by 6 by 6, 336 x 2, \
-             the right from (35, -2, -1) to (58, 2, 3), 200 x 2: 588 + 672 + 400 = 1660; \
-             [0, 1, 2] | [3]: 588 + 336 x 3 + 48 = 1644. Expected the root cut into [0] and \
-             [1, 2, 3] (or, cut at the middle of the centroids, 35.5: [0, 1] and [2, 3])",
-            vec![
-                sphere(15.0, 0.0, 0.0, 3.0),
-                sphere(35.0, 0.0, -1.0, 2.0),
-                sphere(36.0, 0.0, 0.0, 1.0),
-                sphere(56.0, 0.0, 1.0, 2.0),
-            ],
-            SAH_ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0], vec![0, 1]]),
+             (objects 0 to 3; half areas 108, 48, 12, 48), the SAH, 16 bins, max_leaf 1. The root \
+             from (12, -3, -3) to (58, 3, 3): 46 x 6 + 6 x 6 + 6 x 46 = 588. [0] | [1, 2, 3]: the \
+             right box from (33, -2, -3) to (58, 2, 3), 25 x 4 + 4 x 6 + 6 x 25 = 274: 588 + 108 + \
+             274 x 3 = 1518; [0, 1] | [2, 3]: the left box 25 by 6 by 6, 336 x 2, the right from \
+             (35, -2, -1) to (58, 2, 3), 200 x 2: 588 + 672 + 400 = 1660; [0, 1, 2] | [3]: 588 + \
+             336 x 3 + 48 = 1644. Expected the root cut into [0] and [1, 2, 3] \
+             (or, cut at the middle of the centroids, 35.5: [0, 1] and [2, 3])",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(15.0, 0.0, 0.0), 3.0),
+                    sphere(Vec3::new(35.0, 0.0, -1.0), 2.0),
+                    sphere(Vec3::new(36.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(56.0, 0.0, 1.0), 2.0),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0], vec![0, 1]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-sah-leaf-cheaper-than-any-cut",
             SAH_11,
-            "spheres at x = 3, 4.5 and 5.5 on the x axis, radii 3, 3 and 2.5 (objects 0 to 2; \
-             half areas 108, 108, 75), the SAH, 16 bins, max_leaf 1. The root from (0, -3, -3) \
-             to (8, 3, 3): 8 x 6 + 6 x 6 + 6 x 8 = 132, the leaf 132 x 3 = 396. [0] | [1, 2]: \
-             the right box 6.5 by 6 by 6, 114: 132 + 108 + 114 x 2 = 468; [0, 1] | [2]: the \
-             left box 7.5 by 6 by 6, 126: 132 + 126 x 2 + 75 = 459. Both cost more than the \
-             leaf (the boxes overlap: a ray into one is likely in the other), so the SAH keeps \
-             it: expected the root a leaf holding all three (or, cut at the middle of the \
-             centroids, 4.25: [0] and [1, 2]). The cost of visiting the node, TRAVERSAL_COST x 132, is what makes \
-             the cut [0, 1] | [2] dearer",
-            vec![
-                sphere(3.0, 0.0, 0.0, 3.0),
-                sphere(4.5, 0.0, 0.0, 3.0),
-                sphere(5.5, 0.0, 0.0, 2.5),
-            ],
-            SAH_ONE_PER_LEAF,
-            TreeShape::RootLeafOrCut(vec![vec![0]]),
+            "spheres at x = 3, 4.5 and 5.5 on the x axis, radii 3, 3 and 2.5 \
+             (objects 0 to 2; half areas 108, 108, 75), the SAH, 16 bins, max_leaf 1. The root \
+             from (0, -3, -3) to (8, 3, 3): 8 x 6 + 6 x 6 + 6 x 8 = 132, the leaf 132 x 3 = 396. \
+             [0] | [1, 2]: the right box 6.5 by 6 by 6, 114: 132 + 108 + 114 x 2 = 468; [0, 1] | \
+             [2]: the left box 7.5 by 6 by 6, 126: 132 + 126 x 2 + 75 = 459. Both cost more than \
+             the leaf (the boxes overlap: a ray into one is likely in the other), so the SAH keeps \
+             it: expected the root a leaf holding all three \
+             (or, cut at the middle of the centroids, 4.25: [0] and [1, 2]). The cost of visiting \
+             the node, TRAVERSAL_COST x 132, is what makes the cut [0, 1] | [2] dearer",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(3.0, 0.0, 0.0), 3.0),
+                    sphere(Vec3::new(4.5, 0.0, 0.0), 3.0),
+                    sphere(Vec3::new(5.5, 0.0, 0.0), 2.5),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootLeafOrCut(vec![vec![0]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-cut-along-z",
             BUILD_11,
             "unit spheres at z = 0, 3 and 7 on the z axis, one per leaf, cut at the middle: the \
              centroids spread 0 along x and y and 7 along z, so z is the axis to cut, at 3.5: \
-             expected the root cut into [0, 1] and [2] (a widest-axis search that stays on x \
-             or y finds no spread there and makes a leaf)",
-            vec![
-                sphere(0.0, 0.0, 0.0, 1.0),
-                sphere(0.0, 0.0, 3.0, 1.0),
-                sphere(0.0, 0.0, 7.0, 1.0),
-            ],
-            ONE_PER_LEAF,
-            TreeShape::RootCut(vec![vec![0, 1]]),
+             expected the root cut into [0, 1] and [2] \
+             (a widest-axis search that stays on x or y finds no spread there and makes a leaf)",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(0.0, 0.0, 3.0), 1.0),
+                    sphere(Vec3::new(0.0, 0.0, 7.0), 1.0),
+                ],
+                options: ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1]]),
+            }),
         ),
-        build_case(
+        Case::new(
             "bvh-nan-and-infinite-boxes-stay-out",
             PLANES_11,
-            "unit spheres at (0, 0, 0) (object 0) and (3, 0, 0) (object 3); object 1 a sphere \
-             with a NaN centre (its box is NaN); object 2 centred at x = 3e38 with radius 1e38, \
-             whose box reaches x = 4e38, past f32::MAX (3.4e38): max.x = inf. Neither box is \
-             finite: expected unbounded = [1, 2], objects 0 and 3 in the tree",
-            vec![
-                sphere(0.0, 0.0, 0.0, 1.0),
-                sphere(f32::NAN, 0.0, 0.0, 1.0),
-                sphere(3e38, 0.0, 0.0, 1e38),
-                sphere(3.0, 0.0, 0.0, 1.0),
-            ],
-            ONE_PER_LEAF,
-            TreeShape::Any,
+            "unit spheres at (0, 0, 0) (object 0) and (3, 0, 0) (object 3); object 1 a sphere with \
+             a NaN centre (its box is NaN); object 2 centred at x = 3e38 with radius 1e38, whose \
+             box reaches x = 4e38, past f32::MAX (3.4e38): max.x = inf. Neither box is finite: \
+             expected unbounded = [1, 2], objects 0 and 3 in the tree",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(f32::NAN, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(3e38, 0.0, 0.0), 1e38),
+                    sphere(Vec3::new(3.0, 0.0, 0.0), 1.0),
+                ],
+                options: ONE_PER_LEAF,
+                expect: TreeShape::Any,
+            }),
         ),
-        box_case(
-            "box-entry-close-to-the-origin",
-            ROUNDING_11,
-            "the cube; a ray from (-5, 0, 0) along (4096, 0, 0): the x slab from t = 4/4096 to \
-             6/4096, the others always: expected 4/4096 = 0.0009765625. The widening moves it by \
-             2 gamma_3 of itself (about 4e-10): a slack that grew as t shrank would not",
-            CUBE,
-            (v(-5.0, 0.0, 0.0), v(4096.0, 0.0, 0.0)),
-            ALL,
-            Some(4.0 / 4096.0),
-        ),
+        Case::from(BoxQuestion {
+            name: "box-entry-close-to-the-origin",
+            section: ROUNDING_11,
+            says: "the cube; a ray from (-5, 0, 0) along (4096, 0, 0): the x slab from t = 4/4096 \
+                   to 6/4096, the others always: expected 4/4096 = 0.0009765625. The widening \
+                   moves it by 2 gamma_3 of itself (about 4e-10): a slack that grew as t shrank \
+                   would not",
+            bounds: CUBE,
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::new(4096.0, 0.0, 0.0)),
+            range: IN_FRONT,
+            expect: Some(4.0 / 4096.0),
+        }),
     ]
 }
 
 /// `count` spheres with centres in `[-extent, extent]^3` and radii in
-/// `radii`, from `seed`, and `rays` rays from `eye` toward random points of
-/// the same cube: the same every run.
-fn random_spheres(
+/// `radii.0..radii.1`, from `seed`, and `rays` rays from `eye` toward
+/// random points of the same cube: the same every run.
+struct RandomSpheres {
     seed: u64,
     count: usize,
     extent: f32,
     radii: (f32, f32),
     eye: Vec3,
     rays: usize,
-) -> (Vec<Shape>, Vec<Ray>) {
-    let mut numbers = exact::Xorshift::new(seed);
-    let point = |numbers: &mut exact::Xorshift| {
-        v(
-            numbers.between(-extent, extent),
-            numbers.between(-extent, extent),
-            numbers.between(-extent, extent),
-        )
-    };
-    let shapes = (0..count)
-        .map(|_| {
-            let center = point(&mut numbers);
-            Sphere::new(center, numbers.between(radii.0, radii.1)).into()
-        })
-        .collect();
-    let rays = (0..rays)
-        .map(|_| Ray::new(eye, point(&mut numbers) - eye))
-        .collect();
-    (shapes, rays)
+}
+
+impl RandomSpheres {
+    fn generate(self) -> (Vec<Shape>, Vec<Ray>) {
+        let RandomSpheres {
+            seed,
+            count,
+            extent,
+            radii,
+            eye,
+            rays,
+        } = self;
+        let mut numbers = exact::Xorshift::new(seed);
+        let point = |numbers: &mut exact::Xorshift| {
+            Vec3::new(
+                numbers.between(-extent, extent),
+                numbers.between(-extent, extent),
+                numbers.between(-extent, extent),
+            )
+        };
+        let shapes = (0..count)
+            .map(|_| {
+                let center = point(&mut numbers);
+                Sphere::new(center, numbers.between(radii.0, radii.1)).into()
+            })
+            .collect();
+        let rays = (0..rays)
+            .map(|_| Ray::new(eye, point(&mut numbers) - eye))
+            .collect();
+        (shapes, rays)
+    }
 }
 
 /// Chapter 11's hard cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
 pub fn robustness() -> Vec<Case> {
     let default = BvhOptions::default();
-    let (thousand, thousand_rays) =
-        random_spheres(11, 1000, 20.0, (0.1, 0.6), v(0.0, 0.0, -40.0), 200);
-    let (huge, huge_rays) = random_spheres(1100, 300, 1e5, (1e3, 5e3), v(0.0, 0.0, -3e5), 200);
+    let (thousand, thousand_rays) = RandomSpheres {
+        seed: 11,
+        count: 1000,
+        extent: 20.0,
+        radii: (0.1, 0.6),
+        eye: Vec3::new(0.0, 0.0, -40.0),
+        rays: 200,
+    }
+    .generate();
+    let (huge, huge_rays) = RandomSpheres {
+        seed: 1100,
+        count: 300,
+        extent: 1e5,
+        radii: (1e3, 5e3),
+        eye: Vec3::new(0.0, 0.0, -3e5),
+        rays: 200,
+    }
+    .generate();
     // Two pairs of copies, and a big sphere touching a small one from
     // inside at z = 4, where the ray along +z meets both: ties everywhere.
     let ties = vec![
-        sphere(0.0, 0.0, 20.0, 1.0),
-        sphere(0.0, 0.0, 6.0, 2.0),
-        sphere(0.0, 0.0, 5.0, 1.0),
-        sphere(0.0, 0.0, 20.0, 1.0),
-        sphere(0.0, 0.0, 5.0, 1.0),
-        sphere(0.0, 0.0, 6.0, 2.0),
-        sphere(2.0, 0.0, 5.0, 1.0),
-        sphere(2.0, 0.0, 5.0, 1.0),
-        Plane::new(v(0.0, 0.0, 4.0), -Vec3::Z).into(),
+        sphere(Vec3::new(0.0, 0.0, 20.0), 1.0),
+        sphere(Vec3::new(0.0, 0.0, 6.0), 2.0),
+        sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+        sphere(Vec3::new(0.0, 0.0, 20.0), 1.0),
+        sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+        sphere(Vec3::new(0.0, 0.0, 6.0), 2.0),
+        sphere(Vec3::new(2.0, 0.0, 5.0), 1.0),
+        sphere(Vec3::new(2.0, 0.0, 5.0), 1.0),
+        Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
     ];
     let tie_rays: Vec<Ray> = [
         Vec3::Z,
-        v(0.1, 0.0, 1.0),
-        v(-0.1, 0.05, 1.0),
-        v(0.4, 0.0, 1.0),
-        v(0.0, 0.0, -1.0),
+        Vec3::new(0.1, 0.0, 1.0),
+        Vec3::new(-0.1, 0.05, 1.0),
+        Vec3::new(0.4, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, -1.0),
     ]
     .into_iter()
     .map(|dir| Ray::new(Vec3::ZERO, dir))
     .collect();
     // 200 spheres around one centre: every centroid the same point.
-    let center = v(0.0, 0.0, 10.0);
+    let center = Vec3::new(0.0, 0.0, 10.0);
     let concentric: Vec<Shape> = (0..200)
         .map(|index| Sphere::new(center, 0.5 + 0.0225 * index as f32).into())
         .collect();
     let concentric_rays = vec![
         Ray::new(Vec3::ZERO, Vec3::Z),
-        Ray::new(Vec3::ZERO, v(0.2, 0.1, 1.0)),
-        Ray::new(center, v(1.0, 0.5, -0.25)),
-        Ray::new(center + v(0.0, 0.0, 1.0), Vec3::Z),
+        Ray::new(Vec3::ZERO, Vec3::new(0.2, 0.1, 1.0)),
+        Ray::new(center, Vec3::new(1.0, 0.5, -0.25)),
+        Ray::new(center + Vec3::new(0.0, 0.0, 1.0), Vec3::Z),
     ];
     robust(vec![
-        bvh_case(
-            "bvh-thousand-spheres",
-            WALK_11,
-            "1000 spheres of radius 0.1 to 0.6 scattered in the cube from -20 to 20 (the same \
-             every run), the default options (SAH, 16 bins, max_leaf 4); 200 rays from \
-             (0, 0, -40) into the cube: each must find chapter 3's hit, same object, same t",
-            thousand.clone(),
-            default,
-            thousand_rays.clone(),
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-thousand-spheres-any-hit",
-            ANY_11,
-            "the same 1000 spheres and 200 rays, through any_hit_bvh: a real hit exactly when \
-             chapter 3 finds one",
-            thousand,
-            default,
-            thousand_rays,
-            ALL,
-            true,
-        ),
-        bvh_case(
-            "bvh-huge-coordinates",
-            WALK_11,
-            "300 spheres of radius 1e3 to 5e3 with centres up to 1e5 from the origin, 200 rays \
-             from (0, 0, -3e5): box areas near 1e11 (an f32 product of two sides is fine, a sum \
-             of many costs needs care), and still chapter 3's hit on every ray",
-            huge,
-            default,
-            huge_rays,
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-ties-lower-index-wins",
-            WALK_11,
-            "copies of the same spheres (objects 2 and 4, 1 and 5, 6 and 7, 0 and 3), the \
-             radius 2 sphere at z = 6 touching the unit one at z = 5 from inside at z = 4, and \
-             the plane z = 4 (object 8), one sphere per leaf where they can be cut apart: along \
-             +z objects 1, 2, 4, 5 and 8 are all hit at t = 4. Chapter 3 keeps the first listed \
-             of equal hits: expected its answer (object 1 at t = 4) on each of 5 rays",
-            ties,
-            ONE_PER_LEAF,
-            tie_rays,
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-coincident-centroids",
-            BUILD_11,
-            "200 spheres around the same centre (0, 0, 10), radii 0.5 to 4.98: every centroid is \
-             the same point, so no cut can separate them, even with max_leaf 1 (the build must \
-             stop, not loop or recurse forever); from outside the largest is hit first, from the \
-             centre the smallest: chapter 3's answer on each ray",
-            concentric,
-            ONE_PER_LEAF,
-            concentric_rays,
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-only-planes",
-            PLANES_11,
-            "two planes and nothing with a box (an empty tree): a ray from the origin along +z \
-             meets the plane z = 3 at t = 3: expected object 1 at t = 3",
-            vec![
-                Plane::new(v(0.0, 0.0, 8.0), -Vec3::Z).into(),
-                Plane::new(v(0.0, 0.0, 3.0), -Vec3::Z).into(),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-thousand-spheres",
+            section: WALK_11,
+            says: "1000 spheres of radius 0.1 to 0.6 scattered in the cube from -20 to 20 \
+                   (the same every run), the default options (SAH, 16 bins, max_leaf 4); 200 rays \
+                   from (0, 0, -40) into the cube: each must find chapter 3's hit, same object, \
+                   same t",
+            shapes: thousand.clone(),
+            options: default,
+            rays: thousand_rays.clone(),
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-thousand-spheres-any-hit",
+            section: ANY_11,
+            says: "the same 1000 spheres and 200 rays, through any_hit_bvh: a real hit exactly \
+                   when chapter 3 finds one",
+            shapes: thousand,
+            options: default,
+            rays: thousand_rays,
+            range: IN_FRONT,
+            any_hit: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-huge-coordinates",
+            section: WALK_11,
+            says: "300 spheres of radius 1e3 to 5e3 with centres up to 1e5 from the origin, 200 \
+                   rays from (0, 0, -3e5): box areas near 1e11 \
+                   (an f32 product of two sides is fine, a sum of many costs needs care), and \
+                   still chapter 3's hit on every ray",
+            shapes: huge,
+            options: default,
+            rays: huge_rays,
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-ties-lower-index-wins",
+            section: WALK_11,
+            says: "copies of the same spheres (objects 2 and 4, 1 and 5, 6 and 7, 0 and 3), the \
+                   radius 2 sphere at z = 6 touching the unit one at z = 5 from inside at z = 4, \
+                   and the plane z = 4 (object 8), one sphere per leaf where they can be cut \
+                   apart: along +z objects 1, 2, 4, 5 and 8 are all hit at t = 4. Chapter 3 keeps \
+                   the first listed of equal hits: expected its answer (object 1 at t = 4) on each \
+                   of 5 rays",
+            shapes: ties,
+            options: ONE_PER_LEAF,
+            rays: tie_rays,
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-coincident-centroids",
+            section: BUILD_11,
+            says: "200 spheres around the same centre (0, 0, 10), radii 0.5 to 4.98: every \
+                   centroid is the same point, so no cut can separate them, even with max_leaf 1 \
+                   (the build must stop, not loop or recurse forever); from outside the largest is \
+                   hit first, from the centre the smallest: chapter 3's answer on each ray",
+            shapes: concentric,
+            options: ONE_PER_LEAF,
+            rays: concentric_rays,
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-only-planes",
+            section: PLANES_11,
+            says: "two planes and nothing with a box (an empty tree): a ray from the origin along \
+                   +z meets the plane z = 3 at t = 3: expected object 1 at t = 3",
+            shapes: vec![
+                Plane::new(Vec3::new(0.0, 0.0, 8.0), -Vec3::Z).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 3.0), -Vec3::Z).into(),
             ],
-            default,
-            vec![Ray::new(Vec3::ZERO, Vec3::Z)],
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-nan-ray",
-            NAN_11,
-            "a ray whose direction is NaN through the 1000 spheres' first ten: no box can \
-             reject it (every crossing is NaN), the objects' own tests do: expected no hit",
-            random_spheres(11, 10, 20.0, (0.1, 0.6), Vec3::ZERO, 0).0,
-            default,
-            vec![Ray::new(Vec3::ZERO, Vec3::NAN)],
-            ALL,
-            false,
-        ),
-        box_case(
-            "box-through-a-corner",
-            ROUNDING_11,
-            "the cube from -1 to 1; a ray from (2, 2, 0) along (-1, -1, 1) touches it only at \
-             the corner (1, 1, 1), at t = 1, where it enters (x and y planes) and leaves (the \
-             z plane) at once: expected 1",
-            CUBE,
-            (v(2.0, 2.0, 0.0), v(-1.0, -1.0, 1.0)),
-            ALL,
-            Some(1.0),
-        ),
+            options: default,
+            rays: vec![Ray::new(Vec3::ZERO, Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-nan-ray",
+            section: NAN_11,
+            says: "a ray whose direction is NaN through the 1000 spheres' first ten: no box can \
+                   reject it (every crossing is NaN), the objects' own tests do: expected no hit",
+            shapes: RandomSpheres {
+                seed: 11,
+                count: 10,
+                extent: 20.0,
+                radii: (0.1, 0.6),
+                eye: Vec3::ZERO,
+                rays: 0,
+            }
+            .generate()
+            .0,
+            options: default,
+            rays: vec![Ray::new(Vec3::ZERO, Vec3::NAN)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BoxQuestion {
+            name: "box-through-a-corner",
+            section: ROUNDING_11,
+            says: "the cube from -1 to 1; a ray from (2, 2, 0) along (-1, -1, 1) touches it only \
+                   at the corner (1, 1, 1), at t = 1, where it enters (x and y planes) and leaves \
+                   (the z plane) at once: expected 1",
+            bounds: CUBE,
+            ray: (Vec3::new(2.0, 2.0, 0.0), Vec3::new(-1.0, -1.0, 1.0)),
+            range: IN_FRONT,
+            expect: Some(1.0),
+        }),
         Case::new(
             "box-rays-along-edges",
             ROUNDING_11,
-            "20000 rays from random origins aimed at random points of the edges of the box \
-             from (-1.3, 0.2, 2.7) to (0.9, 1.7, 3.1): where the exact ray (in f64) meets the \
-             box, even along a sliver, hit_box must say so; the rounded crossings can put \
-             the entry a hair past the exit, which the widening by 2 gamma_3 absorbs",
-            CaseKind::BoxEdges {
-                min: v(-1.3, 0.2, 2.7),
-                max: v(0.9, 1.7, 3.1),
+            "20000 rays from random origins aimed at random points of the edges of the box from \
+             (-1.3, 0.2, 2.7) to (0.9, 1.7, 3.1): where the exact ray (in f64) meets the box, even \
+             along a sliver, hit_box must say so; the rounded crossings can put the entry a hair \
+             past the exit, which the widening by 2 gamma_3 absorbs",
+            CaseKind::BoxEdges(BoxEdgesCase {
+                min: Vec3::new(-1.3, 0.2, 2.7),
+                max: Vec3::new(0.9, 1.7, 3.1),
                 rays: 20_000,
                 seed: 0x2545_f491_4f6c_dd1d,
-            },
+            }),
         ),
-        bvh_case(
-            "bvh-deeper-than-the-stack",
-            WALK_11,
-            "70 unit spheres on the x axis at x = 3^k, k = 0 to 69 (object k), one per leaf, \
-             cut at the middle: the middle of 1 to 3^n is (1 + 3^n) / 2, above every centroid \
-             but the last, so each cut peels off one sphere and the tree is 69 levels deep, more \
-             than the 64 waiting nodes the walk keeps in a fixed array. A ray from (-10, 0, 0) \
-             along +x meets every box and sets each peeled sphere aside on its way down: \
-             expected object 0 at t = 10",
-            (0..70)
-                .map(|k| sphere(3.0f32.powi(k), 0.0, 0.0, 1.0))
+        Case::from(BvhHitsQuestion {
+            name: "bvh-deeper-than-the-stack",
+            section: WALK_11,
+            says: "70 unit spheres on the x axis at x = 3^k, k = 0 to 69 (object k), one per leaf, \
+                   cut at the middle: the middle of 1 to 3^n is (1 + 3^n) / 2, above every \
+                   centroid but the last, so each cut peels off one sphere and the tree is 69 \
+                   levels deep, more than the 64 waiting nodes the walk keeps in a fixed array. A \
+                   ray from (-10, 0, 0) along +x meets every box and sets each peeled sphere aside \
+                   on its way down: expected object 0 at t = 10",
+            shapes: (0..70)
+                .map(|k| sphere(Vec3::new(3.0f32.powi(k), 0.0, 0.0), 1.0))
                 .collect(),
-            ONE_PER_LEAF,
-            vec![Ray::new(v(-10.0, 0.0, 0.0), Vec3::X)],
-            ALL,
-            false,
-        ),
-        bvh_case(
-            "bvh-tie-far-from-the-origin",
-            WALK_11,
-            "a unit sphere at (0, 0, 5) (object 0, in the tree) and the plane z = 4 (object 1, \
-             asked first); a ray from (0, 0, -100) along +z meets both at exactly t = 104. The \
-             sphere's padded box is entered at 104 in f32 too: only the widening, which moves \
-             the entry down by 2 gamma_3 of 104 (4e-5, five ulps there), lets the walk open it \
-             at a best of 104. Chapter 3 keeps the first listed: expected object 0 at t = 104",
-            vec![
-                sphere(0.0, 0.0, 5.0, 1.0),
-                Plane::new(v(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            options: ONE_PER_LEAF,
+            rays: vec![Ray::new(Vec3::new(-10.0, 0.0, 0.0), Vec3::X)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-tie-far-from-the-origin",
+            section: WALK_11,
+            says: "a unit sphere at (0, 0, 5) (object 0, in the tree) and the plane z = 4 \
+                   (object 1, asked first); a ray from (0, 0, -100) along +z meets both at exactly \
+                   t = 104. The sphere's padded box is entered at 104 in f32 too: only the \
+                   widening, which moves the entry down by 2 gamma_3 of 104 \
+                   (4e-5, five ulps there), lets the walk open it at a best of 104. Chapter 3 \
+                   keeps the first listed: expected object 0 at t = 104",
+            shapes: vec![
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
             ],
-            ONE_PER_LEAF,
-            vec![Ray::new(v(0.0, 0.0, -100.0), Vec3::Z)],
-            ALL,
-            false,
-        ),
+            options: ONE_PER_LEAF,
+            rays: vec![Ray::new(Vec3::new(0.0, 0.0, -100.0), Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+        }),
     ])
 }

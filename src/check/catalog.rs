@@ -11,6 +11,12 @@
 
 pub use glam::Vec3;
 
+pub use super::cases::{
+    BarycentricCase, BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase, NearestCase, OffsetCase,
+    PhongTermsCase, PixelColorCase, PlaneCase, ReflectCase, ReflectanceCase, RefractCase,
+    SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase, SmoothNormalCase, SphereCase,
+    TerminatorCase, TransmittanceCase, TrianglesCase,
+};
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 pub use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
@@ -19,10 +25,7 @@ pub use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
 
 pub const INF: f32 = f32::INFINITY;
 
-pub fn v(x: f32, y: f32, z: f32) -> Vec3 {
-    Vec3::new(x, y, z)
-}
-
+/// `cases` at the robustness level (level 2).
 pub fn robust(cases: Vec<Case>) -> Vec<Case> {
     cases
         .into_iter()
@@ -33,98 +36,157 @@ pub fn robust(cases: Vec<Case>) -> Vec<Case> {
         .collect()
 }
 
-/// What an intersection case expects, before the exact `t` is filled in.
+/// What an intersection question expects, before the exact `t` of a hit is
+/// worked out (which makes it an [`ExpectT`]).
 #[derive(Clone, Copy)]
-pub enum E {
+pub enum Expect {
     Hit,
     Miss,
+    /// Rounding decides: see [`ExpectT::Either`].
     Either,
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn plane_case(
-    name: &'static str,
-    section: &'static str,
-    says: &str,
-    point: Vec3,
-    normal: Vec3,
-    ray: (Vec3, Vec3),
-    range: (f32, f32),
-    expect: E,
-) -> Case {
-    let plane = Plane::new(point, normal);
-    let expect = match expect {
-        E::Hit => ExpectT::Hit(
+impl Expect {
+    /// The expectation with a hit's `t` from `exact_t`; NaN when the exact
+    /// reference finds no hit, which each chapter's own test rejects.
+    pub fn with_exact_t(self, exact_t: impl FnOnce() -> Option<f64>) -> ExpectT {
+        match self {
+            Expect::Hit => ExpectT::Hit(exact_t().unwrap_or(f64::NAN)),
+            Expect::Miss => ExpectT::Miss,
+            Expect::Either => ExpectT::Either,
+        }
+    }
+}
+
+/// An `intersect_plane` question: the plane through `plane.0` with normal
+/// `plane.1`, the ray from `ray.0` along `ray.1`, hits wanted for
+/// `range.0 < t < range.1`.
+pub struct PlaneQuestion {
+    pub name: &'static str,
+    pub section: &'static str,
+    pub says: &'static str,
+    /// `(point, normal)`.
+    pub plane: (Vec3, Vec3),
+    /// `(origin, dir)`.
+    pub ray: (Vec3, Vec3),
+    /// `(t_min, t_max)`.
+    pub range: (f32, f32),
+    pub expect: Expect,
+}
+
+impl From<PlaneQuestion> for Case {
+    fn from(question: PlaneQuestion) -> Case {
+        let (point, normal) = question.plane;
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        // The exact `t` of the plane as built: its normal made unit, or NaN
+        // when degenerate, as the code under check receives it.
+        let plane = Plane::new(point, normal);
+        let expect = question.expect.with_exact_t(|| {
             exact::plane(
                 wide(plane.point()),
                 wide(plane.normal()),
-                wide(ray.0),
-                wide(ray.1),
-                f64::from(range.0),
-                f64::from(range.1),
+                wide(origin),
+                wide(dir),
+                f64::from(t_min),
+                f64::from(t_max),
             )
-            .unwrap_or(f64::NAN),
-        ),
-        E::Miss => ExpectT::Miss,
-        E::Either => ExpectT::Either,
-    };
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::Plane {
-            point,
-            normal,
-            ray: Ray::new(ray.0, ray.1),
-            t_min: range.0,
-            t_max: range.1,
-            expect,
-        },
-    )
+        });
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Plane(PlaneCase {
+                point,
+                normal,
+                ray: Ray::new(origin, dir),
+                t_min,
+                t_max,
+                expect,
+            }),
+        )
+    }
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn sphere_case(
-    name: &'static str,
-    section: &'static str,
-    says: &str,
-    center: Vec3,
-    radius: f32,
-    ray: (Vec3, Vec3),
-    range: (f32, f32),
-    expect: E,
-) -> Case {
-    let expect = match expect {
-        E::Hit => ExpectT::Hit(
+/// An `intersect_sphere` question: the sphere of centre `sphere.0` and
+/// radius `sphere.1`, the ray from `ray.0` along `ray.1`, hits wanted for
+/// `range.0 < t < range.1`.
+pub struct SphereQuestion {
+    pub name: &'static str,
+    pub section: &'static str,
+    pub says: &'static str,
+    /// `(center, radius)`.
+    pub sphere: (Vec3, f32),
+    /// `(origin, dir)`.
+    pub ray: (Vec3, Vec3),
+    /// `(t_min, t_max)`.
+    pub range: (f32, f32),
+    pub expect: Expect,
+}
+
+impl From<SphereQuestion> for Case {
+    fn from(question: SphereQuestion) -> Case {
+        let (center, radius) = question.sphere;
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        let expect = question.expect.with_exact_t(|| {
             exact::sphere(
                 wide(center),
                 f64::from(radius),
-                wide(ray.0),
-                wide(ray.1),
-                f64::from(range.0),
-                f64::from(range.1),
+                wide(origin),
+                wide(dir),
+                f64::from(t_min),
+                f64::from(t_max),
             )
-            .unwrap_or(f64::NAN),
-        ),
-        E::Miss => ExpectT::Miss,
-        E::Either => ExpectT::Either,
-    };
-    Case::new(
-        name,
-        section,
-        says,
-        CaseKind::Sphere {
-            center,
-            radius,
-            ray: Ray::new(ray.0, ray.1),
-            t_min: range.0,
-            t_max: range.1,
-            expect,
-        },
-    )
+        });
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Sphere(SphereCase {
+                center,
+                radius,
+                ray: Ray::new(origin, dir),
+                t_min,
+                t_max,
+                expect,
+            }),
+        )
+    }
 }
 
-pub const ALL: (f32, f32) = (0.0, INF);
+/// A shading question: `shading`'s function at the point where the ray from
+/// `ray.0` along `ray.1` first meets `scene` (TOML), `depth` bounces deep.
+pub struct ShadeQuestion {
+    pub name: &'static str,
+    pub section: &'static str,
+    pub says: &'static str,
+    pub shading: Shading,
+    pub scene: String,
+    /// `(origin, dir)`.
+    pub ray: (Vec3, Vec3),
+    pub depth: u32,
+}
+
+impl From<ShadeQuestion> for Case {
+    fn from(question: ShadeQuestion) -> Case {
+        let (origin, dir) = question.ray;
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::Shade(ShadeCase {
+                shading: question.shading,
+                scene: question.scene,
+                ray: Ray::new(origin, dir),
+                depth: question.depth,
+            }),
+        )
+    }
+}
+
+/// `(t_min, t_max)` for every `t` in front of the ray's origin.
+pub const IN_FRONT: (f32, f32) = (0.0, INF);
 
 // Scenes that the cases of chapters 4 and 5, and of 8 and 9, share.
 /// A glass pane y = 0 (object 0: k_r = k_t = 0.5, tinted (1, 0.5, 0.25),

@@ -224,64 +224,78 @@ impl ChapterVerdict {
             );
         }
         if let Some(image) = &self.image {
-            let m = &image.metrics;
-            if image.passed {
-                let _ = writeln!(
-                    out,
-                    "  image: matches the reference ({}, max difference {} levels)",
-                    if m.max == 0 {
-                        "identical"
-                    } else {
-                        "within rounding"
-                    },
-                    m.max
-                );
-            } else {
-                let _ = writeln!(
-                    out,
-                    "  image: {} of {} pixels differ from the reference by more than {} levels \
-                     (max {}{}, PSNR {} dB)",
-                    m.pixels_over,
-                    m.pixels,
-                    Criteria::default().threshold,
-                    m.max,
-                    m.max_at
-                        .map(|(x, y)| format!(" at x={x}, y={y}"))
-                        .unwrap_or_default(),
-                    m.psnr_text()
-                );
-                for path in &image.written {
-                    let _ = writeln!(
-                        out,
-                        "    wrote {}",
-                        crate::text::terminal_safe(&path.display().to_string())
-                    );
-                }
-            }
+            out.push_str(&image_text(image));
         }
         if let Some(robustness) = &self.robustness {
-            if robustness.passed == robustness.total {
-                let _ = writeln!(
-                    out,
-                    "  robustness: all {} hard cases pass",
-                    robustness.total
-                );
-            } else {
-                let _ = writeln!(
-                    out,
-                    "  robustness: {} of {} hard cases pass: correct, not yet robust",
-                    robustness.passed, robustness.total
-                );
-                if let Some(failure) = &robustness.first_failure {
-                    out.push_str(&failure_text(failure));
-                }
-            }
+            out.push_str(&robustness_text(robustness));
         }
         for error in &self.errors {
             let _ = writeln!(out, "  error: {}", crate::text::terminal_safe(error));
         }
         out
     }
+}
+
+/// The image's lines of the verdict.
+fn image_text(image: &ImageCheck) -> String {
+    let mut out = String::new();
+    let m = &image.metrics;
+    if image.passed {
+        let _ = writeln!(
+            out,
+            "  image: matches the reference ({}, max difference {} levels)",
+            if m.max == 0 {
+                "identical"
+            } else {
+                "within rounding"
+            },
+            m.max
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  image: {} of {} pixels differ from the reference by more than {} levels \
+             (max {}{}, PSNR {} dB)",
+            m.pixels_over,
+            m.pixels,
+            Criteria::default().threshold,
+            m.max,
+            m.max_at
+                .map(|(x, y)| format!(" at x={x}, y={y}"))
+                .unwrap_or_default(),
+            m.psnr_text()
+        );
+        for path in &image.written {
+            let _ = writeln!(
+                out,
+                "    wrote {}",
+                crate::text::terminal_safe(&path.display().to_string())
+            );
+        }
+    }
+    out
+}
+
+/// The robustness lines of the verdict.
+fn robustness_text(robustness: &Robustness) -> String {
+    let mut out = String::new();
+    if robustness.passed == robustness.total {
+        let _ = writeln!(
+            out,
+            "  robustness: all {} hard cases pass",
+            robustness.total
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  robustness: {} of {} hard cases pass: correct, not yet robust",
+            robustness.passed, robustness.total
+        );
+        if let Some(failure) = &robustness.first_failure {
+            out.push_str(&failure_text(failure));
+        }
+    }
+    out
 }
 
 fn failure_text(failure: &CaseFailure) -> String {
@@ -515,6 +529,21 @@ fn own_verdict<C: Chapters>(
     if !full {
         return verdict;
     }
+    judge_image::<C>(info, options, cases.len(), &mut verdict);
+    if verdict.status == Status::Pass {
+        verdict.robustness = Some(run_robustness::<C>(info));
+    }
+    verdict
+}
+
+/// Renders and compares the chapter's image into `verdict`, once its
+/// `cases` checkpoints pass.
+fn judge_image<C: Chapters>(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    cases: usize,
+    verdict: &mut ChapterVerdict,
+) {
     match check_image::<C>(info, options) {
         Ok(Ok(image)) => {
             if !image.passed {
@@ -527,35 +556,10 @@ fn own_verdict<C: Chapters>(
             verdict.errors.push(error);
         }
         Err(panic) => {
-            // The chapter's own cases passed, so a todo!() met while
-            // rendering is in an earlier chapter: by its file when the
-            // panic says, else (0) the first earlier chapter not passing.
-            verdict.status = match owner(&panic) {
-                Some(earlier) if panic.is_todo() && earlier < chapter => {
-                    Status::Blocked { by: earlier }
-                }
-                None if panic.is_todo() => Status::Blocked { by: 0 },
-                _ => Status::Fail,
-            };
+            let (status, failure) = image_panic(info, cases, panic);
+            verdict.status = status;
             verdict.errors.clear();
-            verdict.first_failure = Some(CaseFailure {
-                name: "image",
-                function: "(the whole stage)",
-                level: Level::Checkpoint,
-                number: cases.len() + 1,
-                of: cases.len() + 1,
-                says: format!(
-                    "rendering the chapter's built-in scene at {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}"
-                ),
-                inputs: format!("raylab render --chapter {chapter}"),
-                outcome: if panic.is_todo() {
-                    Outcome::Todo(panic)
-                } else {
-                    Outcome::Panicked(panic)
-                },
-                lesson: lesson(info),
-                section: "What the picture shows",
-            });
+            verdict.first_failure = Some(failure);
         }
     }
     // A write error of the failure images is reported; the verdict stands.
@@ -568,19 +572,53 @@ fn own_verdict<C: Chapters>(
             .errors
             .push("the failure images could not be written".into());
     }
-    if verdict.status == Status::Pass {
-        let hard = catalog::robustness(info.number);
-        let (passed, failures) = run_cases::<C>(info, &hard);
-        verdict.robustness = Some(Robustness {
-            passed,
-            total: hard.len(),
-            first_failure: failures
-                .into_iter()
-                .next()
-                .map(|(index, outcome)| case_failure(info, &hard, index, outcome)),
-        });
+}
+
+/// The chapter's hard cases, run once its checkpoints and image pass.
+fn run_robustness<C: Chapters>(info: &ChapterInfo) -> Robustness {
+    let hard = catalog::robustness(info.number);
+    let (passed, failures) = run_cases::<C>(info, &hard);
+    Robustness {
+        passed,
+        total: hard.len(),
+        first_failure: failures
+            .into_iter()
+            .next()
+            .map(|(index, outcome)| case_failure(info, &hard, index, outcome)),
     }
-    verdict
+}
+
+/// The status and the failure of a chapter whose `cases` checkpoints
+/// passed but whose image rendering panicked.
+fn image_panic(info: &ChapterInfo, cases: usize, panic: Panic) -> (Status, CaseFailure) {
+    let chapter = info.number;
+    // The chapter's own cases passed, so a todo!() met while
+    // rendering is in an earlier chapter: by its file when the
+    // panic says, else (0) the first earlier chapter not passing.
+    let status = match owner(&panic) {
+        Some(earlier) if panic.is_todo() && earlier < chapter => Status::Blocked { by: earlier },
+        None if panic.is_todo() => Status::Blocked { by: 0 },
+        _ => Status::Fail,
+    };
+    let failure = CaseFailure {
+        name: "image",
+        function: "(the whole stage)",
+        level: Level::Checkpoint,
+        number: cases + 1,
+        of: cases + 1,
+        says: format!(
+            "rendering the chapter's built-in scene at {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}"
+        ),
+        inputs: format!("raylab render --chapter {chapter}"),
+        outcome: if panic.is_todo() {
+            Outcome::Todo(panic)
+        } else {
+            Outcome::Panicked(panic)
+        },
+        lesson: lesson(info),
+        section: "What the picture shows",
+    };
+    (status, failure)
 }
 
 /// Renders the chapter's scene with `C` (on this thread, so that a panic

@@ -173,10 +173,33 @@ pub(super) fn shape_problem(
     })
 }
 
+/// What is wrong with `bvh` as a tree over `bounds`, if anything: where
+/// each object is (see [`placement_problem`]), then the nodes themselves.
 pub(super) fn tree_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
-    let boxed = |object: usize| {
-        bounds[object].filter(|b| b.min.is_finite() && b.max.is_finite() && !b.is_empty())
-    };
+    if let Some(problem) = placement_problem(bvh, bounds) {
+        return Some(problem);
+    }
+    if bvh.nodes.is_empty() {
+        return (!bvh.primitives.is_empty()).then(|| {
+            format!(
+                "no nodes, but {} objects in primitives",
+                bvh.primitives.len()
+            )
+        });
+    }
+    nodes_problem(bvh, bounds)
+}
+
+/// Object `object`'s box, when it is one a tree can hold: finite and not
+/// empty.
+fn finite_box(bounds: &[Option<Aabb>], object: usize) -> Option<Aabb> {
+    bounds[object].filter(|b| b.min.is_finite() && b.max.is_finite() && !b.is_empty())
+}
+
+/// Each object once, in `primitives` or `unbounded`; those with a finite
+/// box in the tree, the others out of it.
+fn placement_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
+    let boxed = |object: usize| finite_box(bounds, object);
     let mut places = vec![0usize; bounds.len()];
     for &object in bvh.primitives.iter().chain(&bvh.unbounded) {
         let Some(count) = places.get_mut(object as usize) else {
@@ -207,14 +230,13 @@ pub(super) fn tree_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String>
             "object {object} has no box (a plane) but is in the tree"
         ));
     }
-    if bvh.nodes.is_empty() {
-        return (!bvh.primitives.is_empty()).then(|| {
-            format!(
-                "no nodes, but {} objects in primitives",
-                bvh.primitives.len()
-            )
-        });
-    }
+    None
+}
+
+/// From the root, every node reached once, each box holding its children's
+/// or its objects', and every slot of `primitives` under exactly one leaf.
+fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
+    let boxed = |object: usize| finite_box(bounds, object);
     let holds = |outer: &Aabb, inner: &Aabb| {
         outer.min.cmple(inner.min).all() && inner.max.cmple(outer.max).all()
     };

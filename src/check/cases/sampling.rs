@@ -1,0 +1,222 @@
+//! Sampling cases: where a pixel's samples go, and the mean they make.
+
+use super::*;
+
+/// `sample_offset(sampling, count, index, pixel, seed)` for every index
+/// and each pixel.
+#[derive(Debug, Clone)]
+pub struct SampleOffsetsCase {
+    pub sampling: Sampling,
+    pub count: u32,
+    pub pixels: Vec<(u32, u32)>,
+    pub seed: u64,
+    pub rule: SampleRule,
+}
+
+impl SampleOffsetsCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "sample_offset"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        let SampleOffsetsCase {
+            sampling,
+            count,
+            pixels,
+            seed,
+            ..
+        } = self;
+        format!(
+            "sample_offset({sampling:?}, count {count}, index 0..{count}, {} pixel{} from {:?}, seed {seed})",
+            pixels.len(),
+            if pixels.len() > 1 { "s" } else { "" },
+            pixels.first().copied().unwrap_or_default()
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let SampleOffsetsCase {
+            sampling,
+            count,
+            pixels,
+            seed,
+            rule,
+        } = self;
+        for pixel in pixels {
+            let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
+                (0..*count)
+                    .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
+                    .collect()
+            };
+            let offsets = offsets_with(*seed);
+            let mut verdict = sample_rule(*rule, *count, &offsets);
+            if let (Ok(()), SampleRule::UnlikeSeed(other)) = (&verdict, rule) {
+                if offsets_with(*other) == offsets {
+                    verdict = Err(format!("the same offsets as with seed {other}"));
+                }
+            }
+            if let Err(problem) = verdict {
+                return Outcome::Fail {
+                    expected: rule_text(*rule, *count),
+                    got: format!(
+                        "pixel {pixel:?}: {problem}; offsets {}",
+                        offsets
+                            .iter()
+                            .take(16)
+                            .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    ),
+                };
+            }
+        }
+        Outcome::Pass
+    }
+}
+
+/// `pixel_color` of each pixel of `scene` (TOML, chapter 7's stage):
+/// expected the mean, in linear light, of the pixel's own samples (at
+/// the offsets `sample_offset` gives).
+#[derive(Debug, Clone)]
+pub struct PixelColorCase {
+    pub scene: String,
+    pub pixels: Vec<(u32, u32)>,
+}
+
+impl PixelColorCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "pixel_color"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        let PixelColorCase { pixels, .. } = self;
+        format!(
+            "pixel_color of {} pixel{} from {:?}",
+            pixels.len(),
+            if pixels.len() > 1 { "s" } else { "" },
+            pixels.first().copied().unwrap_or_default()
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let PixelColorCase { scene, pixels } = self;
+        let scene = match parse(scene) {
+            Ok(scene) => scene,
+            Err(error) => return Outcome::Error(error),
+        };
+        let stage = match Stage::<C>::with_chapters(&scene, 7, scene.render) {
+            Ok(stage) => stage,
+            Err(error) => return Outcome::Error(error.to_string()),
+        };
+        let mut tracer = stage.tracer(None);
+        for &(x, y) in pixels {
+            let samples = tracer.samples();
+            let mut colours = Vec::new();
+            for index in 0..samples {
+                let (dx, dy) = tracer.sample_offset(index, (x, y));
+                colours.push(tracer.sample(x as f32 + dx, y as f32 + dy));
+            }
+            let mean = colours.iter().copied().sum::<Vec3>() / samples.max(1) as f32;
+            let got = C::pixel_color(&mut tracer, x, y);
+            if !colour_close(got, mean) {
+                return Outcome::Fail {
+                    expected: format!(
+                        "pixel ({x}, {y}): {} = the mean of its samples {}",
+                        vec(mean),
+                        colours
+                            .iter()
+                            .map(|c| vec(*c))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    ),
+                    got: vec(got),
+                };
+            }
+        }
+        Outcome::Pass
+    }
+}
+
+fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(), String> {
+    let inside = |v: f32| (0.0..1.0).contains(&v);
+    if let Some((x, y)) = offsets.iter().find(|(x, y)| !inside(*x) || !inside(*y)) {
+        return Err(format!(
+            "({}, {}) is outside [0, 1)^2 (1.0 is the next pixel's edge)",
+            num(*x),
+            num(*y)
+        ));
+    }
+    let k = count.isqrt().max(1);
+    let cell_of = |(x, y): (f32, f32)| {
+        let column = ((x * k as f32) as u32).min(k - 1);
+        let row = ((y * k as f32) as u32).min(k - 1);
+        row * k + column
+    };
+    match rule {
+        SampleRule::GridCentres => {
+            for &(x, y) in offsets {
+                let centre = |v: f32| ((v * k as f32).floor() + 0.5) / k as f32;
+                if (x - centre(x)).abs() > 1e-5 || (y - centre(y)).abs() > 1e-5 {
+                    return Err(format!(
+                        "({}, {}) is not the centre of a cell",
+                        num(x),
+                        num(y)
+                    ));
+                }
+            }
+            one_per_cell(k, offsets, cell_of)
+        }
+        SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
+        SampleRule::InsidePixel | SampleRule::UnlikeSeed(_) => {
+            if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
+                Err("every sample is at the same point".into())
+            } else {
+                Ok(())
+            }
+        }
+    }
+}
+
+fn one_per_cell(
+    k: u32,
+    offsets: &[(f32, f32)],
+    cell_of: impl Fn((f32, f32)) -> u32,
+) -> Result<(), String> {
+    let mut seen = vec![0u32; (k * k) as usize];
+    for &offset in offsets {
+        seen[cell_of(offset) as usize] += 1;
+    }
+    match seen.iter().position(|&n| n != 1) {
+        None => Ok(()),
+        Some(cell) => Err(format!(
+            "cell (column {}, row {}) of the {k} x {k} grid has {} samples",
+            cell as u32 % k,
+            cell as u32 / k,
+            seen[cell]
+        )),
+    }
+}
+
+fn rule_text(rule: SampleRule, count: u32) -> String {
+    let k = count.isqrt().max(1);
+    match rule {
+        SampleRule::GridCentres => {
+            format!("the {count} centres of a {k} x {k} grid of cells, one each")
+        }
+        SampleRule::OnePerCell => {
+            format!("one sample in each cell of a {k} x {k} grid, inside [0, 1)^2")
+        }
+        SampleRule::InsidePixel => "samples inside [0, 1)^2, not all at one point".into(),
+        SampleRule::UnlikeSeed(other) => {
+            format!("samples inside [0, 1)^2, not all at one point, not those of seed {other}")
+        }
+    }
+}
