@@ -1,5 +1,5 @@
 //! Chapter 11, the bounding volume hierarchy, as `raylab check` judges it:
-//! the reference passes both levels; the bug gallery of issue 14 (a slab
+//! the reference passes both levels; its bug gallery (a slab
 //! test poisoned by NaN, a walk that stops at the first leaf with a hit, a
 //! build that puts planes in the tree) fails chapter 11 on the case that
 //! names the mistake; two correct alternatives (another split rule,

@@ -457,7 +457,7 @@ fn images_get_the_permissions_of_any_new_file() {
     assert_eq!(mode(&dir.path().join("chapter-1.png")), mode(&ordinary));
 }
 
-/// `--threads 100000` used to hang starting threads. Every command that
+/// `--threads 100000` would hang starting threads: every command that
 /// takes `--threads` refuses more than 1024 through the same parser, and
 /// `--help` says so.
 #[test]
@@ -508,8 +508,8 @@ fn thread_counts_above_the_bound_are_refused_in_every_command() {
     assert!(out.status.success(), "{}", stderr(&out));
 }
 
-/// A FIFO as `--scene` used to block forever, `/dev/zero` to be read until
-/// memory ran out; a scene file is read only if it is a regular file of at
+/// A FIFO as `--scene` would block forever, `/dev/zero` would be read until
+/// memory ran out: a scene file is read only if it is a regular file of at
 /// most 16 MiB (a sparse file here: nothing of it is read).
 #[cfg(unix)]
 #[test]
@@ -629,7 +629,7 @@ fn control_characters_in_names_are_printed_escaped() {
     );
 }
 
-/// `render --scene my-scene.toml --chapter 4` used to write chapter-4.png,
+/// `render --scene my-scene.toml --chapter 4` must not write chapter-4.png,
 /// the hand-in name, over the student's render of the built-in scene.
 #[test]
 fn a_scene_render_is_named_after_the_scene() {
@@ -739,9 +739,9 @@ fn render_replaces_only_its_own_writable_images_without_force() {
     assert_eq!(mode, 0o444);
 }
 
-/// Outputs that cannot be written are found before the render: `-o
-/// out.png/` used to render, then fail; `--stats-json` too, after writing
-/// the image and printing success.
+/// Outputs that cannot be written are found before the render, so that `-o
+/// out.png/` or an unwritable `--stats-json` never costs a render, nor
+/// prints success before it fails.
 #[cfg(unix)]
 #[test]
 fn unwritable_outputs_fail_before_the_render() {
@@ -776,7 +776,7 @@ fn unwritable_outputs_fail_before_the_render() {
     }
 }
 
-/// On a full disk `cost` used to leave cost.csv and cost.md without
+/// On a full disk `cost` must not leave cost.csv and cost.md without
 /// cost.svg: its three files are written all or none (RLIMIT_FSIZE stands
 /// in for the full disk: the SVG is the largest).
 #[cfg(unix)]
@@ -827,8 +827,8 @@ fn cost_writes_its_files_all_or_none() {
     );
 }
 
-/// SIGTERM or SIGINT while an output is being written used to leave a
-/// `.raylab-XXXXXX.tmp` file; now it is removed, the old image survives,
+/// SIGTERM or SIGINT while an output is being written must not leave a
+/// `.raylab-XXXXXX.tmp` file: it is removed, the old image survives,
 /// and the exit status is 128 + the signal. The test-only hook
 /// RAYLAB_TEST_PAUSE_BEFORE_RENAME stops raylab with its temporary files
 /// written, so the signal arrives at exactly that moment.

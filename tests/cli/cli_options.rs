@@ -1,5 +1,5 @@
 //! Options the chosen chapter ignores are never ignored without a word, and
-//! `--help` shows every default (issue 12, "options ignored without a word").
+//! `--help` shows every default, and no option is taken and ignored without a word.
 
 use crate::common;
 use common::{raylab, stderr, stdout};
@@ -55,7 +55,7 @@ fn epsilon_implies_a_fixed_ray_offset() {
         &["--chapter", "4", "--ray-offset", "fixed", "--epsilon", "2"],
         None,
     );
-    // --epsilon used to be taken and dropped: the image was the scaled one.
+    // An --epsilon taken and dropped would give the scaled image.
     assert_eq!(implied, explicit);
     assert_ne!(implied, scaled);
     // Asked for both ways at once, the explicit rule wins, with a warning.

@@ -380,9 +380,9 @@ fn bad_inputs_give_clean_errors() {
     );
 }
 
-/// A PNG can declare any size in a few bytes: 100,000,000 x 1 used to make
-/// `diff --heatmap` allocate 20.7 GB and abort, and a valid 16384x16384
-/// PNG was called "corrupted PNG: Memory limit exceeded". Both are refused
+/// A PNG can declare any size in a few bytes: 100,000,000 x 1 would make
+/// `diff --heatmap` allocate 20.7 GB and abort, and the decoder's own limit
+/// calls a valid 16384x16384 PNG "corrupted PNG: Memory limit exceeded". Both are refused
 /// with the limit named, before any pixel is decoded (the limit's own
 /// arithmetic is checked in src/input.rs), and nothing is written.
 #[test]
@@ -423,7 +423,7 @@ fn a_png_over_the_size_limit_is_refused_before_decoding() {
     }
 }
 
-/// A FIFO used to block `diff` forever, `/dev/zero` (or a link to it) to be
+/// A FIFO would block `diff` forever, `/dev/zero` (or a link to it) would be
 /// read until memory ran out: only regular files are read.
 #[cfg(unix)]
 #[test]
@@ -457,8 +457,8 @@ fn fifos_and_devices_are_refused_without_blocking() {
     }
 }
 
-/// On a full disk `diff` used to leave the heatmap without the JSON, and
-/// die before printing its verdict. Now the verdict comes first and the
+/// On a full disk `diff` must not leave the heatmap without the JSON, nor
+/// die before printing its verdict: the verdict comes first and the
 /// outputs are written all or none (here the JSON, the larger file, cannot
 /// be written: RLIMIT_FSIZE stands in for the full disk).
 #[cfg(unix)]

@@ -296,9 +296,9 @@ fn errors_exit_2_and_write_nothing() {
     assert_eq!((hand_in.width(), hand_in.height()), (32, 24));
 }
 
-/// `grade` used to follow symbolic links out of the folder (a link to
-/// someone's correct image was graded PASS and embedded in the report; a
-/// link to /etc/passwd was read) and to block on a FIFO. A link is listed
+/// `grade` must not follow symbolic links out of the folder (a link to
+/// someone's correct image would be graded PASS and embedded in the report;
+/// a link to /etc/passwd would be read) nor block on a FIFO. A link is listed
 /// as refused and never read or shown; a FIFO or a device is unreadable,
 /// without blocking; a FIFO in the --against folder falls back to a render.
 #[cfg(unix)]
@@ -376,8 +376,7 @@ fn hostile_names_are_escaped_in_markdown_terminal_and_html() {
     assert!(html.contains("&lt;img src=x onerror=alert(2)&gt;"));
 }
 
-/// Chapter 1 as a student might break it in raylab's own
-/// `chapters/01_plane.rs`: every ray is tested mirrored in the horizon, so
+/// Chapter 1 as a student might break it in raylab's own reference: every ray is tested mirrored in the horizon, so
 /// the floor is drawn in the sky. A raylab rebuilt with it has this as its
 /// "reference" chapters.
 struct FloorInTheSky;
@@ -393,7 +392,7 @@ impl raylab::Chapters for FloorInTheSky {
             ray.origin,
             raylab::Vec3::new(ray.dir.x, -ray.dir.y, ray.dir.z),
         );
-        raylab::chapters::ch01_plane::intersect_plane(plane, &mirrored, t_min, t_max)
+        <raylab::Reference as raylab::Chapters>::intersect_plane(plane, &mirrored, t_min, t_max)
     }
 }
 
@@ -418,10 +417,10 @@ fn grade_as<C: raylab::Chapters>(class: &Path) -> raylab::grade::Grade {
     .expect("grades")
 }
 
-/// Issue 11's false PASS: a student broke chapter 1 in their raylab
-/// checkout, rebuilt, rendered and graded with that same raylab. Its
+/// A false PASS to rule out: a student breaks chapter 1 in their raylab
+/// checkout, rebuilds, renders and grades with that same raylab. Its
 /// reference chapters are the student's code, so a reference rendered with
-/// them matched the hand-in bit for bit (PASS, max difference 0). Now the
+/// them would match the hand-in bit for bit (PASS, max difference 0). The
 /// hand-in fails at the shipped size, and at any other size the modified
 /// chapters are caught before they render a reference.
 #[test]

@@ -1,6 +1,6 @@
 //! `scripts/setup-embree.sh --check` as a user without root: it reports what
 //! is missing and asks for root only for a system package it would install
-//! (issue 12, "set-up without root"). `--check` changes nothing, so these
+//! (set-up without root). `--check` changes nothing, so these
 //! tests can run anywhere; they skip where the script cannot (no bash or no
 //! apt, as on a non-Debian system).
 
@@ -92,7 +92,8 @@ fn with_libclang_installed_no_root_is_needed() {
         return;
     };
     let report = text(&output);
-    // It used to stop at once: "not root and no sudo: install packages by hand".
+    // Without root the script still finds what it can use, rather than
+    // stopping at "not root and no sudo: install packages by hand".
     assert!(!report.contains("ERROR"), "{report}");
     assert!(report.contains("libclang: found"), "{report}");
     if report.contains("embreex") {

@@ -6,15 +6,14 @@
 //! Moller-Trumbore test lets some through, which the cross-check reports as
 //! edge misses.
 //!
-//! The speed race for issue 14's figures is here too, ignored by default
+//! A speed race against Embree is here too, ignored by default
 //! (it takes a minute in release):
 //! `cargo test --release --features embree --test embree embree_triangles::race -- --ignored --nocapture`.
 #![cfg(feature = "embree")]
 
 use std::collections::HashMap;
 
-use raylab::chapters::ch03_nearest;
-use raylab::course::{Objects, Textbook};
+use raylab::course::{Chapters, Objects, Textbook};
 use raylab::crosscheck::{
     self, Answer, Boundary, PlaneQuad, Primitive, Reference, Verdict, cross_check_with,
 };
@@ -166,7 +165,7 @@ fn watertight(shapes: &[Shape], cast: &CastRay) -> Option<Answer> {
 }
 
 fn moller_trumbore(shapes: &[Shape], cast: &CastRay) -> Option<Answer> {
-    ch03_nearest::nearest_hit(
+    MollerTrumbore::nearest_hit(
         &Objects::<MollerTrumbore>::new(shapes),
         &cast.ray,
         cast.t_min,
@@ -366,7 +365,7 @@ fn edge_rays(triangles: &[[Vec3; 3]]) -> Vec<CastRay> {
 }
 
 /// Planting a crack in ours makes this fail (checked by hand): `>=` for
-/// `>` in the inside test of chapters/10_triangles.rs (rays from inside,
+/// `>` in the inside test of chapter 10's code (rays from inside,
 /// which meet the triangles from behind: all edge functions negative) or
 /// `<=` for `<` (rays from outside).
 #[test]
@@ -506,7 +505,7 @@ fn an_open_border_is_a_boundary_case_and_a_shared_edge_is_not() {
     );
 }
 
-/// Issue 14's figures: ours (brute force until chapter 11's BVH) against
+/// The race: ours (brute force until chapter 11's BVH) against
 /// Embree, one thread, median of 5, on closed tori of 1 k to 1 M triangles.
 /// Run alone, in release (see the top of this file); it prints a table.
 #[test]

@@ -1,6 +1,6 @@
 //! Scene values at the edges of `f32`: each one loads and renders right, or
 //! is refused with a message that names the field and the real problem
-//! (issue 12, "wrong answers given as right").
+//! (no wrong answer given as right).
 
 use raylab::{RenderSettings, Scene};
 
@@ -54,7 +54,7 @@ fn pixels(text: &str) -> Vec<u8> {
 #[test]
 fn a_light_beyond_the_coordinate_limit_is_refused_and_one_within_it_shines() {
     // At y = 2e19 the squared distance to the floor (4e38) overflows f32 and
-    // the light used to add nothing, silently.
+    // the light would add nothing, silently.
     let message = refused(&scene(CAMERA, "position = [0.0, 2e19, 0.0]"));
     assert_names(&message, &["light 1: position", "2e19", "at most 1e18"]);
     // At the limit, the light is far but lights the floor: brighter than no
