@@ -119,3 +119,81 @@ fn textbook_formula_agrees_on_an_easy_case() {
         Some(4.0)
     );
 }
+
+#[test]
+fn no_roots_for_a_ray_with_a_non_finite_coordinate() {
+    let ball = Sphere::new(Vec3::ZERO, 1.0);
+    let (origin, dir) = (Vec3::new(0.1, 0.2, -5.0), Vec3::new(0.01, 0.02, 1.0));
+    for value in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        for axis in 0..3 {
+            let mut spoilt_origin = origin.to_array();
+            spoilt_origin[axis] = value;
+            let mut spoilt_dir = dir.to_array();
+            spoilt_dir[axis] = value;
+            for ray in [
+                Ray::new(Vec3::from(spoilt_origin), dir),
+                Ray::new(origin, Vec3::from(spoilt_dir)),
+            ] {
+                assert_eq!(sphere_roots(&ball, &ray), None, "{ray:?}");
+            }
+        }
+    }
+}
+
+/// `root_error` is conservative: on random rays against spheres from 1e-3
+/// to 1e6 in radius, at coordinates up to 1e6, from origins near and far,
+/// with directions of lengths 1e-3 to 1e3, every root `sphere_roots`
+/// returns lies within the bound of the exact roots'.
+#[test]
+fn the_sphere_root_error_bound_is_conservative() {
+    use crate::check::exact;
+    use glam::DVec3;
+    let wide = |p: Vec3| p.as_dvec3();
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let log_uniform = |low: f64, high: f64, r: f64| 10f64.powf(low + (high - low) * r);
+    let (mut checked, mut worst) = (0, 0.0f64);
+    for _ in 0..200_000 {
+        let mut r = || uniform();
+        let radius = log_uniform(-3.0, 6.0, r()) as f32;
+        let spread = log_uniform(-1.0, 6.0, r());
+        let center = Vec3::new(
+            ((r() - 0.5) * spread) as f32,
+            ((r() - 0.5) * spread) as f32,
+            ((r() - 0.5) * spread) as f32,
+        );
+        // Origins from just off the surface to far away, in any direction.
+        let unit = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize();
+        let away = radius as f64 * (1.0 + (r() - 0.5) * log_uniform(-6.0, 2.0, r()));
+        let origin = (wide(center) + unit * away).as_vec3();
+        // Aimed at a random point of the ball, with a random length.
+        let target =
+            wide(center) + radius as f64 * 1.2 * DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5);
+        let length = log_uniform(-3.0, 3.0, r());
+        let dir = ((target - wide(origin)).normalize() * length).as_vec3();
+        let (sphere, ray) = (Sphere::new(center, radius), Ray::new(origin, dir));
+        let (Some(roots), Some(exact)) = (
+            sphere_roots(&sphere, &ray),
+            exact::sphere_roots(wide(center), radius as f64, wide(origin), wide(dir)),
+        ) else {
+            continue;
+        };
+        for (t, t_ref) in [(roots.0, exact.0), (roots.1, exact.1)] {
+            let bound = root_error(&sphere, &ray, roots, t) as f64;
+            let off = (t as f64 - t_ref).abs();
+            worst = worst.max(off / bound);
+            assert!(
+                off <= bound,
+                "{sphere:?} {ray:?}: t = {t}, exact {t_ref}, off by {off:e} > bound {bound:e}"
+            );
+            checked += 1;
+        }
+    }
+    println!("{checked} roots, worst error {worst:.3} of the bound");
+    assert!(checked > 100_000, "{checked}");
+}

@@ -88,3 +88,19 @@ fn whole_powers() {
     assert_eq!(pow_whole(0.5, 3), 0.125);
     assert_eq!(pow_whole(0.0, 5), 0.0);
 }
+
+#[test]
+fn non_finite_colours_give_non_finite_ambient_and_powers_follow_powf() {
+    for value in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        for axis in 0..3 {
+            let mut colour = [0.5, 0.6, 0.7];
+            colour[axis] = value;
+            let spoilt = Vec3::from(colour);
+            assert!(!ambient(spoilt, 0.1, WHITE).is_finite(), "albedo {spoilt}");
+            assert!(!ambient(WHITE, 0.1, spoilt).is_finite(), "light {spoilt}");
+        }
+    }
+    assert!(pow_whole(f32::NAN, 3).is_nan());
+    assert_eq!(pow_whole(f32::INFINITY, 3), f32::INFINITY);
+    assert_eq!(pow_whole(f32::NAN, 0), 1.0, "x^0 = 1 for every x, as powf");
+}

@@ -68,3 +68,11 @@ fn degenerate_input_gives_none() {
     assert_eq!(refract(d, Vec3::Y, f32::INFINITY), None);
     assert_eq!(refract(d, Vec3::Y, f32::NAN), None);
 }
+
+#[test]
+fn no_critical_angle_for_a_non_finite_index() {
+    for value in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(critical_angle(value, 1.0), None, "n1 = {value}");
+        assert_eq!(critical_angle(1.5, value), None, "n2 = {value}");
+    }
+}

@@ -1,4 +1,5 @@
-//! The expected answers of the checks, computed in `f64` from the same
+//! The `f64` oracle: the expected answers of the checks, and of the hard-case
+//! and property tests, computed in `f64` from the same
 //! `f32` inputs (widened exactly) with formulas written apart from the
 //! reference chapters': the point of the line nearest the centre for the
 //! sphere, Heckbert's tangential form for refraction. `f64` carries 29 more
@@ -49,6 +50,45 @@ pub fn sphere_normal(center: DVec3, r: f64, o: DVec3, d: DVec3, t: f64) -> DVec3
 pub fn sphere(center: DVec3, r: f64, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
     let (near, far) = sphere_roots(center, r, o, d)?;
     [near, far].into_iter().find(|&t| t > t_min && t < t_max)
+}
+
+/// A hit of the oracle: its parameter and the unit normal there.
+#[derive(Debug, Clone, Copy)]
+pub struct Hit {
+    pub t: f64,
+    pub normal: DVec3,
+}
+
+/// The sphere's first hit in `(t_min, t_max)`, with its normal.
+pub fn sphere_hit(
+    center: DVec3,
+    r: f64,
+    o: DVec3,
+    d: DVec3,
+    t_min: f64,
+    t_max: f64,
+) -> Option<Hit> {
+    let t = sphere(center, r, o, d, t_min, t_max)?;
+    Some(Hit {
+        t,
+        normal: sphere_normal(center, r, o, d, t),
+    })
+}
+
+/// The plane's hit in `(t_min, t_max)`, with its unit normal.
+pub fn plane_hit(
+    point: DVec3,
+    normal: DVec3,
+    o: DVec3,
+    d: DVec3,
+    t_min: f64,
+    t_max: f64,
+) -> Option<Hit> {
+    let t = plane(point, normal, o, d, t_min, t_max)?;
+    Some(Hit {
+        t,
+        normal: normal / normal.length(),
+    })
 }
 
 /// The plane's `t` in `(t_min, t_max)`; `None` for parallel or degenerate input.

@@ -5,8 +5,6 @@
 
 #[path = "../common/rays.rs"]
 mod rays;
-#[path = "../reference/mod.rs"]
-mod reference;
 
 mod bvh;
 mod chapter_seam;

@@ -14,8 +14,8 @@ use raylab::crosscheck::{
 use raylab::embree::EmbreeScene;
 use raylab::{CastRay, Plane, Ray, RayKind, Shape, Sphere, Stage, Vec3, builtin, record_rays};
 
-/// The `f64` reference of the hard-case tests.
-use crate::reference;
+/// The `f64` oracle of the checks and the hard-case tests.
+use raylab::check::exact;
 
 fn embree_answer(embree: &EmbreeScene, cast: &CastRay) -> Option<Answer> {
     embree
@@ -122,8 +122,8 @@ fn cross_check_scene(scene: &raylab::Scene, chapter: u8) -> crosscheck::Tally {
 
 /// Glass balls resting a few thousandths above a ground sphere of radius
 /// 1e5, seen from above: rays refracted out of their bottoms start just above
-/// the ground, heading down. Our near root used to round below 0 and turn
-/// into the far root (t = 1.9e5, the other side of the ground): 43 DISAGREE.
+/// the ground, heading down. A near root that rounds below 0 turns into the
+/// far root (t = 1.9e5, the other side of the ground): 43 DISAGREE.
 /// Embree makes the same mistake on some of these rays (in f32 the origin's
 /// 0.004 above the ground is half an ulp of 1e5), so the check is against
 /// the f64 reference: in every disagreement left, ours is the exact answer.
@@ -168,7 +168,7 @@ material = { color = [0.95, 0.95, 0.95], transparency = 0.9, ior = 1.5, specular
     let ground = (glam::DVec3::new(0.0, -1e5, 0.0), 1e5);
     for compared in &tally.worst {
         let ray = compared.cast.ray;
-        let exact = reference::sphere(
+        let exact = exact::sphere_hit(
             ground.0,
             ground.1,
             ray.origin.as_dvec3(),

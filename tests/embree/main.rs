@@ -3,8 +3,5 @@
 //! each module was a file of its own under `tests/`.
 #![cfg(feature = "embree")]
 
-#[path = "../reference/mod.rs"]
-mod reference;
-
 mod embree;
 mod embree_triangles;
