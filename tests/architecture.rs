@@ -28,7 +28,9 @@ enum Layer {
 /// The layer of a source file, by its path; `None` for `src/lib.rs` and
 /// for tests, which the rules do not bind.
 fn layer_of(path: &str) -> Result<Option<Layer>, String> {
-    if path == "src/lib.rs" || path.ends_with("/tests.rs") {
+    // A chapter's tests and its bug gallery (a child of its tests) are test
+    // code, which may use any layer.
+    if path == "src/lib.rs" || path.ends_with("/tests.rs") || path.ends_with("/gallery.rs") {
         return Ok(None);
     }
     if let Some(rest) = path.strip_prefix("chapters/") {
@@ -37,7 +39,7 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
             _ if rest.ends_with("/chapter.rs") => Ok(Some(Layer::Engine)),
             _ if rest.ends_with("/checks.rs") => Ok(Some(Layer::Tool)),
             _ => Err(format!(
-                "{path}: a chapter folder holds chapter.rs, checks.rs and tests.rs"
+                "{path}: a chapter folder holds chapter.rs, checks.rs, tests.rs and gallery.rs"
             )),
         };
     }
@@ -215,6 +217,11 @@ fn violations(
 const PRINTS_ALLOWED: &[&str] = &["src/cleanup.rs"];
 
 fn source_files(folder: &Path, out: &mut Vec<PathBuf>) {
+    files_ending(folder, &["rs"], out);
+}
+
+/// The files under `folder` whose extension is one of `extensions`, sorted.
+fn files_ending(folder: &Path, extensions: &[&str], out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(folder)
         .unwrap_or_else(|error| panic!("{}: {error}", folder.display()))
         .map(|entry| entry.expect("a folder entry").path())
@@ -222,8 +229,11 @@ fn source_files(folder: &Path, out: &mut Vec<PathBuf>) {
     entries.sort();
     for path in entries {
         if path.is_dir() {
-            source_files(&path, out);
-        } else if path.extension().is_some_and(|extension| extension == "rs") {
+            files_ending(&path, extensions, out);
+        } else if path
+            .extension()
+            .is_some_and(|extension| extensions.iter().any(|wanted| extension == *wanted))
+        {
             out.push(path);
         }
     }
@@ -289,13 +299,13 @@ fn planted_upward_imports_are_named() {
             "crate::cli",
         ),
         (
-            "chapters/01_plane/chapter.rs",
+            "chapters/99_planted/chapter.rs",
             Layer::Engine,
             "use raylab::check::Case;\n",
             "raylab::check",
         ),
         (
-            "chapters/01_plane/checks.rs",
+            "chapters/99_planted/checks.rs",
             Layer::Tool,
             "fn f() { println!(\"x\"); }\n",
             "prints",
@@ -383,4 +393,74 @@ fn textbook_forwards_every_method_it_can() {
         "Textbook does not forward {missing:?} to its C"
     );
     assert!(forwarded.len() >= 15, "only {forwarded:?}");
+}
+
+/// Whether `text` names a chapter by its folder's stem (`42_lens`) or its
+/// module (`ch42_lens`) as a whole word.
+fn names_chapter(text: &str, stem: &str) -> bool {
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    text.match_indices(stem).any(|(at, _)| {
+        let before = text[..at].strip_suffix("ch").unwrap_or(&text[..at]);
+        let after = &text[at + stem.len()..];
+        !before.chars().next_back().is_some_and(is_word)
+            && !after.chars().next().is_some_and(is_word)
+    })
+}
+
+/// The files outside `chapters/<folder>/` (code, manifests and scripts;
+/// docs aside) that name the chapter.
+fn files_naming(folder: &str, files: &[(String, String)]) -> Vec<String> {
+    let inside = format!("chapters/{folder}/");
+    files
+        .iter()
+        .filter(|(path, text)| !path.starts_with(&inside) && names_chapter(text, folder))
+        .map(|(path, _)| path.clone())
+        .collect()
+}
+
+/// Adding a chapter is its folder, its registry line and its methods in the
+/// course trait: besides the registry and the trait, at most one more file
+/// may name a chapter.
+#[test]
+fn at_most_three_files_outside_a_chapter_folder_name_the_chapter() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut paths = vec![root.join("build.rs"), root.join("Cargo.toml")];
+    for folder in ["src", "chapters", "tests", "benches", "scripts"] {
+        files_ending(&root.join(folder), &["rs", "toml", "sh"], &mut paths);
+    }
+    let files: Vec<(String, String)> = paths
+        .iter()
+        .map(|path| {
+            let relative = path.strip_prefix(root).expect("inside the crate");
+            let relative = relative.to_string_lossy().replace('\\', "/");
+            (relative.clone(), read(&relative))
+        })
+        .collect();
+    assert!(files.len() > 80, "only {} files", files.len());
+    let mut crowded = Vec::new();
+    for info in raylab::chapters::CHAPTERS {
+        let naming = files_naming(info.folder, &files);
+        if naming.len() > 3 {
+            crowded.push(format!("{}: {}", info.folder, naming.join(", ")));
+        }
+    }
+    assert!(
+        crowded.is_empty(),
+        "more than three files outside a chapter's folder name it:\n{}",
+        crowded.join("\n")
+    );
+    // The count can fail: four files naming a chapter are found, by stem or
+    // by module, in code or in comments.
+    let planted: Vec<(String, String)> = [
+        ("src/a.rs", "use crate::chapters::ch42_lens::focus;"),
+        ("tests/b.rs", "// chapters/42_lens/lesson.md"),
+        ("scripts/c.sh", "cat chapters/42_lens/scene.toml"),
+        ("Cargo.toml", "# ch42_lens"),
+        ("chapters/42_lens/chapter.rs", "//! ch42_lens"),
+    ]
+    .into_iter()
+    .map(|(path, text)| (path.to_string(), text.to_string()))
+    .collect();
+    assert_eq!(files_naming("42_lens", &planted).len(), 4);
+    assert!(!names_chapter("ch142_lens 42_lenses x42_lens", "42_lens"));
 }

@@ -180,9 +180,10 @@ fn an_unwritten_chapter_is_not_started_not_a_backtrace() {
             let text = stderr(&output);
             assert_eq!(output.status.code(), Some(1), "{args:?}: {text}");
             assert!(
-                text.contains(
-                    "chapter 1 not started: write intersect_plane in src/chapters/ch01_plane.rs"
-                ),
+                text.contains(&format!(
+                    "chapter 1 not started: write intersect_plane in {}",
+                    student_file(1)
+                )),
                 "{args:?}: {text}"
             );
             assert!(!text.contains("panicked at"), "{args:?}: {text}");
@@ -220,9 +221,9 @@ fn a_student_binary_stops_quietly_on_a_closed_pipe() {
 #[test]
 fn chapter_11_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
     let ws = workspaces();
-    let skeleton = read(&ws.todo.join("src/chapters/ch11_bvh.rs"));
+    let skeleton = read(&ws.todo.join(student_file(11)));
     assert!(!skeleton.contains("struct NodeStack"), "{skeleton}");
-    let answer = read(&ws.answer.join("src/chapters/ch11_bvh.rs"));
+    let answer = read(&ws.answer.join(student_file(11)));
     assert!(answer.contains("impl NodeStack"), "{answer}");
 
     let todo = run_student("student-todo", &["check", "--chapter", "11"], &ws.todo);
@@ -283,8 +284,8 @@ fn the_answer_key_renders_what_raylab_renders_bit_for_bit() {
 #[test]
 fn chapter_10_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
     let ws = workspaces();
-    let file = "src/chapters/ch10_triangles.rs";
-    let todo = read(&ws.todo.join(file));
+    let file = student_file(10);
+    let todo = read(&ws.todo.join(&file));
     assert!(
         todo.contains("pub fn smooth_hit_point<'a, C: Chapters>("),
         "{todo}"
@@ -293,14 +294,17 @@ fn chapter_10_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
         !todo.contains("intersect_triangle_moller_trumbore"),
         "{todo}"
     );
-    let answer = read(&ws.answer.join(file));
+    let answer = read(&ws.answer.join(&file));
     assert!(
         answer.contains("pub fn intersect_triangle_moller_trumbore("),
         "{answer}"
     );
     let forwarding = read(&ws.todo.join("src/chapters/mod.rs"));
     assert!(
-        forwarding.contains("ch10_triangles::smooth_hit_point::<Self>(point, triangle, normals)"),
+        forwarding.contains(&format!(
+            "{}::smooth_hit_point::<Self>(point, triangle, normals)",
+            module_of(10)
+        )),
         "{forwarding}"
     );
 
@@ -357,7 +361,7 @@ fn new_refuses_a_folder_that_is_not_empty_and_fills_an_empty_one() {
     std::fs::create_dir_all(&empty).expect("create");
     let output = raylab(&["new", "."], &empty);
     assert!(output.status.success(), "{}", stderr(&output));
-    assert!(empty.join("src/chapters/ch01_plane.rs").is_file());
+    assert!(empty.join(student_file(1)).is_file());
     assert!(read(&empty.join("Cargo.toml")).contains("name = \"empty\""));
     // No staging folder is left beside.
     let staging: Vec<_> = std::fs::read_dir(&root)
@@ -371,4 +375,17 @@ fn new_refuses_a_folder_that_is_not_empty_and_fills_an_empty_one() {
         })
         .collect();
     assert!(staging.is_empty());
+}
+
+/// The module of chapter `number` in the registry (a workspace names its
+/// files after it).
+fn module_of(number: u8) -> String {
+    raylab::chapters::chapter(number)
+        .expect("a chapter of the registry")
+        .module()
+}
+
+/// Chapter `number`'s file in a student workspace.
+fn student_file(number: u8) -> String {
+    format!("src/chapters/{}.rs", module_of(number))
 }

@@ -7,13 +7,12 @@
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 use raylab::bvh::{Aabb, Bvh, BvhOptions, SplitRule};
-use raylab::chapters::ch03_nearest::nearest_hit;
-use raylab::chapters::ch11_bvh::{TRAVERSAL_STACK, any_hit_bvh, build_bvh, nearest_hit_bvh};
-use raylab::course::{Hit, Objects};
+use raylab::chapters::ch11_bvh::TRAVERSAL_STACK;
+use raylab::course::{Chapters, Hit, Objects};
 use raylab::{Plane, Ray, Reference, Shape, Sphere, Vec3};
 
 fn brute(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-    nearest_hit(&Objects::<Reference>::new(shapes), ray, t_min, t_max)
+    Reference::nearest_hit(&Objects::<Reference>::new(shapes), ray, t_min, t_max)
 }
 
 fn bounds(shapes: &[Shape]) -> Vec<Option<Aabb>> {
@@ -120,13 +119,13 @@ fn compare(
     let objects = Objects::<Reference>::new(shapes);
     for (ray, t_min, t_max) in rays {
         let expected = brute(shapes, ray, *t_min, *t_max);
-        let got = nearest_hit_bvh(bvh, &objects, ray, *t_min, *t_max);
+        let got = Reference::nearest_hit_bvh(bvh, &objects, ray, *t_min, *t_max);
         if got != expected {
             return Err(format!(
                 "{label}: nearest {got:?}, chapter 3 {expected:?} for {ray:?} in ({t_min}, {t_max})"
             ));
         }
-        let any = any_hit_bvh(bvh, &objects, ray, *t_min, *t_max);
+        let any = Reference::any_hit_bvh(bvh, &objects, ray, *t_min, *t_max);
         if any.is_some() != expected.is_some() {
             return Err(format!(
                 "{label}: any-hit {any:?}, nearest {expected:?} for {ray:?}"
@@ -238,7 +237,7 @@ proptest! {
     ) {
         let bounds = bounds(&shapes);
         for options in all_options() {
-            let bvh = build_bvh(&bounds, &options);
+            let bvh = Reference::build_bvh(&bounds, &options);
             check_structure(&bvh, &bounds).map_err(TestCaseError::fail)?;
             compare(&shapes, &bvh, &rays, &format!("{options:?}"))
                 .map_err(TestCaseError::fail)?;
@@ -252,7 +251,7 @@ proptest! {
     ) {
         let bounds = bounds(&shapes);
         for options in all_options() {
-            let bvh = build_bvh(&bounds, &options);
+            let bvh = Reference::build_bvh(&bounds, &options);
             check_structure(&bvh, &bounds).map_err(TestCaseError::fail)?;
             compare(&shapes, &bvh, &rays, &format!("{options:?}"))
                 .map_err(TestCaseError::fail)?;
@@ -263,8 +262,8 @@ proptest! {
     fn the_build_is_deterministic(shapes in scene(20.0, 200)) {
         let bounds = bounds(&shapes);
         for options in all_options() {
-            let first = build_bvh(&bounds, &options);
-            let second = build_bvh(&bounds, &options);
+            let first = Reference::build_bvh(&bounds, &options);
+            let second = Reference::build_bvh(&bounds, &options);
             prop_assert_eq!(first, second);
         }
     }
@@ -299,13 +298,13 @@ fn the_same_sphere_a_thousand_times() {
     let shapes = vec![ball; 1000];
     let bounds = bounds(&shapes);
     for options in all_options() {
-        let bvh = build_bvh(&bounds, &options);
+        let bvh = Reference::build_bvh(&bounds, &options);
         check_structure(&bvh, &bounds).unwrap();
         // No cut can separate equal centroids: one leaf of all.
         assert_eq!(bvh.node_count(), 1, "{options:?}");
         let objects = Objects::<Reference>::new(&shapes);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        let hit = nearest_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY);
+        let hit = Reference::nearest_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY);
         assert_eq!(hit, Some(Hit { object: 0, t: 4.0 }));
         compare(&shapes, &bvh, &grid_rays(5.0), &format!("{options:?}")).unwrap();
     }
@@ -314,16 +313,19 @@ fn the_same_sphere_a_thousand_times() {
 #[test]
 fn no_objects_at_all() {
     for options in all_options() {
-        let bvh = build_bvh(&[], &options);
+        let bvh = Reference::build_bvh(&[], &options);
         assert_eq!(bvh, Bvh::default());
         assert_eq!((bvh.depth(), bvh.memory_bytes()), (0, 0));
         let objects = Objects::<Reference>::new(&[]);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
         assert_eq!(
-            nearest_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY),
+            Reference::nearest_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY),
             None
         );
-        assert_eq!(any_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY), None);
+        assert_eq!(
+            Reference::any_hit_bvh(&bvh, &objects, &ray, 0.0, f32::INFINITY),
+            None
+        );
     }
 }
 
@@ -332,7 +334,7 @@ fn one_object() {
     let shapes: Vec<Shape> = vec![Sphere::new(Vec3::new(1.0, 2.0, 3.0), 0.5).into()];
     let bounds = bounds(&shapes);
     for options in all_options() {
-        let bvh = build_bvh(&bounds, &options);
+        let bvh = Reference::build_bvh(&bounds, &options);
         check_structure(&bvh, &bounds).unwrap();
         assert_eq!((bvh.node_count(), bvh.depth()), (1, 1));
         compare(&shapes, &bvh, &grid_rays(3.0), "one sphere").unwrap();
@@ -348,7 +350,7 @@ fn only_planes() {
     ];
     let bounds = bounds(&shapes);
     for options in all_options() {
-        let bvh = build_bvh(&bounds, &options);
+        let bvh = Reference::build_bvh(&bounds, &options);
         check_structure(&bvh, &bounds).unwrap();
         assert!(bvh.nodes.is_empty() && bvh.primitives.is_empty());
         assert_eq!(bvh.unbounded, vec![0, 1, 2]);
@@ -377,7 +379,7 @@ fn a_degenerate_tree_deeper_than_the_traversal_stack() {
         }
     }
     for options in all_options() {
-        let bvh = build_bvh(&bounds, &options);
+        let bvh = Reference::build_bvh(&bounds, &options);
         check_structure(&bvh, &bounds).unwrap();
         if options.split == SplitRule::Midpoint && options.max_leaf == 1 {
             assert!(bvh.depth() > TRAVERSAL_STACK, "depth {}", bvh.depth());
@@ -401,7 +403,7 @@ fn infinite_and_nan_boxes_stay_in_the_loop() {
     bounds[3] = Some(Aabb::new(Vec3::NEG_INFINITY, Vec3::INFINITY));
     bounds.push(Some(Aabb::new(Vec3::NAN, Vec3::ONE)));
     for options in all_options() {
-        let bvh = build_bvh(&bounds, &options);
+        let bvh = Reference::build_bvh(&bounds, &options);
         check_structure(&bvh, &bounds).unwrap();
         assert_eq!(bvh.unbounded, vec![1, 3, 4]);
     }
@@ -483,13 +485,7 @@ fn hit_box_never_misses_a_box_the_exact_ray_meets() {
         if exit - entry < 1e-6 * exit.abs() {
             grazing += 1;
         }
-        let hit = raylab::chapters::ch11_bvh::hit_box(
-            &bounds,
-            ray.origin,
-            ray.dir.recip(),
-            0.0,
-            f32::INFINITY,
-        );
+        let hit = Reference::hit_box(&bounds, ray.origin, ray.dir.recip(), 0.0, f32::INFINITY);
         assert!(
             hit.is_some(),
             "{ray:?} meets {bounds:?} over [{entry}, {exit}], hit_box says no"

@@ -59,7 +59,7 @@ impl Chapters for ListOrder {
 struct WrongSide;
 impl Chapters for WrongSide {
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
-        let right = raylab::chapters::ch04_shadows::offset_origin(surface, dir);
+        let right = raylab::Reference::offset_origin(surface, dir);
         surface.point - (right - surface.point)
     }
 }
@@ -88,9 +88,8 @@ impl Chapters for NoDiffuse {
         to_eye: Vec3,
         light: Vec3,
     ) -> PhongTerms {
-        let terms = raylab::chapters::ch05_phong::phong_terms(
-            material, albedo, normal, to_light, to_eye, light,
-        );
+        let terms =
+            raylab::Reference::phong_terms(material, albedo, normal, to_light, to_eye, light);
         PhongTerms {
             diffuse: Vec3::ZERO,
             ..terms

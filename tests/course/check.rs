@@ -237,7 +237,7 @@ impl Chapters for SeedIgnored {
         pixel: (u32, u32),
         _seed: u64,
     ) -> (f32, f32) {
-        raylab::chapters::ch07_antialiasing::sample_offset(sampling, count, index, pixel, 0)
+        Reference::sample_offset(sampling, count, index, pixel, 0)
     }
 }
 
@@ -299,9 +299,7 @@ impl Chapters for FlippedNormal {
         to_eye: Vec3,
         light: Vec3,
     ) -> PhongTerms {
-        raylab::chapters::ch05_phong::phong_terms(
-            material, albedo, -normal, to_light, to_eye, light,
-        )
+        Reference::phong_terms(material, albedo, -normal, to_light, to_eye, light)
     }
 }
 
@@ -486,12 +484,12 @@ impl Chapters for GridColumnMajor {
         seed: u64,
     ) -> (f32, f32) {
         if sampling == Sampling::Grid {
-            let k = raylab::chapters::ch07_antialiasing::whole_sqrt(count).max(1);
+            let k = count.isqrt().max(1);
             let cell = 1.0 / k as f32;
             let (column, row) = ((index / k) as f32, (index % k) as f32);
             ((column + 0.5) * cell, (row + 0.5) * cell)
         } else {
-            raylab::chapters::ch07_antialiasing::sample_offset(sampling, count, index, pixel, seed)
+            Reference::sample_offset(sampling, count, index, pixel, seed)
         }
     }
 }
@@ -724,7 +722,7 @@ fn a_failing_image_is_written_with_its_heatmap() {
 struct FarClip;
 impl Chapters for FarClip {
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        raylab::chapters::ch01_plane::intersect_plane(plane, ray, t_min, t_max.min(100.0))
+        Reference::intersect_plane(plane, ray, t_min, t_max.min(100.0))
     }
 }
 
@@ -732,7 +730,7 @@ impl Chapters for FarClip {
 struct IgnoresTMin;
 impl Chapters for IgnoresTMin {
     fn intersect_plane(plane: &Plane, ray: &Ray, _: f32, t_max: f32) -> Option<f32> {
-        raylab::chapters::ch01_plane::intersect_plane(plane, ray, 0.0, t_max)
+        Reference::intersect_plane(plane, ray, 0.0, t_max)
     }
 }
 
@@ -741,10 +739,7 @@ fn gallery_plane_ignoring_t_min() {
     assert_caught::<IgnoresTMin>(1, "plane-before-t-min");
 }
 
-// Chapter 9's gallery (Schlick with n1 and n2 swapped, the transmitted
-// cosine under total internal reflection, air outside every solid) is in
-// chapters/09_glass/gallery.rs, beside its hand-computed values. Chapter 10's (a
-// one-sided triangle test, edges left to no triangle, beta and gamma
-// swapped, a smooth normal not made unit, the terminator lifted the wrong
-// way, ...) and Moller-Trumbore, "correct, not yet robust", are in
-// chapters/10_triangles/gallery.rs.
+// Chapters 9 to 11 keep their bug galleries in their folders (gallery.rs),
+// beside their hand-computed values: chapter 9's Schlick with n1 and n2
+// swapped, chapter 10's one-sided triangle test and Moller-Trumbore,
+// "correct, not yet robust", chapter 11's tree bugs.

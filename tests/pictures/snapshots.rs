@@ -10,12 +10,8 @@
 
 use std::path::{Path, PathBuf};
 
+use raylab::chapters::{REFERENCE_HEIGHT as HEIGHT, REFERENCE_WIDTH as WIDTH};
 use raylab::output::image_hash;
-
-/// Size of the pinned renders: small enough for a quick debug-build test,
-/// large enough to show every effect.
-const WIDTH: u32 = 160;
-const HEIGHT: u32 = 120;
 
 fn snapshot_folder() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("snapshots")
@@ -218,7 +214,12 @@ fn a_differing_render_is_written_with_a_heatmap() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut rendered = reference_render(2);
     // A few pixels off, as a small change to a chapter would do.
-    for value in rendered.rgb.iter_mut().skip(3 * 160 * 60).take(30) {
+    for value in rendered
+        .rgb
+        .iter_mut()
+        .skip(3 * WIDTH as usize * HEIGHT as usize / 2)
+        .take(30)
+    {
         *value = value.wrapping_add(40);
     }
     let png = snapshot_folder().join("chapter-2.png");
@@ -235,7 +236,10 @@ fn a_differing_render_is_written_with_a_heatmap() {
         "{message}"
     );
     assert!(
-        message.contains("pixels over threshold 2: 10 of 19200"),
+        message.contains(&format!(
+            "pixels over threshold 2: 10 of {}",
+            WIDTH * HEIGHT
+        )),
         "{message}"
     );
     assert!(message.contains("Look at both"), "{message}");
@@ -246,8 +250,8 @@ fn a_differing_render_is_written_with_a_heatmap() {
     let new = image::open(&written).expect("the render").to_rgb8();
     assert_eq!(new.as_raw(), &rendered.rgb);
     let heat = image::open(&heatmap).expect("the heatmap").to_rgb8();
-    assert_eq!(heat.width(), 160);
-    assert!(heat.height() > 120, "with its legend");
+    assert_eq!(heat.width(), WIDTH);
+    assert!(heat.height() > HEIGHT, "with its legend");
     // The same render passes against itself, and writes nothing.
     let same = dir.path().join("same");
     let clean = reference_render(2);
