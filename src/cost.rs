@@ -297,74 +297,32 @@ struct Job {
     fresnel: Option<FresnelModel>,
 }
 
+impl Job {
+    /// A render of the main scene with its own Fresnel models.
+    fn new(knob: Knob, label: String, settings: RenderSettings) -> Job {
+        Job {
+            knob: Some(knob),
+            label,
+            settings,
+            far_sphere: false,
+            fresnel: None,
+        }
+    }
+}
+
 fn jobs(config: &CostConfig) -> Vec<Job> {
     let base = config.base;
-    let job = |knob, label: String, settings| Job {
-        knob: Some(knob),
-        label,
-        settings,
-        far_sphere: false,
-        fresnel: None,
-    };
     let mut jobs = Vec::new();
     for knob in &config.knobs {
         match knob {
-            Knob::Samples => {
-                // One sample is the pixel's centre whatever the placement
-                // (a lone sample is not anti-aliasing), so 1 spp is one row,
-                // not three identical ones.
-                let centre = RenderSettings {
-                    samples: 1,
-                    sampling: Sampling::Grid,
-                    ..base
-                };
-                jobs.push(job(*knob, "1 spp (pixel centre)".to_string(), centre));
-                for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
-                    for samples in SAMPLE_COUNTS {
-                        let name = format!("{sampling:?}").to_lowercase();
-                        let settings = RenderSettings {
-                            samples,
-                            sampling,
-                            ..base
-                        };
-                        jobs.push(job(*knob, format!("{name} {samples} spp"), settings));
-                    }
-                }
-            }
+            Knob::Samples => jobs.extend(sample_jobs(base)),
             Knob::Depth => {
                 for max_depth in DEPTHS {
                     let settings = RenderSettings { max_depth, ..base };
-                    jobs.push(job(*knob, format!("depth {max_depth}"), settings));
+                    jobs.push(Job::new(*knob, format!("depth {max_depth}"), settings));
                 }
             }
-            Knob::Offset => {
-                // With the textbook sphere test: the stable one rejects a
-                // root within its own error bound of the origin, which hides
-                // most acne by itself (lesson 4), and would leave this sweep
-                // nothing to show about the offset.
-                let base = RenderSettings {
-                    sphere_formula: SphereFormula::Textbook,
-                    ..base
-                };
-                for epsilon in EPSILONS {
-                    let settings = RenderSettings {
-                        ray_offset: OffsetRule::Fixed,
-                        fixed_epsilon: epsilon,
-                        ..base
-                    };
-                    let label = if epsilon == 0.0 {
-                        "no offset (epsilon 0)".to_string()
-                    } else {
-                        format!("fixed epsilon {epsilon:e}")
-                    };
-                    jobs.push(job(*knob, label, settings));
-                }
-                let settings = RenderSettings {
-                    ray_offset: OffsetRule::Scaled,
-                    ..base
-                };
-                jobs.push(job(*knob, "scaled offset".into(), settings));
-            }
+            Knob::Offset => jobs.extend(offset_jobs(base)),
             Knob::SphereFormula => {
                 for (formula, name) in [
                     (SphereFormula::Textbook, "textbook"),
@@ -375,11 +333,8 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                         ..base
                     };
                     jobs.push(Job {
-                        knob: Some(*knob),
-                        label: format!("{name} formula, far sphere"),
-                        settings,
                         far_sphere: true,
-                        fresnel: None,
+                        ..Job::new(*knob, format!("{name} formula, far sphere"), settings)
                     });
                 }
             }
@@ -392,7 +347,7 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                     };
                     jobs.push(Job {
                         fresnel: Some(model),
-                        ..job(*knob, label.into(), base)
+                        ..Job::new(*knob, label.into(), base)
                     });
                 }
             }
@@ -405,13 +360,79 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                         triangle_test: test,
                         ..base
                     };
-                    jobs.push(job(*knob, label.into(), settings));
+                    jobs.push(Job::new(*knob, label.into(), settings));
                 }
             }
             // Measured by `crate::bvh_cost`, not by rendering.
             Knob::Bvh => {}
         }
     }
+    jobs
+}
+
+/// The samples knob's renders: the pixel centre, then each placement at
+/// each sample count.
+fn sample_jobs(base: RenderSettings) -> Vec<Job> {
+    // One sample is the pixel's centre whatever the placement (a lone
+    // sample is not anti-aliasing), so 1 spp is one row, not three
+    // identical ones.
+    let centre = RenderSettings {
+        samples: 1,
+        sampling: Sampling::Grid,
+        ..base
+    };
+    let mut jobs = vec![Job::new(
+        Knob::Samples,
+        "1 spp (pixel centre)".to_string(),
+        centre,
+    )];
+    for sampling in [Sampling::Grid, Sampling::Jittered, Sampling::Random] {
+        for samples in SAMPLE_COUNTS {
+            let name = format!("{sampling:?}").to_lowercase();
+            let settings = RenderSettings {
+                samples,
+                sampling,
+                ..base
+            };
+            jobs.push(Job::new(
+                Knob::Samples,
+                format!("{name} {samples} spp"),
+                settings,
+            ));
+        }
+    }
+    jobs
+}
+
+/// The offset knob's renders: each fixed epsilon, then the scaled offset.
+fn offset_jobs(base: RenderSettings) -> Vec<Job> {
+    // With the textbook sphere test: the stable one rejects a root within
+    // its own error bound of the origin, which hides most acne by itself
+    // (lesson 4), and would leave this sweep nothing to show about the
+    // offset.
+    let base = RenderSettings {
+        sphere_formula: SphereFormula::Textbook,
+        ..base
+    };
+    let mut jobs = Vec::new();
+    for epsilon in EPSILONS {
+        let settings = RenderSettings {
+            ray_offset: OffsetRule::Fixed,
+            fixed_epsilon: epsilon,
+            ..base
+        };
+        let label = if epsilon == 0.0 {
+            "no offset (epsilon 0)".to_string()
+        } else {
+            format!("fixed epsilon {epsilon:e}")
+        };
+        jobs.push(Job::new(Knob::Offset, label, settings));
+    }
+    let settings = RenderSettings {
+        ray_offset: OffsetRule::Scaled,
+        ..base
+    };
+    jobs.push(Job::new(Knob::Offset, "scaled offset".into(), settings));
     jobs
 }
 
@@ -427,26 +448,9 @@ pub fn run<C: crate::Chapters>(
     config: &CostConfig,
     progress: Option<&indicatif::ProgressBar>,
 ) -> Result<CostReport, CostError> {
-    let far_scene = far_sphere_scene();
+    let scenes = SweepScenes::new(config);
     let chapter = config.chapter;
     let repeats = config.repeats.max(1);
-    // From chapter 9 on, the reference reflects by exact Fresnel wherever
-    // light crosses a surface; the Fresnel knob's rows give every
-    // transparent material one model.
-    let exact_fresnel = Effects::for_chapter(chapter).fresnel;
-    let reference_scene = if exact_fresnel {
-        with_fresnel(&config.scene, FresnelModel::Exact)
-    } else {
-        config.scene.clone()
-    };
-    let fresnel_scenes: Vec<(FresnelModel, Scene)> = if config.knobs.contains(&Knob::Fresnel) {
-        FRESNEL_MODELS
-            .into_iter()
-            .map(|model| (model, with_fresnel(&config.scene, model)))
-            .collect()
-    } else {
-        Vec::new()
-    };
     let render = |scene: &Scene, settings: &RenderSettings| {
         let rendered = crate::render_with::<C>(scene, chapter, settings, None)?;
         if let Some(bar) = progress {
@@ -454,81 +458,21 @@ pub fn run<C: crate::Chapters>(
         }
         Ok::<_, crate::RenderError>(rendered)
     };
-    let mut reference_settings = reference_settings(&config.base);
-    if exact_fresnel {
-        reference_settings.min_contribution = GLASS_REFERENCE_MIN_CONTRIBUTION;
-    }
-    let measured = |knob, label: String, settings, far_sphere, runs: Vec<Rendered>| {
-        let mut seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
-        let last = runs.into_iter().last().expect("at least one run");
-        Measurement {
-            knob,
-            label,
-            settings,
-            far_sphere,
-            seconds: median(&mut seconds),
-            runs: seconds.len() as u32,
-            rays: last.rays,
-            error: ImageError::default(),
-            pareto: false,
-        }
-    };
+    let reference_settings = sweep_reference_settings(config);
     // The references are rendered once: they are the slow part, and their
     // time is context, not a result.
-    let mut references = vec![(false, render(&reference_scene, &reference_settings)?)];
+    let mut references = vec![(false, render(&scenes.reference, &reference_settings)?)];
     if config.knobs.contains(&Knob::SphereFormula) {
-        references.push((true, render(&far_scene, &reference_settings)?));
+        references.push((true, render(&scenes.far_sphere, &reference_settings)?));
     }
-    let reference_of = |far_sphere: bool| {
-        &references
-            .iter()
-            .find(|(far, _)| *far == far_sphere)
-            .expect("a reference for each scene swept")
-            .1
-    };
-    let mut rows = references
-        .iter()
-        .map(|(far_sphere, rendered)| -> Result<Measurement, CostError> {
-            let label = if *far_sphere {
-                "reference, far sphere"
-            } else {
-                "reference"
-            };
-            let mut row = measured(
-                None,
-                label.into(),
-                reference_settings,
-                *far_sphere,
-                vec![rendered.clone()],
-            );
-            row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
-            Ok(row)
-        })
-        .collect::<Result<Vec<Measurement>, CostError>>()?;
-    // Repeats go round the whole sweep rather than one setting at a time:
-    // when the machine gets busier or quieter mid-sweep, every setting's
-    // median sees the same mix of conditions.
+    let mut rows = reference_rows(&references, reference_settings)?;
     let jobs = jobs(config);
-    let mut runs: Vec<Vec<Rendered>> = jobs.iter().map(|_| Vec::new()).collect();
-    for _ in 0..repeats {
-        for (job, job_runs) in jobs.iter().zip(&mut runs) {
-            let scene = match (job.far_sphere, job.fresnel) {
-                (true, _) => &far_scene,
-                (false, Some(model)) => fresnel_scenes
-                    .iter()
-                    .find(|(m, _)| *m == model)
-                    .map_or(&config.scene, |(_, scene)| scene),
-                (false, None) => &config.scene,
-            };
-            let mut rendered = render(scene, &job.settings)?;
-            if !job_runs.is_empty() {
-                rendered.rgb = Vec::new(); // only the first image is compared
-            }
-            job_runs.push(rendered);
-        }
-    }
+    let runs = render_repeats(&jobs, repeats, |job| {
+        render(scenes.of(job, config), &job.settings)
+    })?;
     for (job, job_runs) in jobs.into_iter().zip(runs) {
-        let error = ImageError::between(&job_runs[0].rgb, &reference_of(job.far_sphere).rgb)?;
+        let reference = reference_of(&references, job.far_sphere);
+        let error = ImageError::between(&job_runs[0].rgb, &reference.rgb)?;
         let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
         row.error = error;
         rows.push(row);
@@ -542,6 +486,147 @@ pub fn run<C: crate::Chapters>(
         repeats,
         rows,
     })
+}
+
+/// The scenes a sweep renders besides the one swept: the reference's, one
+/// per Fresnel model when that knob is swept, and the far-sphere scene.
+struct SweepScenes {
+    reference: Scene,
+    fresnel: Vec<(FresnelModel, Scene)>,
+    far_sphere: Scene,
+}
+
+impl SweepScenes {
+    fn new(config: &CostConfig) -> SweepScenes {
+        let far_sphere = far_sphere_scene();
+        // From chapter 9 on, the reference reflects by exact Fresnel wherever
+        // light crosses a surface; the Fresnel knob's rows give every
+        // transparent material one model.
+        let reference = if Effects::for_chapter(config.chapter).fresnel {
+            with_fresnel(&config.scene, FresnelModel::Exact)
+        } else {
+            config.scene.clone()
+        };
+        let fresnel = if config.knobs.contains(&Knob::Fresnel) {
+            FRESNEL_MODELS
+                .into_iter()
+                .map(|model| (model, with_fresnel(&config.scene, model)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        SweepScenes {
+            reference,
+            fresnel,
+            far_sphere,
+        }
+    }
+
+    /// The scene `job` renders: the far sphere, the swept scene with the
+    /// job's Fresnel model, or the swept scene as it is.
+    fn of<'a>(&'a self, job: &Job, config: &'a CostConfig) -> &'a Scene {
+        match (job.far_sphere, job.fresnel) {
+            (true, _) => &self.far_sphere,
+            (false, Some(model)) => self
+                .fresnel
+                .iter()
+                .find(|(m, _)| *m == model)
+                .map_or(&config.scene, |(_, scene)| scene),
+            (false, None) => &config.scene,
+        }
+    }
+}
+
+/// The settings of this sweep's reference: [`reference_settings`], with a
+/// smaller cut-off of secondary rays once exact Fresnel is on.
+fn sweep_reference_settings(config: &CostConfig) -> RenderSettings {
+    let mut settings = reference_settings(&config.base);
+    if Effects::for_chapter(config.chapter).fresnel {
+        settings.min_contribution = GLASS_REFERENCE_MIN_CONTRIBUTION;
+    }
+    settings
+}
+
+/// The row of a setting rendered `runs` times: their median time, the last
+/// run's rays, and no error yet.
+fn measured(
+    knob: Option<Knob>,
+    label: String,
+    settings: RenderSettings,
+    far_sphere: bool,
+    runs: Vec<Rendered>,
+) -> Measurement {
+    let mut seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
+    let last = runs.into_iter().last().expect("at least one run");
+    Measurement {
+        knob,
+        label,
+        settings,
+        far_sphere,
+        seconds: median(&mut seconds),
+        runs: seconds.len() as u32,
+        rays: last.rays,
+        error: ImageError::default(),
+        pareto: false,
+    }
+}
+
+/// The rows of the references (`far_sphere`, image), each at error zero.
+fn reference_rows(
+    references: &[(bool, Rendered)],
+    settings: RenderSettings,
+) -> Result<Vec<Measurement>, CostError> {
+    references
+        .iter()
+        .map(|(far_sphere, rendered)| -> Result<Measurement, CostError> {
+            let label = if *far_sphere {
+                "reference, far sphere"
+            } else {
+                "reference"
+            };
+            let mut row = measured(
+                None,
+                label.into(),
+                settings,
+                *far_sphere,
+                vec![rendered.clone()],
+            );
+            row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
+            Ok(row)
+        })
+        .collect()
+}
+
+/// The reference of the main scene, or of the far-sphere scene.
+fn reference_of(references: &[(bool, Rendered)], far_sphere: bool) -> &Rendered {
+    &references
+        .iter()
+        .find(|(far, _)| *far == far_sphere)
+        .expect("a reference for each scene swept")
+        .1
+}
+
+/// Every job's `repeats` renders, in the order of `jobs`; only the first
+/// render of each keeps its image (the one compared).
+fn render_repeats(
+    jobs: &[Job],
+    repeats: u32,
+    render: impl Fn(&Job) -> Result<Rendered, crate::RenderError>,
+) -> Result<Vec<Vec<Rendered>>, crate::RenderError> {
+    let mut runs: Vec<Vec<Rendered>> = jobs.iter().map(|_| Vec::new()).collect();
+    // Repeats go round the whole sweep rather than one setting at a time:
+    // when the machine gets busier or quieter mid-sweep, every setting's
+    // median sees the same mix of conditions.
+    for _ in 0..repeats {
+        for (job, job_runs) in jobs.iter().zip(&mut runs) {
+            let mut rendered = render(job)?;
+            if !job_runs.is_empty() {
+                rendered.rgb = Vec::new(); // only the first image is compared
+            }
+            job_runs.push(rendered);
+        }
+    }
+    Ok(runs)
 }
 
 fn median(values: &mut [f64]) -> f64 {
@@ -744,35 +829,79 @@ fn ticks(low: f64, high: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The ranges the plot shows, on log scales: errors from `floor` (where the
+/// settings identical to the reference sit) to `largest_error`, times from
+/// `fastest` to `slowest`.
+struct PlotRanges {
+    floor: f64,
+    largest_error: f64,
+    fastest: f64,
+    slowest: f64,
+}
+
+impl PlotRanges {
+    fn of(rows: &[&Measurement]) -> PlotRanges {
+        let smallest_error = rows
+            .iter()
+            .map(|r| r.error.rmse)
+            .filter(|e| *e > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let floor = if smallest_error.is_finite() {
+            smallest_error / 2.0
+        } else {
+            0.01
+        };
+        let largest_error = rows
+            .iter()
+            .map(|r| r.error.rmse)
+            .fold(floor * 4.0, f64::max);
+        let positive_seconds = rows.iter().map(|r| r.seconds).filter(|s| *s > 0.0);
+        let fastest = positive_seconds.clone().fold(f64::INFINITY, f64::min);
+        let slowest = positive_seconds.fold(0.0, f64::max);
+        let (fastest, slowest) = if fastest.is_finite() && slowest > 0.0 {
+            (fastest, slowest)
+        } else {
+            (1e-4, 1.0)
+        };
+        PlotRanges {
+            floor,
+            largest_error,
+            fastest,
+            slowest,
+        }
+    }
+
+    /// Where `row` is drawn: its time and error, moved onto the plot's
+    /// edges when they are zero.
+    fn point(&self, row: &Measurement) -> (f64, f64) {
+        (
+            row.seconds.max(self.fastest),
+            row.error.rmse.max(self.floor),
+        )
+    }
+}
+
+/// The cost plot's chart: log-scaled time across, log-scaled error up.
+type CostChart<'a, 'b> = plotters::chart::ChartContext<
+    'a,
+    plotters::backend::SVGBackend<'b>,
+    plotters::coord::cartesian::Cartesian2d<
+        plotters::coord::combinators::WithKeyPoints<plotters::coord::combinators::LogCoord<f64>>,
+        plotters::coord::combinators::WithKeyPoints<plotters::coord::combinators::LogCoord<f64>>,
+    >,
+>;
+
 fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
     use plotters::prelude::*;
 
     let rows: Vec<&Measurement> = report.rows.iter().filter(|r| r.knob.is_some()).collect();
-    let smallest_error = rows
-        .iter()
-        .map(|r| r.error.rmse)
-        .filter(|e| *e > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let floor = if smallest_error.is_finite() {
-        smallest_error / 2.0
-    } else {
-        0.01
-    };
-    let largest_error = rows
-        .iter()
-        .map(|r| r.error.rmse)
-        .fold(floor * 4.0, f64::max);
-    let positive_seconds = rows.iter().map(|r| r.seconds).filter(|s| *s > 0.0);
-    let fastest = positive_seconds.clone().fold(f64::INFINITY, f64::min);
-    let slowest = positive_seconds.fold(0.0, f64::max);
-    let (fastest, slowest) = if fastest.is_finite() && slowest > 0.0 {
-        (fastest, slowest)
-    } else {
-        (1e-4, 1.0)
-    };
-    let error_of = |row: &Measurement| row.error.rmse.max(floor);
-    let seconds_of = |row: &Measurement| row.seconds.max(fastest);
-
+    let ranges = PlotRanges::of(&rows);
+    let PlotRanges {
+        floor,
+        largest_error,
+        fastest,
+        slowest,
+    } = ranges;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (800, 580)).into_drawing_area();
@@ -803,74 +932,11 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
             .x_label_formatter(&|s| format!("{s}"))
             .y_label_formatter(&|e| format!("{e}"))
             .draw()?;
-
         let mut front: Vec<&Measurement> = rows.iter().copied().filter(|r| r.pareto).collect();
         front.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
-        chart
-            .draw_series(LineSeries::new(
-                front.iter().map(|r| (seconds_of(r), error_of(r))),
-                BLACK.stroke_width(2),
-            ))?
-            .label("Pareto front")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
-        chart.draw_series(
-            front
-                .iter()
-                .map(|r| Circle::new((seconds_of(r), error_of(r)), 7, BLACK.stroke_width(1))),
-        )?;
-        let colours = [
-            RGBColor(31, 119, 180),
-            RGBColor(255, 127, 14),
-            RGBColor(44, 160, 44),
-            RGBColor(214, 39, 40),
-            RGBColor(148, 103, 189),
-            RGBColor(140, 86, 75),
-        ];
-        for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
-            let points: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.knob == Some(knob))
-                .map(|r| (seconds_of(r), error_of(r)))
-                .collect();
-            if points.is_empty() {
-                continue;
-            }
-            let label = if knob == Knob::SphereFormula {
-                "sphere formula (far-sphere scene)"
-            } else {
-                knob.name()
-            };
-            chart
-                .draw_series(
-                    points
-                        .into_iter()
-                        .map(|point| Circle::new(point, 4, colour.filled())),
-                )?
-                .label(label)
-                .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
-        }
-        // Label the front's points, skipping any that would print over a
-        // label already placed (points with the same error cluster).
-        let mut labelled: Vec<(f64, f64)> = Vec::new();
-        let mut labels: Vec<&Measurement> = Vec::new();
-        for r in &front {
-            let at = (seconds_of(r).log10(), error_of(r).log10());
-            let crowded = labelled
-                .iter()
-                .any(|(x, y)| (x - at.0).abs() < 0.25 && (y - at.1).abs() < 0.06);
-            if !crowded {
-                labelled.push(at);
-                labels.push(r);
-            }
-        }
-        chart.draw_series(labels.iter().map(|r| {
-            Text::new(
-                r.label.clone(),
-                (seconds_of(r) * 1.06, error_of(r) * 1.06),
-                ("sans-serif", 11),
-            )
-        }))?;
-
+        draw_front(&mut chart, &ranges, &front)?;
+        draw_knobs(&mut chart, &ranges, &rows)?;
+        draw_front_labels(&mut chart, &ranges, &front)?;
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -889,6 +955,102 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
         root.present()?;
     }
     Ok(svg)
+}
+
+/// The Pareto front (sorted by time), as a line through ringed points.
+fn draw_front(
+    chart: &mut CostChart,
+    ranges: &PlotRanges,
+    front: &[&Measurement],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    chart
+        .draw_series(LineSeries::new(
+            front.iter().map(|r| ranges.point(r)),
+            BLACK.stroke_width(2),
+        ))?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
+    chart.draw_series(
+        front
+            .iter()
+            .map(|r| Circle::new(ranges.point(r), 7, BLACK.stroke_width(1))),
+    )?;
+    Ok(())
+}
+
+/// Every setting as a dot, one colour (and legend entry) per knob swept.
+fn draw_knobs(
+    chart: &mut CostChart,
+    ranges: &PlotRanges,
+    rows: &[&Measurement],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let colours = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+    ];
+    for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
+        let points: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.knob == Some(knob))
+            .map(|r| ranges.point(r))
+            .collect();
+        if points.is_empty() {
+            continue;
+        }
+        let label = if knob == Knob::SphereFormula {
+            "sphere formula (far-sphere scene)"
+        } else {
+            knob.name()
+        };
+        chart
+            .draw_series(
+                points
+                    .into_iter()
+                    .map(|point| Circle::new(point, 4, colour.filled())),
+            )?
+            .label(label)
+            .legend(move |(x, y)| Circle::new((x + 8, y), 4, colour.filled()));
+    }
+    Ok(())
+}
+
+/// The front's points labelled with their settings, skipping any that
+/// would print over a label already placed (points with the same error
+/// cluster).
+fn draw_front_labels(
+    chart: &mut CostChart,
+    ranges: &PlotRanges,
+    front: &[&Measurement],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let mut labelled: Vec<(f64, f64)> = Vec::new();
+    let mut labels: Vec<&Measurement> = Vec::new();
+    for r in front {
+        let (seconds, error) = ranges.point(r);
+        let at = (seconds.log10(), error.log10());
+        let crowded = labelled
+            .iter()
+            .any(|(x, y)| (x - at.0).abs() < 0.25 && (y - at.1).abs() < 0.06);
+        if !crowded {
+            labelled.push(at);
+            labels.push(r);
+        }
+    }
+    chart.draw_series(labels.iter().map(|r| {
+        let (seconds, error) = ranges.point(r);
+        Text::new(
+            r.label.clone(),
+            (seconds * 1.06, error * 1.06),
+            ("sans-serif", 11),
+        )
+    }))?;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -155,6 +155,25 @@ pub struct EmbreeScene {
 unsafe impl Send for EmbreeScene {}
 unsafe impl Sync for EmbreeScene {}
 
+/// A new Embree device limited to `threads` build threads (`None`: all
+/// cores).
+fn new_device(threads: Option<usize>) -> Result<sys::RTCDevice, EmbreeError> {
+    // Digits and '=' only: no NUL inside, so this cannot fail.
+    let config = threads.map(|n| CString::new(format!("threads={}", n.max(1))));
+    let config = config
+        .transpose()
+        .map_err(|error| EmbreeError(format!("device config: {error}")))?;
+    // SAFETY: the config is NULL ("defaults") or a NUL-terminated string
+    // that lives until the call returns.
+    let device = unsafe { sys::rtcNewDevice(config.as_ref().map_or(ptr::null(), |c| c.as_ptr())) };
+    if device.is_null() {
+        // SAFETY: NULL asks for the error of the failed device creation.
+        let error = unsafe { sys::rtcGetDeviceError(ptr::null_mut()) };
+        return Err(EmbreeError(format!("rtcNewDevice failed: {error:?}")));
+    }
+    Ok(device)
+}
+
 impl EmbreeScene {
     /// Builds and commits a scene holding `primitives`: spheres as Embree's
     /// native spheres (`RTC_GEOMETRY_TYPE_SPHERE_POINT`), quads as two
@@ -173,20 +192,7 @@ impl EmbreeScene {
         threads: Option<usize>,
     ) -> Result<EmbreeScene, EmbreeError> {
         let started = Instant::now();
-        // Digits and '=' only: no NUL inside, so this cannot fail.
-        let config = threads.map(|n| CString::new(format!("threads={}", n.max(1))));
-        let config = config
-            .transpose()
-            .map_err(|error| EmbreeError(format!("device config: {error}")))?;
-        // SAFETY: the config is NULL ("defaults") or a NUL-terminated string
-        // that lives until the call returns.
-        let device =
-            unsafe { sys::rtcNewDevice(config.as_ref().map_or(ptr::null(), |c| c.as_ptr())) };
-        if device.is_null() {
-            // SAFETY: NULL asks for the error of the failed device creation.
-            let error = unsafe { sys::rtcGetDeviceError(ptr::null_mut()) };
-            return Err(EmbreeError(format!("rtcNewDevice failed: {error:?}")));
-        }
+        let device = new_device(threads)?;
         let memory = Box::new(MemoryMonitor::default());
         // SAFETY: `device` is live; the user pointer is the boxed monitor,
         // which outlives the device (see `Drop`). The device's own
@@ -221,34 +227,7 @@ impl EmbreeScene {
         // race compares builds as well as traversals.
         unsafe { sys::rtcSetSceneFlags(scene, sys::RTCSceneFlags::ROBUST) };
         embree.check("rtcSetSceneFlags")?;
-        let mut index = 0;
-        while index < primitives.len() {
-            let run = primitives[index..]
-                .iter()
-                .take_while(|primitive| matches!(primitive, Primitive::Triangle(_)))
-                .count();
-            let count = run.max(1);
-            let id = u32::try_from(embree.geometries.len())
-                .ok()
-                .filter(|&id| id != sys::RTC_INVALID_GEOMETRY_ID)
-                .ok_or_else(|| EmbreeError("too many geometries".into()))?;
-            if run > 0 {
-                let triangles = primitives[index..index + run]
-                    .iter()
-                    .filter_map(|primitive| match primitive {
-                        Primitive::Triangle(corners) => Some(*corners),
-                        _ => None,
-                    });
-                embree.attach_triangles(id, run, triangles)?;
-            } else {
-                embree.attach(id, &primitives[index])?;
-            }
-            embree.geometries.push(GeometryRange {
-                first: index,
-                run: run > 0,
-            });
-            index += count;
-        }
+        embree.attach_primitives(primitives)?;
         let filled = Instant::now();
         // SAFETY: `scene` is live; building it reads the buffers filled above.
         unsafe { sys::rtcCommitScene(scene) };
@@ -260,6 +239,40 @@ impl EmbreeScene {
             bytes_after_commit: embree.memory.current(),
         };
         Ok(embree)
+    }
+
+    /// Attaches `primitives` as geometries, each run of consecutive
+    /// triangles as one mesh, noting which primitives each geometry holds.
+    fn attach_primitives(&mut self, primitives: &[Primitive]) -> Result<(), EmbreeError> {
+        let mut index = 0;
+        while index < primitives.len() {
+            let run = primitives[index..]
+                .iter()
+                .take_while(|primitive| matches!(primitive, Primitive::Triangle(_)))
+                .count();
+            let count = run.max(1);
+            let id = u32::try_from(self.geometries.len())
+                .ok()
+                .filter(|&id| id != sys::RTC_INVALID_GEOMETRY_ID)
+                .ok_or_else(|| EmbreeError("too many geometries".into()))?;
+            if run > 0 {
+                let triangles = primitives[index..index + run]
+                    .iter()
+                    .filter_map(|primitive| match primitive {
+                        Primitive::Triangle(corners) => Some(*corners),
+                        _ => None,
+                    });
+                self.attach_triangles(id, run, triangles)?;
+            } else {
+                self.attach(id, &primitives[index])?;
+            }
+            self.geometries.push(GeometryRange {
+                first: index,
+                run: run > 0,
+            });
+            index += count;
+        }
+        Ok(())
     }
 
     /// How long `new` took, split into filling and Embree's BVH build, and

@@ -497,6 +497,23 @@ impl Grade {
             c.threshold,
             allowance_text(c)
         );
+        self.markdown_table(&mut md);
+        self.markdown_problems(&mut md);
+        let _ = writeln!(
+            md,
+            "**{} of {} chapters pass** ({} compared, {} missing, {} unreadable). Report: {}",
+            self.passed(),
+            LAST_CHAPTER,
+            self.graded.len(),
+            self.missing.len(),
+            self.unreadable.len(),
+            markdown_escape(&report.display().to_string())
+        );
+        md
+    }
+
+    /// The Markdown table of the chapters compared, if any.
+    fn markdown_table(&self, md: &mut String) {
         if !self.graded.is_empty() {
             md.push_str("| chapter | file | size | max | mean | RMSE | PSNR (dB) | over threshold | result | reference |\n");
             md.push_str("|---:|---|---|---:|---:|---:|---:|---:|---|---|\n");
@@ -521,6 +538,10 @@ impl Grade {
             }
             md.push('\n');
         }
+    }
+
+    /// The Markdown lists of the missing, unreadable and ignored files.
+    fn markdown_problems(&self, md: &mut String) {
         if !self.missing.is_empty() {
             let list: Vec<String> = self
                 .missing
@@ -553,17 +574,6 @@ impl Grade {
             }
             md.push('\n');
         }
-        let _ = writeln!(
-            md,
-            "**{} of {} chapters pass** ({} compared, {} missing, {} unreadable). Report: {}",
-            self.passed(),
-            LAST_CHAPTER,
-            self.graded.len(),
-            self.missing.len(),
-            self.unreadable.len(),
-            markdown_escape(&report.display().to_string())
-        );
-        md
     }
 
     /// The self-contained HTML report: every image inlined as a base64 PNG.
@@ -593,6 +603,17 @@ impl Grade {
             c.threshold,
             allowance_text(c)
         );
+        self.html_summary_table(&mut h);
+        self.html_problems(&mut h);
+        for g in &self.graded {
+            chapter_html(&mut h, g)?;
+        }
+        h.push_str("</body>\n</html>\n");
+        Ok(h)
+    }
+
+    /// The table of the chapters compared, each linked to its section.
+    fn html_summary_table(&self, h: &mut String) {
         if !self.graded.is_empty() {
             h.push_str("<table class=\"summary\">\n<tr><th>chapter</th><th>result</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th></tr>\n");
             for g in &self.graded {
@@ -611,6 +632,10 @@ impl Grade {
             }
             h.push_str("</table>\n");
         }
+    }
+
+    /// The missing, unreadable and ignored files, if any.
+    fn html_problems(&self, h: &mut String) {
         if !self.missing.is_empty() || !self.unreadable.is_empty() || !self.ignored.is_empty() {
             h.push_str("<section class=\"problems\">\n");
             if !self.missing.is_empty() {
@@ -657,64 +682,66 @@ impl Grade {
             }
             h.push_str("</section>\n");
         }
-        for g in &self.graded {
-            let m = &g.comparison.metrics;
-            let pass = g.passes();
-            let heatmap = g.comparison.heatmap(&g.student)?;
-            let _ = writeln!(
-                h,
-                "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
-                if pass { "pass" } else { "fail" },
-                g.chapter,
-                g.chapter,
-                if pass { "PASS" } else { "FAIL" }
-            );
-            h.push_str("<div class=\"images\">\n");
-            for (caption, image) in [
-                (format!("student: {}", file_name(&g.file)), &g.student),
-                (format!("reference: {}", g.reference_source), &g.reference),
-                ("heatmap".to_string(), &heatmap),
-            ] {
-                let _ = writeln!(
-                    h,
-                    "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
-                    html_escape(&caption),
-                    base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
-                    html_escape(&caption)
-                );
-            }
-            h.push_str("</div>\n<table>\n");
-            let at = m
-                .max_at
-                .map(|(x, y)| format!(" at x={x}, y={y}"))
-                .unwrap_or_default();
-            for (name, value) in [
-                ("size", format!("{}x{}", m.width, m.height)),
-                ("max abs difference", format!("{}{at}", m.max)),
-                ("mean abs difference", format!("{:.6}", m.mean)),
-                ("RMSE", format!("{:.6}", m.rmse)),
-                ("PSNR", format!("{} dB", psnr_text(m.psnr_db))),
-                (
-                    "pixels over threshold",
-                    format!(
-                        "{} of {} ({:.3}%)",
-                        m.pixels_over,
-                        m.pixels,
-                        m.percent_over()
-                    ),
-                ),
-            ] {
-                let _ = writeln!(
-                    h,
-                    "<tr><th>{name}</th><td>{}</td></tr>",
-                    html_escape(&value)
-                );
-            }
-            h.push_str("</table>\n</section>\n");
-        }
-        h.push_str("</body>\n</html>\n");
-        Ok(h)
     }
+}
+
+/// One chapter's section of the report: the student's image, the reference
+/// and the heatmap, inlined, above the metrics.
+fn chapter_html(h: &mut String, g: &Graded) -> Result<(), GradeError> {
+    let m = &g.comparison.metrics;
+    let pass = g.passes();
+    let heatmap = g.comparison.heatmap(&g.student)?;
+    let _ = writeln!(
+        h,
+        "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
+        if pass { "pass" } else { "fail" },
+        g.chapter,
+        g.chapter,
+        if pass { "PASS" } else { "FAIL" }
+    );
+    h.push_str("<div class=\"images\">\n");
+    for (caption, image) in [
+        (format!("student: {}", file_name(&g.file)), &g.student),
+        (format!("reference: {}", g.reference_source), &g.reference),
+        ("heatmap".to_string(), &heatmap),
+    ] {
+        let _ = writeln!(
+            h,
+            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
+            html_escape(&caption),
+            base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
+            html_escape(&caption)
+        );
+    }
+    h.push_str("</div>\n<table>\n");
+    let at = m
+        .max_at
+        .map(|(x, y)| format!(" at x={x}, y={y}"))
+        .unwrap_or_default();
+    for (name, value) in [
+        ("size", format!("{}x{}", m.width, m.height)),
+        ("max abs difference", format!("{}{at}", m.max)),
+        ("mean abs difference", format!("{:.6}", m.mean)),
+        ("RMSE", format!("{:.6}", m.rmse)),
+        ("PSNR", format!("{} dB", psnr_text(m.psnr_db))),
+        (
+            "pixels over threshold",
+            format!(
+                "{} of {} ({:.3}%)",
+                m.pixels_over,
+                m.pixels,
+                m.percent_over()
+            ),
+        ),
+    ] {
+        let _ = writeln!(
+            h,
+            "<tr><th>{name}</th><td>{}</td></tr>",
+            html_escape(&value)
+        );
+    }
+    h.push_str("</table>\n</section>\n");
+    Ok(())
 }
 
 /// The pass rule's allowance in words.

@@ -950,44 +950,8 @@ impl MeshSpec {
             rotate_degrees: self.rotate_degrees,
         };
         let mesh = match (&self.obj, self.generated) {
-            (Some(obj), None) => {
-                if obj.trim().is_empty() {
-                    return Err(format!(
-                        "{label}: mesh.obj is empty: name an OBJ file, relative to the scene file"
-                    ));
-                }
-                let Some(folder) = folder else {
-                    return Err(format!(
-                        "{label}: mesh.obj = \"{obj}\": OBJ files are found next to the scene \
-                         file, and this scene has none (a built-in scene can use \
-                         `generated = N` instead)"
-                    ));
-                };
-                crate::mesh::load_obj(&folder.join(obj), &transform)
-                    .map_err(|error| format!("{label}: {error}"))?
-            }
-            (None, Some(count)) => {
-                // A scene holds no bigger model than it could load from a
-                // file: `raylab mesh` writes larger ones, for other tools.
-                let max = crate::mesh::MAX_MESH_TRIANGLES;
-                if !(1..=max as u64).contains(&count) {
-                    return Err(format!(
-                        "{label}: mesh.generated = {count}: a scene's model has 1 to {max} \
-                         triangles, as a loaded OBJ model does"
-                    ));
-                }
-                let count = usize::try_from(count).unwrap_or(usize::MAX);
-                let mut mesh = crate::mesh::generate_closed_mesh(count)
-                    .map_err(|error| format!("{label}: mesh.generated = {count}: {error}"))?;
-                let placed = transform.compile();
-                for position in &mut mesh.positions {
-                    *position = placed.point(*position);
-                }
-                for normal in &mut mesh.normals {
-                    *normal = placed.normal(*normal);
-                }
-                mesh
-            }
+            (Some(obj), None) => obj_model(label, obj, folder, &transform)?,
+            (None, Some(count)) => generated_model(label, count, &transform)?,
             _ => {
                 return Err(format!(
                     "{label}: a mesh needs exactly one of `obj = \"file.obj\"` and \
@@ -995,6 +959,17 @@ impl MeshSpec {
                 ));
             }
         };
+        self.triangles(label, &mesh, normals)
+    }
+
+    /// The placed model's triangles as shapes, checked; smooth ones get
+    /// their vertex normals appended to `normals`.
+    fn triangles(
+        &self,
+        label: &str,
+        mesh: &crate::mesh::Mesh,
+        normals: &mut Vec<[Vec3; 3]>,
+    ) -> Result<Vec<Shape>, String> {
         let mut shapes = Vec::with_capacity(mesh.triangles.len());
         for (index, triangle) in mesh.triangles.iter().enumerate() {
             let [a, b, c] = triangle.map(|vertex| mesh.positions[vertex as usize]);
@@ -1017,6 +992,57 @@ impl MeshSpec {
         }
         Ok(shapes)
     }
+}
+
+/// The model of `mesh.obj = "obj"`, loaded from next to the scene file (in
+/// `folder`) and placed by `transform`.
+fn obj_model(
+    label: &str,
+    obj: &str,
+    folder: Option<&Path>,
+    transform: &crate::mesh::MeshTransform,
+) -> Result<crate::mesh::Mesh, String> {
+    if obj.trim().is_empty() {
+        return Err(format!(
+            "{label}: mesh.obj is empty: name an OBJ file, relative to the scene file"
+        ));
+    }
+    let Some(folder) = folder else {
+        return Err(format!(
+            "{label}: mesh.obj = \"{obj}\": OBJ files are found next to the scene \
+             file, and this scene has none (a built-in scene can use \
+             `generated = N` instead)"
+        ));
+    };
+    crate::mesh::load_obj(&folder.join(obj), transform).map_err(|error| format!("{label}: {error}"))
+}
+
+/// The model of `mesh.generated = count`, placed by `transform`.
+fn generated_model(
+    label: &str,
+    count: u64,
+    transform: &crate::mesh::MeshTransform,
+) -> Result<crate::mesh::Mesh, String> {
+    // A scene holds no bigger model than it could load from a file:
+    // `raylab mesh` writes larger ones, for other tools.
+    let max = crate::mesh::MAX_MESH_TRIANGLES;
+    if !(1..=max as u64).contains(&count) {
+        return Err(format!(
+            "{label}: mesh.generated = {count}: a scene's model has 1 to {max} \
+             triangles, as a loaded OBJ model does"
+        ));
+    }
+    let count = usize::try_from(count).unwrap_or(usize::MAX);
+    let mut mesh = crate::mesh::generate_closed_mesh(count)
+        .map_err(|error| format!("{label}: mesh.generated = {count}: {error}"))?;
+    let placed = transform.compile();
+    for position in &mut mesh.positions {
+        *position = placed.point(*position);
+    }
+    for normal in &mut mesh.normals {
+        *normal = placed.normal(*normal);
+    }
+    Ok(mesh)
 }
 
 impl ObjectSpec {

@@ -55,6 +55,83 @@ pub struct CostArgs {
 
 pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     let chapter = args.chapter;
+    let knobs = chosen_knobs(args)?;
+    let bvh = knobs.contains(&Knob::Bvh);
+    // The BVH report renders nothing: the image knobs are the others.
+    let image_knobs: Vec<Knob> = knobs.iter().copied().filter(|k| *k != Knob::Bvh).collect();
+    check_options(args, bvh, &image_knobs)?;
+    let (scene, _) = select_scene(Some(chapter), args.scene.as_deref())?;
+    let overrides = super::render::SettingsOverrides {
+        width: Some(args.width),
+        height: Some(args.height),
+        threads: args.threads,
+        ..Default::default()
+    };
+    let base = overrides.apply(scene.render)?;
+    // The reference supersamples: check that its settings are valid too.
+    crate::cost::reference_settings(&base)
+        .validate()
+        .map_err(|message| anyhow::anyhow!("invalid render settings: {message}"))?;
+    let outputs = Outputs::prepare(args, !image_knobs.is_empty(), bvh)?;
+
+    let mut markdown = String::new();
+    let mut sweep_files = None;
+    let mut command = format!(
+        "raylab cost --chapter {chapter} --repeats {} --knob bvh",
+        args.repeats
+    );
+    if !image_knobs.is_empty() {
+        let scene_name = match &args.scene {
+            Some(path) => path.display().to_string(),
+            None => "built-in scene".to_string(),
+        };
+        let config = CostConfig {
+            chapter,
+            scene,
+            scene_name,
+            base,
+            knobs: image_knobs,
+            repeats: args.repeats,
+        };
+        let (report, leaks) = sweep::<C>(args, &config, &overrides)?;
+        command = report.command(&knobs, None);
+        markdown = format!("{}{leaks}", report.markdown());
+        sweep_files = Some((report.csv(), report.svg()?));
+    }
+    let mut plot = None;
+    if bvh {
+        let (bvh_markdown, bvh_plot) = bvh_report(args)?;
+        markdown.push_str(&bvh_markdown);
+        plot = Some(bvh_plot);
+        if let Some(max) = args.max_triangles {
+            command.push_str(&format!(" --max-triangles {max}"));
+        }
+    }
+    if let Some(out) = args.out.as_ref().and_then(|p| p.to_str()) {
+        command.push_str(&format!(" --out {out}"));
+    }
+    let markdown = format!("{markdown}\nReproduce with `{command}`.\n");
+    // All or nothing: a full disk must not leave a table without its plot.
+    let mut contents: Vec<&[u8]> = Vec::new();
+    if let Some((csv, svg)) = &sweep_files {
+        contents.extend([csv.as_bytes(), markdown.as_bytes(), svg.as_bytes()]);
+    } else {
+        contents.push(markdown.as_bytes());
+    }
+    if let Some(plot) = &plot {
+        contents.push(plot.as_bytes());
+    }
+    outputs.write(&contents)?;
+    print!("{}", crate::text::terminal_safe(&markdown));
+    outputs.print_written();
+    Ok(0)
+}
+
+/// The knobs to sweep: those asked for (sorted, without repeats), or all
+/// the chapter has. An error when one asked for comes with a later
+/// chapter, or when the chapter has none.
+fn chosen_knobs(args: &CostArgs) -> Result<Vec<Knob>> {
+    let chapter = args.chapter;
     let available = Knob::of_chapter(chapter);
     let knobs = if args.knob.is_empty() {
         available.clone()
@@ -78,9 +155,13 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
              the triangle test with 10, the BVH report with 11"
         );
     }
-    let bvh = knobs.contains(&Knob::Bvh);
-    // The BVH report renders nothing: the image knobs are the others.
-    let image_knobs: Vec<Knob> = knobs.iter().copied().filter(|k| *k != Knob::Bvh).collect();
+    Ok(knobs)
+}
+
+/// Refuses the options this run cannot use: a scene with only the BVH
+/// report, --max-triangles without it or below its smallest torus, and
+/// out-of-range --threads and --repeats.
+fn check_options(args: &CostArgs, bvh: bool, image_knobs: &[Knob]) -> Result<()> {
     if image_knobs.is_empty() && args.scene.is_some() {
         bail!(
             "--scene: the BVH report measures its own generated torus and spheres; \
@@ -106,134 +187,126 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     if !(1..=100).contains(&args.repeats) {
         bail!("--repeats {}: must be between 1 and 100", args.repeats);
     }
-    let (scene, _) = select_scene(Some(chapter), args.scene.as_deref())?;
-    let overrides = super::render::SettingsOverrides {
-        width: Some(args.width),
-        height: Some(args.height),
-        threads: args.threads,
-        ..Default::default()
-    };
-    let base = overrides.apply(scene.render)?;
-    // The reference supersamples: check that its settings are valid too.
-    crate::cost::reference_settings(&base)
-        .validate()
-        .map_err(|message| anyhow::anyhow!("invalid render settings: {message}"))?;
+    Ok(())
+}
 
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("cost-chapter-{chapter}")));
-    // Fail before the sweep, not after minutes of rendering.
-    std::fs::create_dir_all(&out)
-        .with_context(|| format!("cannot create the output folder {}", out.display()))?;
-    if !out.is_dir() {
-        bail!("--out {}: not a folder", out.display());
-    }
-    let mut names = Vec::new();
-    if !image_knobs.is_empty() {
-        names.extend(["cost.csv", "cost.md", "cost.svg"]);
-    } else {
-        names.push("cost.md");
-    }
-    if bvh {
-        names.push(BVH_PLOT);
-    }
-    let files: Vec<PathBuf> = names.iter().map(|name| out.join(name)).collect();
-    let inputs: Vec<&std::path::Path> = args.scene.as_deref().into_iter().collect();
-    let outputs: Vec<_> = files.iter().map(|file| ("--out", file.as_path())).collect();
-    crate::output::check_outputs(&inputs, &outputs, false)?;
+/// The files a run writes, in its output folder.
+struct Outputs {
+    folder: PathBuf,
+    names: Vec<&'static str>,
+    files: Vec<PathBuf>,
+}
 
-    let scene_name = match &args.scene {
-        Some(path) => path.display().to_string(),
-        None => "built-in scene".to_string(),
-    };
-    let mut markdown = String::new();
-    let mut sweep_files = None;
-    let mut command = format!(
-        "raylab cost --chapter {chapter} --repeats {} --knob bvh",
-        args.repeats
-    );
-    if !image_knobs.is_empty() {
-        let config = CostConfig {
-            chapter,
-            scene,
-            scene_name,
-            base,
-            knobs: image_knobs.clone(),
-            repeats: args.repeats,
-        };
-        let progress = std::io::stderr().is_terminal().then(|| {
-            let bar = indicatif::ProgressBar::new(crate::cost::render_count(&config));
-            bar.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{spinner} sweeping [{bar:40}] {pos}/{len} renders, {eta} left",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            bar
-        });
-        let report = overrides.in_pool(|| crate::cost::run::<C>(&config, progress.as_ref()))??;
-        if let Some(bar) = progress {
-            bar.finish_and_clear();
+impl Outputs {
+    /// Creates the folder and checks that the files can be written there
+    /// (and would not replace the scene), before the sweep rather than after
+    /// minutes of rendering. `sweep`: the image knobs' CSV, table and plot;
+    /// `bvh`: the BVH report's plot; the table is always written.
+    fn prepare(args: &CostArgs, sweep: bool, bvh: bool) -> Result<Outputs> {
+        let folder = args
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("cost-chapter-{}", args.chapter)));
+        std::fs::create_dir_all(&folder)
+            .with_context(|| format!("cannot create the output folder {}", folder.display()))?;
+        if !folder.is_dir() {
+            bail!("--out {}: not a folder", folder.display());
         }
-        let leaks = if image_knobs.contains(&Knob::TriangleTest) {
-            let counts = overrides.in_pool(|| {
-                crate::leaks::LEAK_MESH_SIZES
-                    .iter()
-                    .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
-                    .collect::<Result<Vec<_>, crate::mesh::MeshError>>()
-            })??;
-            leak_table(&counts)
+        let mut names = Vec::new();
+        if sweep {
+            names.extend(["cost.csv", "cost.md", "cost.svg"]);
         } else {
-            String::new()
-        };
-        command = report.command(&knobs, None);
-        markdown = format!("{}{leaks}", report.markdown());
-        sweep_files = Some((report.csv(), report.svg()?));
-    }
-    let mut plot = None;
-    if bvh {
-        if std::io::stderr().is_terminal() {
-            eprintln!("measuring the tree (one thread; the largest torus takes the longest)...");
+            names.push("cost.md");
         }
-        let options = crate::bvh_cost::BvhCostOptions {
-            repeats: args.repeats,
-            max_triangles: args.max_triangles.unwrap_or(usize::MAX),
-        };
-        // One thread by design (see crate::bvh_cost): no pool needed.
-        let report = crate::bvh_cost::run(&options)?;
-        markdown.push_str(&crate::bvh_report::markdown(&report));
-        plot = Some(crate::bvh_report::scaling_svg(&report)?);
-        if let Some(max) = args.max_triangles {
-            command.push_str(&format!(" --max-triangles {max}"));
+        if bvh {
+            names.push(BVH_PLOT);
         }
+        let files: Vec<PathBuf> = names.iter().map(|name| folder.join(name)).collect();
+        let inputs: Vec<&std::path::Path> = args.scene.as_deref().into_iter().collect();
+        let outputs: Vec<_> = files.iter().map(|file| ("--out", file.as_path())).collect();
+        crate::output::check_outputs(&inputs, &outputs, false)?;
+        Ok(Outputs {
+            folder,
+            names,
+            files,
+        })
     }
-    if let Some(out) = args.out.as_ref().and_then(|p| p.to_str()) {
-        command.push_str(&format!(" --out {out}"));
+
+    /// Writes `contents`, one for each file in order, all or nothing.
+    fn write(&self, contents: &[&[u8]]) -> Result<()> {
+        let writes: Vec<(&std::path::Path, &[u8])> = self
+            .files
+            .iter()
+            .map(PathBuf::as_path)
+            .zip(contents.iter().copied())
+            .collect();
+        crate::output::write_files(&writes)?;
+        Ok(())
     }
-    let markdown = format!("{markdown}\nReproduce with `{command}`.\n");
-    // All or nothing: a full disk must not leave a table without its plot.
-    let mut contents: Vec<&[u8]> = Vec::new();
-    if let Some((csv, svg)) = &sweep_files {
-        contents.extend([csv.as_bytes(), markdown.as_bytes(), svg.as_bytes()]);
+
+    /// The `wrote ...` line.
+    fn print_written(&self) {
+        let folder = crate::text::terminal_safe(&self.folder.display().to_string());
+        let written: Vec<String> = self
+            .names
+            .iter()
+            .map(|name| format!("{folder}/{name}"))
+            .collect();
+        println!("wrote {}", written.join(", "));
+    }
+}
+
+/// Sweeps the image knobs of `config` on the --threads pool, with a progress
+/// bar on a terminal; with the triangle test, the leak counts of chapter 10
+/// as a Markdown section (else an empty one).
+fn sweep<C: Chapters>(
+    args: &CostArgs,
+    config: &CostConfig,
+    overrides: &super::render::SettingsOverrides,
+) -> Result<(crate::cost::CostReport, String)> {
+    let progress = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(crate::cost::render_count(config));
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} sweeping [{bar:40}] {pos}/{len} renders, {eta} left",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let report = overrides.in_pool(|| crate::cost::run::<C>(config, progress.as_ref()))??;
+    if let Some(bar) = progress {
+        bar.finish_and_clear();
+    }
+    let leaks = if config.knobs.contains(&Knob::TriangleTest) {
+        let counts = overrides.in_pool(|| {
+            crate::leaks::LEAK_MESH_SIZES
+                .iter()
+                .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
+                .collect::<Result<Vec<_>, crate::mesh::MeshError>>()
+        })??;
+        leak_table(&counts)
     } else {
-        contents.push(markdown.as_bytes());
+        String::new()
+    };
+    Ok((report, leaks))
+}
+
+/// The BVH report, as Markdown and its SVG plot.
+fn bvh_report(args: &CostArgs) -> Result<(String, String)> {
+    if std::io::stderr().is_terminal() {
+        eprintln!("measuring the tree (one thread; the largest torus takes the longest)...");
     }
-    if let Some(plot) = &plot {
-        contents.push(plot.as_bytes());
-    }
-    let writes: Vec<(&std::path::Path, &[u8])> =
-        files.iter().map(PathBuf::as_path).zip(contents).collect();
-    crate::output::write_files(&writes)?;
-    let safe = crate::text::terminal_safe;
-    print!("{}", safe(&markdown));
-    let folder = safe(&out.display().to_string());
-    let written: Vec<String> = names
-        .iter()
-        .map(|name| format!("{folder}/{name}"))
-        .collect();
-    println!("wrote {}", written.join(", "));
-    Ok(0)
+    let options = crate::bvh_cost::BvhCostOptions {
+        repeats: args.repeats,
+        max_triangles: args.max_triangles.unwrap_or(usize::MAX),
+    };
+    // One thread by design (see crate::bvh_cost): no pool needed.
+    let report = crate::bvh_cost::run(&options)?;
+    Ok((
+        crate::bvh_report::markdown(&report),
+        crate::bvh_report::scaling_svg(&report)?,
+    ))
 }
 
 /// The leak counts of chapter 10, as a Markdown section.

@@ -263,6 +263,31 @@ mod with_embree {
             .overrides
             .in_pool(|| cross_check_with(&reference, &rays, ours, theirs))?;
 
+        print_header(chapter, &settings, &stage, &embree, &quads);
+        print_tally(&tally, &stage);
+        print_speed(args.timing_runs, &rays, &stage, &embree);
+        if tally.clean() {
+            println!(
+                "result: agree (no difference beyond the tolerance outside the boundary cases)"
+            );
+            Ok(0)
+        } else {
+            println!(
+                "result: {} DISAGREEMENT(S) beyond the tolerance outside the boundary cases",
+                tally.disagreements
+            );
+            Ok(EXIT_FAILED_CHECK)
+        }
+    }
+
+    /// The first line: the render compared, and how Embree holds its shapes.
+    fn print_header<C: Chapters>(
+        chapter: u8,
+        settings: &crate::RenderSettings,
+        stage: &Stage<C>,
+        embree: &EmbreeScene,
+        quads: &[Option<PlaneQuad>],
+    ) {
         let version = embree.version();
         let quad_side = quads
             .iter()
@@ -285,16 +310,23 @@ mod with_embree {
             embree.geometry_count(),
             embree.build_stats().total().as_secs_f64() * 1e3,
         );
-        print_tally(&tally, &stage);
+    }
 
-        // Speed: the same rays, in the same order, on this thread only.
+    /// Times both searches over the same rays, in the same order, on this
+    /// thread only, and prints the median rates of `timing_runs` runs.
+    fn print_speed<C: Chapters>(
+        timing_runs: u32,
+        rays: &[CastRay],
+        stage: &Stage<C>,
+        embree: &EmbreeScene,
+    ) {
         let mut ours_rates = Vec::new();
         let mut embree_rates = Vec::new();
-        for _ in 0..args.timing_runs {
-            ours_rates.push(rays_per_second(&rays, |cast| {
+        for _ in 0..timing_runs {
+            ours_rates.push(rays_per_second(rays, |cast| {
                 stage.nearest_hit(&cast.ray, cast.t_min, cast.t_max)
             }));
-            embree_rates.push(rays_per_second(&rays, |cast| {
+            embree_rates.push(rays_per_second(rays, |cast| {
                 embree.intersect(&cast.ray, cast.t_min, cast.t_max)
             }));
         }
@@ -304,23 +336,11 @@ mod with_embree {
             "speed (1 thread, the same {} rays in the same order, median of {}): \
              ours {:.2} M rays/s, Embree {:.2} M rays/s, ratio ours/Embree {:.3}",
             rays.len(),
-            args.timing_runs,
+            timing_runs,
             ours_rate / 1e6,
             embree_rate / 1e6,
             ours_rate / embree_rate
         );
-        if tally.clean() {
-            println!(
-                "result: agree (no difference beyond the tolerance outside the boundary cases)"
-            );
-            Ok(0)
-        } else {
-            println!(
-                "result: {} DISAGREEMENT(S) beyond the tolerance outside the boundary cases",
-                tally.disagreements
-            );
-            Ok(EXIT_FAILED_CHECK)
-        }
     }
 
     fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {

@@ -107,8 +107,29 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         .csv
         .clone()
         .or_else(|| class.then(|| args.folder.join("grades.csv")));
-    // The outputs must not replace a hand-in (or a reference): anything in
-    // the folders but an earlier report or CSV counts as an input.
+    let mut outputs: Vec<(&str, &Path)> = vec![("--report", &report)];
+    if let Some(csv) = &csv {
+        outputs.push(("--csv", csv));
+    }
+    check_outputs_spare_hand_ins(args, class, against, &outputs)?;
+    if class {
+        let skip: Vec<&Path> = outputs.iter().map(|(_, path)| *path).collect();
+        let csv = csv
+            .clone()
+            .unwrap_or_else(|| args.folder.join("grades.csv"));
+        return grade_class(args, against, &skip, &report, &csv);
+    }
+    grade_one_student(args, against, &report, csv.as_deref())
+}
+
+/// Refuses outputs that would replace a hand-in (or a reference): anything
+/// in the folders but an earlier report or CSV counts as an input.
+fn check_outputs_spare_hand_ins(
+    args: &GradeArgs,
+    class: bool,
+    against: Option<&Path>,
+    outputs: &[(&str, &Path)],
+) -> Result<()> {
     let mut inputs = files_in(&args.folder)?;
     if class {
         for student in folders_in(&args.folder)? {
@@ -125,67 +146,79 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         inputs.extend(files_in(folder)?);
     }
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    let mut outputs: Vec<(&str, &Path)> = vec![("--report", &report)];
-    if let Some(csv) = &csv {
-        outputs.push(("--csv", csv));
-    }
-    crate::output::check_outputs(&inputs, &outputs, false)?;
-    if class {
-        let skip: Vec<&Path> = outputs.iter().map(|(_, path)| *path).collect();
-        let graded = if args.code {
-            crate::grade::class::grade_class_code(
-                &args.folder,
-                Duration::from_secs(args.timeout),
-                &skip,
-                &mut |student| {
-                    eprintln!(
-                        "checking {}",
-                        crate::text::terminal_safe(
-                            &args.folder.join(student).display().to_string()
-                        )
-                    )
-                },
-            )?
-        } else {
-            crate::grade::class::grade_class(
-                &args.folder,
-                &mut References::<crate::Reference>::new(against),
-                args.criteria.criteria(),
-                &skip,
-            )?
-        };
-        let csv = csv.unwrap_or_else(|| args.folder.join("grades.csv"));
-        let html = graded.html()?;
-        let table = graded.csv();
-        crate::output::write_files(&[(&report, html.as_bytes()), (&csv, table.as_bytes())])?;
-        print!(
-            "{}",
-            crate::text::terminal_safe(&graded.markdown(&report, &csv))
-        );
-        return Ok(if graded.all_pass() {
-            0
-        } else {
-            EXIT_FAILED_CHECK
-        });
-    }
+    crate::output::check_outputs(&inputs, outputs, false)?;
+    Ok(())
+}
+
+/// Grades a class folder (renders, or with --code workspaces), skipping the
+/// outputs `skip`, and writes its report and CSV.
+fn grade_class(
+    args: &GradeArgs,
+    against: Option<&Path>,
+    skip: &[&Path],
+    report: &Path,
+    csv: &Path,
+) -> Result<i32> {
+    let graded = if args.code {
+        crate::grade::class::grade_class_code(
+            &args.folder,
+            Duration::from_secs(args.timeout),
+            skip,
+            &mut |student| {
+                eprintln!(
+                    "checking {}",
+                    crate::text::terminal_safe(&args.folder.join(student).display().to_string())
+                )
+            },
+        )?
+    } else {
+        crate::grade::class::grade_class(
+            &args.folder,
+            &mut References::<crate::Reference>::new(against),
+            args.criteria.criteria(),
+            skip,
+        )?
+    };
+    let html = graded.html()?;
+    let table = graded.csv();
+    crate::output::write_files(&[(report, html.as_bytes()), (csv, table.as_bytes())])?;
+    print!(
+        "{}",
+        crate::text::terminal_safe(&graded.markdown(report, csv))
+    );
+    Ok(if graded.all_pass() {
+        0
+    } else {
+        EXIT_FAILED_CHECK
+    })
+}
+
+/// Grades one student's folder of renders and writes its report, and its
+/// CSV when one is asked for.
+fn grade_one_student(
+    args: &GradeArgs,
+    against: Option<&Path>,
+    report: &Path,
+    csv: Option<&Path>,
+) -> Result<i32> {
     let grade = crate::grade::grade(
         &args.folder,
         against,
         args.criteria.criteria(),
-        Some(&report),
+        Some(report),
     )?;
     let html = grade.html()?;
-    match &csv {
+    match csv {
         Some(csv) => {
             let single = crate::grade::class::Class::of_one(grade.clone());
             crate::output::write_files(&[
-                (&report, html.as_bytes()),
+                (report, html.as_bytes()),
                 (csv, single.csv().as_bytes()),
             ])?;
         }
-        None => write_text_atomic(&report, &html)?,
+        None => write_text_atomic(report, &html)?,
     }
-    print!("{}", crate::text::terminal_safe(&grade.markdown(&report)));
+    print!("{}", crate::text::terminal_safe(&grade.markdown(report)));
     Ok(if grade.all_pass() {
         0
     } else {

@@ -158,8 +158,21 @@ impl SettingsOverrides {
     /// lit stage, which renders dark.
     pub fn unused(&self, scene: &Scene, chapter: u8, settings: &RenderSettings) -> Vec<String> {
         use crate::effects::Lighting;
-        use crate::scene::OffsetRule;
         let effects = Effects::for_chapter(chapter);
+        let mut warnings = self.before_their_chapter(chapter, settings);
+        warnings.extend(self.ignored_by_settings(chapter, settings));
+        if effects.lighting != Lighting::Unlit && scene.lights.is_empty() {
+            warnings.push(format!(
+                "the scene has no lights: at chapter {chapter} surfaces are lit by the ambient \
+                 light alone, so the image is dark; add a [[lights]] table"
+            ));
+        }
+        warnings
+    }
+
+    /// The options given for an effect that `chapter` does not simulate
+    /// yet, each with the chapter that brings it.
+    fn before_their_chapter(&self, chapter: u8, settings: &RenderSettings) -> Vec<String> {
         let mut warnings = Vec::new();
         let mut before = |given: bool, option: String, first: u8, what: &str| {
             if given && chapter < first {
@@ -226,6 +239,16 @@ impl SettingsOverrides {
             10,
             "smooth-shaded triangles are drawn",
         );
+        warnings
+    }
+
+    /// The options that the other settings make pointless: a sample
+    /// placement or seed with one sample per pixel, a distance with the
+    /// scaled offset.
+    fn ignored_by_settings(&self, chapter: u8, settings: &RenderSettings) -> Vec<String> {
+        use crate::scene::OffsetRule;
+        let effects = Effects::for_chapter(chapter);
+        let mut warnings = Vec::new();
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {
                 warnings.push(
@@ -247,12 +270,6 @@ impl SettingsOverrides {
                  --ray-offset fixed"
                     .into(),
             );
-        }
-        if effects.lighting != Lighting::Unlit && scene.lights.is_empty() {
-            warnings.push(format!(
-                "the scene has no lights: at chapter {chapter} surfaces are lit by the ambient \
-                 light alone, so the image is dark; add a [[lights]] table"
-            ));
         }
         warnings
     }

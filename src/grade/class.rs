@@ -449,6 +449,18 @@ impl Class {
                 super::allowance_text(c)
             );
         }
+        self.html_summary_table(&mut h, code);
+        self.html_ignored(&mut h);
+        for (index, student) in self.students.iter().enumerate() {
+            student_section_html(&mut h, index, student)?;
+        }
+        h.push_str("</body>\n</html>\n");
+        Ok(h)
+    }
+
+    /// The overview: one row per student, with a column per chapter unless
+    /// the class handed in code (`code`), linked to their sections.
+    fn html_summary_table(&self, h: &mut String, code: bool) {
         h.push_str("<table class=\"summary\">\n<tr><th>student</th>");
         if !code {
             for chapter in 1..=LAST_CHAPTER {
@@ -482,6 +494,10 @@ impl Class {
             );
         }
         h.push_str("</table>\n");
+    }
+
+    /// The entries of the class folder that are not students, if any.
+    fn html_ignored(&self, h: &mut String) {
         if !self.ignored.is_empty() {
             h.push_str("<section class=\"problems\">\n<p><strong>Ignored:</strong></p>\n<ul>\n");
             for i in &self.ignored {
@@ -494,38 +510,40 @@ impl Class {
             }
             h.push_str("</ul>\n</section>\n");
         }
-        for (index, student) in self.students.iter().enumerate() {
+    }
+}
+
+/// One student's section of the class report: why they were refused, their
+/// code's check run, or their chapters.
+fn student_section_html(h: &mut String, index: usize, student: &Student) -> Result<(), GradeError> {
+    let _ = writeln!(
+        h,
+        "<section class=\"chapter {}\" id=\"student-{index}\">\n<h2>{} <span class=\"badge\">{}</span></h2>",
+        if student.passes() { "pass" } else { "fail" },
+        html_escape(&student.name),
+        html_escape(&student.verdict())
+    );
+    match &student.outcome {
+        Outcome::Refused(why) => {
+            let _ = writeln!(h, "<p>{}</p>", html_escape(why));
+        }
+        Outcome::Code(run) => {
+            let exit = run
+                .exit_code
+                .map(|code| format!("exit status {code}"))
+                .unwrap_or_else(|| "no exit status".into());
             let _ = writeln!(
                 h,
-                "<section class=\"chapter {}\" id=\"student-{index}\">\n<h2>{} <span class=\"badge\">{}</span></h2>",
-                if student.passes() { "pass" } else { "fail" },
-                html_escape(&student.name),
-                html_escape(&student.verdict())
+                "<p><code>cargo run --release --offline -- check</code>: {}, {}</p>\n<pre>{}</pre>",
+                html_escape(run.status.name()),
+                html_escape(&exit),
+                html_escape(&Student::code_summary(run))
             );
-            match &student.outcome {
-                Outcome::Refused(why) => {
-                    let _ = writeln!(h, "<p>{}</p>", html_escape(why));
-                }
-                Outcome::Code(run) => {
-                    let exit = run
-                        .exit_code
-                        .map(|code| format!("exit status {code}"))
-                        .unwrap_or_else(|| "no exit status".into());
-                    let _ = writeln!(
-                        h,
-                        "<p><code>cargo run --release --offline -- check</code>: {}, {}</p>\n<pre>{}</pre>",
-                        html_escape(run.status.name()),
-                        html_escape(&exit),
-                        html_escape(&Student::code_summary(run))
-                    );
-                }
-                Outcome::Renders(grade) => student_renders_html(&mut h, grade)?,
-            }
-            h.push_str("</section>\n");
         }
-        h.push_str("</body>\n</html>\n");
-        Ok(h)
+        Outcome::Renders(grade) => student_renders_html(h, grade)?,
     }
+    h.push_str("</section>\n");
+    Ok(())
 }
 
 /// One student's chapters in the class report.

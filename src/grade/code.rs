@@ -12,7 +12,7 @@
 
 use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -80,7 +80,38 @@ const OUTPUT_GRACE: Duration = Duration::from_secs(5);
 /// started at all.
 pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::GradeError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut command = Command::new(&cargo);
+    let mut child =
+        check_command(&cargo, workspace)
+            .spawn()
+            .map_err(|error| super::GradeError::Run {
+                cargo: cargo.clone().into(),
+                workspace: workspace.to_path_buf(),
+                error,
+            })?;
+    let receiver = read_outputs(&mut child);
+    let (exit, timed_out) = wait_within(&mut child, timeout);
+    // Whatever the run left behind in its group (a background process of
+    // the student's) goes too.
+    kill_group(&mut child);
+    let [stdout, stderr] = received_outputs(&receiver);
+    let exit_code = exit.and_then(|status| status.code());
+    let status = if timed_out {
+        CodeStatus::TimedOut
+    } else {
+        classify(exit_code, &stdout, &stderr)
+    };
+    Ok(CodeRun {
+        status,
+        exit_code: if timed_out { None } else { exit_code },
+        stdout,
+        stderr,
+        timeout,
+    })
+}
+
+/// The `check` command, in `workspace`, with its output piped.
+fn check_command(cargo: &std::ffi::OsStr, workspace: &Path) -> Command {
+    let mut command = Command::new(cargo);
     command
         .args(["run", "--release", "--offline", "--", "check"])
         .current_dir(workspace)
@@ -99,11 +130,13 @@ pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::
         use std::os::unix::process::CommandExt;
         command.process_group(0);
     }
-    let mut child = command.spawn().map_err(|error| super::GradeError::Run {
-        cargo: cargo.clone().into(),
-        workspace: workspace.to_path_buf(),
-        error,
-    })?;
+    command
+}
+
+/// Reads the child's stdout and stderr on threads of their own (one full
+/// pipe must not block the other), each sending its kept tail with its
+/// index, 0 for stdout and 1 for stderr.
+fn read_outputs(child: &mut Child) -> mpsc::Receiver<(usize, String)> {
     let (sender, receiver) = mpsc::channel();
     let readers = [
         child
@@ -122,27 +155,30 @@ pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::
             let _ = sender.send((index, tail));
         });
     }
-    drop(sender);
+    receiver
+}
 
+/// Waits for the child to end, killing its group once `timeout` passes:
+/// its exit status if there is one, and whether it was killed.
+fn wait_within(child: &mut Child, timeout: Duration) -> (Option<ExitStatus>, bool) {
     let deadline = Instant::now() + timeout;
-    let mut timed_out = false;
-    let exit = loop {
+    loop {
         match child.try_wait() {
-            Ok(Some(status)) => break Some(status),
+            Ok(Some(status)) => return (Some(status), false),
             Ok(None) => {}
-            Err(_) => break None,
+            Err(_) => return (None, false),
         }
         if Instant::now() >= deadline {
-            timed_out = true;
-            kill_group(&mut child);
-            break child.wait().ok();
+            kill_group(child);
+            return (child.wait().ok(), true);
         }
         std::thread::sleep(Duration::from_millis(50));
-    };
-    // Whatever the run left behind in its group (a background process of
-    // the student's) goes too.
-    kill_group(&mut child);
+    }
+}
 
+/// The stdout and stderr the readers send, waiting at most
+/// [`OUTPUT_GRACE`] for them; an empty string for one that did not come.
+fn received_outputs(receiver: &mpsc::Receiver<(usize, String)>) -> [String; 2] {
     let mut outputs = [String::new(), String::new()];
     let grace_end = Instant::now() + OUTPUT_GRACE;
     for _ in 0..2 {
@@ -152,20 +188,7 @@ pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::
             Err(_) => break,
         }
     }
-    let [stdout, stderr] = outputs;
-    let exit_code = exit.and_then(|status| status.code());
-    let status = if timed_out {
-        CodeStatus::TimedOut
-    } else {
-        classify(exit_code, &stdout, &stderr)
-    };
-    Ok(CodeRun {
-        status,
-        exit_code: if timed_out { None } else { exit_code },
-        stdout,
-        stderr,
-        timeout,
-    })
+    outputs
 }
 
 /// Sorts a finished run. `check` says 1 both for a failing chapter and for

@@ -579,8 +579,33 @@ pub fn chapter_file(
             });
         }
     }
-    let module = info.module();
     let lesson = Path::new(raylab_dir).join(info.lesson_path());
+    let mut out = chapter_file_header(info, &lesson, solutions);
+    let parts = ChapterParts::sort(info, &items, &lesson, solutions);
+    out.push('\n');
+    // Separate groups, which rustfmt leaves in this order.
+    for group in [parts.uses, parts.reexports] {
+        if !group.is_empty() && !out.ends_with("\n\n") {
+            out.push('\n');
+        }
+        for line in group {
+            out.push_str(&line);
+            out.push('\n');
+        }
+    }
+    for block in parts.code {
+        out.push('\n');
+        out.push_str(&block);
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// A chapter file's module doc: what to write (or that this is the answer
+/// key), where the lesson is and how to check; and, in a student's file,
+/// the `allow` that keeps the unwritten bodies quiet.
+fn chapter_file_header(info: &ChapterInfo, lesson: &Path, solutions: bool) -> String {
+    let module = info.module();
     let functions = info
         .functions
         .iter()
@@ -616,80 +641,97 @@ pub fn chapter_file(
              #![allow(unused_imports, unused_variables)]\n",
         );
     }
-    let mut uses = Vec::new();
-    let mut reexports = Vec::new();
-    let mut code = Vec::new();
-    // The chapter's private types (chapter 11's node stack, say) are
-    // helpers like its private functions: no one outside can name them,
-    // so they cannot be re-exported; the answer key copies them with their
-    // methods, and a student writes their own, or none.
-    let private_types: Vec<&str> = items
-        .iter()
-        .filter(|item| is_type(item.kind) && !item.is_pub(src))
-        .filter_map(|item| item.name.as_deref())
-        .collect();
-    for item in &items {
-        let text = &src[item.range.clone()];
-        let name = item.name.as_deref().unwrap_or_default();
-        match item.kind {
-            // The lesson include and the tests stay in raylab.
-            ItemKind::InnerAttribute | ItemKind::Mod => {}
-            ItemKind::Use => {
-                let line = scan::crate_paths_to_raylab(text);
-                // A workspace depends on raylab (and libm) only: imports of
-                // other crates served the types re-exported below.
-                let root = line
-                    .trim_start_matches("pub ")
-                    .trim_start_matches("use ")
-                    .split("::")
-                    .next()
-                    .unwrap_or_default()
-                    .trim_start_matches("::");
-                if matches!(root, "raylab" | "std" | "core" | "alloc" | "libm") {
-                    uses.push(line);
+    out
+}
+
+/// The reference chapter's items as a workspace's chapter file holds them.
+struct ChapterParts {
+    /// The `use` lines that still resolve in a workspace.
+    uses: Vec<String>,
+    /// `pub use` lines of the public types the chapter defines.
+    reexports: Vec<String>,
+    /// The functions (a `todo!()` body or the solution) and, in the answer
+    /// key, the helpers.
+    code: Vec<String>,
+}
+
+impl ChapterParts {
+    fn sort(
+        info: &ChapterInfo,
+        items: &[scan::Item],
+        lesson: &Path,
+        solutions: bool,
+    ) -> ChapterParts {
+        let src = info.source;
+        let module = info.module();
+        let mut parts = ChapterParts {
+            uses: Vec::new(),
+            reexports: Vec::new(),
+            code: Vec::new(),
+        };
+        // The chapter's private types (chapter 11's node stack, say) are
+        // helpers like its private functions: no one outside can name them,
+        // so they cannot be re-exported; the answer key copies them with
+        // their methods, and a student writes their own, or none.
+        let private_types: Vec<&str> = items
+            .iter()
+            .filter(|item| is_type(item.kind) && !item.is_pub(src))
+            .filter_map(|item| item.name.as_deref())
+            .collect();
+        for item in items {
+            let text = &src[item.range.clone()];
+            let name = item.name.as_deref().unwrap_or_default();
+            match item.kind {
+                // The lesson include and the tests stay in raylab.
+                ItemKind::InnerAttribute | ItemKind::Mod => {}
+                ItemKind::Use => parts.uses.extend(workspace_use(text)),
+                kind if is_type(kind) && private_types.contains(&name) => {
+                    parts
+                        .code
+                        .extend(solutions.then(|| scan::crate_paths_to_raylab(text)));
                 }
-            }
-            kind if is_type(kind) && private_types.contains(&name) => {
-                code.extend(solutions.then(|| scan::crate_paths_to_raylab(text)));
-            }
-            // A public type the chapter defines is raylab's, and the
-            // trait's signatures name raylab's: the workspace uses that one.
-            kind if is_type(kind) => {
-                reexports.push(format!("pub use raylab::chapters::{module}::{name};"));
-            }
-            // Methods of a private type go with it; those of a public type
-            // are raylab's too.
-            ItemKind::Impl => {
-                let own_type = impl_self_type(&src[item.header..item.range.end]);
-                if solutions && own_type.is_some_and(|own| private_types.contains(&own)) {
-                    code.push(scan::crate_paths_to_raylab(text));
+                // A public type the chapter defines is raylab's, and the
+                // trait's signatures name raylab's: the workspace uses that
+                // one.
+                kind if is_type(kind) => {
+                    parts
+                        .reexports
+                        .push(format!("pub use raylab::chapters::{module}::{name};"));
                 }
+                // Methods of a private type go with it; those of a public
+                // type are raylab's too.
+                ItemKind::Impl => {
+                    let own_type = impl_self_type(&src[item.header..item.range.end]);
+                    if solutions && own_type.is_some_and(|own| private_types.contains(&own)) {
+                        parts.code.push(scan::crate_paths_to_raylab(text));
+                    }
+                }
+                ItemKind::Fn if info.functions.contains(&name) => {
+                    let function = student_function(info, src, item, lesson, solutions);
+                    parts.code.push(function);
+                }
+                _ if solutions => parts.code.push(scan::crate_paths_to_raylab(text)),
+                // The lesson's helpers are the student's to write, or not.
+                _ => {}
             }
-            ItemKind::Fn if info.functions.contains(&name) => {
-                code.push(student_function(info, src, item, &lesson, solutions));
-            }
-            _ if solutions => code.push(scan::crate_paths_to_raylab(text)),
-            // The lesson's helpers are the student's to write, or not.
-            _ => {}
         }
+        parts
     }
-    out.push('\n');
-    // Separate groups, which rustfmt leaves in this order.
-    for group in [uses, reexports] {
-        if !group.is_empty() && !out.ends_with("\n\n") {
-            out.push('\n');
-        }
-        for line in group {
-            out.push_str(&line);
-            out.push('\n');
-        }
-    }
-    for block in code {
-        out.push('\n');
-        out.push_str(&block);
-        out.push('\n');
-    }
-    Ok(out)
+}
+
+/// A `use` item of the reference, with its `crate::` paths made raylab's;
+/// `None` when it imports another crate: a workspace depends on raylab (and
+/// libm) only, and imports of other crates served the types re-exported.
+fn workspace_use(text: &str) -> Option<String> {
+    let line = scan::crate_paths_to_raylab(text);
+    let root = line
+        .trim_start_matches("pub ")
+        .trim_start_matches("use ")
+        .split("::")
+        .next()
+        .unwrap_or_default()
+        .trim_start_matches("::");
+    matches!(root, "raylab" | "std" | "core" | "alloc" | "libm").then_some(line)
 }
 
 fn is_type(kind: ItemKind) -> bool {

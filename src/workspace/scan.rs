@@ -91,138 +91,159 @@ pub fn lex(src: &str) -> Result<Vec<Token>, ScanError> {
     let mut tokens = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
-        let c = bytes[i];
+        if bytes[i].is_ascii_whitespace() {
+            i += 1;
+            continue;
+        }
         let start = i;
-        let kind = match c {
-            _ if c.is_ascii_whitespace() => {
-                i += 1;
-                continue;
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'/') => {
-                i = src[i..].find('\n').map_or(bytes.len(), |n| i + n);
-                let text = &src[start..i];
-                Tok::Comment {
-                    doc: text.starts_with("///") && !text.starts_with("////"),
-                }
-            }
-            b'/' if bytes.get(i + 1) == Some(&b'*') => {
-                let mut depth = 0usize;
-                loop {
-                    if i + 1 >= bytes.len() {
-                        return Err(ScanError::UnterminatedComment { at: start });
-                    }
-                    match (bytes[i], bytes[i + 1]) {
-                        (b'/', b'*') => {
-                            depth += 1;
-                            i += 2;
-                        }
-                        (b'*', b'/') => {
-                            depth -= 1;
-                            i += 2;
-                            if depth == 0 {
-                                break;
-                            }
-                        }
-                        _ => i += 1,
-                    }
-                }
-                let text = &src[start..i];
-                Tok::Comment {
-                    doc: text.starts_with("/**") && !text.starts_with("/***") && text != "/**/",
-                }
-            }
-            b'"' => {
-                i = end_of_string(bytes, i + 1)
-                    .ok_or(ScanError::UnterminatedString { at: start })?;
-                Tok::Literal
-            }
-            b'\'' => match char_literal_end(src, i) {
-                Some(end) => {
-                    i = end;
-                    Tok::Literal
-                }
-                None => {
-                    // A lifetime or label: the quote and the name after it.
-                    i += 1;
-                    while i < bytes.len() && is_word_byte(bytes[i]) {
-                        i += 1;
-                    }
-                    Tok::Other
-                }
-            },
-            _ if c.is_ascii_digit() => {
-                while i < bytes.len()
-                    && (is_word_byte(bytes[i])
-                        || (bytes[i] == b'.' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit)))
-                {
-                    i += 1;
-                }
-                Tok::Other
-            }
-            _ if is_word_byte(c) => {
-                while i < bytes.len() && is_word_byte(bytes[i]) {
-                    i += 1;
-                }
-                let word = &src[start..i];
-                let next = bytes.get(i).copied();
-                match (word, next) {
-                    // b"..", c"..": an escaped string with a prefix.
-                    ("b" | "c", Some(b'"')) => {
-                        i = end_of_string(bytes, i + 1)
-                            .ok_or(ScanError::UnterminatedString { at: start })?;
-                        Tok::Literal
-                    }
-                    ("b", Some(b'\'')) => {
-                        i = char_literal_end(src, i)
-                            .ok_or(ScanError::BadByteLiteral { at: start })?;
-                        Tok::Literal
-                    }
-                    // r"..", r#".."#, br"..", cr"..": raw strings.
-                    ("r" | "br" | "cr", Some(b'"' | b'#')) => {
-                        let hashes = bytes[i..].iter().take_while(|&&b| b == b'#').count();
-                        if bytes.get(i + hashes) == Some(&b'"') {
-                            let closing = format!("\"{}", "#".repeat(hashes));
-                            let body = i + hashes + 1;
-                            let end = src[body..]
-                                .find(&closing)
-                                .ok_or(ScanError::UnterminatedRawString { at: start })?;
-                            i = body + end + closing.len();
-                            Tok::Literal
-                        } else if word == "r" && hashes == 1 {
-                            // A raw identifier, r#type.
-                            i += 1;
-                            while i < bytes.len() && is_word_byte(bytes[i]) {
-                                i += 1;
-                            }
-                            Tok::Word
-                        } else {
-                            Tok::Word
-                        }
-                    }
-                    _ => Tok::Word,
-                }
-            }
-            _ => {
-                i += 1;
-                match c {
-                    b'(' | b'[' | b'{' => Tok::Open(c),
-                    b')' | b']' | b'}' => Tok::Close(c),
-                    b';' => Tok::Semi,
-                    b',' => Tok::Comma,
-                    b':' => Tok::Colon,
-                    b'#' => Tok::Pound,
-                    b'!' => Tok::Bang,
-                    _ => Tok::Other,
-                }
-            }
-        };
-        tokens.push(Token {
-            kind,
-            start,
-            end: i,
-        });
+        let (kind, end) = token_at(src, start)?;
+        tokens.push(Token { kind, start, end });
+        i = end;
     }
     Ok(tokens)
+}
+
+/// The token that starts at `start` (not whitespace), and the offset just
+/// past it.
+fn token_at(src: &str, start: usize) -> Result<(Tok, usize), ScanError> {
+    let bytes = src.as_bytes();
+    let c = bytes[start];
+    let next = bytes.get(start + 1).copied();
+    Ok(match c {
+        b'/' if next == Some(b'/') => line_comment(src, start),
+        b'/' if next == Some(b'*') => block_comment(src, start)?,
+        b'"' => {
+            let end = end_of_string(bytes, start + 1)
+                .ok_or(ScanError::UnterminatedString { at: start })?;
+            (Tok::Literal, end)
+        }
+        b'\'' => match char_literal_end(src, start) {
+            Some(end) => (Tok::Literal, end),
+            // A lifetime or label: the quote and the name after it.
+            None => (Tok::Other, word_end(bytes, start + 1)),
+        },
+        _ if c.is_ascii_digit() => (Tok::Other, number_end(bytes, start)),
+        _ if is_word_byte(c) => word_or_prefixed_literal(src, start)?,
+        _ => (punctuation(c), start + 1),
+    })
+}
+
+/// A `//` comment, to the end of its line (the newline not included).
+fn line_comment(src: &str, start: usize) -> (Tok, usize) {
+    let end = src[start..].find('\n').map_or(src.len(), |n| start + n);
+    let text = &src[start..end];
+    let doc = text.starts_with("///") && !text.starts_with("////");
+    (Tok::Comment { doc }, end)
+}
+
+/// A `/* */` comment, block comments nested in it included.
+fn block_comment(src: &str, start: usize) -> Result<(Tok, usize), ScanError> {
+    let bytes = src.as_bytes();
+    let mut i = start;
+    let mut depth = 0usize;
+    loop {
+        if i + 1 >= bytes.len() {
+            return Err(ScanError::UnterminatedComment { at: start });
+        }
+        match (bytes[i], bytes[i + 1]) {
+            (b'/', b'*') => {
+                depth += 1;
+                i += 2;
+            }
+            (b'*', b'/') => {
+                depth -= 1;
+                i += 2;
+                if depth == 0 {
+                    break;
+                }
+            }
+            _ => i += 1,
+        }
+    }
+    let text = &src[start..i];
+    let doc = text.starts_with("/**") && !text.starts_with("/***") && text != "/**/";
+    Ok((Tok::Comment { doc }, i))
+}
+
+/// The end of the run of word bytes from `from`.
+fn word_end(bytes: &[u8], from: usize) -> usize {
+    let mut i = from;
+    while i < bytes.len() && is_word_byte(bytes[i]) {
+        i += 1;
+    }
+    i
+}
+
+/// The end of a number literal: word bytes (suffixes, hex digits, exponents)
+/// and a decimal point followed by a digit (`1.5`, but not the range `1..2`
+/// nor the method call `1.max(2)`).
+fn number_end(bytes: &[u8], from: usize) -> usize {
+    let mut i = from;
+    while i < bytes.len()
+        && (is_word_byte(bytes[i])
+            || (bytes[i] == b'.' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit)))
+    {
+        i += 1;
+    }
+    i
+}
+
+/// A word at `start`, or the literal it prefixes: `b".."`, `c".."`,
+/// `b'.'`, the raw strings `r".."`, `r#".."#`, `br".."` and `cr".."`, and
+/// the raw identifier `r#type`.
+fn word_or_prefixed_literal(src: &str, start: usize) -> Result<(Tok, usize), ScanError> {
+    let bytes = src.as_bytes();
+    let i = word_end(bytes, start);
+    let word = &src[start..i];
+    Ok(match (word, bytes.get(i).copied()) {
+        // b"..", c"..": an escaped string with a prefix.
+        ("b" | "c", Some(b'"')) => {
+            let end =
+                end_of_string(bytes, i + 1).ok_or(ScanError::UnterminatedString { at: start })?;
+            (Tok::Literal, end)
+        }
+        ("b", Some(b'\'')) => {
+            let end = char_literal_end(src, i).ok_or(ScanError::BadByteLiteral { at: start })?;
+            (Tok::Literal, end)
+        }
+        ("r" | "br" | "cr", Some(b'"' | b'#')) => raw_string_or_identifier(src, start, i)?,
+        _ => (Tok::Word, i),
+    })
+}
+
+/// After the prefix `src[start..i]` (`r`, `br` or `cr`) and before a `"` or
+/// `#`: a raw string with any number of `#`, a raw identifier, or just the
+/// word.
+fn raw_string_or_identifier(src: &str, start: usize, i: usize) -> Result<(Tok, usize), ScanError> {
+    let bytes = src.as_bytes();
+    let hashes = bytes[i..].iter().take_while(|&&b| b == b'#').count();
+    if bytes.get(i + hashes) == Some(&b'"') {
+        let closing = format!("\"{}", "#".repeat(hashes));
+        let body = i + hashes + 1;
+        let end = src[body..]
+            .find(&closing)
+            .ok_or(ScanError::UnterminatedRawString { at: start })?;
+        Ok((Tok::Literal, body + end + closing.len()))
+    } else if &src[start..i] == "r" && hashes == 1 {
+        // A raw identifier, r#type.
+        Ok((Tok::Word, word_end(bytes, i + 1)))
+    } else {
+        Ok((Tok::Word, i))
+    }
+}
+
+/// A one-byte token: a bracket or the punctuation that cutting items reads.
+fn punctuation(c: u8) -> Tok {
+    match c {
+        b'(' | b'[' | b'{' => Tok::Open(c),
+        b')' | b']' | b'}' => Tok::Close(c),
+        b';' => Tok::Semi,
+        b',' => Tok::Comma,
+        b':' => Tok::Colon,
+        b'#' => Tok::Pound,
+        b'!' => Tok::Bang,
+        _ => Tok::Other,
+    }
 }
 
 fn is_word_byte(b: u8) -> bool {
@@ -348,24 +369,90 @@ impl Item {
 
 /// The items of `src` in order. Comments after the last item are dropped.
 pub fn items(src: &str) -> Result<Vec<Item>, ScanError> {
-    let tokens = lex(src)?;
-    let partner = match_brackets(src, &tokens)?;
-    let closing = |index: usize| partner[index].ok_or(ScanError::Unbalanced("brackets"));
-    let word = |index: usize| {
-        tokens
-            .get(index)
-            .filter(|token| token.kind == Tok::Word)
-            .map(|token| &src[token.start..token.end])
-    };
+    let cutter = Cutter::new(src)?;
     let mut items = Vec::new();
     let mut i = 0;
-    'items: while i < tokens.len() {
-        let start = tokens[i].start;
+    while i < cutter.tokens.len() {
+        let start = cutter.tokens[i].start;
+        let (at, doc_end) = match cutter.leading(i, start)? {
+            Leading::End => break,
+            Leading::InnerAttribute { item, next } => {
+                items.push(item);
+                i = next;
+                continue;
+            }
+            Leading::Header { at, doc_end } => (at, doc_end),
+        };
+        let header = cutter.tokens[at].start;
+        let (keyword, kind, name) = cutter.keyword(at, header)?;
+        let (end, body) = cutter.item_end(keyword, kind, header)?;
+        items.push(Item {
+            kind,
+            name: name.map(str::to_string),
+            range: start..cutter.tokens[end].end,
+            header,
+            doc_end,
+            body: if kind == ItemKind::Fn { body } else { None },
+        });
+        i = end + 1;
+    }
+    Ok(items)
+}
+
+/// A text's tokens with their bracket partners: what cutting it into items
+/// reads.
+struct Cutter<'a> {
+    src: &'a str,
+    tokens: Vec<Token>,
+    partner: Vec<Option<usize>>,
+}
+
+/// What comes first at an item's start, past its comments and attributes.
+enum Leading {
+    /// The item proper starts at token `at`.
+    Header { at: usize, doc_end: Option<usize> },
+    /// An inner attribute, an item of its own; the next item starts at
+    /// token `next`.
+    InnerAttribute { item: Item, next: usize },
+    /// Only comments were left.
+    End,
+}
+
+impl<'a> Cutter<'a> {
+    fn new(src: &'a str) -> Result<Self, ScanError> {
+        let tokens = lex(src)?;
+        let partner = match_brackets(src, &tokens)?;
+        Ok(Cutter {
+            src,
+            tokens,
+            partner,
+        })
+    }
+
+    /// The bracket that closes the one at token `index`.
+    fn closing(&self, index: usize) -> Result<usize, ScanError> {
+        self.partner[index].ok_or(ScanError::Unbalanced("brackets"))
+    }
+
+    fn kind(&self, index: usize) -> Option<Tok> {
+        self.tokens.get(index).map(|token| token.kind)
+    }
+
+    /// The text of token `index` if it is a word.
+    fn word(&self, index: usize) -> Option<&'a str> {
+        self.tokens
+            .get(index)
+            .filter(|token| token.kind == Tok::Word)
+            .map(|token| &self.src[token.start..token.end])
+    }
+
+    /// Skips the comments and outer attributes from token `i` (the item's
+    /// `start` byte), noting where the last doc comment ends.
+    fn leading(&self, mut i: usize, start: usize) -> Result<Leading, ScanError> {
         let mut doc_end = None;
-        // Leading comments and attributes.
         loop {
-            let Some(token) = tokens.get(i) else {
-                break 'items;
+            let Some(token) = self.tokens.get(i) else {
+                return Ok(Leading::End);
             };
             match token.kind {
                 Tok::Comment { doc } => {
@@ -375,40 +462,49 @@ pub fn items(src: &str) -> Result<Vec<Item>, ScanError> {
                     i += 1;
                 }
                 Tok::Pound
-                    if tokens.get(i + 1).map(|t| t.kind) == Some(Tok::Bang)
-                        && tokens.get(i + 2).map(|t| t.kind) == Some(Tok::Open(b'[')) =>
+                    if self.kind(i + 1) == Some(Tok::Bang)
+                        && self.kind(i + 2) == Some(Tok::Open(b'[')) =>
                 {
-                    let end = closing(i + 2)?;
-                    items.push(Item {
+                    let end = self.closing(i + 2)?;
+                    let item = Item {
                         kind: ItemKind::InnerAttribute,
                         name: None,
-                        range: start..tokens[end].end,
+                        range: start..self.tokens[end].end,
                         header: token.start,
                         doc_end,
                         body: None,
+                    };
+                    return Ok(Leading::InnerAttribute {
+                        item,
+                        next: end + 1,
                     });
-                    i = end + 1;
-                    continue 'items;
                 }
-                Tok::Pound if tokens.get(i + 1).map(|t| t.kind) == Some(Tok::Open(b'[')) => {
-                    i = closing(i + 1)? + 1;
+                Tok::Pound if self.kind(i + 1) == Some(Tok::Open(b'[')) => {
+                    i = self.closing(i + 1)? + 1;
                 }
-                _ => break,
+                _ => return Ok(Leading::Header { at: i, doc_end }),
             }
         }
-        let header = tokens[i].start;
-        // The keyword, past visibility and qualifiers.
-        let mut j = i;
+    }
+
+    /// From token `j`, the item's keyword past visibility and qualifiers:
+    /// its token, the kind of item it makes, and the item's name.
+    fn keyword(
+        &self,
+        mut j: usize,
+        header: usize,
+    ) -> Result<(usize, ItemKind, Option<&'a str>), ScanError> {
+        let word = |index| self.word(index);
         let (kind, name) = loop {
-            let Some(token) = tokens.get(j) else {
+            let Some(token) = self.tokens.get(j) else {
                 return Err(ScanError::NeverEnds { header });
             };
-            let text = &src[token.start..token.end];
+            let text = &self.src[token.start..token.end];
             match (token.kind, text) {
                 (Tok::Word, "pub") => {
                     j += 1;
-                    if tokens.get(j).map(|t| t.kind) == Some(Tok::Open(b'(')) {
-                        j = closing(j)? + 1;
+                    if self.kind(j) == Some(Tok::Open(b'(')) {
+                        j = self.closing(j)? + 1;
                     }
                 }
                 (Tok::Word, "const")
@@ -442,9 +538,19 @@ pub fn items(src: &str) -> Result<Vec<Item>, ScanError> {
                 _ => break (ItemKind::Other, None),
             }
         };
-        // Its end: a `;` outside brackets, or, for the items that have one,
-        // the block that closes it. A constant's value may hold a block
-        // (`Foo { x: 1 }`), so for those only the `;` counts.
+        Ok((j, kind, name))
+    }
+
+    /// The token that ends the item of `kind` whose keyword is token `k`,
+    /// and its block when a block ends it: a `;` outside brackets, or, for
+    /// the items that have one, the block that closes it. A constant's value
+    /// may hold a block (`Foo { x: 1 }`), so for those only the `;` counts.
+    fn item_end(
+        &self,
+        mut k: usize,
+        kind: ItemKind,
+        header: usize,
+    ) -> Result<(usize, Option<Range<usize>>), ScanError> {
         let block_ends = !matches!(
             kind,
             ItemKind::Const
@@ -453,33 +559,22 @@ pub fn items(src: &str) -> Result<Vec<Item>, ScanError> {
                 | ItemKind::Use
                 | ItemKind::ExternCrate
         );
-        let mut k = j;
-        let (end, body) = loop {
-            let Some(token) = tokens.get(k) else {
+        loop {
+            let Some(token) = self.tokens.get(k) else {
                 return Err(ScanError::NeverEnds { header });
             };
             match token.kind {
-                Tok::Semi => break (k, None),
+                Tok::Semi => return Ok((k, None)),
                 Tok::Open(b'{') if block_ends => {
-                    let end = closing(k)?;
-                    break (end, Some(token.start..tokens[end].end));
+                    let end = self.closing(k)?;
+                    return Ok((end, Some(token.start..self.tokens[end].end)));
                 }
-                Tok::Open(_) => k = closing(k)? + 1,
+                Tok::Open(_) => k = self.closing(k)? + 1,
                 Tok::Close(_) => return Err(ScanError::CutShort { header }),
                 _ => k += 1,
             }
-        };
-        items.push(Item {
-            kind,
-            name: name.map(str::to_string),
-            range: start..tokens[end].end,
-            header,
-            doc_end,
-            body: if kind == ItemKind::Fn { body } else { None },
-        });
-        i = end + 1;
+        }
     }
-    Ok(items)
 }
 
 /// The names of a function's parameters, in order, from its signature
