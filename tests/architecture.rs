@@ -3,8 +3,9 @@
 //! or `chapters/` must name a module of its own layer or of one below, and
 //! only the command line prints or names clap.
 //!
-//! Tests (`#[cfg(test)]` modules and a chapter folder's `tests.rs`) may
-//! use anything, as may `src/lib.rs`, which only declares and re-exports.
+//! Tests (`#[cfg(test)]` modules, a chapter folder's `tests.rs` and the
+//! `gallery.rs` it includes) may use anything, as may `src/lib.rs`, which
+//! only declares and re-exports.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -28,7 +29,8 @@ enum Layer {
 /// The layer of a source file, by its path; `None` for `src/lib.rs` and
 /// for tests, which the rules do not bind.
 fn layer_of(path: &str) -> Result<Option<Layer>, String> {
-    if path == "src/lib.rs" || path.ends_with("/tests.rs") {
+    let chapter_test = path.starts_with("chapters/") && path.ends_with("/gallery.rs");
+    if path == "src/lib.rs" || path.ends_with("/tests.rs") || chapter_test {
         return Ok(None);
     }
     if let Some(rest) = path.strip_prefix("chapters/") {
@@ -37,7 +39,7 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
             _ if rest.ends_with("/chapter.rs") => Ok(Some(Layer::Engine)),
             _ if rest.ends_with("/checks.rs") => Ok(Some(Layer::Tool)),
             _ => Err(format!(
-                "{path}: a chapter folder holds chapter.rs, checks.rs and tests.rs"
+                "{path}: a chapter folder holds chapter.rs, checks.rs, tests.rs and gallery.rs"
             )),
         };
     }
