@@ -19,8 +19,8 @@ enum Layer {
     /// The course trait, the render loop, the registry and the chapters'
     /// code: no tool, no command line.
     Engine,
-    /// check, grade, workspace, cost, crosscheck, race, the BVH reports,
-    /// and each chapter's cases: never the command line.
+    /// check, grade, workspace, cost, crosscheck, the BVH reports (the race
+    /// among them), and each chapter's cases: never the command line.
     Tool,
     /// The command line: clap, exit codes, printing.
     Cli,
@@ -59,10 +59,8 @@ fn module_layer(module: &str) -> Option<Layer> {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
         | "bvh" | "cleanup" => Layer::Foundation,
         "course" | "render" | "record" | "effects" | "builtin" | "chapters" => Layer::Engine,
-        "check" | "grade" | "workspace" | "cost" | "crosscheck" | "race" | "bvh_cost"
-        | "bvh_measure" | "bvh_report" | "walk_work" | "leaks" | "diff" | "embree" | "plots" => {
-            Layer::Tool
-        }
+        "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
+        | "embree" | "plots" => Layer::Tool,
         "cli" | "main" => Layer::Cli,
         _ => return None,
     })
@@ -324,6 +322,8 @@ fn planted_upward_imports_are_named() {
         Vec::<String>::new()
     );
     assert!(layer_of("src/new_module.rs").is_err());
+    // A folder module's files take the folder's layer.
+    assert_eq!(layer_of("src/bvh_reports/race.rs"), Ok(Some(Layer::Tool)));
 }
 
 /// `Textbook<C>` swaps in the textbook intersections and must otherwise be

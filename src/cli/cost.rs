@@ -93,7 +93,7 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
                 "--max-triangles sizes the BVH report, which this run does not make (--knob bvh)"
             );
         }
-        let smallest = crate::bvh_cost::SCALING_SIZES[0];
+        let smallest = crate::bvh_reports::cost::SCALING_SIZES[0];
         if max < smallest {
             bail!(
                 "--max-triangles {max}: the BVH report's smallest torus has {smallest} triangles"
@@ -178,9 +178,11 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         }
         let leaks = if image_knobs.contains(&Knob::TriangleTest) {
             let counts = overrides.in_pool(|| {
-                crate::leaks::LEAK_MESH_SIZES
+                crate::bvh_reports::leaks::LEAK_MESH_SIZES
                     .iter()
-                    .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
+                    .map(|&size| {
+                        crate::bvh_reports::leaks::leaks_of_both_tests::<C>(size, args.repeats)
+                    })
                     .collect::<Result<Vec<_>, crate::mesh::MeshError>>()
             })??;
             leak_table(&counts)
@@ -196,14 +198,14 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         if std::io::stderr().is_terminal() {
             eprintln!("measuring the tree (one thread; the largest torus takes the longest)...");
         }
-        let options = crate::bvh_cost::BvhCostOptions {
+        let options = crate::bvh_reports::cost::BvhCostOptions {
             repeats: args.repeats,
             max_triangles: args.max_triangles.unwrap_or(usize::MAX),
         };
-        // One thread by design (see crate::bvh_cost): no pool needed.
-        let report = crate::bvh_cost::run(&options)?;
-        markdown.push_str(&crate::bvh_report::markdown(&report));
-        plot = Some(crate::bvh_report::scaling_svg(&report)?);
+        // One thread by design (see crate::bvh_reports::cost): no pool needed.
+        let report = crate::bvh_reports::cost::run(&options)?;
+        markdown.push_str(&crate::bvh_reports::format::markdown(&report));
+        plot = Some(crate::bvh_reports::format::scaling_svg(&report)?);
         if let Some(max) = args.max_triangles {
             command.push_str(&format!(" --max-triangles {max}"));
         }
@@ -237,7 +239,7 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
 }
 
 /// The leak counts of chapter 10, as a Markdown section.
-fn leak_table(counts: &[[crate::leaks::LeakCount; 2]]) -> String {
+fn leak_table(counts: &[[crate::bvh_reports::leaks::LeakCount; 2]]) -> String {
     let mut table = String::from(
         "\nRays from inside raylab's generated closed model (a lumpy torus; each ray starts on \
          the tube's core circle) toward every vertex and every edge midpoint, which must all \

@@ -1,12 +1,12 @@
-//! Chapter 11's report ([`crate::bvh_cost`]) as Markdown tables and a
+//! Chapter 11's report ([`super::cost`]) as Markdown tables and a
 //! log-log SVG plot. Formatting only: every figure comes from the report.
 
 use std::fmt::Write as _;
 use std::time::Duration;
 
+use super::cost::{BRUTE_FORCE_MAX_TRIANGLES, BvhCostReport, RAY_COUNT};
+use super::measure::{Measurement, Method};
 use crate::bvh::SplitRule;
-use crate::bvh_cost::{BRUTE_FORCE_MAX_TRIANGLES, BvhCostReport, RAY_COUNT};
-use crate::bvh_measure::{Measurement, Method};
 
 fn ms(duration: Duration) -> String {
     format!("{:.3}", duration.as_secs_f64() * 1e3)
