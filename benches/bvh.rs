@@ -7,7 +7,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use raylab::Chapters;
 use raylab::bvh::BvhOptions;
-use raylab::bvh_cost::torus_workload;
+use raylab::bvh_reports::cost::torus_workload;
 use raylab::course::Objects;
 use raylab::{Reference, Shape};
 

@@ -363,7 +363,7 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
                     jobs.push(Job::new(*knob, label.into(), settings));
                 }
             }
-            // Measured by `crate::bvh_cost`, not by rendering.
+            // Measured by `crate::bvh_reports::cost`, not by rendering.
             Knob::Bvh => {}
         }
     }

@@ -34,9 +34,7 @@ pub mod chapters;
 
 pub mod builtin;
 pub mod bvh;
-pub mod bvh_cost;
-pub mod bvh_measure;
-pub mod bvh_report;
+pub mod bvh_reports;
 pub mod camera;
 pub mod check;
 pub mod cleanup;
@@ -50,20 +48,16 @@ pub mod effects;
 pub mod embree;
 pub mod grade;
 pub mod input;
-pub mod leaks;
 pub mod medium;
 pub mod mesh;
 pub mod output;
 pub mod plots;
-#[cfg(feature = "embree")]
-pub mod race;
 pub mod ray;
 pub mod record;
 pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod text;
-pub mod walk_work;
 pub mod workspace;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.

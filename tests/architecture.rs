@@ -3,8 +3,9 @@
 //! or `chapters/` must name a module of its own layer or of one below, and
 //! only the command line prints or names clap.
 //!
-//! Tests (`#[cfg(test)]` modules and a chapter folder's `tests.rs`) may
-//! use anything, as may `src/lib.rs`, which only declares and re-exports.
+//! Tests (`#[cfg(test)]` modules, a chapter folder's `tests.rs` and the
+//! `gallery.rs` it includes) may use anything, as may `src/lib.rs`, which
+//! only declares and re-exports.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -18,8 +19,8 @@ enum Layer {
     /// The course trait, the render loop, the registry and the chapters'
     /// code: no tool, no command line.
     Engine,
-    /// check, grade, workspace, cost, crosscheck, race, the BVH reports,
-    /// and each chapter's cases: never the command line.
+    /// check, grade, workspace, cost, crosscheck, the BVH reports (the race
+    /// among them), and each chapter's cases: never the command line.
     Tool,
     /// The command line: clap, exit codes, printing.
     Cli,
@@ -30,7 +31,8 @@ enum Layer {
 fn layer_of(path: &str) -> Result<Option<Layer>, String> {
     // A chapter's tests and its bug gallery (a child of its tests) are test
     // code, which may use any layer.
-    if path == "src/lib.rs" || path.ends_with("/tests.rs") || path.ends_with("/gallery.rs") {
+    let chapter_gallery = path.starts_with("chapters/") && path.ends_with("/gallery.rs");
+    if path == "src/lib.rs" || path.ends_with("/tests.rs") || chapter_gallery {
         return Ok(None);
     }
     if let Some(rest) = path.strip_prefix("chapters/") {
@@ -59,10 +61,8 @@ fn module_layer(module: &str) -> Option<Layer> {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
         | "bvh" | "cleanup" => Layer::Foundation,
         "course" | "render" | "record" | "effects" | "builtin" | "chapters" => Layer::Engine,
-        "check" | "grade" | "workspace" | "cost" | "crosscheck" | "race" | "bvh_cost"
-        | "bvh_measure" | "bvh_report" | "walk_work" | "leaks" | "diff" | "embree" | "plots" => {
-            Layer::Tool
-        }
+        "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
+        | "embree" | "plots" => Layer::Tool,
         "cli" | "main" => Layer::Cli,
         _ => return None,
     })
@@ -332,6 +332,8 @@ fn planted_upward_imports_are_named() {
         Vec::<String>::new()
     );
     assert!(layer_of("src/new_module.rs").is_err());
+    // A folder module's files take the folder's layer.
+    assert_eq!(layer_of("src/bvh_reports/race.rs"), Ok(Some(Layer::Tool)));
 }
 
 /// `Textbook<C>` swaps in the textbook intersections and must otherwise be

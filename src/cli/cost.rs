@@ -174,7 +174,7 @@ fn check_options(args: &CostArgs, bvh: bool, image_knobs: &[Knob]) -> Result<()>
                 "--max-triangles sizes the BVH report, which this run does not make (--knob bvh)"
             );
         }
-        let smallest = crate::bvh_cost::SCALING_SIZES[0];
+        let smallest = crate::bvh_reports::cost::SCALING_SIZES[0];
         if max < smallest {
             bail!(
                 "--max-triangles {max}: the BVH report's smallest torus has {smallest} triangles"
@@ -280,9 +280,11 @@ fn sweep<C: Chapters>(
     }
     let leaks = if config.knobs.contains(&Knob::TriangleTest) {
         let counts = overrides.in_pool(|| {
-            crate::leaks::LEAK_MESH_SIZES
+            crate::bvh_reports::leaks::LEAK_MESH_SIZES
                 .iter()
-                .map(|&size| crate::leaks::leaks_of_both_tests::<C>(size, args.repeats))
+                .map(|&size| {
+                    crate::bvh_reports::leaks::leaks_of_both_tests::<C>(size, args.repeats)
+                })
                 .collect::<Result<Vec<_>, crate::mesh::MeshError>>()
         })??;
         leak_table(&counts)
@@ -297,20 +299,20 @@ fn bvh_report(args: &CostArgs) -> Result<(String, String)> {
     if std::io::stderr().is_terminal() {
         eprintln!("measuring the tree (one thread; the largest torus takes the longest)...");
     }
-    let options = crate::bvh_cost::BvhCostOptions {
+    let options = crate::bvh_reports::cost::BvhCostOptions {
         repeats: args.repeats,
         max_triangles: args.max_triangles.unwrap_or(usize::MAX),
     };
-    // One thread by design (see crate::bvh_cost): no pool needed.
-    let report = crate::bvh_cost::run(&options)?;
+    // One thread by design (see crate::bvh_reports::cost): no pool needed.
+    let report = crate::bvh_reports::cost::run(&options)?;
     Ok((
-        crate::bvh_report::markdown(&report),
-        crate::bvh_report::scaling_svg(&report)?,
+        crate::bvh_reports::format::markdown(&report),
+        crate::bvh_reports::format::scaling_svg(&report)?,
     ))
 }
 
 /// The leak counts of chapter 10, as a Markdown section.
-fn leak_table(counts: &[[crate::leaks::LeakCount; 2]]) -> String {
+fn leak_table(counts: &[[crate::bvh_reports::leaks::LeakCount; 2]]) -> String {
     let mut table = String::from(
         "\nRays from inside raylab's generated closed model (a lumpy torus; each ray starts on \
          the tube's core circle) toward every vertex and every edge midpoint, which must all \

@@ -42,7 +42,7 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
              scene, default build quality), and chapter 3's loop over every shape (brute \
              force, on the first of the same rays: as many as {} ray-shape tests allow), \
              one thread each, median of {}.\n",
-            crate::race::BRUTE_FORCE_TESTS,
+            crate::bvh_reports::race::BRUTE_FORCE_TESTS,
             crate::text::count(args.runs, "run")
         );
         println!(
@@ -53,7 +53,10 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
         );
         print_header();
         for &size in &args.triangles {
-            let measured = crate::race::race_on_rendered_scene(size as usize, args.runs as usize)?;
+            let measured = crate::bvh_reports::race::race_on_rendered_scene(
+                size as usize,
+                args.runs as usize,
+            )?;
             print_row(&measured);
         }
         println!(
@@ -64,7 +67,7 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
         );
         print_header();
         for &size in &args.triangles {
-            let measured = crate::race::race_on_generated_mesh(
+            let measured = crate::bvh_reports::race::race_on_generated_mesh(
                 size as usize,
                 args.rays as usize,
                 args.runs as usize,
@@ -104,7 +107,7 @@ fn print_header() {
 }
 
 #[cfg(feature = "embree")]
-fn print_row(measured: &crate::race::MeshRace) {
+fn print_row(measured: &crate::bvh_reports::race::MeshRace) {
     let race = &measured.race;
     println!(
         "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} | \

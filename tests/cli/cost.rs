@@ -180,8 +180,8 @@ fn knobs_a_chapter_does_not_have_are_refused() {
 /// the figures sit in the right columns, and the crossover is in range.
 #[test]
 fn bvh_report_matches_brute_force_at_small_sizes() {
-    use raylab::bvh_cost::{BvhCostOptions, CROSSOVER_MAX_SPHERES};
-    let report = raylab::bvh_cost::run(&BvhCostOptions {
+    use raylab::bvh_reports::cost::{BvhCostOptions, CROSSOVER_MAX_SPHERES};
+    let report = raylab::bvh_reports::cost::run(&BvhCostOptions {
         repeats: 3,
         max_triangles: 1_000,
     })

@@ -536,11 +536,11 @@ fn race() {
                 cast(Ray::new(origin, aim - origin))
             })
             .collect();
-        let race = raylab::race::race(
+        let race = raylab::bvh_reports::race::race(
             &primitives,
             &rays,
             || |cast: &CastRay| watertight(&shapes, cast),
-            raylab::race::RACE_RUNS,
+            raylab::bvh_reports::race::RACE_RUNS,
         )
         .expect("race");
         let mb = |bytes: Option<u64>| {
@@ -571,7 +571,7 @@ fn race() {
 /// here).
 #[test]
 fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
-    let measured = raylab::race::race_on_rendered_scene(1000, 1).expect("race");
+    let measured = raylab::bvh_reports::race::race_on_rendered_scene(1000, 1).expect("race");
     // `raylab mesh --triangles 1000` makes 1008; the scene's balls are not
     // triangles.
     assert_eq!(measured.triangles, 1008);
@@ -590,7 +590,7 @@ fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
     let shapes = 1008 + 48 + 1;
     assert_eq!(
         measured.brute_force.rays,
-        raylab::race::BRUTE_FORCE_TESTS / shapes
+        raylab::bvh_reports::race::BRUTE_FORCE_TESTS / shapes
     );
     assert!(measured.brute_force.rays_per_second > 0.0);
     // The stage walks a tree: every ray tests at least the root's box, and

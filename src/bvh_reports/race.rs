@@ -208,7 +208,7 @@ pub struct MeshRace {
     pub brute_force: BruteForce,
     /// The boxes and objects our walk tests per ray (counted in an untimed
     /// pass); `None` when our side uses no tree.
-    pub walk: Option<crate::walk_work::WalkWork>,
+    pub walk: Option<super::walk_work::WalkWork>,
 }
 
 /// Brute force (chapter 3: every ray against every shape) on the first
@@ -301,7 +301,7 @@ pub fn race_on_generated_mesh(
     use crate::Chapters;
     use crate::course::Objects;
     let mesh = crate::mesh::generate_closed_mesh(triangles)?;
-    let shapes = crate::leaks::triangles(&mesh);
+    let shapes = super::leaks::triangles(&mesh);
     let primitives: Vec<Primitive> = mesh
         .triangles
         .iter()
@@ -355,7 +355,7 @@ pub fn race_on_generated_mesh(
         ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
         different_objects,
         brute_force: brute_force(&shapes, &rays, runs),
-        walk: Some(crate::walk_work::walk_work(&bvh, &shapes, &rays)),
+        walk: Some(super::walk_work::walk_work(&bvh, &shapes, &rays)),
     })
 }
 
@@ -412,6 +412,6 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> Result<MeshRace,
         brute_force: brute_force(stage.shapes(), &rays, runs),
         walk: stage
             .bvh()
-            .map(|bvh| crate::walk_work::walk_work(bvh, stage.shapes(), &rays)),
+            .map(|bvh| super::walk_work::walk_work(bvh, stage.shapes(), &rays)),
     })
 }

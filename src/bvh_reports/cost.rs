@@ -1,5 +1,5 @@
 //! Chapter 11's report for `raylab cost --chapter 11`: what the tree costs
-//! and saves, measured. Nothing here prints; [`crate::bvh_report`] formats.
+//! and saves, measured. Nothing here prints; [`super::format`] formats.
 //!
 //! Three tables, all single-threaded (so that they measure the algorithm,
 //! not the scheduler), each time the median of `repeats` runs of the
@@ -16,8 +16,8 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use super::measure::{self, CpuInstant, MeasureOptions, Measurement, Method};
 use crate::bvh::{BvhOptions, SplitRule};
-use crate::bvh_measure::{self, CpuInstant, MeasureOptions, Measurement, Method};
 use crate::course::Chapters;
 use crate::course::Objects;
 use crate::mesh::MeshError;
@@ -84,7 +84,7 @@ pub fn torus_workload(triangles: usize) -> Result<Workload, MeshError> {
     let mesh = crate::mesh::generate_closed_mesh(triangles)?;
     Ok(Workload {
         requested: triangles,
-        shapes: crate::leaks::triangles(&mesh),
+        shapes: super::leaks::triangles(&mesh),
         rays: torus_rays(),
     })
 }
@@ -241,7 +241,7 @@ pub fn measure_scaling(workload: &Workload, repeats: u32) -> ScalingRow {
         t_min: 0.0,
         brute_force_max_objects: brute_force_limit(workload),
     };
-    let measured = bvh_measure::measure(&workload.shapes, &workload.rays, &options);
+    let measured = measure::measure(&workload.shapes, &workload.rays, &options);
     let mut brute_force = None;
     let mut tree = None;
     for result in measured.results {
@@ -258,7 +258,7 @@ pub fn measure_scaling(workload: &Workload, repeats: u32) -> ScalingRow {
     }
 }
 
-/// Brute force's limit for `bvh_measure`, decided on the size asked for
+/// Brute force's limit for `measure`, decided on the size asked for
 /// rather than the generator's rounded count (10,000 gives 10,032).
 fn brute_force_limit(workload: &Workload) -> usize {
     if workload.requested <= BRUTE_FORCE_MAX_TRIANGLES {
@@ -277,7 +277,7 @@ pub fn measure_splits(workload: &Workload, repeats: u32) -> SplitTable {
         brute_force_max_objects: brute_force_limit(workload),
         ..MeasureOptions::default()
     };
-    let measured = bvh_measure::measure(&workload.shapes, &workload.rays, &options);
+    let measured = measure::measure(&workload.shapes, &workload.rays, &options);
     let checked = measured
         .results
         .iter()
@@ -373,7 +373,7 @@ pub fn measure_crossover(max_spheres: usize, repeats: u32) -> Crossover {
 }
 
 /// The median of measured times (the mean of the middle two for an even
-/// count), as `bvh_measure`'s median computes it.
+/// count), as `measure`'s median computes it.
 fn median_of(mut times: Vec<Duration>) -> Duration {
     times.sort();
     let middle = times.len() / 2;

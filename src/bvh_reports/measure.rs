@@ -12,7 +12,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use crate::bvh::{Bvh, BvhOptions, SplitRule};
+use crate::bvh::{Aabb, Bvh, BvhOptions, SplitRule};
 use crate::course::Chapters;
 use crate::course::{Hit, Objects};
 use crate::{Ray, Reference, Shape};
@@ -112,29 +112,17 @@ pub struct Measurements {
 /// `options`, tracing every ray of `rays` among `shapes` (the reference
 /// chapters' intersection tests).
 pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Measurements {
-    let runs = options.runs.max(1);
-    let objects = Objects::<Reference>::new(shapes);
-    let t_min = options.t_min;
+    let trial = Trial {
+        objects: Objects::<Reference>::new(shapes),
+        rays,
+        runs: options.runs.max(1),
+        t_min: options.t_min,
+    };
 
     let mut results = Vec::new();
     let brute_hits = (shapes.len() <= options.brute_force_max_objects).then(|| {
-        let mut brute_hits = Vec::new();
-        let trace = median(runs, || {
-            let start = CpuInstant::now();
-            brute_hits = rays
-                .iter()
-                .map(|ray| black_box(Reference::nearest_hit(&objects, ray, t_min, f32::INFINITY)))
-                .collect();
-            start.elapsed()
-        });
-        results.push(Measurement {
-            method: Method::BruteForce,
-            build: Duration::ZERO,
-            trace,
-            tree: None,
-            hits: count_hits(&brute_hits),
-            mismatches: Some(0),
-        });
+        let (measurement, brute_hits) = measure_brute_force(&trial);
+        results.push(measurement);
         brute_hits
     });
 
@@ -146,50 +134,108 @@ pub fn measure(shapes: &[Shape], rays: &[Ray], options: &MeasureOptions) -> Meas
                 bins: options.bins,
                 max_leaf,
             };
-            let mut bvh = Bvh::default();
-            let build = median(runs, || {
-                let start = CpuInstant::now();
-                bvh = black_box(Reference::build_bvh(&bounds, &bvh_options));
-                start.elapsed()
-            });
-            let mut hits = Vec::new();
-            let trace = median(runs, || {
-                let start = CpuInstant::now();
-                hits = rays
-                    .iter()
-                    .map(|ray| {
-                        black_box(Reference::nearest_hit_bvh(
-                            &bvh,
-                            &objects,
-                            ray,
-                            t_min,
-                            f32::INFINITY,
-                        ))
-                    })
-                    .collect();
-                start.elapsed()
-            });
-            let mismatches = brute_hits.as_ref().map(|brute_hits| {
-                hits.iter()
-                    .zip(brute_hits)
-                    .filter(|(bvh_hit, brute_hit)| bvh_hit != brute_hit)
-                    .count()
-            });
-            results.push(Measurement {
-                method: Method::Bvh(bvh_options),
-                build,
-                trace,
-                tree: Some(TreeStats::of(&bvh)),
-                hits: count_hits(&hits),
-                mismatches,
-            });
+            results.push(measure_tree(
+                &trial,
+                &bounds,
+                bvh_options,
+                brute_hits.as_deref(),
+            ));
         }
     }
     Measurements {
         objects: shapes.len(),
         rays: rays.len(),
-        runs,
+        runs: trial.runs,
         results,
+    }
+}
+
+/// What every method is timed on: the same objects and rays, as many runs
+/// (at least 1), the same `t_min`.
+struct Trial<'a> {
+    objects: Objects<'a, Reference>,
+    rays: &'a [Ray],
+    runs: u32,
+    t_min: f32,
+}
+
+/// Brute force's figures, and its nearest hits, which the trees are
+/// checked against.
+fn measure_brute_force(trial: &Trial) -> (Measurement, Vec<Option<Hit>>) {
+    let mut brute_hits = Vec::new();
+    let trace = median(trial.runs, || {
+        let start = CpuInstant::now();
+        brute_hits = trial
+            .rays
+            .iter()
+            .map(|ray| {
+                black_box(Reference::nearest_hit(
+                    &trial.objects,
+                    ray,
+                    trial.t_min,
+                    f32::INFINITY,
+                ))
+            })
+            .collect();
+        start.elapsed()
+    });
+    let measurement = Measurement {
+        method: Method::BruteForce,
+        build: Duration::ZERO,
+        trace,
+        tree: None,
+        hits: count_hits(&brute_hits),
+        mismatches: Some(0),
+    };
+    (measurement, brute_hits)
+}
+
+/// One tree's figures: built with `bvh_options` over `bounds`, then every
+/// ray traced through it; its mismatches counted against `brute_hits`
+/// when brute force was measured.
+fn measure_tree(
+    trial: &Trial,
+    bounds: &[Option<Aabb>],
+    bvh_options: BvhOptions,
+    brute_hits: Option<&[Option<Hit>]>,
+) -> Measurement {
+    let mut bvh = Bvh::default();
+    let build = median(trial.runs, || {
+        let start = CpuInstant::now();
+        bvh = black_box(Reference::build_bvh(bounds, &bvh_options));
+        start.elapsed()
+    });
+    let mut hits = Vec::new();
+    let trace = median(trial.runs, || {
+        let start = CpuInstant::now();
+        hits = trial
+            .rays
+            .iter()
+            .map(|ray| {
+                black_box(Reference::nearest_hit_bvh(
+                    &bvh,
+                    &trial.objects,
+                    ray,
+                    trial.t_min,
+                    f32::INFINITY,
+                ))
+            })
+            .collect();
+        start.elapsed()
+    });
+    let mismatches = brute_hits.map(|brute_hits| {
+        hits.iter()
+            .zip(brute_hits)
+            .filter(|(bvh_hit, brute_hit)| bvh_hit != brute_hit)
+            .count()
+    });
+    Measurement {
+        method: Method::Bvh(bvh_options),
+        build,
+        trace,
+        tree: Some(TreeStats::of(&bvh)),
+        hits: count_hits(&hits),
+        mismatches,
     }
 }
 
