@@ -7,8 +7,8 @@
 //! cross-check (`crosscheck`, which hands each shape to Embree and knows its
 //! rounding error), `raylab probe`, and the checker's descriptions.
 //! How a ray meets each shape is a chapter's lesson, which is why
-//! [`Shape::intersect_with`] asks the running [`Chapters`] rather than the
-//! shape itself.
+//! [`Shape::intersect_with`] asks the running course (the `Chapters`
+//! trait) rather than the shape itself.
 
 mod plane;
 mod sphere;
