@@ -122,7 +122,12 @@ macro_rules! declare_chapters {
             pub mod $module {
                 #[path = "chapter.rs"]
                 mod code;
+                // A student workspace builds raylab with `student`: its
+                // chapters cannot call raylab's answers (crate::answer_key).
+                #[cfg(not(feature = "student"))]
                 pub use code::*;
+                #[cfg(feature = "student")]
+                pub(crate) use code::*;
                 $($(#[doc(hidden)] pub use $kept;)*)?
                 pub mod checks;
             }
@@ -165,10 +170,20 @@ pub fn parse_chapter(text: &str) -> Result<u8, String> {
         .ok_or_else(|| format!("there is no chapter {text}; chapters are 1 to {LAST_CHAPTER}"))
 }
 
-// The chapters' names that the whole crate uses (`raylab::reflect`, ...).
+// The chapters' names that the whole crate uses (`raylab::reflect`, ...),
+// out of a student workspace's reach like the modules' code.
+#[cfg(not(feature = "student"))]
 pub use ch06_reflection::reflect;
+#[cfg(feature = "student")]
+pub(crate) use ch06_reflection::reflect;
+#[cfg(not(feature = "student"))]
 pub use ch08_refraction::refract;
+#[cfg(feature = "student")]
+pub(crate) use ch08_refraction::refract;
+#[cfg(not(feature = "student"))]
 pub use ch09_glass::{fresnel, schlick};
+#[cfg(feature = "student")]
+pub(crate) use ch09_glass::{fresnel, schlick};
 
 /// raylab's own answer to every chapter: the functions of the modules
 /// above, which are the [`crate::course::Chapters`] trait's defaults.

@@ -47,39 +47,64 @@ pub struct PhongTerms {
 /// and keeps the rest. A student workspace implements every method with the
 /// student's own functions.
 pub trait Chapters: Sized + Send + Sync + 'static {
+    /// Whether these chapters are one of raylab's comparison wrappers
+    /// ([`Textbook`]), which run the reference's shading on purpose: their
+    /// defaults are not reported to [`crate::answer_key`]. A student's
+    /// chapters leave it `false`; `check` fails chapters that set it.
+    #[doc(hidden)]
+    const COMPARISON: bool = false;
+
     /// Chapter 1: the nearest `t` with `t_min < t < t_max` where `ray` meets `plane`.
     #[inline(always)]
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("intersect_plane");
+        }
         ch01_plane::intersect_plane(plane, ray, t_min, t_max)
     }
 
     /// Chapter 2: the nearest `t` with `t_min < t < t_max` where `ray` meets `sphere`.
     #[inline(always)]
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("intersect_sphere");
+        }
         ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)
     }
 
     /// Chapter 3: the closest hit with `t_min < t < t_max` among `objects`.
     #[inline(always)]
     fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("nearest_hit");
+        }
         ch03_nearest::nearest_hit(objects, ray, t_min, t_max)
     }
 
     /// Chapter 4: where a secondary ray leaving `surface` in direction `dir` starts.
     #[inline(always)]
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("offset_origin");
+        }
         ch04_shadows::offset_origin(surface, dir)
     }
 
     /// Chapter 4: whether something lies between `point` and a light at `light`.
     #[inline(always)]
     fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("in_shadow");
+        }
         ch04_shadows::in_shadow(tracer, point, light)
     }
 
     /// Chapter 4: ambient light plus a constant share of each visible light.
     #[inline(always)]
     fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("shade_flat");
+        }
         ch04_shadows::shade_flat(tracer, point)
     }
 
@@ -93,24 +118,36 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         to_eye: Vec3,
         light: Vec3,
     ) -> PhongTerms {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("phong_terms");
+        }
         ch05_phong::phong_terms(material, albedo, normal, to_light, to_eye, light)
     }
 
     /// Chapter 5: ambient, and the Phong terms of every visible light, summed.
     #[inline(always)]
     fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("shade_phong");
+        }
         ch05_phong::shade_phong(tracer, point)
     }
 
     /// Chapter 6: the mirror image of direction `d` about the normal `n`.
     #[inline(always)]
     fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("reflect");
+        }
         ch06_reflection::reflect(d, n)
     }
 
     /// Chapter 6: the local light mixed with what the mirror direction sees.
     #[inline(always)]
     fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("shade_mirror");
+        }
         ch06_reflection::shade_mirror(tracer, point, depth, weight)
     }
 
@@ -123,12 +160,18 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         pixel: (u32, u32),
         seed: u64,
     ) -> (f32, f32) {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("sample_offset");
+        }
         ch07_antialiasing::sample_offset(sampling, count, index, pixel, seed)
     }
 
     /// Chapter 7: the colour of pixel `(x, y)`, in linear light, from its samples.
     #[inline(always)]
     fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("pixel_color");
+        }
         ch07_antialiasing::pixel_color(tracer, x, y)
     }
 
@@ -136,12 +179,18 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// total internal reflection.
     #[inline(always)]
     fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("refract");
+        }
         ch08_refraction::refract(d, n, eta)
     }
 
     /// Chapter 8: local light, reflection and refraction mixed.
     #[inline(always)]
     fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("shade_glass");
+        }
         ch08_refraction::shade_glass(tracer, point, depth, weight)
     }
 
@@ -150,12 +199,18 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// index `n1` into one of index `n2`.
     #[inline(always)]
     fn fresnel(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("fresnel");
+        }
         ch09_glass::fresnel(cos_i, n1, n2)
     }
 
     /// Chapter 9: Schlick's approximation of [`Chapters::fresnel`].
     #[inline(always)]
     fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("schlick");
+        }
         ch09_glass::schlick(cos_i, n1, n2)
     }
 
@@ -163,6 +218,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// of a medium with `absorption` (Beer-Lambert).
     #[inline(always)]
     fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("transmittance");
+        }
         ch09_glass::transmittance(absorption, distance)
     }
 
@@ -170,6 +228,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// ray that travelled through `media`.
     #[inline(always)]
     fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("crossing");
+        }
         ch09_glass::crossing(media, point)
     }
 
@@ -182,6 +243,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         depth: u32,
         weight: f32,
     ) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("shade_dielectric");
+        }
         ch09_glass::shade_dielectric(tracer, point, depth, weight)
     }
 
@@ -189,24 +253,36 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// `triangle`, with no ray lost between two triangles sharing an edge.
     #[inline(always)]
     fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("intersect_triangle");
+        }
         ch10_triangles::intersect_triangle(triangle, ray, t_min, t_max)
     }
 
     /// Chapter 10: the barycentric coordinates of `point` in `triangle`.
     #[inline(always)]
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("barycentric");
+        }
         ch10_triangles::barycentric(triangle, point)
     }
 
     /// Chapter 10: the vertex normals blended at `point`, unit length.
     #[inline(always)]
     fn smooth_normal(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("smooth_normal");
+        }
         ch10_triangles::smooth_normal(triangle, normals, point)
     }
 
     /// Chapter 10: where shadow rays leave a smooth triangle at `point`.
     #[inline(always)]
     fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("terminator_point");
+        }
         ch10_triangles::terminator_point(triangle, normals, point)
     }
 
@@ -218,6 +294,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         triangle: &Triangle,
         normals: &[Vec3; 3],
     ) -> HitPoint<'a> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("smooth_hit_point");
+        }
         ch10_triangles::smooth_hit_point::<Self>(point, triangle, normals)
     }
 
@@ -231,6 +310,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         t_min: f32,
         t_max: f32,
     ) -> Option<f32> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("hit_box");
+        }
         ch11_bvh::hit_box(bounds, origin, inverse_direction, t_min, t_max)
     }
 
@@ -238,6 +320,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     /// for a plane).
     #[inline(always)]
     fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("build_bvh");
+        }
         ch11_bvh::build_bvh(bounds, options)
     }
 
@@ -250,6 +335,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("nearest_hit_bvh");
+        }
         ch11_bvh::nearest_hit_bvh(bvh, objects, ray, t_min, t_max)
     }
 
@@ -262,6 +350,9 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         t_min: f32,
         t_max: f32,
     ) -> Option<Hit> {
+        if !Self::COMPARISON {
+            crate::answer_key::answered("any_hit_bvh");
+        }
         ch11_bvh::any_hit_bvh(bvh, objects, ray, t_min, t_max)
     }
 }
@@ -284,6 +375,8 @@ pub type TextbookSphere<C> = Textbook<C, true, false>;
 impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     for Textbook<C, SPHERE, TRIANGLE>
 {
+    const COMPARISON: bool = true;
+
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         C::intersect_plane(plane, ray, t_min, t_max)
     }
@@ -407,14 +500,28 @@ impl<'a, C: Chapters> Objects<'a, C> {
 
     /// Object `object`'s own test: its nearest hit with `t_min < t < t_max`,
     /// by the running chapters (chapter 1 for planes, 2 for spheres).
+    ///
+    /// An `object` out of `0..len()` panics, and the panic names the line
+    /// of the caller (the chapter that asked), not this one.
     #[inline(always)]
+    #[track_caller]
     pub fn intersect(&self, object: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        self.shapes[object].intersect_with::<C>(ray, t_min, t_max)
+        self.shape(object).intersect_with::<C>(ray, t_min, t_max)
     }
 
-    /// The shape of object `object`.
+    /// The shape of object `object`; out of `0..len()`, a panic that names
+    /// the caller's line.
+    #[inline(always)]
+    #[track_caller]
     pub fn shape(&self, object: usize) -> &'a Shape {
-        &self.shapes[object]
+        match self.shapes.get(object) {
+            Some(shape) => shape,
+            None => panic!(
+                "object {object} does not exist: there are {} objects, numbered 0 to {}",
+                self.shapes.len(),
+                self.shapes.len() as i64 - 1
+            ),
+        }
     }
 
     /// The first object in list order that `ray` hits with
@@ -435,6 +542,7 @@ impl<'a, C: Chapters> Objects<'a, C> {
     /// The nearest hit by chapter 3's reference loop over every object,
     /// with `C`'s own intersections: what a tree must agree with.
     pub fn nearest_hit_by_loop(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        crate::answer_key::answered("Objects::nearest_hit_by_loop");
         ch03_nearest::nearest_hit(self, ray, t_min, t_max)
     }
 }
@@ -509,6 +617,7 @@ impl<'a> HitPoint<'a> {
 /// The closest hit among `shapes` by raylab's reference chapters (chapter
 /// 3's [`ch03_nearest::nearest_hit`] over chapter 1 and 2's tests).
 pub fn nearest_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    crate::answer_key::answered("raylab::nearest_hit");
     ch03_nearest::nearest_hit(
         &Objects::<crate::chapters::Reference>::new(shapes),
         ray,
@@ -519,6 +628,7 @@ pub fn nearest_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Optio
 
 /// The first hit in list order among `shapes`, by the reference tests.
 pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    crate::answer_key::answered("raylab::first_hit");
     Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max)
 }
 
@@ -528,6 +638,7 @@ pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<
 impl Shape {
     /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered("Shape::intersect");
         self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max)
     }
 
@@ -547,6 +658,7 @@ impl Plane {
     /// The nearest `t` with `t_min < t < t_max` where `ray` meets the plane,
     /// by the reference solution of chapter 1.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered("Plane::intersect");
         ch01_plane::intersect_plane(self, ray, t_min, t_max)
     }
 }
@@ -555,17 +667,20 @@ impl Sphere {
     /// Both parameters where the ray's line meets the sphere, smaller first
     /// (chapter 2's reference solution).
     pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
+        crate::answer_key::answered("Sphere::roots");
         ch02_sphere::sphere_roots(self, ray)
     }
 
     /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere
     /// (chapter 2's reference solution).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered("Sphere::intersect");
         ch02_sphere::intersect_sphere(self, ray, t_min, t_max)
     }
 
     /// The same with the textbook quadratic formula, kept for comparison.
     pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered("Sphere::intersect_textbook");
         ch02_sphere::intersect_sphere_textbook(self, ray, t_min, t_max)
     }
 }

@@ -24,6 +24,10 @@
 // `!(x > y)` is how this crate writes "not greater, or NaN": rejecting NaN
 // without a separate test is deliberate, and the lessons explain it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Built for a student workspace, the reference chapters' code is private
+// (see the `student` feature): what only a student could have called is
+// then unused, which is the point.
+#![cfg_attr(feature = "student", allow(dead_code, unused_imports))]
 
 // The chapter files name raylab's items as `raylab::...`, as a student
 // workspace does, so that the same text compiles in both places.
@@ -32,6 +36,7 @@ extern crate self as raylab;
 #[path = "../chapters/mod.rs"]
 pub mod chapters;
 
+pub mod answer_key;
 pub mod builtin;
 pub mod bvh;
 pub mod bvh_reports;
@@ -63,7 +68,11 @@ pub mod workspace;
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;
 
-pub use chapters::{Reference, fresnel, reflect, refract, schlick};
+pub use chapters::Reference;
+#[cfg(not(feature = "student"))]
+pub use chapters::{fresnel, reflect, refract, schlick};
+#[cfg(feature = "student")]
+pub(crate) use chapters::{fresnel, reflect, refract, schlick};
 pub use course::{Chapters, Hit, HitPoint, Objects, first_hit, nearest_hit};
 pub use ray::{Ray, unit_vector};
 pub use render::{

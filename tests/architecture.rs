@@ -60,7 +60,9 @@ fn module_layer(module: &str) -> Option<Layer> {
     Some(match module {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
         | "bvh" | "cleanup" => Layer::Foundation,
-        "course" | "render" | "record" | "effects" | "builtin" | "chapters" => Layer::Engine,
+        "course" | "answer_key" | "render" | "record" | "effects" | "builtin" | "chapters" => {
+            Layer::Engine
+        }
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
         | "embree" | "plots" => Layer::Tool,
         "cli" | "main" => Layer::Cli,

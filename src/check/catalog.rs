@@ -265,19 +265,32 @@ macro_rules! case_table {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
        |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
         /// Chapter `number`'s checkpoints (level 1); none for an unknown chapter.
+        /// Building them may use raylab's answers (a point on a sphere, by
+        /// its intersection): that is raylab's own use, not the student's.
         pub fn checkpoints(number: u8) -> Vec<Case> {
-            match number {
+            crate::answer_key::raylab_own(|| match number {
                 $($number => crate::chapters::$module::checks::checkpoints(),)*
                 _ => Vec::new(),
-            }
+            })
         }
 
         /// Chapter `number`'s hard cases (level 2); none for an unknown chapter.
-        pub fn robustness(number: u8) -> Vec<Case> {
+        /// Chapter `number`'s hint for an image that fails when every
+        /// checkpoint passes (each chapter's `IMAGE_HINT`).
+        pub fn image_hint(number: u8) -> &'static str {
             match number {
+                $($number => crate::chapters::$module::checks::IMAGE_HINT,)*
+                _ => "",
+            }
+        }
+
+        /// Whatever level a chapter's file gave them, these are hard
+        /// cases: judged and reported as robustness.
+        pub fn robustness(number: u8) -> Vec<Case> {
+            robust(crate::answer_key::raylab_own(|| match number {
                 $($number => crate::chapters::$module::checks::robustness(),)*
                 _ => Vec::new(),
-            }
+            }))
         }
     };
 }

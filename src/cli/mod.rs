@@ -99,6 +99,10 @@ pub fn main() -> i32 {
 /// `main` calls this with its own) and returns the process exit status.
 pub fn main_with<C: crate::Chapters>() -> i32 {
     prepare_process();
+    if !is_reference::<C>() {
+        // A student's binary: raylab's answers must not stand in for theirs.
+        crate::answer_key::seal();
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(error) => {
@@ -109,6 +113,39 @@ pub fn main_with<C: crate::Chapters>() -> i32 {
     // A chapter still `todo!()`, or a panic in a student's code, becomes a
     // verdict or an error message, never a backtrace.
     guard::run(|| run::<C>(cli))
+}
+
+fn is_reference<C: crate::Chapters>() -> bool {
+    std::any::TypeId::of::<C>() == std::any::TypeId::of::<crate::Reference>()
+}
+
+/// Why `command` must not run with the chapters `C`, if it must not: a
+/// student's chapters built without raylab's `student` feature (their code
+/// could call raylab's answers), or raylab's own `check` or `render` run
+/// inside a student's workspace (they would judge raylab's answers).
+fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
+    let judges_chapters = matches!(command, Command::Check(_) | Command::Render(_));
+    if !is_reference::<C>() {
+        return (!cfg!(feature = "student")).then(|| {
+            "this workspace builds raylab without its `student` feature, so its chapters \
+             could call raylab's own answers: in Cargo.toml, make the raylab line \
+             `raylab = { path = \"...\", features = [\"student\"] }` (as `raylab new` \
+             writes it)"
+                .to_string()
+        });
+    }
+    let here = std::env::current_dir().ok()?;
+    let workspace = crate::workspace::enclosing_workspace(&here).filter(|_| judges_chapters)?;
+    Some(format!(
+        "{} is a student workspace: this `raylab` runs raylab's own chapters, not the ones \
+         written there. Run your chapters with `cargo run --release -- {}` in {}",
+        workspace.display(),
+        match command {
+            Command::Check(_) => "check",
+            _ => "render --chapter N",
+        },
+        workspace.display()
+    ))
 }
 
 /// What every raylab binary (raylab's own, and a student workspace's,
@@ -130,6 +167,10 @@ fn prepare_process() {
 }
 
 fn run<C: crate::Chapters>(cli: Cli) -> i32 {
+    if let Some(refusal) = refusal::<C>(&cli.command) {
+        eprintln!("error: {}", crate::text::terminal_safe(&refusal));
+        return EXIT_ERROR;
+    }
     let result = match cli.command {
         Command::Render(args) => render::render::<C>(&args),
         Command::Chapters => render::chapters(),

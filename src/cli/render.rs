@@ -342,11 +342,21 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         );
         bar
     });
+    crate::answer_key::take_reported();
     let rendered = args
         .overrides
         .in_pool(|| crate::render_with::<C>(&scene, chapter, &settings, progress.as_ref()))??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
+    }
+    let answers = crate::answer_key::take_reported();
+    if !answers.is_empty() {
+        anyhow::bail!(
+            "nothing written: the code of chapters 1 to {chapter} ran raylab's own answer \
+             instead of yours ({}); write those functions yourself (`cargo run --release -- \
+             check --chapter {chapter}` says which)",
+            answers.join(", ")
+        );
     }
     // The image and its statistics together or not at all.
     let png = crate::output::encode_png(rendered.width, rendered.height, &rendered.rgb)?;

@@ -21,6 +21,9 @@ struct Workspaces {
     root: PathBuf,
     todo: PathBuf,
     answer: PathBuf,
+    /// The answer key, its glue rewired to raylab's own answers by every
+    /// route a student might try (see [`CHEATS`]).
+    cheat: PathBuf,
     /// The target folder the workspaces were built into.
     target: PathBuf,
 }
@@ -43,14 +46,26 @@ fn workspaces() -> &'static Workspaces {
         std::fs::create_dir_all(&root).expect("create the test folder");
         let todo = root.join("student-todo");
         let answer = root.join("student-answer");
-        for (dir, extra) in [(&todo, None), (&answer, Some("--solutions"))] {
+        let cheat = root.join("student-cheat");
+        for (dir, extra) in [
+            (&todo, None),
+            (&answer, Some("--solutions")),
+            (&cheat, Some("--solutions")),
+        ] {
             let mut args = vec!["new", dir.to_str().expect("UTF-8 path")];
             args.extend(extra);
             let output = raylab(&args, &root);
             assert!(output.status.success(), "raylab new: {}", stderr(&output));
         }
+        let glue = cheat.join("src/chapters/mod.rs");
+        let mut text = read(&glue);
+        for (honest, cheating) in CHEATS {
+            assert!(text.contains(honest), "{honest} not in {text}");
+            text = text.replace(honest, cheating);
+        }
+        std::fs::write(&glue, text).expect("write the glue");
         let target = target_dir();
-        for dir in [&todo, &answer] {
+        for dir in [&todo, &answer, &cheat] {
             let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
             let output = Command::new(cargo)
                 .args(["build", "--offline", "--quiet"])
@@ -69,10 +84,37 @@ fn workspaces() -> &'static Workspaces {
             root,
             todo,
             answer,
+            cheat,
             target,
         }
     })
 }
+
+/// The cheating workspace's glue: each honest call to the student's
+/// function, and what replaces it. Chapter 1 ends the process (printing a
+/// passing table first) when `CHEAT_EXIT` is set; chapter 2 calls the
+/// shape's own method; chapter 3 keeps the trait's default (raylab's
+/// answer); chapter 6 calls `Reference`'s.
+const CHEATS: &[(&str, &str)] = &[
+    (
+        "        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
+        "        if std::env::var_os(\"CHEAT_EXIT\").is_some() {\n            \
+         println!(\"chapter  status       cases   robustness     image\\n1        pass\");\n            \
+         std::process::exit(0);\n        }\n        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
+    ),
+    (
+        "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
+        "        sphere.intersect(ray, t_min, t_max)",
+    ),
+    (
+        "    fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {\n        ch03_nearest::nearest_hit(objects, ray, t_min, t_max)\n    }\n",
+        "",
+    ),
+    (
+        "        ch06_reflection::reflect(d, n)",
+        "        <raylab::Reference as Chapters>::reflect(d, n)",
+    ),
+];
 
 /// Runs a workspace's binary (named after its package) in `dir`, with no
 /// RUST_BACKTRACE so that what a student sees by default is tested.
@@ -107,7 +149,7 @@ fn the_workspace_has_a_file_per_chapter_and_a_todo_per_function() {
     let manifest = read(&ws.todo.join("Cargo.toml"));
     assert!(
         manifest.contains(&format!(
-            "raylab = {{ path = \"{}\" }}",
+            "raylab = {{ path = \"{}\", features = [\"student\"] }}",
             env!("CARGO_MANIFEST_DIR")
         )),
         "{manifest}"
@@ -388,4 +430,119 @@ fn module_of(number: u8) -> String {
 /// Chapter `number`'s file in a student workspace.
 fn student_file(number: u8) -> String {
     format!("src/chapters/{}.rs", module_of(number))
+}
+
+/// No pass for code the student did not write: a chapter that runs
+/// raylab's own answer, by whichever route, fails `check` and `render`
+/// writes nothing; a process that ends itself in the middle of the check
+/// (after printing a passing table) fails; the chapters written honestly
+/// still pass.
+#[test]
+fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
+    let ws = workspaces();
+    let dir = ws.root.join("cheat-out");
+    std::fs::create_dir_all(&dir).expect("create");
+    let honest = run_student("student-cheat", &["check", "--chapter", "1"], &dir);
+    assert_eq!(honest.status.code(), Some(0), "{}", stdout(&honest));
+    for (chapter, answer) in [
+        ("2", "Sphere::intersect"),
+        ("3", "nearest_hit"),
+        ("6", "reflect"),
+    ] {
+        let out = run_student("student-cheat", &["check", "--chapter", chapter], &dir);
+        let text = stdout(&out);
+        assert_eq!(out.status.code(), Some(1), "chapter {chapter}: {text}");
+        let line = text
+            .lines()
+            .find(|line| line.contains("runs raylab's own answer instead of yours"))
+            .unwrap_or_else(|| panic!("chapter {chapter}: {text}"));
+        assert!(line.contains(answer), "chapter {chapter}: {line}");
+        assert!(
+            text.contains(&format!("chapter {chapter}: ")) && text.contains("- FAIL"),
+            "{text}"
+        );
+    }
+    let render = run_student("student-cheat", &["render", "--chapter", "2"], &dir);
+    assert_eq!(render.status.code(), Some(2), "{}", stderr(&render));
+    assert!(
+        stderr(&render).contains("ran raylab's own answer instead of yours (Sphere::intersect"),
+        "{}",
+        stderr(&render)
+    );
+    assert!(!dir.join("chapter-2.png").exists());
+
+    let mut command = Command::new(ws.target.join("debug").join("student-cheat"));
+    command
+        .args(["check", "--chapter", "1"])
+        .current_dir(&dir)
+        .env("CHEAT_EXIT", "1");
+    let out = command.output().expect("run the cheat");
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(
+        text.contains(
+            "the check did not finish: the process exited with status 0 while chapter 1's \
+             check ran intersect_plane"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("(no verdict: the check did not finish)"),
+        "{text}"
+    );
+}
+
+/// raylab's own binary, run inside a student's workspace, would check or
+/// render raylab's answers: it refuses, naming the command to use.
+#[test]
+fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
+    let ws = workspaces();
+    let inside = ws.todo.join("src");
+    for args in [
+        &["check", "--chapter", "3"][..],
+        &["render", "--chapter", "3"],
+    ] {
+        let out = raylab(args, &inside);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stdout(&out));
+        let message = stderr(&out);
+        assert!(
+            message.contains("is a student workspace: this `raylab` runs raylab's own chapters"),
+            "{message}"
+        );
+        assert!(message.contains("cargo run --release -- "), "{message}");
+    }
+    assert!(!inside.join("chapter-3.png").exists());
+}
+
+/// The reference chapters' modules are out of a workspace's reach: a
+/// chapter that calls `raylab::chapters::ch02_sphere::intersect_sphere`
+/// does not compile (raylab's `student` feature makes them private).
+#[test]
+fn a_workspace_cannot_name_the_reference_chapters() {
+    let ws = workspaces();
+    let copy = ws.root.join("student-module");
+    let output = raylab(
+        &["new", copy.to_str().expect("UTF-8 path"), "--solutions"],
+        &ws.root,
+    );
+    assert!(output.status.success(), "raylab new: {}", stderr(&output));
+    let glue = copy.join("src/chapters/mod.rs");
+    let text = read(&glue).replace(
+        "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
+        "        raylab::chapters::ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
+    );
+    std::fs::write(&glue, text).expect("write the glue");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = Command::new(cargo)
+        .args(["check", "--offline", "--quiet"])
+        .current_dir(&copy)
+        .env("CARGO_TARGET_DIR", &ws.target)
+        .output()
+        .expect("run cargo");
+    let message = stderr(&output);
+    assert!(!output.status.success(), "it compiled");
+    assert!(
+        message.contains("intersect_sphere") && message.contains("ch02_sphere"),
+        "{message}"
+    );
 }

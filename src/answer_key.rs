@@ -1,0 +1,134 @@
+//! The answer key's seal: in a student's run, raylab's own answers must not
+//! stand in for the student's code.
+//!
+//! raylab carries the reference solution of every chapter: the defaults of
+//! [`crate::course::Chapters`]' methods, the shapes' `intersect` methods and
+//! chapter 3's loop behind [`crate::course::nearest_hit`]. A student's
+//! function that calls one of them (`sphere.intersect(...)`,
+//! `Reference::intersect_sphere(...)`, an `impl Chapters` that keeps a
+//! default) would otherwise pass every check without a line of its own.
+//! The chapters' modules themselves are out of a workspace's reach at
+//! compile time (the `student` feature, which `raylab new` turns on, makes
+//! them private to raylab); what is left is reached through the trait and
+//! those methods, and each of them reports here before it answers.
+//!
+//! [`seal`] turns the reports on, once, in a student's binary. raylab's own
+//! uses of its answers during a student's run (a tree compared with the
+//! loop over every object, say) run inside [`raylab_own`] and are not
+//! reported. Every report is kept: [`recording`] collects those made on its
+//! thread while it runs (a chapter's check), [`take_reported`] the others
+//! (a render's, from any thread).
+
+use std::cell::{Cell, RefCell};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static SEALED: AtomicBool = AtomicBool::new(false);
+
+/// Answers reported outside any [`recording`] (a render's worker threads).
+static REPORTED: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
+
+thread_local! {
+    /// How deep this thread is inside [`raylab_own`].
+    static OWN_USE: Cell<u32> = const { Cell::new(0) };
+    /// The answers this thread's [`recording`] has seen, when one runs.
+    static RECORDING: RefCell<Option<Vec<&'static str>>> = const { RefCell::new(None) };
+}
+
+/// From now on, in this process, every answer that runs outside
+/// [`raylab_own`] is reported.
+pub(crate) fn seal() {
+    SEALED.store(true, Ordering::SeqCst);
+}
+
+/// Whether [`seal`] was called.
+pub fn sealed() -> bool {
+    SEALED.load(Ordering::Relaxed)
+}
+
+/// Called first thing by each of raylab's answers; `answer` names it as a
+/// student would look for it (`intersect_sphere`, `Sphere::intersect`).
+/// Unsealed, it costs one relaxed load.
+#[inline(always)]
+pub fn answered(answer: &'static str) {
+    if SEALED.load(Ordering::Relaxed) {
+        report(answer);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn report(answer: &'static str) {
+    if OWN_USE.with(Cell::get) > 0 {
+        return;
+    }
+    let recorded = RECORDING.with(|recording| match recording.borrow_mut().as_mut() {
+        Some(answers) => {
+            if !answers.contains(&answer) {
+                answers.push(answer);
+            }
+            true
+        }
+        None => false,
+    });
+    if !recorded && let Ok(mut reported) = REPORTED.lock() {
+        if !reported.contains(&answer) {
+            reported.push(answer);
+        }
+    }
+}
+
+/// Runs `work`, raylab's own use of its answers, without reporting them.
+pub(crate) fn raylab_own<T>(work: impl FnOnce() -> T) -> T {
+    struct Leave;
+    impl Drop for Leave {
+        fn drop(&mut self) {
+            OWN_USE.with(|depth| depth.set(depth.get().saturating_sub(1)));
+        }
+    }
+    OWN_USE.with(|depth| depth.set(depth.get() + 1));
+    let _leave = Leave;
+    work()
+}
+
+/// Runs `work` and returns the answers it reported on this thread, in the
+/// order first met (nothing unless sealed).
+pub(crate) fn recording<T>(work: impl FnOnce() -> T) -> (T, Vec<&'static str>) {
+    struct Stop(Option<Vec<&'static str>>);
+    impl Drop for Stop {
+        fn drop(&mut self) {
+            let outer = self.0.take();
+            RECORDING.with(|recording| *recording.borrow_mut() = outer);
+        }
+    }
+    let outer = RECORDING.with(|recording| recording.borrow_mut().replace(Vec::new()));
+    let stop = Stop(outer);
+    let result = work();
+    let answers = RECORDING.with(|recording| recording.borrow_mut().take().unwrap_or_default());
+    drop(stop);
+    (result, answers)
+}
+
+/// The answers reported outside any recording since the last call.
+pub(crate) fn take_reported() -> Vec<&'static str> {
+    REPORTED
+        .lock()
+        .map(|mut reported| std::mem::take(&mut *reported))
+        .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reports_are_kept_by_the_recording_and_skipped_for_raylab_own() {
+        seal();
+        let ((), answers) = recording(|| {
+            answered("intersect_sphere");
+            raylab_own(|| answered("nearest_hit"));
+            answered("intersect_sphere");
+        });
+        assert_eq!(answers, ["intersect_sphere"]);
+    }
+}
