@@ -1,10 +1,11 @@
 //! `raylab check`: the verdict on your chapters (see [`crate::check`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 
+use crate::check::verdict_file::{Record, SentReport, SentVerdict, VerdictWriter};
 use crate::check::{CheckOptions, Overall, check_all};
 
 /// Check your chapters: checkpoint cases, the image, and robustness.
@@ -17,7 +18,9 @@ use crate::check::{CheckOptions, Overall, check_all};
 /// the hard cases, reported apart ("correct, not yet robust").
 ///
 /// A chapter whose functions are still todo!() is "not started". Chapter N
-/// builds on chapters 1 to N-1, and says so when one of them fails.
+/// builds on chapters 1 to N-1, and says so when one of them fails. Your
+/// chapters run in a child process, so that code which ends the process
+/// (std::process::exit) or prints a table of its own cannot pass.
 ///
 /// Exit status: 0 every checked chapter passes, 1 one fails or is not
 /// started, 2 the check could not run (e.g. unwritable --failures-dir).
@@ -30,20 +33,85 @@ pub struct CheckArgs {
     /// Where your image and the heatmap go when a chapter's image fails.
     #[arg(long, value_name = "DIR", default_value = "check-failures")]
     pub failures_dir: PathBuf,
+    /// Run the chapters here and write the verdict to FILE, printing
+    /// nothing: what `check` and `raylab grade --code` start in a child.
+    #[arg(long, value_name = "FILE", hide = true)]
+    pub verdict_file: Option<PathBuf>,
 }
 
 /// Runs the checks with the chapters `C` and prints the verdicts and the
-/// summary table; returns the exit status.
+/// summary table; returns the exit status. raylab's own chapters are
+/// checked here; a student's run in a child that writes a verdict file.
 pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
     let options = CheckOptions {
         failures_dir: args.failures_dir.clone(),
+        forbid_answer_key: crate::answer_key::sealed(),
         ..CheckOptions::default()
     };
-    let report = check_all::<C>(args.chapter, &options);
-    print!("{}", report.text());
-    Ok(match report.overall() {
+    if let Some(path) = &args.verdict_file {
+        return check_into::<C>(args.chapter, &options, path);
+    }
+    if !crate::answer_key::sealed() {
+        let report = check_all::<C>(args.chapter, &options);
+        print!("{}", report.text());
+        return Ok(exit_status(report.overall()));
+    }
+    let path = std::env::temp_dir().join(format!(
+        "raylab-check-{}-{}.jsonl",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|elapsed| elapsed.as_nanos())
+            .unwrap_or_default()
+    ));
+    let result = check_in_child(args, &path);
+    let _ = std::fs::remove_file(&path);
+    let (report, ended) = result?;
+    print!("{}", report.text(&ended));
+    Ok(exit_status(report.overall()))
+}
+
+fn exit_status(overall: Overall) -> i32 {
+    match overall {
         Overall::Pass => 0,
         Overall::Fail => super::EXIT_FAILED_CHECK,
         Overall::Error => super::EXIT_ERROR,
-    })
+    }
+}
+
+/// The worker: checks and writes every verdict, then the closing record.
+fn check_into<C: crate::Chapters>(
+    chapter: Option<u8>,
+    options: &CheckOptions,
+    path: &Path,
+) -> Result<i32> {
+    let writer = crate::check::verdict_file::install(VerdictWriter::create(path)?)
+        .map_err(|_| anyhow::anyhow!("a verdict file is already open"))?;
+    let report = check_all::<C>(chapter, options);
+    for verdict in &report.verdicts {
+        writer.write(&Record::Verdict(SentVerdict::of(verdict)))?;
+    }
+    writer.write(&Record::End)?;
+    Ok(exit_status(report.overall()))
+}
+
+/// Runs this same binary as the worker and reads what it wrote, with how
+/// its process ended.
+fn check_in_child(args: &CheckArgs, path: &Path) -> Result<(SentReport, String)> {
+    let binary = std::env::current_exe().context("cannot find this program to run the check")?;
+    let mut command = std::process::Command::new(binary);
+    command
+        .arg("check")
+        .arg("--failures-dir")
+        .arg(&args.failures_dir)
+        .arg("--verdict-file")
+        .arg(path);
+    if let Some(chapter) = args.chapter {
+        command.arg("--chapter").arg(chapter.to_string());
+    }
+    let status = command
+        .status()
+        .context("cannot start the check of your chapters")?;
+    let report = SentReport::read(path).unwrap_or_default();
+    Ok((report, crate::check::verdict_file::process_end(status)))
 }

@@ -1,11 +1,13 @@
 //! Running a student workspace's `check` (`raylab grade --code`).
 //!
 //! A workspace made by `raylab new` is a Cargo project whose binary is the
-//! student's raylab: `cargo run --release --offline -- check` builds it and
-//! runs every chapter's checks, then prints a summary table and exits 0
-//! (every chapter passes), 1 (a chapter fails or is not started) or 2 (an
-//! error). [`run_check`] runs that command with a time limit, keeps the end
-//! of its output, and sorts the outcome into a [`CodeStatus`].
+//! student's raylab: `cargo run --release --offline -- check --verdict-file
+//! F` builds it and runs every chapter's checks, writing each verdict to F
+//! (see [`crate::check::verdict_file`]). [`run_check`] runs that command
+//! with a time limit and sorts the outcome into a [`CodeStatus`] from the
+//! file alone: the student's code runs in that process and could exit 0 or
+//! print a passing table, but a file without its closing record is no
+//! verdict.
 //!
 //! The student's code runs with the grader's rights: see
 //! docs/instructors.md before grading code you have not read.
@@ -15,6 +17,9 @@ use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
+
+use crate::check::Overall;
+use crate::check::verdict_file::{SentReport, process_end};
 
 /// The outcome of one workspace's `check`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -79,27 +84,58 @@ const OUTPUT_GRACE: Duration = Duration::from_secs(5);
 /// started when `timeout` passes. An error only when the command cannot be
 /// started at all.
 pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::GradeError> {
+    static RUNS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let verdict_path = std::env::temp_dir().join(format!(
+        "raylab-grade-{}-{}.jsonl",
+        std::process::id(),
+        RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    ));
+    let _ = std::fs::remove_file(&verdict_path);
+    let run = run_check_into(workspace, timeout, &verdict_path);
+    let _ = std::fs::remove_file(&verdict_path);
+    run
+}
+
+fn run_check_into(
+    workspace: &Path,
+    timeout: Duration,
+    verdict_path: &Path,
+) -> Result<CodeRun, super::GradeError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut child =
-        check_command(&cargo, workspace)
-            .spawn()
-            .map_err(|error| super::GradeError::Run {
-                cargo: cargo.clone().into(),
-                workspace: workspace.to_path_buf(),
-                error,
-            })?;
+    let mut child = check_command(&cargo, workspace, verdict_path)
+        .spawn()
+        .map_err(|error| super::GradeError::Run {
+            cargo: cargo.clone().into(),
+            workspace: workspace.to_path_buf(),
+            error,
+        })?;
     let receiver = read_outputs(&mut child);
     let (exit, timed_out) = wait_within(&mut child, timeout);
     // Whatever the run left behind in its group (a background process of
     // the student's) goes too.
     kill_group(&mut child);
-    let [stdout, stderr] = received_outputs(&receiver);
+    let [mut stdout, stderr] = received_outputs(&receiver);
     let exit_code = exit.and_then(|status| status.code());
+    let report = SentReport::read(verdict_path).ok();
     let status = if timed_out {
         CodeStatus::TimedOut
     } else {
-        classify(exit_code, &stdout, &stderr)
+        match &report {
+            Some(report) if report.complete => classify(report),
+            _ if stderr.contains("could not compile") => CodeStatus::BuildError,
+            _ => CodeStatus::Error,
+        }
     };
+    // What the report shows is the verdict file's, never the student's
+    // output (which their code may have written to look like a verdict).
+    if let Some(report) = &report {
+        let ended = exit.map(process_end).unwrap_or_else(|| "was killed".into());
+        stdout = report.text(&ended);
+    } else if status != CodeStatus::BuildError {
+        stdout = "no verdict: the check ended before it began (the binary does not run \
+                  raylab's check?)"
+            .to_string();
+    }
     Ok(CodeRun {
         status,
         exit_code: if timed_out { None } else { exit_code },
@@ -110,10 +146,18 @@ pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::
 }
 
 /// The `check` command, in `workspace`, with its output piped.
-fn check_command(cargo: &std::ffi::OsStr, workspace: &Path) -> Command {
+fn check_command(cargo: &std::ffi::OsStr, workspace: &Path, verdict_path: &Path) -> Command {
     let mut command = Command::new(cargo);
     command
-        .args(["run", "--release", "--offline", "--", "check"])
+        .args([
+            "run",
+            "--release",
+            "--offline",
+            "--",
+            "check",
+            "--verdict-file",
+        ])
+        .arg(verdict_path)
         .current_dir(workspace)
         // A shared target folder would let cargo take one student's build
         // for another's (same crate name, older sources): each workspace
@@ -191,39 +235,21 @@ fn received_outputs(receiver: &mpsc::Receiver<(usize, String)>) -> [String; 2] {
     outputs
 }
 
-/// Sorts a finished run. `check` says 1 both for a failing chapter and for
-/// one not started; the status column of its summary table (`pass`, `FAIL`,
-/// `not started`, `needs ch. N`, `ERROR`) tells them apart, and a run with
-/// any failing chapter counts as failing. Words elsewhere in the output
-/// (a robustness note saying a hard case "failed") do not count: a correct
-/// but not yet robust chapter passes.
-pub fn classify(exit_code: Option<i32>, stdout: &str, stderr: &str) -> CodeStatus {
-    match exit_code {
-        Some(0) => CodeStatus::Pass,
-        Some(1) => {
-            let statuses: Vec<&str> = stdout
-                .lines()
-                .skip_while(|line| !line.starts_with("chapter  status"))
-                .skip(1)
-                .filter_map(|line| {
-                    let (number, rest) = line.split_once(' ')?;
-                    number.parse::<u8>().ok()?;
-                    Some(rest.trim_start())
-                })
-                .collect();
-            let any = |word: &str| statuses.iter().any(|status| status.starts_with(word));
-            if statuses.is_empty() || any("FAIL") || any("ERROR") {
+/// Sorts a finished run by its verdicts: any failing chapter (or an error
+/// of the check) fails it; otherwise a chapter not started, or waiting for
+/// one, makes it "not started"; a correct but not yet robust chapter passes.
+pub fn classify(report: &SentReport) -> CodeStatus {
+    match report.overall() {
+        Overall::Pass => CodeStatus::Pass,
+        Overall::Error => CodeStatus::Error,
+        Overall::Fail => {
+            let failing = report.verdicts.iter().any(|v| !v.passes && !v.not_started);
+            if failing || report.verdicts.is_empty() || !report.complete {
                 CodeStatus::Fail
-            } else if any("not started") || any("needs ch.") {
-                CodeStatus::NotStarted
             } else {
-                CodeStatus::Fail
+                CodeStatus::NotStarted
             }
         }
-        // Cargo's own status for a failed build (101) is also a panic's, so
-        // the build error is told by cargo's message.
-        _ if stderr.contains("could not compile") => CodeStatus::BuildError,
-        _ => CodeStatus::Error,
     }
 }
 
@@ -287,28 +313,43 @@ pub fn last_lines(text: &str, lines: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::check::verdict_file::SentVerdict;
 
     #[test]
-    fn runs_are_sorted_by_exit_status_and_table() {
-        assert_eq!(classify(Some(0), "", ""), CodeStatus::Pass);
-        let header = "chapter  status       cases   robustness   image\n";
-        let table = format!("{header}1        pass\n2        FAIL\n3        not started");
-        assert_eq!(classify(Some(1), &table, ""), CodeStatus::Fail);
-        // A correct chapter whose robustness note says a hard case failed,
-        // and one that waits for it: not started, not failing.
-        let table = format!(
-            "  robustness: hard case 1 of 20 failed\n{header}1        pass         8/8     \
-             12/20        identical\n2        not started\n3        needs ch. 2"
-        );
-        assert_eq!(classify(Some(1), &table, ""), CodeStatus::NotStarted);
-        assert_eq!(classify(Some(1), "", ""), CodeStatus::Fail);
-        assert_eq!(classify(Some(2), "", ""), CodeStatus::Error);
+    fn runs_are_sorted_by_their_verdicts() {
+        let verdict = |chapter, status: &str, passes, not_started| SentVerdict {
+            chapter,
+            status: status.into(),
+            passes,
+            robust: passes,
+            not_started,
+            error: false,
+            text: String::new(),
+            row: String::new(),
+        };
+        let report = |verdicts, complete| SentReport {
+            verdicts,
+            last_step: None,
+            complete,
+        };
+        let pass = verdict(1, "pass", true, false);
+        let fail = verdict(2, "FAIL", false, false);
+        let todo = verdict(3, "not started", false, true);
         assert_eq!(
-            classify(Some(101), "", "error: could not compile `student`"),
-            CodeStatus::BuildError
+            classify(&report(vec![pass.clone()], true)),
+            CodeStatus::Pass
         );
-        assert_eq!(classify(Some(101), "", "panicked"), CodeStatus::Error);
-        assert_eq!(classify(None, "", ""), CodeStatus::Error);
+        assert_eq!(
+            classify(&report(vec![pass.clone(), fail, todo.clone()], true)),
+            CodeStatus::Fail
+        );
+        assert_eq!(
+            classify(&report(vec![pass.clone(), todo], true)),
+            CodeStatus::NotStarted
+        );
+        // A run that stopped before its closing record passes nothing.
+        assert_eq!(classify(&report(vec![pass], false)), CodeStatus::Fail);
+        assert_eq!(classify(&report(Vec::new(), true)), CodeStatus::Fail);
     }
 
     #[test]

@@ -615,9 +615,35 @@ fn fake_workspace(class: &Path, student: &str, body: &str) -> PathBuf {
     folder
 }
 
+/// A fake student binary that writes the verdict file `check
+/// --verdict-file F` asks for: one verdict record per `(chapter, status,
+/// passes, not_started)`, then the closing record when `complete`, and
+/// prints `printed`.
+fn verdict_writer(verdicts: &[(u8, &str, bool, bool)], complete: bool, printed: &str) -> String {
+    let mut records = String::new();
+    for &(chapter, status, passes, not_started) in verdicts {
+        let record = serde_json::json!({"verdict": {
+            "chapter": chapter, "status": status, "passes": passes, "robust": passes,
+            "not_started": not_started, "error": false,
+            "text": format!("chapter {chapter}: {status}\n"),
+            "row": format!("{chapter}        {status}\n"),
+        }});
+        records.push_str(&format!("{record}\n"));
+    }
+    if complete {
+        records.push_str("\"end\"\n");
+    }
+    format!(
+        "fn main() {{\n    let args: Vec<String> = std::env::args().collect();\n    \
+         let at = args.iter().position(|a| a == \"--verdict-file\").unwrap();\n    \
+         std::fs::write(&args[at + 1], {records:?}).unwrap();\n    println!({printed:?});\n}}\n"
+    )
+}
+
 /// `raylab grade --code CLASS/` runs each workspace's `check`, sorting the
-/// outcomes by exit status and table, and kills a run past its time limit,
-/// with everything it started.
+/// outcomes by the verdict file alone (never by the exit status or a table
+/// the student's binary prints), and kills a run past its time limit, with
+/// everything it started.
 #[cfg(unix)]
 #[test]
 fn code_mode_runs_each_workspace_check_with_a_time_limit() {
@@ -628,17 +654,41 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
             "fn main() {{\n    println!(\"chapter  status       cases   robustness   image\\n{rows}\");\n    std::process::exit({code});\n}}\n"
         )
     };
-    fake_workspace(&class, "ada", &table("1 pass\\n2 pass", 0));
-    fake_workspace(&class, "ben", &table("1 pass\\n2 FAIL", 1));
-    // Correct but not robust, then not started: the word "failed" in a
-    // robustness note is not a failing chapter.
+    fake_workspace(
+        &class,
+        "ada",
+        &verdict_writer(
+            &[(1, "pass", true, false), (2, "pass", true, false)],
+            true,
+            "",
+        ),
+    );
+    fake_workspace(
+        &class,
+        "ben",
+        &verdict_writer(
+            &[(1, "pass", true, false), (2, "FAIL", false, false)],
+            true,
+            "",
+        ),
+    );
+    // Correct but not robust, then not started.
     fake_workspace(
         &class,
         "cy",
-        &table(
-            "1 pass 8/8 10/11 (hard case 3 of 11 failed)\\n2 not started",
-            1,
+        &verdict_writer(
+            &[(1, "pass", true, false), (2, "not started", false, true)],
+            true,
+            "",
         ),
+    );
+    // A passing table printed and exit 0, but no verdict: not a pass. Nor
+    // is a verdict file cut short (the process ended inside a chapter).
+    fake_workspace(&class, "hal", &table("1 pass\\n2 pass", 0));
+    fake_workspace(
+        &class,
+        "ivy",
+        &verdict_writer(&[(1, "pass", true, false)], false, "1 pass"),
     );
     fake_workspace(&class, "dee", "fn main() { this is not Rust }\n");
     fake_workspace(&class, "eli", &table("error: cannot read the scene", 2));
@@ -674,6 +724,8 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
         ("ada", "pass"),
         ("ben", "fail"),
         ("cy", "not started"),
+        ("hal", "error"),
+        ("ivy", "error"),
         ("dee", "build error"),
         ("eli", "error"),
         ("fay", "timed out"),
@@ -685,12 +737,18 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
     assert!(csv.contains("ada,all,pass,"), "{csv}");
     assert!(csv.contains("ben,all,fail,"), "{csv}");
-    assert!(csv.contains("2 FAIL"), "the check's table is kept: {csv}");
+    assert!(
+        csv.contains("2        FAIL"),
+        "the verdict's table is kept: {csv}"
+    );
     assert!(csv.contains("cy,all,not started,"), "{csv}");
     assert!(csv.contains("dee,all,build error,"), "{csv}");
     assert!(csv.contains("fay,all,timed out,"), "{csv}");
+    assert!(csv.contains("hal,all,error,"), "{csv}");
+    assert!(csv.contains("no verdict"), "{csv}");
+    assert!(csv.contains("the check did not finish"), "{csv}");
     let html = std::fs::read_to_string(class.join("report.html")).expect("report");
-    assert!(html.contains("1 pass\n2 FAIL"), "{html}");
+    assert!(html.contains("1        pass\n2        FAIL"), "{html}");
     assert!(html.contains("timed out after 5 s"), "{html}");
 
     // What the student's binary started was killed with it, as a group
