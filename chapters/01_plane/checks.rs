@@ -7,6 +7,10 @@ use crate::check::catalog::*;
 const EQUATION_1: &str = "The equation";
 const CODE_1: &str = "The code: `intersect_plane`";
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "near the horizon, where rays run almost parallel to the plane (the parallel test), or everywhere when a hit outside t_min < t < t_max is kept";
+
 /// Chapter 1's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

@@ -6,6 +6,11 @@ use crate::check::catalog::*;
 
 const EQUATION_2: &str = "The equation";
 const ROOTS_2: &str = "Two ways to compute the roots";
+const NEAR_T_MIN_2: &str = "Roots near `t_min`: an error bound, and the ground sphere";
+
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "around a sphere's outline, where rays are tangent (the discriminant's sign), or inside its disc, where the root chosen must be the nearest one beyond t_min";
 
 /// Chapter 2's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
@@ -271,7 +276,7 @@ pub fn robustness() -> Vec<Case> {
         // exact root on the extreme-scale hits (measured).
         Case::from(SphereQuestion {
             name: "sphere-ground-just-below",
-            section: ROOTS_2,
+            section: NEAR_T_MIN_2,
             says: "from 0.003 above a ground sphere of radius 1e5, heading down at 17 degrees: O - \
                    C rounds to a point on the surface and the f32 near root comes out 0, not \
                    beyond t_min = 0, but the exact one is t = 0.0030006, the hit \
@@ -290,7 +295,7 @@ pub fn robustness() -> Vec<Case> {
         // `skim_cases_miss_in_exact_arithmetic` below checks it.)
         Case::from(SphereQuestion {
             name: "sphere-skim-over-ground",
-            section: ROOTS_2,
+            section: NEAR_T_MIN_2,
             says: "from 0.0505 above the top of a ground sphere of radius 1e5, heading \
                    (1, -0.001, 0): the ray would touch the sphere from a height of 0.05; from \
                    0.0505 its line passes 5e-4 above it, no hit. f32 rounds O - C to multiples of \
@@ -302,7 +307,7 @@ pub fn robustness() -> Vec<Case> {
         }),
         Case::from(SphereQuestion {
             name: "sphere-skim-over-hill",
-            section: ROOTS_2,
+            section: NEAR_T_MIN_2,
             says: "from 0.05001 above the top of a sphere of radius 1000, heading (1, -0.01, 0): \
                    the ray would touch the sphere from a height of 0.05; from 0.05001 its line \
                    passes 1.1e-5 above it, no hit. f32 finds two roots an ulp apart at t = 9.9995",

@@ -40,6 +40,10 @@ impl From<NearestQuestion> for Case {
     }
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "where objects overlap on screen: the nearest hit must win whatever the order of the list (compare each t with the closest so far)";
+
 /// Chapter 3's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

@@ -95,6 +95,10 @@ impl From<ShadowQuestion> for Case {
     }
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "in the shadows: a shadow ray must stop at the light (its t range), and start off the surface (the offset), or the surface shadows itself in speckles";
+
 /// Chapter 4's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

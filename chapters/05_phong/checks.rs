@@ -47,6 +47,10 @@ impl From<PhongTermsQuestion> for Case {
     }
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "in the highlights (the mirror direction of the light, the exponent) or in the diffuse shading (max(0, n.l) with the normal on the eye's side)";
+
 /// Chapter 5's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

@@ -78,6 +78,10 @@ material = {{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivit
     )
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "on the mirrors: the reflected light counts with the share k and the local light with 1 - k, the depth limit stops the recursion, and the reflected ray starts off the surface";
+
 /// Chapter 6's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

@@ -79,6 +79,10 @@ fn chapter_7_scene() -> String {
         .unwrap_or_default()
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "along the edges only: the samples must cover the pixel (one in each cell, each cell with its own jitter), and the pixel is their average";
+
 /// Chapter 7's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,

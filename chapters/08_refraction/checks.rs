@@ -64,6 +64,10 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "inside the glass: eta is n1/n2 on the way in and n2/n1 on the way out, total internal reflection sends the ray back, and the normal faces the side the ray comes from";
+
 /// Chapter 8's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,
@@ -187,7 +191,7 @@ pub fn robustness() -> Vec<Case> {
         Case::from(RefractQuestion {
             name: "refract-just-below-critical",
             section: TIR_8,
-            says: "glass to air 0.01 degree below the critical angle: cos t = 0.01, the refracted \
+            says: "glass to air 0.01 degree below the critical angle: cos t = 0.0198, the refracted \
                    ray exists and skims the surface",
             dir: at_angle(critical - 0.01),
             normal: Vec3::Y,

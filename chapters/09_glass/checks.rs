@@ -80,6 +80,10 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "on the glass: the reflected share R and the transmitted 1 - R, the pair of media at each crossing, and absorption along the path inside only";
+
 /// Chapter 9's checkpoints (level 1), in the order they run: the first
 /// that fails is the one reported.
 /// A list of cases that reads as data, one entry per case: kept whole,
@@ -113,8 +117,8 @@ pub fn checkpoints() -> Vec<Case> {
             section: FRESNEL_9,
             says: "air to glass at 45 degrees: sin t = 0.7071 / 1.5 = 0.4714, cos t = 0.8819; r_s \
                    = (0.7071 - 1.5 x 0.8819) / (0.7071 + 1.5 x 0.8819) = -0.3034, r_p = \
-                   (0.8819 - 1.5 x 0.7071) / (0.8819 + 1.5 x 0.7071) = -0.0921: R = \
-                   (r_s^2 + r_p^2) / 2 = 0.0503",
+                   (1.5 x 0.7071 - 0.8819) / (1.5 x 0.7071 + 0.8819) = 0.0920 (the lesson's \
+                   sign; only its square counts): R = (r_s^2 + r_p^2) / 2 = 0.0502",
             schlick: false,
             cos_i: cos45,
             n1: 1.0,
@@ -194,9 +198,13 @@ pub fn checkpoints() -> Vec<Case> {
             name: "dielectric-nested-balls",
             section: STACK_9,
             says: "a ray from (0, 1, -6) along +z meets a glass ball \
-                   (ior 1.5, exact Fresnel, absorbing) holding a water ball (ior 1.33, Schlick): \
-                   expected the reference colour, with every crossing between the right pair of \
-                   media",
+                   (ior 1.5, exact Fresnel, absorbing) holding a water ball (ior 1.33, Schlick) \
+                   and crosses four surfaces, each between its own pair of media: (n1, n2) = \
+                   (1, 1.5) into the glass, (1.5, 1.33) into the water, (1.33, 1.5) out of it, \
+                   (1.5, 1) out of the glass; the glass absorbs along the path inside it only. \
+                   A wrong pair at one crossing (the outer medium taken as air, the stack not \
+                   popped) changes that crossing's Fresnel share and bend: print the pair your \
+                   `crossing` gives at each",
             shading: Shading::Dielectric,
             scene: NESTED_SCENE.to_string(),
             ray: (Vec3::new(0.0, 1.0, -6.0), Vec3::Z),

@@ -667,7 +667,7 @@ fn chapter_9_draws_with_each_of_its_functions() {
 
 #[test]
 fn schlick_plot() {
-    // `RAYLAB_BLESS=1 cargo test --test course chapter_9::schlick_plot` rewrites it.
+    // `RAYLAB_BLESS=1 cargo test --lib schlick_plot` rewrites it.
     let svg = raylab::plots::schlick_error_svg().expect("plot");
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/images/schlick-error.svg");
@@ -690,6 +690,34 @@ fn schlick_plot() {
     assert!((0.03..0.037).contains(&worst), "{worst}");
 }
 
+/// The lesson's figures for Schlick's gap, entering water, glass and
+/// diamond: within 0.002 of exact Fresnel up to 35 degrees (water) and 32
+/// (glass, diamond), and 0.0034, 0.0051 and 0.0047 at 40 degrees.
+#[test]
+fn schlick_gaps() {
+    let gap = |degrees: f32, n2: f32| {
+        let cos = degrees.to_radians().cos();
+        (raylab::Reference::fresnel(cos, 1.0, n2) - raylab::Reference::schlick(cos, 1.0, n2)).abs()
+    };
+    for (n2, within_to, at_40) in [
+        (1.33, 35.0, 0.0034),
+        (1.5, 32.0, 0.0051),
+        (2.42, 32.0, 0.0047),
+    ] {
+        assert!(
+            gap(within_to, n2) <= 0.002,
+            "n2 = {n2}: {}",
+            gap(within_to, n2)
+        );
+        assert!(gap(within_to + 3.0, n2) > 0.002, "n2 = {n2}");
+        assert!(
+            (gap(40.0, n2) - at_40).abs() < 0.00005,
+            "n2 = {n2}: {}",
+            gap(40.0, n2)
+        );
+    }
+}
+
 /// Asserts that `raylab check` fails chapter 9 of the chapters `C` on the
 /// case named `case` (the bug gallery of the course, as for chapters 1-8 in
 /// tests/course/check.rs).
@@ -697,6 +725,7 @@ fn caught_by_check<C: Chapters>(case: &str) {
     let options = raylab::check::CheckOptions {
         failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),
         write_images: false,
+        forbid_answer_key: false,
     };
     let verdict = raylab::check::check_chapter::<C>(9, &options);
     let text = verdict.text();

@@ -142,6 +142,10 @@ impl From<SharedDiagonalQuestion> for Case {
     }
 }
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "on the meshes: a ray through a shared edge must hit one of its triangles, and the smooth normal is the vertex normals weighted by the barycentric coordinates";
+
 /// Chapter 10's checkpoint cases. The first two are the ones the lesson's
 /// "Your turn" paragraph promises.
 ///

@@ -15,6 +15,7 @@ fn options() -> CheckOptions {
     CheckOptions {
         failures_dir: std::env::temp_dir().join("raylab-chapter-10-tests"),
         write_images: false,
+        forbid_answer_key: false,
     }
 }
 
@@ -26,7 +27,10 @@ fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), Some(case), "{text}");
     assert!(
-        text.contains("hint:     read chapters/10_triangles/lesson.md"),
+        text.contains(&format!(
+            "hint:     read {}/chapters/10_triangles/lesson.md",
+            env!("CARGO_MANIFEST_DIR")
+        )),
         "{text}"
     );
     assert_eq!(verdict.needs, None, "{text}");

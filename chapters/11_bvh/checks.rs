@@ -116,6 +116,10 @@ const SAH_ONE_PER_LEAF: BvhOptions = BvhOptions {
     max_leaf: 1,
 };
 
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "where the tree answers differently from chapter 3's loop: the slab test's range, both children visited when their boxes overlap, and the nearest hit kept from leaf to leaf";
+
 /// Chapter 11's checkpoint cases.
 ///
 /// A list of cases that reads as data, one entry per case: kept whole,

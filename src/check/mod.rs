@@ -29,6 +29,7 @@ pub mod cases;
 pub mod catalog;
 pub mod exact;
 mod panics;
+pub mod verdict_file;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -60,6 +61,10 @@ pub struct CheckOptions {
     /// Whether to write those images at all (the tests of raylab itself
     /// turn it off).
     pub write_images: bool,
+    /// Whether a chapter whose code runs raylab's own answers fails (see
+    /// [`crate::answer_key`]): set for a student's chapters, not for the
+    /// variants of the reference that raylab's tests check.
+    pub forbid_answer_key: bool,
 }
 
 impl Default for CheckOptions {
@@ -67,6 +72,7 @@ impl Default for CheckOptions {
         CheckOptions {
             failures_dir: PathBuf::from("check-failures"),
             write_images: true,
+            forbid_answer_key: false,
         }
     }
 }
@@ -153,6 +159,9 @@ pub struct ChapterVerdict {
     pub errors: Vec<String>,
     /// The lesson file (`chapters/NN_name.md`) and the student's file.
     pub lesson: String,
+    /// raylab's own answers that ran while the chapter was checked (see
+    /// [`crate::answer_key`]), when the check forbids them: the chapter fails.
+    pub answers_used: Vec<&'static str>,
 }
 
 impl ChapterVerdict {
@@ -206,6 +215,18 @@ impl ChapterVerdict {
                 );
             }
         }
+        if !self.answers_used.is_empty() {
+            let _ = writeln!(
+                out,
+                "  your code runs raylab's own answer instead of yours: {}\n    \
+                 hint:     each function of chapter {} computes its answer itself; \
+                 an `impl Chapters` must define every function it checks (the \
+                 trait's defaults are raylab's answers), and the shapes' methods \
+                 and raylab's functions are not yours to call",
+                self.answers_used.join(", "),
+                self.chapter
+            );
+        }
         if let Some(failure) = &self.first_failure {
             out.push_str(&failure_text(failure));
         }
@@ -225,6 +246,15 @@ impl ChapterVerdict {
         }
         if let Some(image) = &self.image {
             out.push_str(&image_text(image));
+            if !image.passed {
+                let _ = writeln!(
+                    out,
+                    "    hint:     every checkpoint passes, so look at the heatmap {}; the \
+                     lesson: {}",
+                    catalog::image_hint(self.chapter),
+                    self.lesson
+                );
+            }
         }
         if let Some(robustness) = &self.robustness {
             out.push_str(&robustness_text(robustness));
@@ -378,38 +408,45 @@ impl CheckReport {
     /// The table printed at the end: chapter, status, cases, robustness,
     /// image metric.
     pub fn summary_table(&self) -> String {
-        let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "{:<8} {:<12} {:<7} {:<14} image",
-            "chapter", "status", "cases", "robustness"
-        );
-        for v in &self.verdicts {
-            let robustness = match &v.robustness {
-                Some(r) if r.passed == r.total => format!("{}/{} robust", r.passed, r.total),
-                Some(r) => format!("{}/{}", r.passed, r.total),
-                None => "-".into(),
-            };
-            let image = match &v.image {
-                Some(image) if image.metrics.max == 0 => "identical".to_string(),
-                Some(image) => format!(
-                    "max {}, {} px over {}",
-                    image.metrics.max,
-                    image.metrics.pixels_over,
-                    Criteria::default().threshold
-                ),
-                None => "-".into(),
-            };
-            let _ = writeln!(
-                out,
-                "{:<8} {:<12} {:<7} {:<14} {image}",
-                v.chapter,
-                v.status.word(),
-                format!("{}/{}", v.cases_passed, v.cases_total),
-                robustness
-            );
+        let mut out = CheckReport::summary_header();
+        for verdict in &self.verdicts {
+            out.push_str(&CheckReport::summary_row(verdict));
         }
         out
+    }
+
+    /// The table's header line.
+    pub fn summary_header() -> String {
+        format!(
+            "{:<8} {:<12} {:<7} {:<14} image\n",
+            "chapter", "status", "cases", "robustness"
+        )
+    }
+
+    /// The table's line for `verdict`.
+    pub fn summary_row(verdict: &ChapterVerdict) -> String {
+        let robustness = match &verdict.robustness {
+            Some(r) if r.passed == r.total => format!("{}/{} robust", r.passed, r.total),
+            Some(r) => format!("{}/{}", r.passed, r.total),
+            None => "-".into(),
+        };
+        let image = match &verdict.image {
+            Some(image) if image.metrics.max == 0 => "identical".to_string(),
+            Some(image) => format!(
+                "max {}, {} px over {}",
+                image.metrics.max,
+                image.metrics.pixels_over,
+                Criteria::default().threshold
+            ),
+            None => "-".into(),
+        };
+        format!(
+            "{:<8} {:<12} {:<7} {:<14} {image}\n",
+            verdict.chapter,
+            verdict.status.word(),
+            format!("{}/{}", verdict.cases_passed, verdict.cases_total),
+            robustness
+        )
     }
 
     /// Every verdict, then the table.
@@ -438,12 +475,12 @@ fn run_cases<C: Chapters>(info: &ChapterInfo, cases: &[Case]) -> (usize, Vec<(us
     let mut passed = 0;
     let mut failures = Vec::new();
     for (index, case) in cases.iter().enumerate() {
+        verdict_file::step(info.number, case.function(), case.name);
         match case.run::<C>() {
             Outcome::Pass => passed += 1,
             outcome => failures.push((index, outcome)),
         }
     }
-    let _ = info;
     (passed, failures)
 }
 
@@ -463,13 +500,45 @@ fn case_failure(info: &ChapterInfo, cases: &[Case], index: usize, outcome: Outco
     }
 }
 
+/// The chapter's lesson where this raylab's checkout has it (a student
+/// runs the check in their own workspace, where a path relative to raylab
+/// would name nothing).
 fn lesson(info: &ChapterInfo) -> String {
-    info.lesson_path()
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = checkout.join(info.lesson_path());
+    if path.is_file() {
+        path.display().to_string()
+    } else {
+        info.lesson_path()
+    }
 }
 
 /// Chapter `info`'s own verdict (not yet looking at earlier chapters).
-/// `full`: also the image and the robustness cases.
+/// `full`: also the image and the robustness cases. With
+/// [`CheckOptions::forbid_answer_key`], a chapter whose code ran raylab's
+/// own answers fails, whatever its cases said.
 fn own_verdict<C: Chapters>(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    full: bool,
+) -> ChapterVerdict {
+    let (mut verdict, mut answers) =
+        crate::answer_key::recording(|| cases_image_robustness::<C>(info, options, full));
+    if !options.forbid_answer_key {
+        return verdict;
+    }
+    if C::COMPARISON {
+        answers.insert(0, "a comparison wrapper of raylab's (Textbook)");
+    }
+    if !answers.is_empty() && verdict.status != Status::Error {
+        verdict.status = Status::Fail;
+        verdict.answers_used = answers;
+    }
+    verdict
+}
+
+/// [`own_verdict`] but for the answer key.
+fn cases_image_robustness<C: Chapters>(
     info: &ChapterInfo,
     options: &CheckOptions,
     full: bool,
@@ -490,6 +559,7 @@ fn own_verdict<C: Chapters>(
         needs: None,
         errors: Vec::new(),
         lesson: lesson(info),
+        answers_used: Vec::new(),
     };
     let own_todo = |outcome: &Outcome| match outcome {
         Outcome::Todo(panic) => owner(panic).is_none_or(|o| o >= chapter),
@@ -544,6 +614,7 @@ fn judge_image<C: Chapters>(
     cases: usize,
     verdict: &mut ChapterVerdict,
 ) {
+    verdict_file::step(info.number, "the whole stage", "the chapter's image");
     match check_image::<C>(info, options) {
         Ok(Ok(image)) => {
             if !image.passed {
@@ -778,6 +849,7 @@ fn unknown_chapter(chapter: u8) -> ChapterVerdict {
             crate::chapters::LAST_CHAPTER
         )],
         lesson: String::new(),
+        answers_used: Vec::new(),
     }
 }
 
@@ -832,7 +904,16 @@ pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
 /// test per chapter that calls this. Robustness is reported apart, as by
 /// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
 pub fn assert_chapter<C: Chapters>(chapter: u8) {
-    let verdict = check_chapter::<C>(chapter, &CheckOptions::default());
+    // A student's tests, like their binary, may not lean on raylab's answers.
+    let student = std::any::TypeId::of::<C>() != std::any::TypeId::of::<crate::Reference>();
+    if student {
+        crate::answer_key::seal();
+    }
+    let options = CheckOptions {
+        forbid_answer_key: student,
+        ..CheckOptions::default()
+    };
+    let verdict = check_chapter::<C>(chapter, &options);
     let require_robust = std::env::var_os(REQUIRE_ROBUST_VAR).is_some_and(|v| v == "1");
     if !verdict.passes() || (require_robust && !verdict.robust()) {
         panic!("\n{}", verdict.text());
@@ -857,6 +938,33 @@ mod tests {
                     info.number,
                     case.name,
                     case.says
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn hard_cases_are_reported_as_robustness() {
+        for info in CHAPTERS {
+            let hard = catalog::robustness(info.number);
+            assert!(
+                hard.iter().all(|case| case.level == Level::Robustness),
+                "chapter {}",
+                info.number
+            );
+            if let Some(case) = hard.first() {
+                let failure = case_failure(
+                    info,
+                    &hard,
+                    0,
+                    Outcome::Fail {
+                        expected: "1".into(),
+                        got: "2".into(),
+                    },
+                );
+                assert!(
+                    failure_text(&failure).contains("  hard case 1 of"),
+                    "{case:?}"
                 );
             }
         }

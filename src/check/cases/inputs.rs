@@ -16,33 +16,58 @@ pub(super) fn range(t_min: f32, t_max: f32) -> String {
 }
 
 /// A number as a student would write it: short, exponent for the very
-/// large and very small.
+/// large and very small, and every digit the `f32` needs to be told from
+/// its neighbours (Rust's shortest round-trip form): an input printed as
+/// `-0.33333334` is not mistaken for the `-0.333333333` of an answer.
 pub fn num(x: f32) -> String {
-    num64(f64::from(x))
+    if let Some(special) = special(f64::from(x)) {
+        return special;
+    }
+    if exponent_form(f64::from(x)) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
+/// An exact (`f64`) answer, to 9 significant digits: one more than an
+/// `f32` carries, so that an answer and the `f32` it is compared with
+/// never print alike when they differ by more than rounding.
 pub fn num64(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return if x.is_nan() {
-            "NaN".into()
-        } else if x.is_infinite() {
-            if x > 0.0 { "inf".into() } else { "-inf".into() }
-        } else {
-            "0".into()
-        };
+    if let Some(special) = special(x) {
+        return special;
     }
-    let magnitude = x.abs();
-    if !(1e-4..1e7).contains(&magnitude) {
-        return format!("{x:.6e}")
-            .replace("0000e", "e")
-            .replace("000e", "e")
-            .replace("00e", "e")
-            .replace("0e", "e")
-            .replace(".e", "e");
+    if exponent_form(x) {
+        let text = format!("{x:.8e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
     }
-    let text = format!("{x:.7}");
-    let text = text.trim_end_matches('0').trim_end_matches('.');
+    let whole_digits = x.abs().log10().floor() as i32 + 1;
+    let decimals = (9 - whole_digits).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &text
+    };
     text.to_string()
+}
+
+fn special(x: f64) -> Option<String> {
+    if x.is_nan() {
+        Some("NaN".into())
+    } else if x.is_infinite() {
+        Some(if x > 0.0 { "inf".into() } else { "-inf".into() })
+    } else if x == 0.0 {
+        Some("0".into())
+    } else {
+        None
+    }
+}
+
+fn exponent_form(x: f64) -> bool {
+    !(1e-4..1e7).contains(&x.abs())
 }
 
 pub fn vec(v: Vec3) -> String {

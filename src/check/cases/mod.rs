@@ -351,5 +351,14 @@ mod tests {
         assert_eq!(num(1e20), "1e20");
         assert_eq!(num(f32::INFINITY), "inf");
         assert_eq!(vec(Vec3::new(0.0, 1.0, -5.0)), "(0, 1, -5)");
+        // Every digit that tells an f32 from its neighbours, and an exact
+        // answer with one digit more: the two never print alike.
+        assert_eq!(num(-1.0 / 3.0), "-0.33333334");
+        assert_eq!(num64(-1.0 / 3.0), "-0.333333333");
+        assert_eq!(num(0.1), "0.1");
+        assert_eq!(num64(0.1), "0.1");
+        assert_eq!(num64(1234.5), "1234.5");
+        assert_eq!(num64(2.5e-7), "2.5e-7");
+        assert_eq!(num(1.5e-7), "1.5e-7");
     }
 }
