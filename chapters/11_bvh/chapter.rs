@@ -316,8 +316,9 @@ fn choose_cut(
     }
     // The SAH: a ray that meets the node meets a child with probability
     // (child's area) / (node's area), and then tests its objects. Costs are
-    // multiplied through by the node's area so that a flat node (area 0)
-    // needs no division.
+    // multiplied through by the node's area so that a node of no area (a
+    // point: a box flat along one axis still has positive area) needs no
+    // division.
     //
     // right_cost[b] = area(bins b..) * objects(b..), swept from the right.
     let mut right_cost = vec![0.0f64; count];
