@@ -79,6 +79,12 @@ fn chapter_7_scene() -> String {
         .unwrap_or_default()
 }
 
+/// The pixels of the spread cases: 64 x 64, row by row, so that each pixel's
+/// neighbour in the list is its neighbour in the image.
+fn spread_pixels() -> Vec<(u32, u32)> {
+    (0..64).flat_map(|y| (0..64).map(move |x| (x, y))).collect()
+}
+
 /// Where the image differs when every checkpoint passes: what to look at
 /// in the heatmap.
 pub const IMAGE_HINT: &str = "along the edges only: the samples must cover the pixel (one in each cell, each cell with its own jitter), and the pixel is their average";
@@ -124,6 +130,31 @@ pub fn checkpoints() -> Vec<Case> {
             pixels: vec![(10, 20), (0, 0), (159, 119)],
             seed: 42,
             rule: SampleRule::OnePerCell,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-jittered-spread",
+            section: SAMPLES_7,
+            says: "4 jittered samples in each of 64 x 64 pixels, seed 7: within its cell, a \
+                   sample is anywhere with equal chance, x and y independently, and the jitter \
+                   of one cell tells nothing of another's, nor one pixel's of the next's (a \
+                   jitter drawn once and reused for every cell puts the samples on a grid)",
+            sampling: Sampling::Jittered,
+            count: 4,
+            pixels: spread_pixels(),
+            seed: 7,
+            rule: SampleRule::Spread,
+        }),
+        Case::from(SamplesQuestion {
+            name: "samples-random-spread",
+            section: SAMPLES_7,
+            says: "4 random samples in each of 64 x 64 pixels, seed 11: uniform over the pixel, \
+                   x and y independent, and independent from sample to sample and from pixel \
+                   to pixel",
+            sampling: Sampling::Random,
+            count: 4,
+            pixels: spread_pixels(),
+            seed: 11,
+            rule: SampleRule::Spread,
         }),
         Case::from(SamplesQuestion {
             name: "samples-random-4",

@@ -614,6 +614,20 @@ pub fn robustness() -> Vec<Case> {
     ];
     let up = (Vec3::new(0.25, 0.25, 0.0), Vec3::Z);
     robust(vec![
+        // The property itself, not one formula's failures: whatever the
+        // test, no ray from inside a closed mesh gets out. Moller-Trumbore
+        // lets 85 of these 2,016 through (`raylab cost --chapter 10 --knob
+        // triangle-test` counts them), and so does a Cramer's-rule test
+        // (gallery.rs).
+        Case::new(
+            "triangle-closed-mesh-nothing-escapes",
+            WATERTIGHT_10,
+            "raylab's generated closed model (a lumpy torus, 1,008 triangles) and 2,016 rays \
+             from its core circle, each at a vertex or the midpoint of an edge, where two or \
+             more triangles meet and rounding decides which one claims the ray: from inside a \
+             closed mesh every ray hits a triangle",
+            CaseKind::ClosedMesh(ClosedMeshCase { triangles: 1008 }),
+        ),
         Case::from(TrianglesQuestion {
             name: "triangle-closed-mesh-edge",
             section: WATERTIGHT_10,

@@ -12,10 +12,10 @@
 pub use glam::Vec3;
 
 pub use super::cases::{
-    BarycentricCase, BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase, NearestCase, OffsetCase,
-    PhongTermsCase, PixelColorCase, PlaneCase, ReflectCase, ReflectanceCase, RefractCase,
-    SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase, SmoothNormalCase, SphereCase,
-    TerminatorCase, TransmittanceCase, TrianglesCase,
+    BarycentricCase, BoxEdgesCase, BvhBuildCase, BvhHitsCase, ClosedMeshCase, HitBoxCase,
+    NearestCase, OffsetCase, PhongTermsCase, PixelColorCase, PlaneCase, ReflectCase,
+    ReflectanceCase, RefractCase, SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase,
+    SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 pub use super::exact::{self, wide};

@@ -29,6 +29,7 @@ pub mod cases;
 pub mod catalog;
 pub mod exact;
 mod panics;
+pub mod sampled;
 pub mod verdict_file;
 
 use std::fmt::Write as _;
@@ -125,7 +126,11 @@ pub struct CaseFailure {
 /// How the chapter's image compared with the reference.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImageCheck {
+    /// The comparison with the shipped reference image, pixel for pixel.
     pub metrics: Metrics,
+    /// For a sampled stage, the comparison with the converged reference
+    /// that decides (see [`sampled`]); `None` where pixels must match.
+    pub noise: Option<sampled::NoiseCheck>,
     pub passed: bool,
     /// The student's image and the heatmap, when written.
     pub written: Vec<PathBuf>,
@@ -270,6 +275,36 @@ impl ChapterVerdict {
 fn image_text(image: &ImageCheck) -> String {
     let mut out = String::new();
     let m = &image.metrics;
+    if let Some(noise) = &image.noise {
+        let _ = writeln!(
+            out,
+            "  image: {} of {} pixels beyond the noise of the converged reference ({} sigma \
+             and 2 levels; at most {} allowed{}): {}",
+            noise.outside,
+            noise.pixels,
+            sampled::SIGMAS,
+            noise.allowed,
+            noise
+                .first
+                .map(|(x, y)| format!(", the first at x={x}, y={y}"))
+                .unwrap_or_default(),
+            if image.passed {
+                "within the noise"
+            } else {
+                "outside it"
+            }
+        );
+        if !image.passed {
+            for path in &image.written {
+                let _ = writeln!(
+                    out,
+                    "    wrote {}",
+                    crate::text::terminal_safe(&path.display().to_string())
+                );
+            }
+        }
+        return out;
+    }
     if image.passed {
         let _ = writeln!(
             out,
@@ -431,6 +466,9 @@ impl CheckReport {
             None => "-".into(),
         };
         let image = match &verdict.image {
+            Some(ImageCheck {
+                noise: Some(noise), ..
+            }) => format!("{} px beyond noise", noise.outside),
             Some(image) if image.metrics.max == 0 => "identical".to_string(),
             Some(image) => format!(
                 "max {}, {} px over {}",
@@ -717,19 +755,30 @@ fn check_image<C: Chapters>(
         Ok(stage) => stage,
         Err(error) => return Ok(Err(error.to_string())),
     };
-    let rgb = panics::guarded(|| {
+    let linear = panics::guarded(|| {
         // The same loop as render::render_stage, on one thread: each pixel
-        // is computed and encoded exactly as `raylab render` does.
+        // is computed exactly as `raylab render` does.
         let mut tracer = stage.tracer(None);
-        let mut rgb = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT * 3) as usize);
+        let mut linear = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize);
         for y in 0..REFERENCE_HEIGHT {
             for x in 0..REFERENCE_WIDTH {
-                let color = tracer.pixel(x, y);
-                rgb.extend(color.to_array().map(crate::output::linear_to_srgb8));
+                linear.push(tracer.pixel(x, y));
             }
         }
-        rgb
+        linear
     })?;
+    let rgb = linear
+        .iter()
+        .flat_map(|color| color.to_array().map(crate::output::linear_to_srgb8))
+        .collect();
+    let noise = if sampled::is_sampled(&stage, &settings) {
+        match sampled::converged(info, &scene, settings) {
+            Ok(converged) => Some(sampled::judge(&linear, stage.samples(), &converged)),
+            Err(error) => return Ok(Err(error)),
+        }
+    } else {
+        None
+    };
     let student = Image {
         width: REFERENCE_WIDTH,
         height: REFERENCE_HEIGHT,
@@ -744,7 +793,10 @@ fn check_image<C: Chapters>(
         Ok(comparison) => comparison,
         Err(error) => return Ok(Err(format!("{error:#}"))),
     };
-    let passed = comparison.passes();
+    let passed = match &noise {
+        Some(noise) => noise.passes(),
+        None => comparison.passes(),
+    };
     let mut written = Vec::new();
     if !passed && options.write_images {
         match write_failure_images(info.number, &options.failures_dir, &student, &comparison) {
@@ -760,6 +812,7 @@ fn check_image<C: Chapters>(
     }
     Ok(Ok(ImageCheck {
         metrics: comparison.metrics,
+        noise,
         passed,
         written,
     }))

@@ -753,3 +753,155 @@ fn gallery_plane_ignoring_t_min() {
 // beside their hand-computed values: chapter 9's Schlick with n1 and n2
 // swapped, chapter 10's one-sided triangle test and Moller-Trumbore,
 // "correct, not yet robust", chapter 11's tree bugs.
+
+// ---------------------------------------------------------------------------
+// Samplers: any correct one passes the sampled chapters, whatever its hash
+// and its order of cells; one that reuses its jitter does not.
+
+/// A stateless hash of the student's own (murmur3's finaliser over the
+/// arguments), not raylab's: another realisation of the same noise.
+fn own_random(seed: u64, pixel: (u32, u32), index: u32, dimension: u32) -> f32 {
+    let mut word = seed
+        .wrapping_mul(0xff51_afd7_ed55_8ccd)
+        .wrapping_add((u64::from(pixel.0) << 32) | u64::from(pixel.1))
+        .wrapping_add(u64::from(index) << 8 | u64::from(dimension));
+    word ^= word >> 33;
+    word = word.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    word ^= word >> 29;
+    word = word.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    word ^= word >> 32;
+    (word >> 40) as f32 / (1u64 << 24) as f32
+}
+
+/// Jittered sample `index` of `count`, the cells numbered column by column
+/// when `column_first`, `jitter(dimension)` its random numbers.
+fn jittered(count: u32, index: u32, column_first: bool, jitter: impl Fn(u32) -> f32) -> (f32, f32) {
+    let k = count.isqrt().max(1);
+    let (column, row) = if column_first {
+        (index / k, index % k)
+    } else {
+        (index % k, index / k)
+    };
+    let cell = 1.0 / k as f32;
+    let inside = |x: f32| x.min(1.0 - f32::EPSILON / 2.0);
+    (
+        inside((column as f32 + jitter(0)) * cell),
+        inside((row as f32 + jitter(1)) * cell),
+    )
+}
+
+/// Another correct sampler: `salt` changes its hash's seed, and an odd one
+/// numbers the cells column by column.
+fn salted_offset(
+    salt: u64,
+    sampling: Sampling,
+    count: u32,
+    index: u32,
+    pixel: (u32, u32),
+    seed: u64,
+) -> (f32, f32) {
+    let random = |dimension| own_random(seed ^ salt, pixel, index, dimension);
+    match sampling {
+        Sampling::Jittered => jittered(count, index, salt % 2 == 1, random),
+        Sampling::Random => (random(0), random(1)),
+        Sampling::Grid => Reference::sample_offset(sampling, count, index, pixel, seed),
+    }
+}
+
+struct OwnHash;
+impl Chapters for OwnHash {
+    fn sample_offset(
+        s: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        salted_offset(0, s, count, index, pixel, seed)
+    }
+}
+
+struct ColumnFirst;
+impl Chapters for ColumnFirst {
+    fn sample_offset(
+        s: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        salted_offset(0x1235, s, count, index, pixel, seed)
+    }
+}
+
+/// The classic slip: the jitter is drawn once per pixel (as if for sample
+/// 0) and every cell reuses it, a shifted grid rather than a jittered one.
+struct JitterReused;
+impl Chapters for JitterReused {
+    fn sample_offset(
+        s: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        match s {
+            Sampling::Jittered => jittered(count, index, false, |dimension| {
+                own_random(seed, pixel, 0, dimension)
+            }),
+            _ => Reference::sample_offset(s, count, index, pixel, seed),
+        }
+    }
+}
+
+#[test]
+fn another_hash_and_another_order_of_cells_pass_every_sampled_chapter() {
+    for chapter in [7, 8, 9] {
+        for verdict in [
+            assert_passes::<OwnHash>(chapter),
+            assert_passes::<ColumnFirst>(chapter),
+        ] {
+            let image = verdict.image.as_ref().expect("an image");
+            let noise = image
+                .noise
+                .as_ref()
+                .unwrap_or_else(|| panic!("chapter {chapter} is judged by its noise"));
+            // Not a pixel-for-pixel match: the shipped image would refuse it.
+            assert!(image.metrics.pixels_over > 100, "{}", verdict.text());
+            assert!(noise.passes(), "{}", verdict.text());
+        }
+    }
+}
+
+#[test]
+fn gallery_jitter_reused_for_every_cell() {
+    assert_caught::<JitterReused>(7, "samples-jittered-spread");
+}
+
+/// Two dozen more correct samplers (each hash seed salted, every other one
+/// numbering its cells column by column) pass chapters 7 and 9: the
+/// figures quoted at `check::sampled::allowed_outliers` come from here.
+#[test]
+fn two_dozen_correct_samplers_pass_the_sampled_chapters() {
+    static SALT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    struct Salted;
+    impl Chapters for Salted {
+        fn sample_offset(
+            s: Sampling,
+            count: u32,
+            index: u32,
+            pixel: (u32, u32),
+            seed: u64,
+        ) -> (f32, f32) {
+            let salt = SALT.load(std::sync::atomic::Ordering::Relaxed);
+            salted_offset(salt, s, count, index, pixel, seed)
+        }
+    }
+    for chapter in [7, 9] {
+        for salt in 0..24 {
+            SALT.store(salt * 7919 + 1, std::sync::atomic::Ordering::Relaxed);
+            let verdict = check_chapter::<Salted>(chapter, &options());
+            assert!(verdict.passes(), "salt {salt}: {}", verdict.text());
+        }
+    }
+}

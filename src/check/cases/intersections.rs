@@ -321,3 +321,71 @@ fn judge_t(
     };
     verdict(pass, show_expected, show_got)
 }
+
+/// `intersect_triangle` on every triangle of raylab's generated closed
+/// model (a lumpy torus of about `triangles` triangles), for a ray from
+/// inside it (its core circle) toward each vertex and each edge midpoint,
+/// where rounding decides which triangle claims the ray: the property a
+/// watertight test keeps, whatever its formula, is that every such ray hits
+/// some triangle. None may escape.
+#[derive(Debug, Clone)]
+pub struct ClosedMeshCase {
+    pub triangles: usize,
+}
+
+impl ClosedMeshCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "intersect_triangle"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        format!(
+            "intersect_triangle(each triangle of raylab's closed model of {} triangles, a ray \
+             from inside toward each vertex and edge midpoint, t_min = 0, t_max = inf)",
+            self.triangles
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same rule at both
+    /// levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let mesh = match crate::mesh::generate_closed_mesh(self.triangles) {
+            Ok(mesh) => mesh,
+            Err(error) => return Outcome::Error(error.to_string()),
+        };
+        let triangles: Vec<Triangle> = mesh
+            .triangles
+            .iter()
+            .map(|corners| {
+                let [a, b, c] = corners.map(|index| mesh.positions[index as usize]);
+                Triangle::new(a, b, c)
+            })
+            .collect();
+        let targets = crate::bvh_reports::leaks::leak_targets(&mesh);
+        let mut escaped = Vec::new();
+        for &target in &targets {
+            let origin = crate::bvh_reports::leaks::core_point(target);
+            let ray = Ray::new(origin, target - origin);
+            let hit = triangles.iter().any(|triangle| {
+                C::intersect_triangle(triangle, &ray, 0.0, f32::INFINITY).is_some()
+            });
+            if !hit {
+                escaped.push(ray);
+            }
+        }
+        match escaped.first() {
+            None => Outcome::Pass,
+            Some(first) => Outcome::Fail {
+                expected: format!("every one of the {} rays hits a triangle", targets.len()),
+                got: format!(
+                    "{} of {} rays hit no triangle and escape the closed mesh, the first the {}",
+                    escaped.len(),
+                    targets.len(),
+                    ray_text(first)
+                ),
+            },
+        }
+    }
+}

@@ -18,7 +18,7 @@ mod tree;
 pub use boxes::{BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase};
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
 pub use inputs::{num, num64, vec};
-pub use intersections::{NearestCase, PlaneCase, SphereCase, TrianglesCase};
+pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
 pub use sampling::{PixelColorCase, SampleOffsetsCase};
 pub use shading::{OffsetCase, PhongTermsCase, ShadeCase, ShadowCase};
 pub use smooth::{BarycentricCase, SmoothHitCase, SmoothNormalCase, TerminatorCase};
@@ -105,6 +105,12 @@ pub enum SampleRule {
     /// As `InsidePixel`, and not the same offsets as with this other seed:
     /// the seed changes the samples.
     UnlikeSeed(u64),
+    /// Over all the case's pixels, the samples are spread as independent
+    /// uniform ones would be (jittered: within their cells): uniform in x
+    /// and y together, one cell's independent of another's in the same
+    /// pixel, one pixel's independent of the next pixel's. Each is a
+    /// chi-square test on 8 x 8 bins (see `sampling::spread`).
+    Spread,
 }
 
 /// The question a case asks, one variant per kind of function. Each kind
@@ -126,6 +132,7 @@ pub enum CaseKind {
     Reflectance(ReflectanceCase),
     Transmittance(TransmittanceCase),
     Triangles(TrianglesCase),
+    ClosedMesh(ClosedMeshCase),
     Barycentric(BarycentricCase),
     SmoothNormal(SmoothNormalCase),
     Terminator(TerminatorCase),
@@ -154,6 +161,7 @@ impl CaseKind {
             CaseKind::Reflectance(case) => case.function(),
             CaseKind::Transmittance(case) => case.function(),
             CaseKind::Triangles(case) => case.function(),
+            CaseKind::ClosedMesh(case) => case.function(),
             CaseKind::Barycentric(case) => case.function(),
             CaseKind::SmoothNormal(case) => case.function(),
             CaseKind::Terminator(case) => case.function(),
@@ -182,6 +190,7 @@ impl CaseKind {
             CaseKind::Reflectance(case) => case.inputs(),
             CaseKind::Transmittance(case) => case.inputs(),
             CaseKind::Triangles(case) => case.inputs(),
+            CaseKind::ClosedMesh(case) => case.inputs(),
             CaseKind::Barycentric(case) => case.inputs(),
             CaseKind::SmoothNormal(case) => case.inputs(),
             CaseKind::Terminator(case) => case.inputs(),
@@ -211,6 +220,7 @@ impl CaseKind {
             CaseKind::Reflectance(case) => case.evaluate::<C>(robust),
             CaseKind::Transmittance(case) => case.evaluate::<C>(robust),
             CaseKind::Triangles(case) => case.evaluate::<C>(robust),
+            CaseKind::ClosedMesh(case) => case.evaluate::<C>(robust),
             CaseKind::Barycentric(case) => case.evaluate::<C>(robust),
             CaseKind::SmoothNormal(case) => case.evaluate::<C>(robust),
             CaseKind::Terminator(case) => case.evaluate::<C>(robust),

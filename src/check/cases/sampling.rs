@@ -46,6 +46,23 @@ impl SampleOffsetsCase {
             seed,
             rule,
         } = self;
+        if *rule == SampleRule::Spread {
+            let offsets: Vec<Vec<(f32, f32)>> = pixels
+                .iter()
+                .map(|pixel| {
+                    (0..*count)
+                        .map(|index| C::sample_offset(*sampling, *count, index, *pixel, *seed))
+                        .collect()
+                })
+                .collect();
+            return match spread(*sampling, *count, &offsets) {
+                Ok(()) => Outcome::Pass,
+                Err(problem) => Outcome::Fail {
+                    expected: rule_text(*rule, *count),
+                    got: problem,
+                },
+            };
+        }
         for pixel in pixels {
             let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
                 (0..*count)
@@ -175,7 +192,7 @@ fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(
             one_per_cell(k, offsets, cell_of)
         }
         SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
-        SampleRule::InsidePixel | SampleRule::UnlikeSeed(_) => {
+        SampleRule::InsidePixel | SampleRule::UnlikeSeed(_) | SampleRule::Spread => {
             if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
                 Err("every sample is at the same point".into())
             } else {
@@ -218,5 +235,88 @@ fn rule_text(rule: SampleRule, count: u32) -> String {
         SampleRule::UnlikeSeed(other) => {
             format!("samples inside [0, 1)^2, not all at one point, not those of seed {other}")
         }
+        SampleRule::Spread => format!(
+            "samples spread like independent uniform ones{}: chi-square at most {} on 8 x 8 bins \
+             for (x, y), for two cells of a pixel, and for two neighbouring pixels",
+            if count > 1 { " within their cells" } else { "" },
+            SPREAD_CHI_SQUARE
+        ),
     }
+}
+
+/// Bins per axis of the spread tests.
+const SPREAD_BINS: usize = 8;
+
+/// The largest chi-square of a spread test that passes: the 1 - 1e-4
+/// quantile of the chi-square law with 63 degrees of freedom (8 x 8 bins,
+/// Wilson and Hilferty's approximation gives 113.7), so that a correct
+/// sampler, whose statistic follows that law, fails one of the three tests
+/// about once in 3,000 seeds; a sampler that reuses an offset puts every
+/// point on a diagonal and scores in the tens of thousands.
+pub const SPREAD_CHI_SQUARE: f64 = 114.0;
+
+/// The three spread tests of [`SampleRule::Spread`] over `offsets` (one
+/// list per pixel, neighbours next to each other): the first that fails,
+/// in words. Jittered samples are judged by their place within their cell
+/// (the grid is `sqrt(count)` cells a side), random ones by their place in
+/// the pixel.
+pub(super) fn spread(
+    sampling: Sampling,
+    count: u32,
+    offsets: &[Vec<(f32, f32)>],
+) -> Result<(), String> {
+    let k = if sampling == Sampling::Random {
+        1.0
+    } else {
+        count.isqrt().max(1) as f32
+    };
+    let within = |v: f32| (v * k).fract();
+    let mut joint = Vec::new();
+    for pixel in offsets {
+        joint.extend(pixel.iter().map(|&(x, y)| (within(x), within(y))));
+    }
+    let mut cells = Vec::new();
+    for pixel in offsets {
+        if let [first, second, ..] = pixel[..] {
+            cells.push((within(first.0), within(second.0)));
+        }
+    }
+    let mut neighbours = Vec::new();
+    for pair in offsets.windows(2) {
+        if let (Some(this), Some(next)) = (pair[0].first(), pair[1].first()) {
+            neighbours.push((within(this.0), within(next.0)));
+        }
+    }
+    for (what, points) in [
+        ("(x, y) of every sample", &joint),
+        ("x of the first two samples of each pixel", &cells),
+        ("x of the first sample of neighbouring pixels", &neighbours),
+    ] {
+        let statistic = chi_square(points);
+        if !(statistic <= SPREAD_CHI_SQUARE) {
+            return Err(format!(
+                "{what}: chi-square {statistic:.1} over {} points (a correct sampler stays \
+                 below {SPREAD_CHI_SQUARE}: are offsets reused, or correlated?)",
+                points.len()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Pearson's statistic of `points` in `[0, 1)^2` against the uniform law
+/// on [`SPREAD_BINS`] x [`SPREAD_BINS`] bins.
+fn chi_square(points: &[(f32, f32)]) -> f64 {
+    let mut bins = vec![0u64; SPREAD_BINS * SPREAD_BINS];
+    let bin = |v: f32| ((v * SPREAD_BINS as f32) as usize).min(SPREAD_BINS - 1);
+    for &(a, b) in points {
+        bins[bin(a) * SPREAD_BINS + bin(b)] += 1;
+    }
+    let expected = points.len() as f64 / bins.len() as f64;
+    if expected == 0.0 {
+        return 0.0;
+    }
+    bins.iter()
+        .map(|&n| (n as f64 - expected).powi(2) / expected)
+        .sum()
 }
