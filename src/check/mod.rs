@@ -13,7 +13,10 @@
 //!    `raylab diff`'s default rule: no pixel may differ by more than 2
 //!    levels. A student whose code is right differs from the reference only
 //!    by rounding, which changes a pixel by at most a level; every bug of the
-//!    gallery (tests/course/check.rs) changes hundreds. On failure the student's
+//!    gallery (tests/course/check.rs) changes hundreds. A sampled stage
+//!    (chapters 7 to 9) is judged against its converged reference instead,
+//!    pixel by pixel within its noise ([`sampled`]), so that any correct
+//!    sampler passes. On failure the student's
 //!    image and a heatmap are written to [`CheckOptions::failures_dir`];
 //! 3. **robustness**, reported apart: the chapter's hard cases (grazing and
 //!    tangent rays, far and huge spheres, origins on surfaces, the critical

@@ -721,6 +721,14 @@ fn a_failing_image_is_written_with_its_heatmap() {
         "{}",
         verdict.text()
     );
+    // Every checkpoint passed: the hint says where to look.
+    assert!(
+        verdict
+            .text()
+            .contains("hint:     every checkpoint passes, so look at the heatmap near the horizon"),
+        "{}",
+        verdict.text()
+    );
     // Fixed, the chapter passes and the old pictures go: they would mislead.
     let verdict = check_chapter::<Reference>(1, &options);
     assert_eq!(verdict.status, Status::Pass, "{}", verdict.text());
@@ -904,4 +912,36 @@ fn two_dozen_correct_samplers_pass_the_sampled_chapters() {
             assert!(verdict.passes(), "salt {salt}: {}", verdict.text());
         }
     }
+}
+
+/// A student's off-by-one in `nearest_hit` (`0..=len`): the panic names the
+/// student's line and the object that does not exist, not raylab's
+/// `Objects` that was asked for it.
+struct OneObjectTooMany;
+impl Chapters for OneObjectTooMany {
+    fn nearest_hit(
+        objects: &raylab::Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<raylab::Hit> {
+        let mut nearest: Option<raylab::Hit> = None;
+        for object in 0..=objects.len() {
+            let limit = nearest.map_or(t_max, |hit| hit.t);
+            if let Some(t) = objects.intersect(object, ray, t_min, limit) {
+                nearest = Some(raylab::Hit { object, t });
+            }
+        }
+        nearest
+    }
+}
+
+#[test]
+fn a_panic_in_the_students_loop_names_the_students_line() {
+    let verdict = check_chapter::<OneObjectTooMany>(3, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Fail, "{text}");
+    assert!(text.contains("does not exist: there are"), "{text}");
+    assert!(text.contains("tests/course/check.rs:"), "{text}");
+    assert!(!text.contains("course.rs:"), "{text}");
 }
