@@ -399,6 +399,39 @@ fn textbook_forwards_every_method_it_can() {
     assert!(forwarded.len() >= 15, "only {forwarded:?}");
 }
 
+/// Every default of the trait is raylab's answer, so each reports itself
+/// to `answer_key` under its own name before it answers: a student's
+/// `impl Chapters` that keeps one is caught (src/answer_key.rs).
+#[test]
+fn every_default_of_the_trait_reports_to_the_answer_key() {
+    use raylab::workspace::scan::{ItemKind, items};
+    let course = read("src/course.rs");
+    let top = items(&course).expect("src/course.rs scans");
+    let chapters = top
+        .iter()
+        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
+        .expect("trait Chapters");
+    let text = &course[chapters.header..chapters.range.end];
+    let open = text.find('{').expect("a block");
+    let block = &text[open + 1..text.len() - 1];
+    let mut silent = Vec::new();
+    let mut defaults = 0;
+    for item in items(block).expect("the trait scans") {
+        let (Some(name), Some(body)) = (item.name.clone(), item.body.clone()) else {
+            continue;
+        };
+        if item.kind != ItemKind::Fn {
+            continue;
+        }
+        defaults += 1;
+        if !block[body].contains(&format!("crate::answer_key::answered(\"{name}\")")) {
+            silent.push(name);
+        }
+    }
+    assert!(silent.is_empty(), "these defaults do not report: {silent:?}");
+    assert!(defaults >= 28, "only {defaults} defaults");
+}
+
 /// Whether `text` names a chapter by its folder's stem (`42_lens`) or its
 /// module (`ch42_lens`) as a whole word.
 fn names_chapter(text: &str, stem: &str) -> bool {
