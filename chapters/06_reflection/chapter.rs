@@ -37,7 +37,9 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 /// specular highlight is not scaled by `1 - k_r`: it is the light source's
 /// own mirror image, which a mirror shows in full. The recursion stops after
 /// `max_depth` bounces, and skips rays whose weight in the pixel is too
-/// small to see (`min_contribution`).
+/// small to see (`min_contribution`). The mirror direction is about the
+/// shading normal `point.normal`, as the Phong terms are (see
+/// [`mirror_direction`]).
 pub fn shade_mirror<C: Chapters>(
     tracer: &mut Tracer<C>,
     point: &HitPoint,
@@ -48,11 +50,42 @@ pub fn shade_mirror<C: Chapters>(
     let k_r = point.material.reflectivity;
     let mut color = (1.0 - k_r) * local.diffuse + local.specular;
     if depth < tracer.max_depth() && tracer.worth_casting(weight, k_r) {
-        let dir = C::reflect(point.ray.dir, point.surface.normal);
+        let dir = mirror_direction::<C>(point);
         let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
         color += k_r * tracer.trace(RayKind::Reflection, &reflected, depth + 1, weight * k_r);
     }
     color
+}
+
+/// The direction a mirror at `point` sends the ray `point.ray` on: its
+/// mirror image about the shading normal `point.normal`, the normal the
+/// point is lit with. On a plane or a sphere that is the geometric normal
+/// (turned toward the ray), so nothing changes there; on a smooth mesh
+/// (chapter 10) it is the blended vertex normal, and the mirror shows a
+/// curved surface's image instead of the facets' (pbrt-v4, section 9.1:
+/// every reflection is computed in the shading frame).
+///
+/// A shading normal can tilt so far from the facet that this mirror image
+/// points *into* the surface (a grazing ray near a silhouette): the ray
+/// would start below the triangle and see the inside of the mesh. There,
+/// and only there, the direction is the mirror image about the geometric
+/// normal, which always leaves on the side the ray came from. Which side is
+/// which is the geometric normal's to say, as for chapter 4's offset.
+fn mirror_direction<C: Chapters>(point: &HitPoint) -> Vec3 {
+    let incoming = point.ray.dir;
+    let geometric = point.surface.normal;
+    // +1 when the ray came from the side the geometric normal points to.
+    let eye_side = if incoming.dot(geometric) < 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    let shaded = C::reflect(incoming, point.normal);
+    if eye_side * shaded.dot(geometric) > 0.0 {
+        shaded
+    } else {
+        C::reflect(incoming, geometric)
+    }
 }
 
 #[cfg(test)]

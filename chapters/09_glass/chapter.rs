@@ -184,22 +184,19 @@ pub fn shade_dielectric<C: Chapters>(
     if depth >= tracer.max_depth() {
         return color;
     }
-    let incoming = point.ray.dir;
-    let normal = point.surface.normal;
     let crossing = C::crossing(tracer.media(), point);
     let mut reflected_share = k_r;
     // An opaque surface has no transmitted share to weigh: no Fresnel work.
-    if tracer.worth_casting(weight, k_t) {
-        match C::refract(incoming, normal, crossing.n1 / crossing.n2) {
+    let transmits = tracer.worth_casting(weight, k_t);
+    let boundary = boundary::<C>(point, transmits.then_some(crossing.n1 / crossing.n2));
+    if transmits {
+        match boundary.refracted {
             Some(dir) => {
+                let cos_i = point.to_eye.dot(boundary.normal);
                 let reflectance = match material.fresnel {
                     FresnelModel::None => 0.0,
-                    FresnelModel::Schlick => {
-                        C::schlick(point.to_eye.dot(point.normal), crossing.n1, crossing.n2)
-                    }
-                    FresnelModel::Exact => {
-                        C::fresnel(point.to_eye.dot(point.normal), crossing.n1, crossing.n2)
-                    }
+                    FresnelModel::Schlick => C::schlick(cos_i, crossing.n1, crossing.n2),
+                    FresnelModel::Exact => C::fresnel(cos_i, crossing.n1, crossing.n2),
                 };
                 reflected_share += k_t * reflectance;
                 let transmitted_share = k_t * (1.0 - reflectance);
@@ -221,7 +218,7 @@ pub fn shade_dielectric<C: Chapters>(
         }
     }
     if tracer.worth_casting(weight, reflected_share) {
-        let dir = C::reflect(incoming, normal);
+        let dir = boundary.reflected;
         let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
         let seen = seen_through::<C>(
             tracer,
@@ -234,6 +231,67 @@ pub fn shade_dielectric<C: Chapters>(
         color += reflected_share * seen;
     }
     color
+}
+
+/// The normal a boundary bends and mirrors light about at one point, and
+/// the directions it gives.
+struct Boundary {
+    /// Unit, on the side the ray came from: the Fresnel cosine is
+    /// `to_eye . normal`.
+    normal: Vec3,
+    reflected: Vec3,
+    /// `None` under total internal reflection, or when not asked for.
+    refracted: Option<Vec3>,
+}
+
+/// The reflected and, when `eta = n1 / n2` is given, the refracted
+/// direction of the ray arriving at `point`, both about one normal, the
+/// one the Fresnel cosine uses too.
+///
+/// That normal is the shading normal `point.normal`, as in chapter 6 and
+/// as pbrt-v4 computes specular reflection and transmission (sections 9.1
+/// and 9.5: in the shading frame): on a smooth mesh (chapter 10) glass then
+/// bends light as the curved surface would, not facet by facet. On a plane
+/// or a sphere it is the geometric normal turned toward the ray, as before.
+///
+/// Whether the ray enters or leaves is still the geometric normal's to say
+/// (`crossing`, which gave `eta`), and so is which side each new ray must
+/// leave on: the reflected one toward the side it came from, the refracted
+/// one through to the other. A shading normal tilted far from the facet can
+/// face away from the ray, or send one of the two to the wrong side, where
+/// it would start on the wrong face of the triangle. Then this point uses
+/// the geometric normal for all three (both directions and the cosine),
+/// which always gives consistent answers.
+fn boundary<C: Chapters>(point: &HitPoint, eta: Option<f32>) -> Boundary {
+    let incoming = point.ray.dir;
+    let geometric = point.surface.normal;
+    // +1 when the ray came from the side the geometric normal points to.
+    let eye_side = if incoming.dot(geometric) < 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    let about = |normal: Vec3| Boundary {
+        normal,
+        reflected: C::reflect(incoming, normal),
+        refracted: eta.and_then(|eta| C::refract(incoming, normal, eta)),
+    };
+    if point.to_eye.dot(point.normal) > 0.0 {
+        let shaded = about(point.normal);
+        let reflects_back = eye_side * shaded.reflected.dot(geometric) > 0.0;
+        let crosses = shaded
+            .refracted
+            .is_none_or(|dir| eye_side * dir.dot(geometric) < 0.0);
+        if reflects_back && crosses {
+            return shaded;
+        }
+    }
+    // The geometric normal on the ray's side, by HitPoint's own rule.
+    about(if point.to_eye.dot(geometric) >= 0.0 {
+        geometric
+    } else {
+        -geometric
+    })
 }
 
 /// What `ray` sees, travelling inside `media`, dimmed by the absorption of
