@@ -428,7 +428,10 @@ fn every_default_of_the_trait_reports_to_the_answer_key() {
             silent.push(name);
         }
     }
-    assert!(silent.is_empty(), "these defaults do not report: {silent:?}");
+    assert!(
+        silent.is_empty(),
+        "these defaults do not report: {silent:?}"
+    );
     assert!(defaults >= 28, "only {defaults} defaults");
 }
 

@@ -440,6 +440,11 @@ fn student_file(number: u8) -> String {
 #[test]
 fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     let ws = workspaces();
+    let glue = read(&ws.cheat.join("src/chapters/mod.rs"));
+    assert!(
+        glue.contains("sphere.intersect(ray, t_min, t_max)"),
+        "{glue}"
+    );
     let dir = ws.root.join("cheat-out");
     std::fs::create_dir_all(&dir).expect("create");
     let honest = run_student("student-cheat", &["check", "--chapter", "1"], &dir);
