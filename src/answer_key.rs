@@ -71,10 +71,11 @@ fn report(answer: &'static str) {
         }
         None => false,
     });
-    if !recorded && let Ok(mut reported) = REPORTED.lock() {
-        if !reported.contains(&answer) {
-            reported.push(answer);
-        }
+    if !recorded
+        && let Ok(mut reported) = REPORTED.lock()
+        && !reported.contains(&answer)
+    {
+        reported.push(answer);
     }
 }
 

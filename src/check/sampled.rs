@@ -42,7 +42,7 @@ pub const SIGMAS: f32 = 4.0;
 
 /// The seed of the reference's own samples: not the scene's, so that it is
 /// no realisation the student's could share by accident.
-const REFERENCE_SEED: u64 = 0x5EED_0F_0C0_u64;
+const REFERENCE_SEED: u64 = 0x0005_EED0_F0C0_u64;
 
 /// Per pixel: the converged mean and one sample's standard deviation, in
 /// linear light, row by row.
