@@ -152,6 +152,17 @@ pub fn checkpoints() -> Vec<Case> {
             range: (0.0, 1.0),
             expect: Expect::Miss,
         }),
+        Case::from(SphereQuestion {
+            name: "sphere-near-root-at-t-min",
+            section: EQUATION_2,
+            says: "from the origin along +z with t_min = 4: the near root is exactly 4, and the \
+                   interval (t_min, t_max) is open at t_min too, so the hit is the far root: \
+                   expected t = 6",
+            sphere: ball,
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: (4.0, INF),
+            expect: Expect::Hit,
+        }),
     ]
 }
 

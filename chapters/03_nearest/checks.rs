@@ -119,6 +119,20 @@ pub fn checkpoints() -> Vec<Case> {
             range: IN_FRONT,
             expect: None,
         }),
+        Case::from(NearestQuestion {
+            name: "nearest-tie-first-listed",
+            section: NEAREST_3,
+            says: "a unit sphere at z = 3 (object 0) and the wall z = 2 (object 1) that touches it \
+                   at (0, 0, 2): a ray from the origin along +z meets both at t = 2 exactly, and \
+                   on a tie the first listed wins: expected object 0 at t = 2",
+            shapes: vec![
+                Sphere::new(Vec3::new(0.0, 0.0, 3.0), 1.0).into(),
+                Plane::new(Vec3::new(0.0, 0.0, 2.0), Vec3::Z).into(),
+            ],
+            ray: axis,
+            range: IN_FRONT,
+            expect: Some((0, 2.0)),
+        }),
     ]
 }
 

@@ -95,6 +95,10 @@ impl From<ShadowQuestion> for Case {
     }
 }
 
+/// The light of [`LIGHT_ABOVE`], coloured.
+const COLOURED_LIGHT_ABOVE: &str =
+    "[[lights]]\nposition = [0.0, 10.0, 0.0]\ncolor = [1.0, 0.5, 0.25]\n";
+
 /// Where the image differs when every checkpoint passes: what to look at
 /// in the heatmap.
 pub const IMAGE_HINT: &str = "in the shadows: a shadow ray must stop at the light (its t range), and start off the surface (the offset), or the surface shadows itself in speckles";
@@ -268,6 +272,51 @@ pub fn checkpoints() -> Vec<Case> {
                 depth: 0,
             }),
         ),
+        Case::from(ShadowQuestion {
+            name: "shadow-blocker-far-from-the-point",
+            says: "the floor point (3, 0, 0), light at (-3, 2, 0): the line between them passes \
+                   through the ball's centre (0, 1, 0), entering the ball 2.16 units from the \
+                   point, well past the first unit: expected in shadow (t = 1 is the light only \
+                   when the direction is light - point, not a unit vector)",
+            scene_lights: LIGHT_ABOVE,
+            rays: vec![Ray::new(beside_ball.0, beside_ball.1)],
+            light: Vec3::new(-3.0, 2.0, 0.0),
+            expect: true,
+        }),
+        Case::from(ShadowQuestion {
+            name: "shadow-blocker-just-beyond-light",
+            says: "the floor point (3, 0, 0), light at (1.5, 0.75, 0), 1.68 units away: the ball \
+                   lies on the same line from t = 4/3 (at (1, 1, 0)) on, beyond the light at t = \
+                   1 but within the light's distance: expected lit (t counts lengths of light - \
+                   point, so t_max is 1, not the distance)",
+            scene_lights: LIGHT_ABOVE,
+            rays: vec![Ray::new(beside_ball.0, beside_ball.1)],
+            light: Vec3::new(1.5, 0.75, 0.0),
+            expect: false,
+        }),
+        Case::from(ShadeQuestion {
+            name: "flat-lit-from-below",
+            section: SHADOW_RAYS_4,
+            says: "the floor point (3, 0, 0) seen from below, along +y from (3, -5, 0), light \
+                   below the floor at (0, -5, 0): the side the eye sees faces the light (the \
+                   normal turned toward the eye, not the plane's own (0, 1, 0)): expected 0.1 + \
+                   0.3 = 0.4",
+            shading: Shading::Flat,
+            scene: floor_and_ball("[[lights]]\nposition = [0.0, -5.0, 0.0]\n"),
+            ray: (Vec3::new(3.0, -5.0, 0.0), Vec3::Y),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "flat-coloured-light",
+            section: SHADOW_RAYS_4,
+            says: "flat-lit with the light coloured (1, 0.5, 0.25): I_light is the light's colour \
+                   times its intensity, so the light's share is 0.3 * (1, 0.5, 0.25): expected \
+                   (0.4, 0.25, 0.175)",
+            shading: Shading::Flat,
+            scene: floor_and_ball(COLOURED_LIGHT_ABOVE),
+            ray: beside_ball,
+            depth: 0,
+        }),
     ]
 }
 

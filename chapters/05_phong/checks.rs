@@ -186,6 +186,38 @@ pub fn checkpoints() -> Vec<Case> {
                 depth: 0,
             }),
         ),
+        Case::from(PhongTermsQuestion {
+            name: "phong-light-behind-eye-at-its-mirror",
+            says: "a light behind the surface, to_light = (-0.6, -0.8, 0) with normal (0, 1, 0), \
+                   and the eye low at (0.96, 0.28, 0), where the light's mirror image r = (0.6, \
+                   -0.8, 0) still gives r.v = 0.352 > 0: the light is behind, so both terms are 0 \
+                   (k_d = k_s = 1, shininess 1; clamping n.l and r.v each at 0 is not enough)",
+            k_d: 1.0,
+            k_s: 1.0,
+            shininess: 1,
+            albedo: Vec3::ONE,
+            normal: Vec3::Y,
+            to_light: Vec3::new(-0.6, -0.8, 0.0),
+            to_eye: Vec3::new(0.96, 0.28, 0.0),
+            light: Vec3::ONE,
+            expect: PhongTerms {
+                diffuse: Vec3::ZERO,
+                specular: Vec3::ZERO,
+            },
+        }),
+        Case::from(ShadeQuestion {
+            name: "phong-sum-coloured-light",
+            section: TERMS_5,
+            says: "phong-sum-lit with the light coloured (1, 0.5, 0.25): both of its terms are \
+                   scaled by the colour, diffuse 0.1 + 0.2873 * (1, 0.5, 0.25) = (0.3873, 0.2437, \
+                   0.1718), specular 0.354 * (1, 0.5, 0.25) = (0.354, 0.177, 0.0885)",
+            shading: Shading::Phong,
+            scene: floor_and_ball(
+                "[[lights]]\nposition = [0.0, 10.0, 0.0]\ncolor = [1.0, 0.5, 0.25]\n",
+            ),
+            ray: (Vec3::new(3.0, 5.0, 0.0), -Vec3::Y),
+            depth: 0,
+        }),
     ]
 }
 

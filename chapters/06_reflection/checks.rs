@@ -50,6 +50,24 @@ sphere = { center = [0.0, 1.0, 4.0], radius = 1.0 }
 material = { color = [0.9, 0.1, 0.1], ambient = 1.0, diffuse = 0.0 }
 "#;
 
+/// A mirror floor (object 0, k_r = 0.5, grey 0.4 lit by ambient light,
+/// with a highlight k_s = 0.5 of shininess 1) under a light at (0, 10, 0).
+const LIT_MIRROR_SCENE: &str = r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[lights]]
+position = [0.0, 10.0, 0.0]
+[[objects]]
+name = "lit mirror floor"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.5 }
+"#;
+
 /// Two facing mirrors, a floor (object 0) and a ceiling at height 2, each
 /// k_r = 0.5 and grey 0.4 lit by ambient light only (its own share
 /// (1 - 0.5) * 0.4 = 0.2); no lights. A slanted ray bounces between them
@@ -181,6 +199,19 @@ pub fn checkpoints() -> Vec<Case> {
             shading: Shading::Mirror,
             scene: two_mirrors("max_depth = 5\nmin_contribution = 0.2"),
             ray: (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, -1.0, 1.0)),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "mirror-highlight-in-full",
+            section: RECURSION_6,
+            says: "a ray from (0, 1, 0) straight down meets a lit mirror floor (k_r = 0.5, own \
+                   colour 0.4, k_s = 0.5, shininess 1) at the origin, under a light at (0, 10, 0): \
+                   the highlight is 0.5 * 1^1 = 0.5 and is not scaled by 1 - k_r, the reflected \
+                   ray sees the sky: expected 0.5 * 0.4 + 0.5 + 0.5 * (0.55, 0.7, 0.9) = (0.975, \
+                   1.05, 1.15)",
+            shading: Shading::Mirror,
+            scene: LIT_MIRROR_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
             depth: 0,
         }),
     ]

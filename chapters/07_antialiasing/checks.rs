@@ -212,6 +212,19 @@ pub fn checkpoints() -> Vec<Case> {
                 pixels: rows,
             }),
         ),
+        Case::new(
+            "pixel-nine-samples",
+            SAMPLES_7,
+            "every pixel of row 60 of the chapter 7 scene at 160 x 120 with samples = 9 (3 x 3 \
+             jittered): expected the mean, in linear light, of the pixel's own 9 samples; the \
+             count is the scene's (tracer.samples()), not 4",
+            CaseKind::PixelColor(PixelColorCase {
+                scene: chapter_7_scene().replace("samples = 4", "samples = 9"),
+                pixels: (0..crate::chapters::REFERENCE_WIDTH)
+                    .map(|x| (x, 60))
+                    .collect(),
+            }),
+        ),
     ]
 }
 

@@ -64,6 +64,43 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
+/// A glass pane y = 0 (object 0: k_r = 0.25, k_t = 0.5, white, k_a = 0.4,
+/// a highlight k_s = 0.5 of shininess 1, index 1.5) under a light at
+/// (0, 10, 0), nothing else.
+const LIT_PANE_SCENE: &str = r#"
+background = [0.2, 0.4, 0.6]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[lights]]
+position = [0.0, 10.0, 0.0]
+[[objects]]
+name = "lit pane"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.25, transparency = 0.5, ior = 1.5 }
+"#;
+
+/// `count` clear panes y = 0, -1, ... (k_t = 0.5, index 1: rays go straight
+/// through; white, k_a = 0.4, so each one's own light is 0.2), max_depth 2,
+/// ambient light only: the colour tells how deep the refracted rays went.
+fn stacked_panes(count: u32) -> String {
+    let mut scene = String::from(
+        "background = [0.55, 0.7, 0.9]\nambient_light = [1.0, 1.0, 1.0]\n[camera]\nposition = \
+         [0.0, 1.0, -5.0]\nlook_at = [0.0, 0.0, 0.0]\n[render]\nmax_depth = 2\n",
+    );
+    for pane in 0..count {
+        scene.push_str(&format!(
+            "[[objects]]\nplane = {{ point = [0.0, -{pane}.0, 0.0], normal = [0.0, 1.0, 0.0] }}\n\
+             material = {{ color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, transparency = \
+             0.5, ior = 1.0 }}\n"
+        ));
+    }
+    scene
+}
+
 /// Where the image differs when every checkpoint passes: what to look at
 /// in the heatmap.
 pub const IMAGE_HINT: &str = "inside the glass: eta is n1/n2 on the way in and n2/n1 on the way out, total internal reflection sends the ray back, and the normal faces the side the ray comes from";
@@ -176,6 +213,32 @@ pub fn checkpoints() -> Vec<Case> {
             scene: WATER_SCENE.to_string(),
             ray: (Vec3::new(0.0, 1.0, 0.7), Vec3::new(1.0, -1.0, 0.0)),
             depth: 5,
+        }),
+        Case::from(ShadeQuestion {
+            name: "glass-highlight-in-full",
+            section: ENTERING_8,
+            says: "a ray from (0, 1, 0) straight down meets a lit glass pane (k_r = 0.25, k_t = \
+                   0.5, white, k_a = 0.4, k_s = 0.5, shininess 1, index 1.5) under a light at (0, \
+                   10, 0): its own diffuse light (1 - 0.75) * 0.4 = 0.1, the highlight 0.5 in \
+                   full (not scaled by 1 - k_r - k_t), and both rays see the sky (0.2, 0.4, 0.6): \
+                   expected 0.1 + 0.5 + 0.75 * sky = (0.75, 0.9, 1.05)",
+            shading: Shading::Glass,
+            scene: LIT_PANE_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "glass-depth-counts-refractions",
+            section: ENTERING_8,
+            says: "a ray from (0, 1, 0) straight down through a stack of five clear panes y = 0, \
+                   -1, ..., -4 (k_t = 0.5, index 1, own light (1 - 0.5) * 0.4 = 0.2 each), \
+                   max_depth = 2: the pane at depth 0, the next at depth 1, the third at depth 2 = \
+                   max_depth, where the recursion stops; each refracted ray is one deeper than \
+                   its parent: expected 0.2 + 0.5 * (0.2 + 0.5 * 0.2) = 0.35",
+            shading: Shading::Glass,
+            scene: stacked_panes(5),
+            ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
+            depth: 0,
         }),
     ]
 }

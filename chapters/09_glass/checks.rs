@@ -80,6 +80,22 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
+/// A clear glass ball of radius 1 at the origin (object 0: k_t = 1, index
+/// 1.5, exact Fresnel, no light of its own), nothing else, no lights.
+const INSIDE_SCENE: &str = r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 0.0, -6.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[objects]]
+name = "glass"
+sphere = { center = [0.0, 0.0, 0.0], radius = 1.0 }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, transparency = 1.0, ior = 1.5, fresnel = "exact" }
+"#;
+
 /// Where the image differs when every checkpoint passes: what to look at
 /// in the heatmap.
 pub const IMAGE_HINT: &str = "on the glass: the reflected share R and the transmitted 1 - R, the pair of media at each crossing, and absorption along the path inside only";
@@ -234,6 +250,21 @@ pub fn checkpoints() -> Vec<Case> {
             shading: Shading::Dielectric,
             scene: NESTED_SCENE.to_string(),
             ray: (Vec3::new(0.3, 1.2, -6.0), Vec3::Z),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "dielectric-inside-all-along",
+            section: STACK_9,
+            says: "a ray from (0, 0.8, 0), inside a clear glass ball of radius 1 at the origin \
+                   (index 1.5, k_t = 1, no light of its own) but never seen entering it (a camera \
+                   inside), along +z: it meets the ball at (0, 0.8, 0.6), leaving it, so (n1, \
+                   n2) = (1.5, 1), not (1, 1); at cos i = 0.6 it is past the critical angle (sin \
+                   i = 0.8 > 1 / 1.5) and totally reflected, and so at every bounce after, along \
+                   chords of the same angle, until max_depth: expected black, (0, 0, 0), where \
+                   the pair (1, 1) would let it out to the sky",
+            shading: Shading::Dielectric,
+            scene: INSIDE_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 0.8, 0.0), Vec3::Z),
             depth: 0,
         }),
     ]

@@ -255,6 +255,17 @@ pub fn checkpoints() -> Vec<Case> {
             range: IN_FRONT,
             expect: Some(4.0),
         }),
+        Case::from(BoxQuestion {
+            name: "box-flat-touched-at-t-min",
+            section: SLAB_11,
+            says: "a flat box, from (-1, -1, 0) to (1, 1, 0) (a triangle's box in the plane z = 0); \
+                   a ray from the origin along +z: entry and exit are both t = 0, and the interval \
+                   t_min <= t <= t_max is closed: expected 0",
+            bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: IN_FRONT,
+            expect: Some(0.0),
+        }),
         Case::new(
             "bvh-build-holds-every-sphere",
             BUILD_11,

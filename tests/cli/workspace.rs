@@ -21,9 +21,6 @@ struct Workspaces {
     root: PathBuf,
     todo: PathBuf,
     answer: PathBuf,
-    /// The answer key, its glue rewired to raylab's own answers by every
-    /// route a student might try (see [`CHEATS`]).
-    cheat: PathBuf,
     /// The target folder the workspaces were built into.
     target: PathBuf,
 }
@@ -84,7 +81,6 @@ fn workspaces() -> &'static Workspaces {
             root,
             todo,
             answer,
-            cheat,
             target,
         }
     })

@@ -945,3 +945,387 @@ fn a_panic_in_the_students_loop_names_the_students_line() {
     assert!(text.contains("tests/course/check.rs:"), "{text}");
     assert!(!text.contains("course.rs:"), "{text}");
 }
+
+// ---------------------------------------------------------------------------
+// Contract clauses: docs/course.md lists each function's contract, clause by
+// clause, with the case that a violation of that clause alone fails. Each
+// variant below breaks one clause that no case caught before, and fails on
+// exactly the case added for it.
+
+/// Chapter 2: `t_min` taken as a closed bound: a root exactly at `t_min`
+/// is the hit.
+struct SphereTMinClosed;
+impl Chapters for SphereTMinClosed {
+    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let (near, far) = sphere.roots(ray)?;
+        [near, far].into_iter().find(|&t| t >= t_min && t < t_max)
+    }
+}
+
+/// Chapter 3: the objects walked last to first: on a tie the last listed wins.
+struct NearestTieLastWins;
+impl Chapters for NearestTieLastWins {
+    fn nearest_hit(
+        objects: &raylab::course::Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<raylab::course::Hit> {
+        let mut nearest = None;
+        let mut closest = t_max;
+        for object in (0..objects.len()).rev() {
+            if let Some(t) = objects.intersect(object, ray, t_min, closest) {
+                closest = t;
+                nearest = Some(raylab::course::Hit { object, t });
+            }
+        }
+        nearest
+    }
+}
+
+/// Chapter 4: the shadow ray's direction made unit, but still stopped at
+/// `t = 1`: one unit from the point, not at the light.
+struct ShadowUnitDirection;
+impl Chapters for ShadowUnitDirection {
+    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+        let origin = tracer.offset_origin(&point.surface, light - point.surface.point);
+        let ray = Ray::new(origin, (light - origin).normalize());
+        tracer.blocked(&ray, 0.0, 1.0, point)
+    }
+}
+
+/// Chapter 4: the unnormalised shadow ray stopped at the light's distance
+/// (`t_max = |L - P|`), which is in lengths of the direction past the light.
+struct ShadowDistanceAsTMax;
+impl Chapters for ShadowDistanceAsTMax {
+    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+        let origin = tracer.offset_origin(&point.surface, light - point.surface.point);
+        let ray = Ray::new(origin, light - origin);
+        tracer.blocked(&ray, 0.0, (light - origin).length(), point)
+    }
+}
+
+/// Flat lighting with the light's side tested against the geometric normal
+/// rather than the one turned to the eye; `colour_only` drops the light's
+/// colour (intensity alone).
+fn flat<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    point: &HitPoint,
+    geometric: bool,
+    intensity_only: bool,
+) -> Vec3 {
+    let material = &point.material;
+    let mut color = point.albedo * material.ambient * tracer.ambient_light();
+    for light in tracer.lights() {
+        let normal = if geometric {
+            point.surface.normal
+        } else {
+            point.normal
+        };
+        if normal.dot(light.position - point.surface.point) <= 0.0
+            || C::in_shadow(tracer, point, light.position)
+        {
+            continue;
+        }
+        let radiance = if intensity_only {
+            Vec3::splat(light.intensity)
+        } else {
+            light.radiance()
+        };
+        color += point.albedo * material.diffuse * radiance;
+    }
+    color
+}
+
+/// Chapter 4: a light "in front" only of the geometric normal's side.
+struct FlatGeometricNormal;
+impl Chapters for FlatGeometricNormal {
+    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        flat(tracer, point, true, false)
+    }
+}
+
+/// Chapter 4: a light's intensity without its colour.
+struct FlatLightColourLost;
+impl Chapters for FlatLightColourLost {
+    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+        flat(tracer, point, false, true)
+    }
+}
+
+/// Chapter 5: the textbook terms `max(0, n.l)` and `max(0, r.v)^s`, with
+/// no test that the light is in front: a light behind still makes a
+/// highlight where its mirror image points at the eye.
+struct SpecularFromBehind;
+impl Chapters for SpecularFromBehind {
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        let cos_i = normal.dot(to_light);
+        let r = 2.0 * cos_i * normal - to_light;
+        PhongTerms {
+            diffuse: albedo * material.diffuse * cos_i.max(0.0) * light,
+            specular: material.specular
+                * r.dot(to_eye).max(0.0).powi(material.shininess as i32)
+                * light,
+        }
+    }
+}
+
+/// Chapter 5: the Phong sum lit by each light's intensity, its colour lost.
+struct PhongLightColourLost;
+impl Chapters for PhongLightColourLost {
+    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+        let material = &point.material;
+        let mut sum = PhongTerms {
+            diffuse: point.albedo * material.ambient * tracer.ambient_light(),
+            specular: Vec3::ZERO,
+        };
+        for light in tracer.lights() {
+            if !point.faces(light.position) || Self::in_shadow(tracer, point, light.position) {
+                continue;
+            }
+            let to_light = (light.position - point.surface.point).normalize();
+            let terms = Self::phong_terms(
+                material,
+                point.albedo,
+                point.normal,
+                to_light,
+                point.to_eye,
+                Vec3::splat(light.intensity),
+            );
+            sum.diffuse += terms.diffuse;
+            sum.specular += terms.specular;
+        }
+        sum
+    }
+}
+
+/// Chapter 6: the highlight scaled by `1 - k_r` with the diffuse light.
+struct MirrorHighlightScaled;
+impl Chapters for MirrorHighlightScaled {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Self::shade_phong(tracer, point);
+        let k = point.material.reflectivity;
+        let mut color = (1.0 - k) * (local.diffuse + local.specular);
+        if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
+            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+            color += k * tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
+        }
+        color
+    }
+}
+
+/// Chapter 7: four samples a pixel, whatever the scene asks.
+struct FourSamplesAlways;
+impl Chapters for FourSamplesAlways {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for index in 0..4 {
+            let (dx, dy) = tracer.sample_offset(index, (x, y));
+            sum += tracer.sample(x as f32 + dx, y as f32 + dy);
+        }
+        sum / 4.0
+    }
+}
+
+/// Chapter 8's glass mix with a switch for each clause broken here: the
+/// highlight scaled with the diffuse light, the refracted ray traced at
+/// the same depth as its parent.
+fn glass_clauses<C: Chapters>(
+    tracer: &mut Tracer<C>,
+    point: &HitPoint,
+    depth: u32,
+    weight: f32,
+    highlight_scaled: bool,
+    refracted_same_depth: bool,
+) -> Vec3 {
+    let local = C::shade_phong(tracer, point);
+    let material = &point.material;
+    let (k_r, k_t) = (material.reflectivity, material.transparency);
+    let own = 1.0 - k_r - k_t;
+    let mut color = if highlight_scaled {
+        own * (local.diffuse + local.specular)
+    } else {
+        own * local.diffuse + local.specular
+    };
+    if depth >= tracer.max_depth() {
+        return color;
+    }
+    let incoming = point.ray.dir;
+    let normal = point.surface.normal;
+    let mut reflected_share = k_r;
+    if tracer.worth_casting(weight, k_t) {
+        let eta = if incoming.dot(normal) < 0.0 {
+            1.0 / material.ior
+        } else {
+            material.ior
+        };
+        match C::refract(incoming, normal, eta) {
+            Some(dir) => {
+                let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+                let next = if refracted_same_depth {
+                    depth
+                } else {
+                    depth + 1
+                };
+                let through = tracer.trace(RayKind::Refraction, &ray, next, weight * k_t);
+                color += k_t * material.color * through;
+            }
+            None => reflected_share += k_t,
+        }
+    }
+    if tracer.worth_casting(weight, reflected_share) {
+        let dir = C::reflect(incoming, normal);
+        let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+        let seen = tracer.trace(
+            RayKind::Reflection,
+            &ray,
+            depth + 1,
+            weight * reflected_share,
+        );
+        color += reflected_share * seen;
+    }
+    color
+}
+
+/// Chapter 8: the highlight scaled by `1 - k_r - k_t`.
+struct GlassHighlightScaled;
+impl Chapters for GlassHighlightScaled {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        glass_clauses(tracer, point, depth, weight, true, false)
+    }
+}
+
+/// Chapter 8: the refracted ray not one bounce deeper than its parent.
+struct RefractedDepthNotCounted;
+impl Chapters for RefractedDepthNotCounted {
+    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        glass_clauses(tracer, point, depth, weight, false, true)
+    }
+}
+
+/// Chapter 9: a ray leaving a solid it was never seen entering (a camera
+/// inside it) taken to cross nothing: the pair of media is (current,
+/// current) instead of (the solid, outside).
+struct UnseenSolidIgnored;
+impl Chapters for UnseenSolidIgnored {
+    fn crossing(media: &raylab::medium::MediumStack, point: &HitPoint) -> raylab::medium::Crossing {
+        let crossing = Reference::crossing(media, point);
+        if !crossing.entering && !media.contains(point.object) {
+            let outside = media.leaving(point.object);
+            return raylab::medium::Crossing {
+                entering: false,
+                n1: media.current().ior,
+                n2: outside.current().ior,
+                before: *media,
+                beyond: outside,
+            };
+        }
+        crossing
+    }
+}
+
+/// Chapter 11: the slab test's closed interval taken as open
+/// (`entry < exit`): a box touched at a single `t` is missed.
+struct BoxIntervalOpen;
+impl Chapters for BoxIntervalOpen {
+    fn hit_box(
+        bounds: &raylab::bvh::Aabb,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<f32> {
+        let entry = Reference::hit_box(bounds, origin, inverse_direction, t_min, t_max)?;
+        let exit = (0..3)
+            .map(|axis| {
+                let inverse = inverse_direction[axis];
+                let far = if inverse.is_sign_negative() {
+                    bounds.min[axis]
+                } else {
+                    bounds.max[axis]
+                };
+                let far = (far - origin[axis]) * inverse;
+                if far.is_nan() { f32::INFINITY } else { far }
+            })
+            .fold(t_max, f32::min);
+        (entry < exit).then_some(entry)
+    }
+}
+
+#[test]
+fn contract_sphere_t_min_is_open() {
+    assert_caught::<SphereTMinClosed>(2, "sphere-near-root-at-t-min");
+}
+
+#[test]
+fn contract_nearest_tie_goes_to_the_first_listed() {
+    assert_caught::<NearestTieLastWins>(3, "nearest-tie-first-listed");
+}
+
+#[test]
+fn contract_shadow_ray_reaches_the_light() {
+    assert_caught::<ShadowUnitDirection>(4, "shadow-blocker-far-from-the-point");
+}
+
+#[test]
+fn contract_shadow_ray_stops_at_the_light() {
+    assert_caught::<ShadowDistanceAsTMax>(4, "shadow-blocker-just-beyond-light");
+}
+
+#[test]
+fn contract_flat_light_faces_the_side_seen() {
+    assert_caught::<FlatGeometricNormal>(4, "flat-lit-from-below");
+}
+
+#[test]
+fn contract_flat_light_has_a_colour() {
+    assert_caught::<FlatLightColourLost>(4, "flat-coloured-light");
+}
+
+#[test]
+fn contract_phong_light_behind_adds_no_highlight() {
+    assert_caught::<SpecularFromBehind>(5, "phong-light-behind-eye-at-its-mirror");
+}
+
+#[test]
+fn contract_phong_light_has_a_colour() {
+    assert_caught::<PhongLightColourLost>(5, "phong-sum-coloured-light");
+}
+
+#[test]
+fn contract_mirror_highlight_in_full() {
+    assert_caught::<MirrorHighlightScaled>(6, "mirror-highlight-in-full");
+}
+
+#[test]
+fn contract_pixel_takes_the_scenes_sample_count() {
+    assert_caught::<FourSamplesAlways>(7, "pixel-nine-samples");
+}
+
+#[test]
+fn contract_glass_highlight_in_full() {
+    assert_caught::<GlassHighlightScaled>(8, "glass-highlight-in-full");
+}
+
+#[test]
+fn contract_glass_refracted_ray_one_deeper() {
+    assert_caught::<RefractedDepthNotCounted>(8, "glass-depth-counts-refractions");
+}
+
+#[test]
+fn contract_crossing_a_solid_never_entered() {
+    assert_caught::<UnseenSolidIgnored>(9, "dielectric-inside-all-along");
+}
+
+#[test]
+fn contract_box_interval_is_closed() {
+    assert_caught::<BoxIntervalOpen>(11, "box-flat-touched-at-t-min");
+}

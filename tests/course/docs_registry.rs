@@ -115,3 +115,68 @@ fn every_case_names_a_section_of_its_lesson() {
         }
     }
 }
+
+/// docs/course.md's section "Each function's contract, and the case for
+/// each clause" covers every function of the registry, under its chapter's
+/// heading, and every case it names exists in that chapter: a renamed or
+/// removed case, or a new function without its clauses, fails here.
+#[test]
+fn the_contract_section_names_every_function_and_only_real_cases() {
+    let course = read("docs/course.md");
+    let start = course
+        .find("## Each function's contract, and the case for each clause")
+        .expect("docs/course.md has the contract section");
+    let section = &course[start..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+    let headings: Vec<(usize, &str)> = section.match_indices("\n### Chapter ").collect();
+    assert_eq!(headings.len(), CHAPTERS.len(), "one heading per chapter");
+    let all: Vec<(u8, &str)> = CHAPTERS
+        .iter()
+        .flat_map(|info| {
+            raylab::check::catalog::checkpoints(info.number)
+                .into_iter()
+                .chain(raylab::check::catalog::robustness(info.number))
+                .map(move |case| (info.number, case.name))
+        })
+        .collect();
+    for (index, info) in CHAPTERS.iter().enumerate() {
+        let from = headings[index].0;
+        let to = headings.get(index + 1).map_or(section.len(), |h| h.0);
+        let part = &section[from..to];
+        assert!(
+            part.starts_with(&format!("\n### Chapter {}:", info.number)),
+            "chapter {}'s heading: {}",
+            info.number,
+            part.lines().nth(1).unwrap_or_default()
+        );
+        for function in info.functions {
+            assert!(
+                part.contains(&format!("`{function}`")),
+                "chapter {}'s contracts do not list `{function}`",
+                info.number
+            );
+        }
+        let cases: Vec<&str> = all
+            .iter()
+            .filter(|&&(number, _)| number == info.number)
+            .map(|&(_, name)| name)
+            .collect();
+        for quoted in part.split('`').skip(1).step_by(2) {
+            let looks_like_a_case = quoted.contains('-')
+                && quoted
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+                && !quoted.starts_with('-')
+                && !quoted.ends_with('-');
+            // A chapter may name an earlier chapter's case it relies on.
+            let earlier = all
+                .iter()
+                .any(|&(number, name)| number < info.number && name == quoted);
+            assert!(
+                !looks_like_a_case || cases.contains(&quoted) || earlier,
+                "chapter {}'s contracts name `{quoted}`, which is none of its cases",
+                info.number
+            );
+        }
+    }
+}
