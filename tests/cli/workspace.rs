@@ -436,7 +436,7 @@ fn student_file(number: u8) -> String {
 #[test]
 fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     let ws = workspaces();
-    let glue = read(&ws.cheat.join("src/chapters/mod.rs"));
+    let glue = read(&ws.root.join("student-cheat/src/chapters/mod.rs"));
     assert!(
         glue.contains("sphere.intersect(ray, t_min, t_max)"),
         "{glue}"
