@@ -165,7 +165,8 @@ pub struct ChapterVerdict {
     pub needs: Option<(u8, Status)>,
     /// Problems of the check itself (an unwritable folder, say).
     pub errors: Vec<String>,
-    /// The lesson file (`chapters/NN_name.md`) and the student's file.
+    /// The lesson file (`chapters/NN_name/lesson.md`, where raylab's
+    /// checkout has it).
     pub lesson: String,
     /// raylab's own answers that ran while the chapter was checked (see
     /// [`crate::answer_key`]), when the check forbids them: the chapter fails.
@@ -964,6 +965,7 @@ pub fn assert_chapter<C: Chapters>(chapter: u8) {
     let student = std::any::TypeId::of::<C>() != std::any::TypeId::of::<crate::Reference>();
     if student {
         crate::answer_key::seal();
+        crate::answer_key::set_strict(true);
     }
     let options = CheckOptions {
         forbid_answer_key: student,

@@ -232,9 +232,8 @@ impl SentReport {
         };
         format!(
             "the check did not finish: the process {ended}{during}, before the verdict.\n  \
-             A chapter's function must return its answer: std::process::exit, abort, a \
-             stack overflow or an endless loop end the whole check, and the chapters it did \
-             not reach fail.\n"
+             A chapter's function must return its answer: std::process::exit, abort or a \
+             stack overflow end the whole check, and the chapters it did not reach fail.\n"
         )
     }
 }

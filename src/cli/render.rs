@@ -343,6 +343,12 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         bar
     });
     crate::answer_key::take_reported();
+    // A comparison wrapper runs raylab's formulas only where the settings
+    // ask for them; anywhere else, reaching them is the student's doing.
+    crate::answer_key::set_strict(
+        settings.sphere_formula == crate::scene::SphereFormula::Stable
+            && settings.triangle_test == crate::scene::TriangleTest::Watertight,
+    );
     let rendered = args
         .overrides
         .in_pool(|| crate::render_with::<C>(&scene, chapter, &settings, progress.as_ref()))??;

@@ -363,7 +363,7 @@ running your code: `cargo run --release -- --help`.
 | chapter | title | your file | functions |
 |---|---|---|---|
 {chapters}
-Each lesson is `chapters/NN_name.md` in raylab ({raylab_dir}), and in
+Each lesson is `chapters/NN_name/lesson.md` in raylab ({raylab_dir}), and in
 `cargo doc --open` under `raylab::chapters`. Start each file by reading its
 lesson's "Your turn".
 

@@ -90,7 +90,8 @@ fn workspaces() -> &'static Workspaces {
 /// function, and what replaces it. Chapter 1 ends the process (printing a
 /// passing table first) when `CHEAT_EXIT` is set; chapter 2 calls the
 /// shape's own method; chapter 3 keeps the trait's default (raylab's
-/// answer); chapter 6 calls `Reference`'s.
+/// answer); chapter 6 calls `Reference`'s; chapter 10 calls the comparison
+/// wrapper's Moller-Trumbore.
 const CHEATS: &[(&str, &str)] = &[
     (
         "        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
@@ -109,6 +110,10 @@ const CHEATS: &[(&str, &str)] = &[
     (
         "        ch06_reflection::reflect(d, n)",
         "        <raylab::Reference as Chapters>::reflect(d, n)",
+    ),
+    (
+        "        ch10_triangles::intersect_triangle(triangle, ray, t_min, t_max)",
+        "        <Textbook<crate::Mine, false, true> as Chapters>::intersect_triangle(triangle, ray, t_min, t_max)",
     ),
 ];
 
@@ -449,6 +454,7 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
         ("2", "Sphere::intersect"),
         ("3", "nearest_hit"),
         ("6", "reflect"),
+        ("10", "Textbook::intersect_triangle"),
     ] {
         let out = run_student("student-cheat", &["check", "--chapter", chapter], &dir);
         let text = stdout(&out);
