@@ -12,11 +12,11 @@
 //! them private to raylab); what is left is reached through the trait and
 //! those methods, and each of them reports here before it answers.
 //!
-//! [`seal`] turns the reports on, once, in a student's binary. raylab's own
+//! `seal` turns the reports on, once, in a student's binary. raylab's own
 //! uses of its answers during a student's run (a tree compared with the
-//! loop over every object, say) run inside [`raylab_own`] and are not
-//! reported. Every report is kept: [`recording`] collects those made on its
-//! thread while it runs (a chapter's check), [`take_reported`] the others
+//! loop over every object, say) run inside `raylab_own` and are not
+//! reported. Every report is kept: `recording` collects those made on its
+//! thread while it runs (a chapter's check), `take_reported` the others
 //! (a render's, from any thread).
 
 use std::cell::{Cell, RefCell};
@@ -25,23 +25,23 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 static SEALED: AtomicBool = AtomicBool::new(false);
 
-/// Answers reported outside any [`recording`] (a render's worker threads).
+/// Answers reported outside any `recording` (a render's worker threads).
 static REPORTED: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
 
 thread_local! {
-    /// How deep this thread is inside [`raylab_own`].
+    /// How deep this thread is inside `raylab_own`.
     static OWN_USE: Cell<u32> = const { Cell::new(0) };
-    /// The answers this thread's [`recording`] has seen, when one runs.
+    /// The answers this thread's `recording` has seen, when one runs.
     static RECORDING: RefCell<Option<Vec<&'static str>>> = const { RefCell::new(None) };
 }
 
 /// From now on, in this process, every answer that runs outside
-/// [`raylab_own`] is reported.
+/// `raylab_own` is reported.
 pub(crate) fn seal() {
     SEALED.store(true, Ordering::SeqCst);
 }
 
-/// Whether [`seal`] was called.
+/// Whether `seal` was called.
 pub fn sealed() -> bool {
     SEALED.load(Ordering::Relaxed)
 }

@@ -39,7 +39,7 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 /// `max_depth` bounces, and skips rays whose weight in the pixel is too
 /// small to see (`min_contribution`). The mirror direction is about the
 /// shading normal `point.normal`, as the Phong terms are (see
-/// [`mirror_direction`]).
+/// `mirror_direction`).
 pub fn shade_mirror<C: Chapters>(
     tracer: &mut Tracer<C>,
     point: &HitPoint,
