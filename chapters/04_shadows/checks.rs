@@ -270,6 +270,7 @@ pub fn checkpoints() -> Vec<Case> {
                 scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
                 ray: Ray::new(beside_ball.0, beside_ball.1),
                 depth: 0,
+                vertex_normals: None,
             }),
         ),
         Case::from(ShadowQuestion {
@@ -362,6 +363,21 @@ sphere = { center = [10000.0, 1.0, 10000.0], radius = 1.0 }
                 .to_string(),
             surface: ball_side,
             dir: Vec3::new(-1e-3, 1.0, 0.0),
+            at_most: 0.0,
+        }),
+        Case::from(OffsetQuestion {
+            name: "offset-infinite-point",
+            section: OFFSET_4,
+            says: "a point at x = inf (a hit on a plane far beyond f32's range): one float \
+                   beyond inf is f32::MAX, a finite origin nowhere near the surface: expected NaN, \
+                   an origin no ray starts from"
+                .to_string(),
+            surface: crate::SurfacePoint {
+                point: Vec3::new(f32::INFINITY, 0.0, 0.0),
+                normal: Vec3::Y,
+                error: Vec3::ZERO,
+            },
+            dir: Vec3::Y,
             at_most: 0.0,
         }),
         Case::from(OffsetQuestion {

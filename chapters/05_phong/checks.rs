@@ -163,6 +163,18 @@ pub fn checkpoints() -> Vec<Case> {
             depth: 0,
         }),
         Case::from(ShadeQuestion {
+            name: "phong-sum-lit-from-below",
+            section: TERMS_5,
+            says: "phong-sum-lit upside down: the floor point (3, 0, 0) seen from straight below, \
+                   from (3, -5, 0), lit from (0, -10, 0): the side the eye sees faces the light \
+                   (the normal turned toward the eye, not the plane's own (0, 1, 0)), so the same \
+                   diffuse 0.3873 and specular 0.354",
+            shading: Shading::Phong,
+            scene: floor_and_ball("[[lights]]\nposition = [0.0, -10.0, 0.0]\n"),
+            ray: (Vec3::new(3.0, -5.0, 0.0), Vec3::Y),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
             name: "phong-sum-one-hidden",
             section: TERMS_5,
             says: "the floor point (0.2, 0, 0) under the ball: the light above is hidden, the \
@@ -184,6 +196,7 @@ pub fn checkpoints() -> Vec<Case> {
                 scene: floor_and_ball_in(DIM_AMBIENT, LIGHT_ABOVE),
                 ray: Ray::new(Vec3::new(3.0, 5.0, 0.0), -Vec3::Y),
                 depth: 0,
+                vertex_normals: None,
             }),
         ),
         Case::from(PhongTermsQuestion {
@@ -225,20 +238,40 @@ pub fn checkpoints() -> Vec<Case> {
 /// A list of cases that reads as data, one entry per case: kept whole,
 /// however long.
 pub fn robustness() -> Vec<Case> {
-    robust(vec![Case::from(PhongTermsQuestion {
-        name: "phong-grazing-light",
-        says: "a light grazing the surface, cos i = 1e-7: tiny but not negative, never NaN",
-        k_d: 1.0,
-        k_s: 0.0,
-        shininess: 8,
-        albedo: Vec3::ONE,
-        normal: Vec3::Y,
-        to_light: Vec3::new(1.0, 1e-7, 0.0),
-        to_eye: Vec3::Y,
-        light: Vec3::ONE,
-        expect: PhongTerms {
-            diffuse: Vec3::splat(1e-7),
-            specular: Vec3::ZERO,
-        },
-    })])
+    robust(vec![
+        Case::from(PhongTermsQuestion {
+            name: "phong-grazing-light",
+            says: "a light grazing the surface, cos i = 1e-7: tiny but not negative, never NaN",
+            k_d: 1.0,
+            k_s: 0.0,
+            shininess: 8,
+            albedo: Vec3::ONE,
+            normal: Vec3::Y,
+            to_light: Vec3::new(1.0, 1e-7, 0.0),
+            to_eye: Vec3::Y,
+            light: Vec3::ONE,
+            expect: PhongTerms {
+                diffuse: Vec3::splat(1e-7),
+                specular: Vec3::ZERO,
+            },
+        }),
+        Case::from(PhongTermsQuestion {
+            name: "phong-nan-to-eye",
+            says: "a NaN direction to the eye (a ray that went wrong upstream): the highlight's \
+               cosine is NaN, and clamping it with f32::max(NaN, 0) = 0 would hide it as a \
+               plausible colour the render cannot count: expected a non-finite term",
+            k_d: 1.0,
+            k_s: 0.5,
+            shininess: 8,
+            albedo: Vec3::ONE,
+            normal: Vec3::Y,
+            to_light: Vec3::Y,
+            to_eye: Vec3::NAN,
+            light: Vec3::ONE,
+            expect: PhongTerms {
+                diffuse: Vec3::ONE,
+                specular: Vec3::NAN,
+            },
+        }),
+    ])
 }

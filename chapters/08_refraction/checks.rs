@@ -202,6 +202,7 @@ pub fn checkpoints() -> Vec<Case> {
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
+                vertex_normals: None,
             }),
         ),
         Case::from(ShadeQuestion {

@@ -80,6 +80,26 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
+/// A lit glass pane y = 0 (object 0: k_r = 0.25, k_t = 0.5, white,
+/// k_a = 0.4, k_s = 0.5, shininess 1, index 1.5, exact Fresnel) under a
+/// light at (0, 10, 0), and the sky (0.2, 0.4, 0.6): chapter 8's lit pane
+/// with Fresnel's share.
+const LIT_GLASS_PANE_SCENE: &str = r#"
+background = [0.2, 0.4, 0.6]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[lights]]
+position = [0.0, 10.0, 0.0]
+[[objects]]
+name = "lit glass pane"
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.25, transparency = 0.5, ior = 1.5, fresnel = "exact" }
+"#;
+
 /// A clear glass ball of radius 1 at the origin (object 0: k_t = 1, index
 /// 1.5, exact Fresnel, no light of its own), nothing else, no lights.
 const INSIDE_SCENE: &str = r#"
@@ -211,6 +231,30 @@ pub fn checkpoints() -> Vec<Case> {
             }),
         ),
         Case::from(ShadeQuestion {
+            name: "dielectric-highlight-in-full",
+            section: STACK_9,
+            says: "a ray from (0, 1, 0) straight down meets the lit glass pane (k_r = 0.25, \
+                   k_t = 0.5, white, k_a = 0.4, k_s = 0.5, shininess 1, index 1.5, exact Fresnel) \
+                   under a light at (0, 10, 0): its own diffuse light (1 - 0.75) * 0.4 = 0.1, the \
+                   highlight 0.5 in full (not scaled by 1 - k_r - k_t), and both rays see the sky \
+                   (0.2, 0.4, 0.6), with the shares 0.25 + 0.5 * 0.04 reflected and 0.5 * 0.96 \
+                   refracted: expected 0.1 + 0.5 + 0.75 * sky = (0.75, 0.9, 1.05)",
+            shading: Shading::Dielectric,
+            scene: LIT_GLASS_PANE_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
+            depth: 0,
+        }),
+        Case::from(ShadeQuestion {
+            name: "dielectric-depth-limit",
+            section: STACK_9,
+            says: "the same ray at depth 5 = max_depth: no more rays, only the pane's own light, \
+                   0.1 diffuse and the highlight 0.5: expected (0.6, 0.6, 0.6)",
+            shading: Shading::Dielectric,
+            scene: LIT_GLASS_PANE_SCENE.to_string(),
+            ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
+            depth: 5,
+        }),
+        Case::from(ShadeQuestion {
             name: "dielectric-nested-balls",
             section: STACK_9,
             says: "a ray from (0, 1, -6) along +z meets a glass ball \
@@ -239,6 +283,7 @@ pub fn checkpoints() -> Vec<Case> {
                 scene: PANES_SCENE.to_string(),
                 ray: Ray::new(PANES_RAY.0, PANES_RAY.1),
                 depth: 0,
+                vertex_normals: None,
             }),
         ),
         Case::from(ShadeQuestion {
@@ -348,6 +393,16 @@ pub fn robustness() -> Vec<Case> {
              (0 x inf would be NaN): (0, 0, 0) over inf gives (1, 1, 1)",
             CaseKind::Transmittance(TransmittanceCase {
                 absorption: Vec3::ZERO,
+                distance: f32::INFINITY,
+            }),
+        ),
+        Case::new(
+            "transmittance-absorbing-forever",
+            ABSORPTION_9,
+            "and a channel that absorbs keeps nothing of a ray that goes on for ever: \
+             (0.2, 0.05, 0) over inf gives (0, 0, 1)",
+            CaseKind::Transmittance(TransmittanceCase {
+                absorption: Vec3::new(0.2, 0.05, 0.0),
                 distance: f32::INFINITY,
             }),
         ),

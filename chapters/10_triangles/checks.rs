@@ -142,6 +142,87 @@ impl From<SharedDiagonalQuestion> for Case {
     }
 }
 
+/// Vertex normals all tilted toward +x, 37 degrees from the face's
+/// (0, 0, 1): wherever it is hit, the blended normal is (0.6, 0, 0.8).
+const TILTED_NORMALS: [Vec3; 3] = [Vec3::new(0.6, 0.0, 0.8); 3];
+
+/// The lesson's floor triangle (object 0, given the vertex normals of each
+/// case: `material` is its TOML material), hit at (0.25, 0.25, 0).
+/// Around it, a ball in each direction its mirror or glass sends a ray
+/// when it follows the blended normal (0.6, 0, 0.8), and none where the
+/// facet's normal would send it: a red one toward (0.96, 0, 0.28) (the
+/// mirror image of a ray straight down, and of a grazing one about the
+/// facet), a blue one toward (-0.96, 0, -0.28) (that of a ray straight up
+/// from below) and a small green one toward (-0.22991, 0, -0.97321) (a ray
+/// straight down into glass of index 1.5, bent about the blended normal).
+/// Ambient light only: every colour is a sum of shares of the balls' own.
+fn smooth_facet_scene(material: &str) -> String {
+    format!(
+        r#"
+background = [0.55, 0.7, 0.9]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 0.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+min_contribution = 0.0
+[[objects]]
+name = "smooth facet"
+triangle = {{ a = [0.0, 0.0, 0.0], b = [1.0, 0.0, 0.0], c = [0.0, 1.0, 0.0] }}
+material = {material}
+[[objects]]
+name = "red ball"
+sphere = {{ center = [9.85, 0.25, 2.8], radius = 2.0 }}
+material = {{ color = [0.9, 0.1, 0.1], ambient = 1.0, diffuse = 0.0 }}
+[[objects]]
+name = "blue ball"
+sphere = {{ center = [-9.35, 0.25, -2.8], radius = 2.0 }}
+material = {{ color = [0.1, 0.1, 0.9], ambient = 1.0, diffuse = 0.0 }}
+[[objects]]
+name = "green ball"
+sphere = {{ center = [-0.43973, 0.25, -2.91964], radius = 0.3 }}
+material = {{ color = [0.1, 0.9, 0.1], ambient = 1.0, diffuse = 0.0 }}
+"#
+    )
+}
+
+/// The smooth facet as a half-silvered mirror: k_r = 0.5, its own grey 0.4
+/// lit by ambient light.
+const SMOOTH_MIRROR: &str =
+    "{ color = [0.4, 0.4, 0.4], ambient = 1.0, diffuse = 0.0, reflectivity = 0.5 }";
+
+/// The smooth facet as clear glass of index 1.5, exact Fresnel.
+const SMOOTH_GLASS: &str = "{ color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, \
+                            transparency = 1.0, ior = 1.5, fresnel = \"exact\" }";
+
+/// A grazing ray toward +x that meets the smooth facet at (0.25, 0.25, 0):
+/// its blended normal (0.6, 0, 0.8) faces away from it.
+const GRAZING_DIR: Vec3 = Vec3::new(1.0, 0.0, -0.2);
+
+/// A `shade_mirror` or `shade_dielectric` question on the smooth facet at
+/// chapter 10's stage.
+fn smooth_shade(
+    name: &'static str,
+    says: &'static str,
+    shading: Shading,
+    material: &str,
+    ray: Ray,
+) -> Case {
+    Case::new(
+        name,
+        SMOOTH_10,
+        says,
+        CaseKind::Shade(ShadeCase {
+            shading,
+            scene: smooth_facet_scene(material),
+            ray,
+            depth: 0,
+            vertex_normals: Some(TILTED_NORMALS),
+        }),
+    )
+}
+
 /// Where the image differs when every checkpoint passes: what to look at
 /// in the heatmap.
 pub const IMAGE_HINT: &str = "on the meshes: a ray through a shared edge must hit one of its triangles, and the smooth normal is the vertex normals weighted by the barycentric coordinates";
@@ -580,6 +661,58 @@ pub fn checkpoints() -> Vec<Case> {
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
                 transparent: true,
             }),
+        ),
+        smooth_shade(
+            "smooth-mirror-shading-normal",
+            "a ray from (0.25, 0.25, 5) straight down onto the smooth facet, a mirror with \
+             k_r = 0.5 and its own grey 0.4: about the blended normal (0.6, 0, 0.8) it leaves \
+             along (0, 0, -1) + 1.6 (0.6, 0, 0.8) = (0.96, 0, 0.28) (from the point lifted off \
+             the terminator, (0.3175, 0.25, 0.09)) and sees the red ball, \
+             not the sky straight up as about the facet's normal: expected \
+             0.5 x 0.4 + 0.5 x (0.9, 0.1, 0.1) = (0.65, 0.25, 0.25)",
+            Shading::Mirror,
+            SMOOTH_MIRROR,
+            Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
+        ),
+        smooth_shade(
+            "smooth-mirror-from-below",
+            "the same mirror hit from below, by a ray from (0.25, 0.25, -5) straight up: the \
+             blended normal is turned toward the ray, (-0.6, 0, -0.8), and the ray leaves \
+             along (-0.96, 0, -0.28), below the facet, toward the blue ball: expected \
+             0.5 x 0.4 + 0.5 x (0.1, 0.1, 0.9) = (0.25, 0.25, 0.65)",
+            Shading::Mirror,
+            SMOOTH_MIRROR,
+            Ray::new(Vec3::new(0.25, 0.25, -5.0), Vec3::Z),
+        ),
+        smooth_shade(
+            "smooth-mirror-grazing-falls-back",
+            "a grazing ray along (1, 0, -0.2) meets the same mirror at (0.25, 0.25, 0): its \
+             mirror image about the blended normal, (0.472, 0, -0.904), would go below the \
+             facet, so the facet's normal (0, 0, 1) is used: it leaves along (1, 0, 0.2) and \
+             sees the red ball: expected (0.65, 0.25, 0.25)",
+            Shading::Mirror,
+            SMOOTH_MIRROR,
+            Ray::new(Vec3::new(0.25, 0.25, 0.0) - 5.0 * GRAZING_DIR, GRAZING_DIR),
+        ),
+        smooth_shade(
+            "smooth-glass-shading-normal",
+            "a ray from (0.25, 0.25, 5) straight down into the smooth facet, clear glass of \
+             index 1.5: about the blended normal (cos i = 0.8) it bends to \
+             (0, 0, -1) / 1.5 + (0.8 / 1.5 - sqrt(0.84)) (0.6, 0, 0.8) = \
+             (-0.22991, 0, -0.97321), toward the green ball, and the exact Fresnel share at \
+             that cosine is reflected toward the red ball",
+            Shading::Dielectric,
+            SMOOTH_GLASS,
+            Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
+        ),
+        smooth_shade(
+            "smooth-glass-grazing-falls-back",
+            "a grazing ray along (1, 0, -0.2) into the same glass: the blended normal faces away \
+             from it, so the facet's normal is used for both directions and for Fresnel's \
+             cosine: the reflected share leaves along (1, 0, 0.2) toward the red ball",
+            Shading::Dielectric,
+            SMOOTH_GLASS,
+            Ray::new(Vec3::new(0.25, 0.25, 0.0) - 5.0 * GRAZING_DIR, GRAZING_DIR),
         ),
     ]
 }

@@ -180,6 +180,7 @@ impl From<ShadeQuestion> for Case {
                 scene: question.scene,
                 ray: Ray::new(origin, dir),
                 depth: question.depth,
+                vertex_normals: None,
             }),
         )
     }

@@ -1305,6 +1305,203 @@ fn contract_mirror_highlight_in_full() {
     assert_caught::<MirrorHighlightScaled>(6, "mirror-highlight-in-full");
 }
 
+/// Chapter 6 on a smooth mesh: the mirror image about the facet's normal,
+/// as if the blended vertex normal were only for the Phong terms.
+struct FacetMirror;
+impl Chapters for FacetMirror {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        raylab::chapters::ch06_reflection::shade_mirror::<Self>(
+            tracer,
+            &facet_normal(point),
+            depth,
+            weight,
+        )
+    }
+}
+
+/// Chapter 9 on a smooth mesh: bent and reflected about the facet's normal.
+struct FacetGlass;
+impl Chapters for FacetGlass {
+    fn shade_dielectric(
+        tracer: &mut Tracer<Self>,
+        point: &HitPoint,
+        depth: u32,
+        weight: f32,
+    ) -> Vec3 {
+        raylab::chapters::ch09_glass::shade_dielectric::<Self>(
+            tracer,
+            &facet_normal(point),
+            depth,
+            weight,
+        )
+    }
+}
+
+/// `point` with its shading normal replaced by the facet's, turned toward
+/// the eye.
+fn facet_normal<'a>(point: &HitPoint<'a>) -> HitPoint<'a> {
+    let mut facet = *point;
+    let geometric = point.surface.normal;
+    facet.normal = if point.to_eye.dot(geometric) >= 0.0 {
+        geometric
+    } else {
+        -geometric
+    };
+    facet
+}
+
+#[test]
+fn contract_smooth_mirror_follows_the_shading_normal() {
+    assert_caught::<FacetMirror>(10, "smooth-mirror-shading-normal");
+    // Planes and spheres have one normal: chapter 6 itself cannot tell.
+    assert_passes::<FacetMirror>(6);
+}
+
+#[test]
+fn contract_smooth_glass_follows_the_shading_normal() {
+    assert_caught::<FacetGlass>(10, "smooth-glass-shading-normal");
+    assert_passes::<FacetGlass>(9);
+}
+
+/// Chapter 5: the facing test on the plane's own normal, not the one
+/// turned toward the eye: a floor seen and lit from below stays dark.
+struct PhongGeometricNormal;
+impl Chapters for PhongGeometricNormal {
+    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+        let mut unturned = *point;
+        unturned.normal = point.surface.normal;
+        raylab::chapters::ch05_phong::shade_phong::<Self>(tracer, &unturned)
+    }
+}
+
+/// Chapter 9: the highlight scaled by the local share `1 - k_r - k_t`.
+struct DielectricHighlightScaled;
+impl Chapters for DielectricHighlightScaled {
+    fn shade_dielectric(
+        tracer: &mut Tracer<Self>,
+        point: &HitPoint,
+        depth: u32,
+        weight: f32,
+    ) -> Vec3 {
+        let full =
+            raylab::chapters::ch09_glass::shade_dielectric::<Self>(tracer, point, depth, weight);
+        let passed_on = point.material.reflectivity + point.material.transparency;
+        full - passed_on * Self::shade_phong(tracer, point).specular
+    }
+}
+
+/// Chapter 9: rays cast at the depth limit (`depth <= max_depth`): one
+/// bounce too many, once (the bounce it adds is at the limit again, and
+/// is not extended).
+struct DielectricOneBounceTooMany;
+thread_local! {
+    static EXTENDING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+impl Chapters for DielectricOneBounceTooMany {
+    fn shade_dielectric(
+        tracer: &mut Tracer<Self>,
+        point: &HitPoint,
+        depth: u32,
+        weight: f32,
+    ) -> Vec3 {
+        let shade = raylab::chapters::ch09_glass::shade_dielectric::<Self>;
+        if depth == tracer.max_depth() && depth > 0 && !EXTENDING.get() {
+            EXTENDING.set(true);
+            let color = shade(tracer, point, depth - 1, weight);
+            EXTENDING.set(false);
+            color
+        } else {
+            shade(tracer, point, depth, weight)
+        }
+    }
+}
+
+/// Chapter 9: an infinite distance taken as no distance at all.
+struct InfinityKeepsEverything;
+impl Chapters for InfinityKeepsEverything {
+    fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
+        if distance.is_infinite() {
+            Vec3::ONE
+        } else {
+            Reference::transmittance(absorption, distance)
+        }
+    }
+}
+
+/// Chapter 4: an infinite point stepped off like a finite one, to
+/// f32::MAX (the guard for non-finite points left out).
+struct InfinityStepsToMax;
+impl Chapters for InfinityStepsToMax {
+    fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
+        if surface.point.is_finite() {
+            Reference::offset_origin(surface, dir)
+        } else {
+            surface
+                .point
+                .map(|coordinate| coordinate.clamp(-f32::MAX, f32::MAX))
+        }
+    }
+}
+
+/// Chapter 5: the highlight's cosine clamped with `f32::max`, which turns
+/// a NaN into 0.
+struct PhongNanClamped;
+impl Chapters for PhongNanClamped {
+    fn phong_terms(
+        material: &Material,
+        albedo: Vec3,
+        normal: Vec3,
+        to_light: Vec3,
+        to_eye: Vec3,
+        light: Vec3,
+    ) -> PhongTerms {
+        let terms = Reference::phong_terms(material, albedo, normal, to_light, to_eye, light);
+        PhongTerms {
+            diffuse: terms.diffuse,
+            specular: terms.specular.map(|term| term.max(0.0)),
+        }
+    }
+}
+
+/// A hard case catches `C` in `chapter`: correct, not robust.
+fn assert_not_robust<C: Chapters>(chapter: u8, case: &str) {
+    let verdict = check_chapter::<C>(chapter, &options());
+    let text = verdict.text();
+    assert!(verdict.passes(), "{text}");
+    assert!(!verdict.robust(), "{text}");
+    assert!(text.contains(case), "{text}");
+}
+
+#[test]
+fn contract_offset_of_an_infinite_point() {
+    assert_not_robust::<InfinityStepsToMax>(4, "offset-infinite-point");
+}
+
+#[test]
+fn contract_phong_nan_is_not_hidden() {
+    assert_not_robust::<PhongNanClamped>(5, "phong-nan-to-eye");
+}
+
+#[test]
+fn contract_phong_light_faces_the_side_seen() {
+    assert_caught::<PhongGeometricNormal>(5, "phong-sum-lit-from-below");
+}
+
+#[test]
+fn contract_dielectric_highlight_in_full() {
+    assert_caught::<DielectricHighlightScaled>(9, "dielectric-highlight-in-full");
+}
+
+#[test]
+fn contract_dielectric_depth_limit() {
+    assert_caught::<DielectricOneBounceTooMany>(9, "dielectric-depth-limit");
+}
+
+#[test]
+fn contract_transmittance_of_an_infinite_ray() {
+    assert_not_robust::<InfinityKeepsEverything>(9, "transmittance-absorbing-forever");
+}
+
 #[test]
 fn contract_pixel_takes_the_scenes_sample_count() {
     assert_caught::<FourSamplesAlways>(7, "pixel-nine-samples");

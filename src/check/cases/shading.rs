@@ -42,6 +42,11 @@ impl OffsetCase {
             at_most,
         } = self;
         let got = C::offset_origin(surface, *dir);
+        if !surface.point.is_finite() {
+            // No step from an infinite coordinate is a point: f32::MAX
+            // would be a finite, wrong origin.
+            return verdict(got.is_nan(), "NaN (no origin)".to_string(), vec(got));
+        }
         let n = wide(surface.normal);
         let bound = n.abs().dot(wide(surface.error));
         let side = if wide(*dir).dot(n) >= 0.0 { 1.0 } else { -1.0 };
@@ -167,6 +172,11 @@ pub struct ShadeCase {
     pub ray: Ray,
     /// Bounces so far (chapters 6 and 8).
     pub depth: u32,
+    /// When given, the scene's object 0 must be a triangle: it is shaded
+    /// smooth with these vertex normals, at chapter 10's stage, where a
+    /// mirror or glass follows the shading normal (TOML has no way to give
+    /// a triangle its vertex normals).
+    pub vertex_normals: Option<[Vec3; 3]>,
 }
 
 impl ShadeCase {
@@ -187,10 +197,18 @@ impl ShadeCase {
             shading,
             ray,
             depth,
+            vertex_normals,
             ..
         } = self;
+        let smooth = match vertex_normals {
+            Some(normals) => format!(
+                " (object 0 smooth, vertex normals {})",
+                normals_text(normals)
+            ),
+            None => String::new(),
+        };
         format!(
-            "{}(the point where {} meets the case's scene{})",
+            "{}(the point where {} meets the case's scene{smooth}{})",
             self.function(),
             ray_text(ray),
             match shading {
@@ -210,8 +228,9 @@ impl ShadeCase {
             scene,
             ray,
             depth,
+            vertex_normals,
         } = self;
-        shade::<C>(*shading, scene, ray, *depth)
+        shade::<C>(*shading, scene, *vertex_normals, ray, *depth)
     }
 }
 
@@ -270,6 +289,16 @@ impl PhongTermsCase {
             expect,
         } = self;
         let got = C::phong_terms(material, *albedo, *normal, *to_light, *to_eye, *light);
+        let finite = |terms: &PhongTerms| terms.diffuse.is_finite() && terms.specular.is_finite();
+        if !finite(expect) {
+            // Non-finite input: any non-finite term is the answer, a
+            // colour is not (it would hide the NaN from the render's count).
+            return verdict(
+                !finite(&got),
+                "non-finite terms".to_string(),
+                terms_text(&got),
+            );
+        }
         let pass = colour_close(got.diffuse, expect.diffuse)
             && colour_close(got.specular, expect.specular);
         verdict(pass, terms_text(expect), terms_text(&got))
@@ -293,12 +322,32 @@ fn point_on<'a, C: Chapters>(
     }
 }
 
-fn shade<C: Chapters>(shading: Shading, scene: &str, ray: &Ray, depth: u32) -> Outcome {
-    let scene = match parse(scene) {
+fn shade<C: Chapters>(
+    shading: Shading,
+    scene: &str,
+    vertex_normals: Option<[Vec3; 3]>,
+    ray: &Ray,
+    depth: u32,
+) -> Outcome {
+    let mut scene = match parse(scene) {
         Ok(scene) => scene,
         Err(error) => return Outcome::Error(error),
     };
-    let chapter = shading.stage();
+    let mut chapter = shading.stage();
+    if let Some(normals) = vertex_normals {
+        let Some(Shape::Triangle(triangle)) = scene.shapes.first() else {
+            return Outcome::Error("the case's object 0 should be a triangle".to_string());
+        };
+        let [a, b, c] = triangle.corners();
+        scene.shapes[0] = Shape::Triangle(Triangle::with_normals(
+            a,
+            b,
+            c,
+            scene.vertex_normals.len() as u32,
+        ));
+        scene.vertex_normals.push(normals);
+        chapter = 10;
+    }
     let (stage, reference) = match (
         Stage::<C>::with_chapters(&scene, chapter, scene.render),
         Stage::<Reference>::with_chapters(&scene, chapter, scene.render),
