@@ -93,7 +93,7 @@ pub struct Image {
 }
 
 /// The 8 bytes every PNG file starts with.
-const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+pub(crate) const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
 
 impl Image {
     /// Reads a PNG file as 8-bit RGB. Grey, 16-bit and palette PNGs are

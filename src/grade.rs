@@ -1,9 +1,10 @@
 //! Grading a folder of student renders against the reference images
 //! (`raylab grade`).
 //!
-//! Students hand in one PNG per chapter named `chapter-N.png` (N from 1 to
-//! 8, lower case, no leading zero), rendered from the chapter's built-in
-//! scene with its default settings, at any size. Each is compared (see
+//! Students hand in one PNG per chapter named `chapter-N.png` (N a chapter
+//! of the course, lower case, no leading zero), rendered from the chapter's
+//! built-in scene with its default settings, at any size from
+//! [`MIN_SIDE`] a side to [`MAX_HAND_IN_PIXELS`]. Each is compared (see
 //! [`crate::diff`]) with a reference of the same size, never one rendered by
 //! code that can be the student's (see [`References`]): an `--against`
 //! folder's `chapter-N.png` of that size if one is given, else the reference
@@ -33,11 +34,21 @@ use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
 pub struct Graded {
     pub chapter: u8,
     pub file: PathBuf,
-    pub student: Image,
-    pub reference: Image,
+    /// The two images, while they are kept: a class's grading writes a
+    /// student's figures into the report as it goes and then drops them
+    /// ([`Graded::drop_images`]), so that its memory does not grow with the
+    /// class.
+    pub images: Option<Box<GradedImages>>,
     /// Where the reference came from, for people.
     pub reference_source: String,
     pub comparison: Comparison,
+}
+
+/// A hand-in and the reference it was compared with.
+#[derive(Debug, Clone)]
+pub struct GradedImages {
+    pub student: Image,
+    pub reference: Image,
 }
 
 /// A chapter's file that could not be compared, and why.
@@ -88,6 +99,12 @@ pub enum GradeError {
          (the references are {REFERENCE_WIDTH}x{REFERENCE_HEIGHT})"
     )]
     TooSmall { width: u32, height: u32 },
+    #[error(
+        "too large to grade: {width}x{height} is more than {MAX_HAND_IN_PIXELS} pixels \
+         (1920x1080); its reference would be rendered at that size. Hand in the default \
+         640x480 of `raylab render --chapter N`"
+    )]
+    TooLarge { width: u32, height: u32 },
     #[error(transparent)]
     Scene(#[from] crate::SceneError),
     #[error(transparent)]
@@ -110,6 +127,9 @@ pub enum GradeError {
     },
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    /// The temporary file the class report's sections go to.
+    #[error("cannot write the report's temporary file: {0}")]
+    Staging(std::io::Error),
     /// The command that runs a workspace's check could not start.
     #[error("cannot run {} in {}: {error}", cargo.display(), workspace.display())]
     Run {
@@ -204,7 +224,7 @@ pub fn grade_with<R: Chapters>(
     for entry in entries {
         let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
+        let name = crate::text::visible_name(&entry.file_name());
         if skip.is_some() && path.canonicalize().ok() == skip {
             continue;
         }
@@ -227,7 +247,7 @@ pub fn grade_with<R: Chapters>(
             });
             continue;
         }
-        match chapter_of(&name) {
+        match chapter_of(&entry.file_name().to_string_lossy()) {
             Ok(chapter) => found.push((chapter, path, None)),
             Err(reason) => ignored.push(Ignored {
                 name,
@@ -279,6 +299,20 @@ const SYMBOLIC_LINK_REFUSED: &str = "refused: a symbolic link; a hand-in must be
 /// easy to match) would pass any chapter.
 pub const MIN_SIDE: u32 = 16;
 
+/// The largest hand-in graded, in pixels (1920x1080). Its reference is
+/// rendered at its size, in time and memory that grow with it: a small PNG
+/// can declare 16384x2441 pixels, 40 million, and cost minutes for one file.
+pub const MAX_HAND_IN_PIXELS: u64 = 1920 * 1080;
+
+/// The width and height a PNG declares, read from its header alone.
+fn declared_size(bytes: &[u8]) -> Result<(u32, u32), GradeError> {
+    let mut header = png::Decoder::new(std::io::Cursor::new(bytes));
+    let info = header
+        .read_header_info()
+        .map_err(|error| GradeError::Image(crate::diff::DiffError::CorruptedHeader(error)))?;
+    Ok((info.width, info.height))
+}
+
 fn grade_chapter<R: Chapters>(
     chapter: u8,
     file: &Path,
@@ -293,21 +327,25 @@ fn grade_chapter<R: Chapters>(
         "PNG",
         crate::input::Links::Refuse,
     )?;
-    let student = Image::decode_png(&bytes)?;
-    if student.width < MIN_SIDE || student.height < MIN_SIDE {
-        return Err(GradeError::TooSmall {
-            width: student.width,
-            height: student.height,
-        });
+    if !bytes.starts_with(&crate::diff::PNG_SIGNATURE) {
+        return Err(crate::diff::DiffError::NotPng.into());
     }
+    // The size before the pixels: a hand-in too large is refused undecoded.
+    let (width, height) = declared_size(&bytes)?;
+    if u64::from(width) * u64::from(height) > MAX_HAND_IN_PIXELS {
+        return Err(GradeError::TooLarge { width, height });
+    }
+    if width < MIN_SIDE || height < MIN_SIDE {
+        return Err(GradeError::TooSmall { width, height });
+    }
+    let student = Image::decode_png(&bytes)?;
     let (reference, reference_source) =
         references.reference(chapter, student.width, student.height)?;
     let comparison = compare(&student, &reference, criteria, ("student", "reference"))?;
     Ok(Graded {
         chapter,
         file: file.to_path_buf(),
-        student,
-        reference,
+        images: Some(Box::new(GradedImages { student, reference })),
         reference_source,
         comparison,
     })
@@ -342,14 +380,30 @@ pub struct References<R: Chapters = crate::Reference> {
     /// Per chapter checked so far: `Ok` when `R` reproduces its shipped
     /// image, else why not.
     checked: Vec<(u8, Result<(), String>)>,
+    /// The references rendered so far, by chapter and size, most recent
+    /// last: a class hands in a few sizes, each rendered once.
+    rendered: Vec<RenderedReference>,
     chapters: std::marker::PhantomData<R>,
 }
+
+/// A reference rendered at a hand-in's size, kept for the next hand-in of
+/// that chapter and size.
+struct RenderedReference {
+    chapter: u8,
+    image: Image,
+    source: String,
+}
+
+/// How many bytes of rendered references [`References`] keeps: the 11
+/// chapters at 640x480 are 10 MB; a class of many sizes drops the oldest.
+const RENDERED_REFERENCE_BYTES: usize = 64 << 20;
 
 impl<R: Chapters> References<R> {
     pub fn new(against: Option<&Path>) -> References<R> {
         References {
             against: against.map(Path::to_path_buf),
             checked: Vec::new(),
+            rendered: Vec::new(),
             chapters: std::marker::PhantomData,
         }
     }
@@ -386,6 +440,15 @@ impl<R: Chapters> References<R> {
             ));
         }
         self.check_chapters(chapter, &shipped)?;
+        let why = match why_not_against {
+            Some(why) => format!("; {why}"),
+            None => String::new(),
+        };
+        if let Some(kept) = self.rendered.iter().find(|kept| {
+            kept.chapter == chapter && (kept.image.width, kept.image.height) == (width, height)
+        }) {
+            return Ok((kept.image.clone(), format!("{}{why}", kept.source)));
+        }
         let scene = crate::builtin::scene(chapter)?;
         let settings = crate::RenderSettings {
             width,
@@ -398,19 +461,24 @@ impl<R: Chapters> References<R> {
                 size: size.clone(),
                 error,
             })?;
-        let rendered = crate::render_with::<R>(&scene, chapter, &settings, None)?;
-        let why = match why_not_against {
-            Some(why) => format!("; {why}"),
-            None => String::new(),
-        };
-        Ok((
-            rendered.into(),
-            format!(
-                "built-in scene rendered at {size} by raylab's reference chapters, checked to \
-                 reproduce the shipped {}x{} image{why}",
-                shipped.width, shipped.height
-            ),
-        ))
+        let image: Image = crate::render_with::<R>(&scene, chapter, &settings, None)?.into();
+        let source = format!(
+            "built-in scene rendered at {size} by raylab's reference chapters, checked to \
+             reproduce the shipped {}x{} image",
+            shipped.width, shipped.height
+        );
+        let mut kept_bytes: usize = self.rendered.iter().map(|kept| kept.image.rgb.len()).sum();
+        while kept_bytes + image.rgb.len() > RENDERED_REFERENCE_BYTES && !self.rendered.is_empty() {
+            kept_bytes -= self.rendered.remove(0).image.rgb.len();
+        }
+        if image.rgb.len() <= RENDERED_REFERENCE_BYTES {
+            self.rendered.push(RenderedReference {
+                chapter,
+                image: image.clone(),
+                source: source.clone(),
+            });
+        }
+        Ok((image, format!("{source}{why}")))
     }
 
     /// Fails with [`MODIFIED_CHAPTERS`] unless the chapters `R` render
@@ -468,6 +536,13 @@ impl Graded {
     pub fn passes(&self) -> bool {
         self.comparison.passes()
     }
+
+    /// Keeps the metrics and drops the pixels: both images and the
+    /// per-pixel differences (a 640x480 chapter's are 2 MB).
+    pub fn drop_images(&mut self) {
+        self.images = None;
+        self.comparison.pixel_differences = Vec::new();
+    }
 }
 
 impl Grade {
@@ -480,6 +555,21 @@ impl Grade {
 
     pub fn passed(&self) -> usize {
         self.graded.iter().filter(|g| g.passes()).count()
+    }
+
+    /// Why chapter `chapter` counts as missing: no `chapter-N.png`, and the
+    /// file that was probably meant for it, if one is ignored
+    /// (`Chapter-3.PNG`, `chapter-03.png`), with the reason.
+    pub fn missing_detail(&self, chapter: u8) -> String {
+        let wanted = format!("chapter-{chapter}.png");
+        let meant = self.ignored.iter().find(|ignored| {
+            let name = ignored.name.to_ascii_lowercase();
+            name == wanted || name == format!("chapter-0{chapter}.png")
+        });
+        match meant {
+            Some(ignored) => format!("no {wanted} ({}: {})", ignored.name, ignored.reason),
+            None => format!("no {wanted}"),
+        }
     }
 
     /// The Markdown summary printed by `raylab grade`.
@@ -546,9 +636,12 @@ impl Grade {
             let list: Vec<String> = self
                 .missing
                 .iter()
-                .map(|c| format!("chapter-{c}.png"))
+                .map(|&c| {
+                    let detail = self.missing_detail(c);
+                    detail.strip_prefix("no ").unwrap_or(&detail).to_string()
+                })
                 .collect();
-            let _ = writeln!(md, "Missing: {}\n", list.join(", "));
+            let _ = writeln!(md, "Missing: {}\n", markdown_escape(&list.join(", ")));
         }
         if !self.unreadable.is_empty() {
             md.push_str("Unreadable:\n");
@@ -690,7 +783,6 @@ impl Grade {
 fn chapter_html(h: &mut String, g: &Graded) -> Result<(), GradeError> {
     let m = &g.comparison.metrics;
     let pass = g.passes();
-    let heatmap = g.comparison.heatmap(&g.student)?;
     let _ = writeln!(
         h,
         "<section class=\"chapter {}\" id=\"chapter-{}\">\n<h2>Chapter {} <span class=\"badge\">{}</span></h2>",
@@ -699,21 +791,8 @@ fn chapter_html(h: &mut String, g: &Graded) -> Result<(), GradeError> {
         g.chapter,
         if pass { "PASS" } else { "FAIL" }
     );
-    h.push_str("<div class=\"images\">\n");
-    for (caption, image) in [
-        (format!("student: {}", file_name(&g.file)), &g.student),
-        (format!("reference: {}", g.reference_source), &g.reference),
-        ("heatmap".to_string(), &heatmap),
-    ] {
-        let _ = writeln!(
-            h,
-            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
-            html_escape(&caption),
-            base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
-            html_escape(&caption)
-        );
-    }
-    h.push_str("</div>\n<table>\n");
+    figures_html(h, g, &format!("student: {}", file_name(&g.file)))?;
+    h.push_str("<table>\n");
     let at = m
         .max_at
         .map(|(x, y)| format!(" at x={x}, y={y}"))
@@ -741,6 +820,35 @@ fn chapter_html(h: &mut String, g: &Graded) -> Result<(), GradeError> {
         );
     }
     h.push_str("</table>\n</section>\n");
+    Ok(())
+}
+
+/// The student's image, the reference and the heatmap of `g`, inlined as
+/// base64 PNGs (nothing once its images are dropped); `student` captions
+/// the first.
+fn figures_html(h: &mut String, g: &Graded, student: &str) -> Result<(), GradeError> {
+    let Some(images) = &g.images else {
+        return Ok(());
+    };
+    let heatmap = g.comparison.heatmap(&images.student)?;
+    h.push_str("<div class=\"images\">\n");
+    for (caption, image) in [
+        (student.to_string(), &images.student),
+        (
+            format!("reference: {}", g.reference_source),
+            &images.reference,
+        ),
+        ("heatmap".to_string(), &heatmap),
+    ] {
+        let _ = writeln!(
+            h,
+            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
+            html_escape(&caption),
+            base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
+            html_escape(&caption)
+        );
+    }
+    h.push_str("</div>\n");
     Ok(())
 }
 
@@ -779,11 +887,15 @@ a { color: inherit; }
 
 fn file_name(path: &Path) -> String {
     path.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| path.display().to_string())
+        .map(crate::text::visible_name)
+        .unwrap_or_else(|| crate::text::terminal_safe(&path.display().to_string()))
 }
 
+/// `text` as HTML text, with control characters and bidirectional
+/// overrides escaped as by [`crate::text::terminal_safe`]: a right-to-left
+/// override in a name would show `gnp.exe` as `exe.png`.
 fn html_escape(text: &str) -> String {
+    let text = crate::text::terminal_safe(text);
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -805,6 +917,7 @@ fn html_escape(text: &str) -> String {
 /// markup (HTML, emphasis, code, links, GitHub's strikethrough and maths)
 /// are escaped, so that `chapter-1.png` stays readable.
 fn markdown_escape(text: &str) -> String {
+    let text = crate::text::terminal_safe(text);
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

@@ -479,6 +479,23 @@ pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), OutputError> {
     Ok(())
 }
 
+/// A file's contents, written by a function (for [`write_streams`]).
+pub type Writer<'a> = Box<dyn FnOnce(&mut dyn Write) -> std::io::Result<()> + 'a>;
+
+/// [`write_files`] for contents too large to hold in memory: each `Writer`
+/// streams its file into the temporary one.
+pub fn write_streams(files: Vec<(&Path, Writer<'_>)>) -> Result<(), OutputError> {
+    let mut staged = Vec::with_capacity(files.len());
+    for (path, write) in files {
+        staged.push(stage(path, write)?);
+    }
+    crate::cleanup::test_pause_before_rename();
+    for file in staged {
+        file.commit()?;
+    }
+    Ok(())
+}
+
 /// A complete temporary file waiting to be renamed over `path`. Dropping it
 /// removes the file, then unregisters it (fields drop in this order).
 struct Staged {

@@ -24,9 +24,44 @@ pub fn terminal_safe(text: &str) -> String {
     out
 }
 
+/// A file name as people see it in a report, a CSV or on the terminal:
+/// its control characters and bidirectional overrides escaped as by
+/// [`terminal_safe`] (line breaks too), and each byte that is not UTF-8
+/// written `\xNN`, so that two names that differ never look the same (a
+/// lossy conversion shows both `a\xff` and `a\xfe` as `a\u{fffd}`).
+pub fn visible_name(name: &std::ffi::OsStr) -> String {
+    let mut out = String::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        for chunk in name.as_bytes().utf8_chunks() {
+            out.push_str(&terminal_safe(chunk.valid()).replace('\n', "\\u{a}"));
+            for byte in chunk.invalid() {
+                out.push_str(&format!("\\x{byte:02x}"));
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        out = terminal_safe(&name.to_string_lossy()).replace('\n', "\\u{a}");
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn names_that_differ_look_different() {
+        use std::os::unix::ffi::OsStrExt;
+        let name = |bytes: &[u8]| visible_name(std::ffi::OsStr::from_bytes(bytes));
+        assert_eq!(name(b"a\xff"), "a\\xff");
+        assert_ne!(name(b"a\xff"), name(b"a\xfe"));
+        assert_eq!(name("gnp.\u{202e}exe".as_bytes()), "gnp.\\u{202e}exe");
+        assert_eq!(name(b"two\nlines\x1b[2J"), "two\\u{a}lines\\u{1b}[2J");
+        assert_eq!(name("caf\u{e9}".as_bytes()), "caf\u{e9}");
+    }
 
     #[test]
     fn control_characters_are_shown_not_obeyed() {

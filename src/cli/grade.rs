@@ -1,6 +1,7 @@
 //! `raylab grade`: compare student renders with the references, one
 //! student or a class, or run a class's workspaces' checks.
 
+use std::io::{Seek as _, Write};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -16,9 +17,10 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// into an HTML report; or, with --code, students' workspaces.
 ///
 /// One student: DIR holds one PNG per chapter, named `chapter-N.png` (N
-/// from 1 to 8, lower case, no leading zero), each rendered from the
+/// from 1 to 11, lower case, no leading zero), each rendered from the
 /// chapter's built-in scene with default settings (`raylab render
-/// --chapter N`, any --width/--height from 16). A class: DIR holds one
+/// --chapter N`, any --width/--height from 16 up to 1920x1080 pixels in
+/// all: a reference is rendered at the hand-in's size). A class: DIR holds one
 /// folder per student, each like the above (DIR is a class when none of its
 /// entries is named chapter-N.png and one is a folder).
 ///
@@ -30,7 +32,9 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// 160x120 image bit for bit (if they do not, the hand-in is not graded:
 /// "this raylab's chapters differ from the shipped references").
 ///
-/// Writes one self-contained HTML report (images inlined) and prints a
+/// Writes one self-contained HTML report (images inlined; for a class, only
+/// the failing chapters', written as each student is graded, so memory
+/// does not grow with the class) and prints a
 /// Markdown summary; a class also gets a CSV (student, chapter, status,
 /// metrics). Missing chapters, unreadable files and other entries are
 /// listed, not fatal. A hand-in must be a regular file in the folder and a
@@ -133,7 +137,11 @@ fn check_outputs_spare_hand_ins(
     let mut inputs = files_in(&args.folder)?;
     if class {
         for student in folders_in(&args.folder)? {
-            inputs.extend(files_in(&student)?);
+            // A student's folder that cannot be read holds nothing an
+            // output could replace here; grading refuses that student alone.
+            if let Ok(files) = files_in(&student) {
+                inputs.extend(files);
+            }
         }
     }
     let outputs_of_before = |path: &PathBuf| {
@@ -159,29 +167,64 @@ fn grade_class(
     report: &Path,
     csv: &Path,
 ) -> Result<i32> {
-    let graded = if args.code {
-        crate::grade::class::grade_class_code(
-            &args.folder,
-            Duration::from_secs(args.timeout),
-            skip,
-            &mut |student| {
-                eprintln!(
-                    "checking {}",
-                    crate::text::terminal_safe(&args.folder.join(student).display().to_string())
-                )
-            },
-        )?
-    } else {
-        crate::grade::class::grade_class(
-            &args.folder,
-            &mut References::<crate::Reference>::new(against),
-            args.criteria.criteria(),
-            skip,
-        )?
+    // The students' sections of the report, written as each is graded: an
+    // unnamed file (gone however raylab ends) beside the report, so that
+    // the report's size never has to fit in memory.
+    let folder = match report.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
     };
-    let html = graded.html()?;
+    let mut sections = tempfile::tempfile_in(folder).with_context(|| {
+        format!(
+            "cannot make a temporary file in {} for the report",
+            folder.display()
+        )
+    })?;
+    let graded = {
+        let mut buffered = std::io::BufWriter::new(&mut sections);
+        let graded = if args.code {
+            crate::grade::class::grade_class_code(
+                &args.folder,
+                Duration::from_secs(args.timeout),
+                skip,
+                &mut |student| {
+                    eprintln!(
+                        "checking {}",
+                        crate::text::terminal_safe(
+                            &args.folder.join(student).display().to_string()
+                        )
+                    )
+                },
+                &mut buffered,
+            )?
+        } else {
+            crate::grade::class::grade_class(
+                &args.folder,
+                &mut References::<crate::Reference>::new(against),
+                args.criteria.criteria(),
+                skip,
+                &mut buffered,
+            )?
+        };
+        buffered
+            .flush()
+            .context("cannot write the report's temporary file")?;
+        graded
+    };
+    sections
+        .seek(std::io::SeekFrom::Start(0))
+        .context("cannot read back the report's temporary file")?;
     let table = graded.csv();
-    crate::output::write_files(&[(report, html.as_bytes()), (csv, table.as_bytes())])?;
+    crate::output::write_streams(vec![
+        (
+            report,
+            Box::new(|out: &mut dyn Write| graded.write_html(out, &mut sections)),
+        ),
+        (
+            csv,
+            Box::new(|out: &mut dyn Write| out.write_all(table.as_bytes())),
+        ),
+    ])?;
     print!(
         "{}",
         crate::text::terminal_safe(&graded.markdown(report, csv))

@@ -7,8 +7,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use base64::Engine as _;
-
 use super::code::{CodeRun, CodeStatus, last_lines, run_check};
 use super::{
     Grade, GradeError, Graded, Ignored, References, STYLE, chapter_of, folder_error, grade_with,
@@ -83,7 +81,7 @@ fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignor
     for entry in read_folder(folder)? {
         let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
+        let name = crate::text::visible_name(&entry.file_name());
         if path.canonicalize().is_ok_and(|p| skip.contains(&p)) {
             continue;
         }
@@ -114,20 +112,30 @@ fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignor
     Ok((students, ignored))
 }
 
-/// Grades every student's renders in `folder` (see [`super::grade_with`]).
+/// Grades every student's renders in `folder` (see [`super::grade_with`]),
+/// one student at a time: each student's section of the HTML report goes
+/// to `sections` as soon as they are graded, with the figures of their
+/// failing chapters, and their images are then dropped. What the class
+/// keeps is a few numbers a chapter: its memory does not grow with the
+/// images. [`Class::write_html`] puts the report together.
 pub fn grade_class<R: Chapters>(
     folder: &Path,
     references: &mut References<R>,
     criteria: Criteria,
     skip: &[&Path],
+    sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
-    for student in &mut students {
+    for (index, student) in students.iter_mut().enumerate() {
         if matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
             student.outcome = match grade_with(&student.folder, references, criteria, None) {
                 Ok(grade) => Outcome::Renders(Box::new(grade)),
                 Err(error) => Outcome::Refused(format!("{error:#}")),
             };
+        }
+        write_section(sections, index, student)?;
+        if let Outcome::Renders(grade) = &mut student.outcome {
+            grade.graded.iter_mut().for_each(Graded::drop_images);
         }
     }
     Ok(Class {
@@ -146,10 +154,12 @@ pub fn grade_class_code(
     timeout: Duration,
     skip: &[&Path],
     progress: &mut dyn FnMut(&str),
+    sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
-    for student in &mut students {
+    for (index, student) in students.iter_mut().enumerate() {
         if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
+            write_section(sections, index, student)?;
             continue;
         }
         let manifest = student.folder.join("Cargo.toml");
@@ -163,6 +173,7 @@ pub fn grade_class_code(
                 Err(error) => Outcome::Refused(format!("{error:#}")),
             }
         };
+        write_section(sections, index, student)?;
     }
     Ok(Class {
         folder: folder.to_path_buf(),
@@ -170,6 +181,20 @@ pub fn grade_class_code(
         students,
         ignored,
     })
+}
+
+/// Writes student number `index`'s section of the class report to
+/// `sections`.
+fn write_section(
+    sections: &mut dyn std::io::Write,
+    index: usize,
+    student: &Student,
+) -> Result<(), GradeError> {
+    let mut section = String::new();
+    student_section_html(&mut section, index, student)?;
+    sections
+        .write_all(section.as_bytes())
+        .map_err(GradeError::Staging)
 }
 
 /// A chapter's status in a student's grade: `pass`, `fail`, `missing` or
@@ -218,6 +243,14 @@ impl Student {
     pub fn verdict(&self) -> String {
         match &self.outcome {
             Outcome::Renders(grade) => format!("{} of {LAST_CHAPTER} pass", grade.passed()),
+            Outcome::Code(run)
+                if run.status == CodeStatus::NotStarted && run.chapters_passed > 0 =>
+            {
+                format!(
+                    "in progress: {} of {LAST_CHAPTER} pass, the rest not started",
+                    run.chapters_passed
+                )
+            }
             Outcome::Code(run) => run.status.name().to_string(),
             Outcome::Refused(_) => "refused".to_string(),
         }
@@ -329,7 +362,7 @@ impl Class {
                             }
                             ChapterStatus::Missing => {
                                 fields.extend(blank());
-                                fields.push(format!("no chapter-{chapter}.png"));
+                                fields.push(grade.missing_detail(chapter));
                             }
                             ChapterStatus::Unreadable(why) => {
                                 fields.extend(blank());
@@ -421,6 +454,29 @@ impl Class {
     /// of figures, so that the report of a class of 30 at 640x480 stays a
     /// few megabytes instead of a few hundred.
     pub fn html(&self) -> Result<String, GradeError> {
+        let mut h = self.html_head();
+        for (index, student) in self.students.iter().enumerate() {
+            student_section_html(&mut h, index, student)?;
+        }
+        h.push_str(HTML_TAIL);
+        Ok(h)
+    }
+
+    /// The report of a class graded by [`grade_class`] or
+    /// [`grade_class_code`], whose students' sections are in `sections`
+    /// (what they wrote there, from its start), streamed into `out`.
+    pub fn write_html(
+        &self,
+        out: &mut dyn std::io::Write,
+        sections: &mut dyn std::io::Read,
+    ) -> std::io::Result<()> {
+        out.write_all(self.html_head().as_bytes())?;
+        std::io::copy(sections, out)?;
+        out.write_all(HTML_TAIL.as_bytes())
+    }
+
+    /// The report up to the students' sections: the overview.
+    fn html_head(&self) -> String {
         let mut h = String::new();
         let title = format!("raylab grade: {} (a class)", self.folder.display());
         let _ = write!(
@@ -451,11 +507,7 @@ impl Class {
         }
         self.html_summary_table(&mut h, code);
         self.html_ignored(&mut h);
-        for (index, student) in self.students.iter().enumerate() {
-            student_section_html(&mut h, index, student)?;
-        }
-        h.push_str("</body>\n</html>\n");
-        Ok(h)
+        h
     }
 
     /// The overview: one row per student, with a column per chapter unless
@@ -512,6 +564,8 @@ impl Class {
         }
     }
 }
+
+const HTML_TAIL: &str = "</body>\n</html>\n";
 
 /// One student's section of the class report: why they were refused, their
 /// code's check run, or their chapters.
@@ -571,7 +625,8 @@ fn student_renders_html(h: &mut String, grade: &Grade) -> Result<(), GradeError>
             ChapterStatus::Missing => {
                 let _ = writeln!(
                     h,
-                    "<tr><td>{chapter}</td><td class=\"{class}\">{name}</td><td colspan=\"5\">no chapter-{chapter}.png</td></tr>"
+                    "<tr><td>{chapter}</td><td class=\"{class}\">{name}</td><td colspan=\"5\">{}</td></tr>",
+                    html_escape(&grade.missing_detail(chapter))
                 );
             }
             ChapterStatus::Unreadable(why) => {
@@ -596,39 +651,33 @@ fn student_renders_html(h: &mut String, grade: &Grade) -> Result<(), GradeError>
         }
         h.push_str("</ul>\n");
     }
-    for g in grade.graded.iter().filter(|g| !g.passes()) {
-        let heatmap = g.comparison.heatmap(&g.student)?;
+    for g in grade
+        .graded
+        .iter()
+        .filter(|g| !g.passes() && g.images.is_some())
+    {
         let _ = writeln!(
             h,
-            "<h3>Chapter {} <span class=\"badge\">FAIL</span></h3>\n<div class=\"images\">",
+            "<h3>Chapter {} <span class=\"badge\">FAIL</span></h3>",
             g.chapter
         );
-        for (caption, image) in [
-            ("student".to_string(), &g.student),
-            (format!("reference: {}", g.reference_source), &g.reference),
-            ("heatmap".to_string(), &heatmap),
-        ] {
-            let _ = writeln!(
-                h,
-                "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>",
-                html_escape(&caption),
-                base64::engine::general_purpose::STANDARD.encode(image.encode_png()?),
-                html_escape(&caption)
-            );
-        }
-        h.push_str("</div>\n");
+        super::figures_html(h, g, "student")?;
     }
     Ok(())
 }
 
 /// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a
 /// line break. A field a spreadsheet would run as a formula (a student's
-/// folder named `=HYPERLINK(...)`) is prefixed with `'`.
+/// folder named `=HYPERLINK(...)`) is prefixed with `'`. Control
+/// characters (an escape sequence in a student's output would drive the
+/// terminal of whoever runs `cat grades.csv`) and bidirectional overrides
+/// are written as escapes, line breaks kept.
 fn csv_field(text: &str) -> String {
+    let text = crate::text::terminal_safe(text);
     let text = if text.starts_with(['=', '+', '-', '@', '\t', '\r']) {
         format!("'{text}")
     } else {
-        text.to_string()
+        text
     };
     if text.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", text.replace('"', "\"\""))
@@ -649,5 +698,7 @@ mod tests {
         assert_eq!(csv_field("two\nlines"), "\"two\nlines\"");
         assert_eq!(csv_field("=1+1"), "'=1+1");
         assert_eq!(csv_field("-2"), "'-2");
+        assert_eq!(csv_field("a\u{1b}]0;owned\u{7}"), "a\\u{1b}]0;owned\\u{7}");
+        assert_eq!(csv_field("\u{202e}gnp"), "\\u{202e}gnp");
     }
 }

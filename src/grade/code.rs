@@ -64,6 +64,8 @@ pub struct CodeRun {
     pub stderr: String,
     /// The time limit, for the report of a run that hit it.
     pub timeout: Duration,
+    /// How many chapters pass, by the verdict file (0 without one).
+    pub chapters_passed: usize,
 }
 
 /// How much of each output stream is kept: the end, where the summary table
@@ -136,12 +138,16 @@ fn run_check_into(
                   raylab's check?)"
             .to_string();
     }
+    let chapters_passed = report.as_ref().map_or(0, |report| {
+        report.verdicts.iter().filter(|v| v.passes).count()
+    });
     Ok(CodeRun {
         status,
         exit_code: if timed_out { None } else { exit_code },
         stdout,
         stderr,
         timeout,
+        chapters_passed,
     })
 }
 

@@ -124,7 +124,7 @@ fn a_mixed_folder_is_graded_and_reported() {
     assert!(row_6.contains("| **FAIL** |"), "{row_6}");
     assert!(
         md.contains(&format!(
-            "Missing: chapter-3.png, chapter-5.png, chapter-7.png, chapter-8.png, {}",
+            "Missing: chapter-3.png (chapter-3.PNG: the extension must be .png in lower case), chapter-5.png, chapter-7.png, chapter-8.png, {}",
             (9..=LAST)
                 .map(|n| format!("chapter-{n}.png"))
                 .collect::<Vec<_>>()
@@ -366,9 +366,10 @@ fn hostile_names_are_escaped_in_markdown_terminal_and_html() {
     assert!(md.contains("\\<img src=x onerror=alert(2)\\>"), "{md}");
     assert!(md.contains("a\\*b\\_\\[c\\](d)\\`e\\`.png"), "{md}");
     assert!(!md.contains('\u{1b}') && !md.contains('\u{7}'), "{md:?}");
-    // Markdown escapes first (`[`), then the terminal's (ESC, BEL).
+    // The terminal's escapes first (ESC, BEL), then Markdown's (`[`, and
+    // the backslash, so that the Markdown shows `\u{1b}`).
     assert!(
-        md.contains("\\u{1b}\\[2J\\u{1b}\\]0;pwned\\u{7}.png"),
+        md.contains("\\\\u{1b}\\[2J\\\\u{1b}\\]0;pwned\\\\u{7}.png"),
         "{md}"
     );
     let html = std::fs::read_to_string(class.join("report.html")).expect("report");
@@ -597,6 +598,108 @@ fn a_class_is_graded_into_one_report_and_a_csv() {
     assert_eq!(stdout(&again), md);
 }
 
+/// The class-scale findings: an unreadable student folder refuses that
+/// student alone; a PNG declaring 40 million pixels is refused from its
+/// header; a misnamed file is named where its chapter is missing; names
+/// with escapes, bidirectional overrides and bytes that are not UTF-8 reach
+/// the CSV and the HTML as visible escapes, different names differently.
+#[test]
+fn a_class_survives_hostile_folders_and_names() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    for student in ["alice", "locked", "\u{1b}]0;owned\u{7}", "gnp.\u{202e}exe"] {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    let right = render(1, 48, 36, |_| {});
+    save(&class.join("alice/chapter-1.png"), &right);
+    save(
+        &class.join("alice/Chapter-3.PNG"),
+        &render(3, 48, 36, |_| {}),
+    );
+    // A real PNG whose header is rewritten to declare 16384x2441.
+    let mut bytes =
+        raylab::output::encode_png(right.width, right.height, &right.rgb).expect("encodes");
+    let mut ihdr = b"IHDR".to_vec();
+    ihdr.extend(16384u32.to_be_bytes());
+    ihdr.extend(2441u32.to_be_bytes());
+    ihdr.extend(&bytes[24..29]);
+    let crc = crc32(&ihdr);
+    bytes[12..29].copy_from_slice(&ihdr);
+    bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+    std::fs::write(class.join("alice/chapter-2.png"), &bytes).expect("write");
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        for name in [&b"a\xff"[..], &b"a\xfe"[..]] {
+            std::fs::create_dir(class.join(std::ffi::OsStr::from_bytes(name))).expect("mkdir");
+        }
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(class.join("locked"), std::fs::Permissions::from_mode(0o000))
+            .expect("chmod");
+    }
+    let started = std::time::Instant::now();
+    let out = raylab(&["grade", "class"], dir.path());
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(class.join("locked"), std::fs::Permissions::from_mode(0o755))
+            .expect("chmod back");
+    }
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    // Root reads any folder: the refusal is only seen as another user.
+    let root = std::fs::read_dir(dir.path().join("class/locked")).is_ok();
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV written");
+    if !root {
+        assert!(csv.contains("locked,all,refused,"), "{csv}");
+    }
+    assert!(
+        csv.contains("alice,2,unreadable,,,,,,,,too large to grade: 16384x2441"),
+        "{csv}"
+    );
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(120),
+        "the 40-megapixel reference was not rendered"
+    );
+    assert!(
+        csv.contains(
+            "alice,3,missing,,,,,,,,no chapter-3.png (Chapter-3.PNG: the extension must be .png in lower case)"
+        ),
+        "{csv}"
+    );
+    assert!(
+        !csv.contains('\u{1b}') && !csv.contains('\u{202e}'),
+        "{csv}"
+    );
+    assert!(csv.contains("\\u{1b}]0;owned\\u{7},1,missing"), "{csv}");
+    assert!(csv.contains("gnp.\\u{202e}exe,"), "{csv}");
+    #[cfg(unix)]
+    {
+        assert!(csv.contains("a\\xff,"), "{csv}");
+        assert!(csv.contains("a\\xfe,"), "{csv}");
+    }
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    assert!(!html.contains('\u{202e}') && !html.contains('\u{1b}'));
+    assert!(html.contains("Chapter-3.PNG: the extension must be .png in lower case"));
+    let md = stdout(&out);
+    assert!(!md.contains('\u{202e}') && !md.contains('\u{1b}'), "{md}");
+}
+
+/// CRC-32 of a PNG chunk's type and data (ISO 3309, as PNG uses it).
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = 0xffff_ffffu32;
+    for &byte in bytes {
+        crc ^= u32::from(byte);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xedb8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
 /// A fake student workspace: a Cargo project whose binary ignores its
 /// arguments, runs `body` and exits (the real `check` prints its table and
 /// exits 0, 1 or 2).
@@ -723,7 +826,8 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     for (student, verdict) in [
         ("ada", "pass"),
         ("ben", "fail"),
-        ("cy", "not started"),
+        // One chapter passing: in progress, not "not started".
+        ("cy", "in progress: 1 of 11 pass, the rest not started"),
         ("hal", "error"),
         ("ivy", "error"),
         ("dee", "build error"),

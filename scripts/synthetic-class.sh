@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# A synthetic class for `raylab grade`, and what grading it costs.
+#
+# Makes CLASS_DIR with STUDENTS folders of 640x480 hand-ins, one of four
+# kinds in turn: every chapter right; every odd chapter wrong (the previous
+# chapter's image handed in for it); chapters 4 to 11 missing; and hostile
+# (the right images, plus a FIFO, a symbolic link out of the folder, a
+# folder named chapter-2.png, a PNG whose header declares 16384x2441 pixels
+# and a file named with a terminal escape). Then, unless --make-only, it
+# grades the class with /usr/bin/time and prints the wall time and the peak
+# resident memory.
+#
+# Usage: scripts/synthetic-class.sh STUDENTS CLASS_DIR [--make-only]
+#   The images are hard links to eleven renders made once, so a class of
+#   500 takes a few megabytes of disk. CLASS_DIR is emptied first.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+if [[ $# -lt 2 ]]; then
+    echo "usage: $0 STUDENTS CLASS_DIR [--make-only]" >&2
+    exit 2
+fi
+students=$1
+class=$2
+make_only=${3:-}
+chapters=11
+
+cargo build --release --quiet --manifest-path "$root/Cargo.toml"
+raylab="${CARGO_TARGET_DIR:-$root/target}/release/raylab"
+
+rm -rf "$class"
+mkdir -p "$class"
+renders="$class/../$(basename "$class")-renders"
+rm -rf "$renders"
+mkdir -p "$renders"
+for chapter in $(seq 1 $chapters); do
+    "$raylab" render --chapter "$chapter" --width 640 --height 480 \
+        -o "$renders/chapter-$chapter.png" >/dev/null 2>&1
+done
+# A 116-byte-header PNG that declares 16384x2441: chapter 1's image with
+# its IHDR size (and CRC) rewritten.
+python3 - "$renders/chapter-1.png" "$renders/huge.png" <<'EOF'
+import struct, sys, zlib
+data = bytearray(open(sys.argv[1], "rb").read())
+ihdr = data[12:29]
+patched = b"IHDR" + struct.pack(">II", 16384, 2441) + bytes(ihdr[12:17])
+data[12:29] = patched
+data[29:33] = struct.pack(">I", zlib.crc32(patched) & 0xFFFFFFFF)
+open(sys.argv[2], "wb").write(bytes(data))
+EOF
+
+for index in $(seq 1 "$students"); do
+    student="$class/$(printf 'student-%04d' "$index")"
+    mkdir "$student"
+    case $((index % 4)) in
+    0)
+        for chapter in $(seq 1 $chapters); do
+            ln "$renders/chapter-$chapter.png" "$student/chapter-$chapter.png"
+        done
+        ;;
+    1)
+        for chapter in $(seq 1 $chapters); do
+            from=$chapter
+            if ((chapter % 2 == 1 && chapter > 1)); then from=$((chapter - 1)); fi
+            ln "$renders/chapter-$from.png" "$student/chapter-$chapter.png"
+        done
+        ;;
+    2)
+        for chapter in 1 2 3; do
+            ln "$renders/chapter-$chapter.png" "$student/chapter-$chapter.png"
+        done
+        ;;
+    3)
+        for chapter in $(seq 3 $chapters); do
+            ln "$renders/chapter-$chapter.png" "$student/chapter-$chapter.png"
+        done
+        ln "$renders/huge.png" "$student/chapter-1.png"
+        mkfifo "$student/chapter-4.png.fifo"
+        ln -s /etc/passwd "$student/chapter-5.png.link"
+        mkdir "$student/chapter-2.png"
+        touch "$student/$(printf 'notes-\033[2J.txt')"
+        ;;
+    esac
+done
+
+if [[ $make_only == --make-only ]]; then
+    echo "made $students students in $class"
+    exit 0
+fi
+status=0
+/usr/bin/time -f '%e s wall, %M KB peak resident' \
+    "$raylab" grade "$class" >/dev/null 2>"$class.time" || status=$?
+tail -1 "$class.time"
+echo "grade exited $status (1: some students fail, as they should)"
