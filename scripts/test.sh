@@ -8,17 +8,19 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup-embree.sh
-# Real OBJ models for tests/cli/mesh.rs: Debian's assimp-testmodels, installed
-# with apt where this machine has apt and root (or password-less sudo). It
-# is optional: without it those tests say they skipped, and the small
-# models the tests write themselves still run. Never fails the script.
-install_test_models() {
-    local package=assimp-testmodels as_root
+# Debian packages the tests use, installed with apt where this machine has
+# apt and root (or password-less sudo): assimp-testmodels, real OBJ models
+# for tests/cli/mesh.rs, and bubblewrap, the sandbox of `grade --code`
+# (tests/cli/grade.rs). Both are optional here: without them those tests
+# say they skipped (the small models the tests write themselves still run,
+# and the grading tests run unsandboxed). Never fails the script.
+install_package() {
+    local package=$1 without=$2 as_root
     if dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
         return 0
     fi
     if ! command -v apt-get >/dev/null; then
-        echo "test.sh: no apt-get; skipping $package (tests/cli/mesh.rs uses its own small models)" >&2
+        echo "test.sh: no apt-get; skipping $package ($without)" >&2
         return 0
     fi
     if [[ $(id -u) -eq 0 ]]; then
@@ -26,17 +28,18 @@ install_test_models() {
     elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
         as_root="sudo -n"
     else
-        echo "test.sh: installing $package needs root; skipping it (tests/cli/mesh.rs uses its own small models)" >&2
+        echo "test.sh: installing $package needs root; skipping it ($without)" >&2
         return 0
     fi
     # The current package lists first; update them only if that fails.
     if ! $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$package" >&2 2>/dev/null; then
         $as_root apt-get update -qq >&2 || true
         $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$package" >&2 \
-            || echo "test.sh: could not install $package; skipping it" >&2
+            || echo "test.sh: could not install $package; skipping it ($without)" >&2
     fi
 }
-install_test_models
+install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
+install_package bubblewrap "the grade --code tests run unsandboxed"
 cargo test --all-targets --features embree
 # The default build needs no Embree, and says how to get it.
 cargo test --test cli

@@ -19,6 +19,7 @@
 
 pub mod class;
 pub mod code;
+pub mod sandbox;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -46,9 +46,12 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// With --code, each folder of DIR is a student workspace (made by `raylab
 /// new`): `cargo run --release --offline -- check` runs in it, one student
 /// at a time, within --timeout seconds (then every process of the run is
-/// killed). Each student is reported as pass, fail, not started, timed
-/// out, build error or error, with the check's summary table. This runs the
-/// students' code with your rights: see docs/instructors.md.
+/// killed), inside a bubblewrap sandbox: the file system read-only but the
+/// workspace, no network, its own pid namespace, and limits on memory, CPU
+/// time and file size. Without bubblewrap (`bwrap`), --code refuses to run
+/// unless --no-sandbox is given. Each student is reported as pass, fail,
+/// not started, timed out, build error or error, with the check's summary
+/// table. See docs/instructors.md.
 ///
 /// Exit status: 0 when every chapter (of every student) is present and
 /// passes; 1 when any fails, is missing, unreadable or refused; 2 on an
@@ -79,6 +82,10 @@ pub struct GradeArgs {
     /// seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 600, value_parser = parse_timeout)]
     pub timeout: u64,
+    /// With --code, run the students' code without bubblewrap's sandbox,
+    /// with your own rights (only for code you trust, or inside a VM).
+    #[arg(long, requires = "code")]
+    pub no_sandbox: bool,
     #[command(flatten)]
     pub criteria: CriteriaArgs,
 }
@@ -180,12 +187,20 @@ fn grade_class(
             folder.display()
         )
     })?;
+    let sandbox = if args.code && !args.no_sandbox {
+        Some(crate::grade::sandbox::Sandbox::find(
+            crate::grade::sandbox::Limits::DEFAULT,
+        )?)
+    } else {
+        None
+    };
     let graded = {
         let mut buffered = std::io::BufWriter::new(&mut sections);
         let graded = if args.code {
             crate::grade::class::grade_class_code(
                 &args.folder,
                 Duration::from_secs(args.timeout),
+                sandbox.as_ref(),
                 skip,
                 &mut |student| {
                     eprintln!(

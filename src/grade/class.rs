@@ -152,6 +152,7 @@ pub fn grade_class<R: Chapters>(
 pub fn grade_class_code(
     folder: &Path,
     timeout: Duration,
+    sandbox: Option<&super::sandbox::Sandbox>,
     skip: &[&Path],
     progress: &mut dyn FnMut(&str),
     sections: &mut dyn std::io::Write,
@@ -168,7 +169,7 @@ pub fn grade_class_code(
             Outcome::Refused("not a workspace: no Cargo.toml (make one with raylab new)".into())
         } else {
             progress(&student.name);
-            match run_check(&student.folder, timeout) {
+            match run_check(&student.folder, timeout, sandbox) {
                 Ok(run) => Outcome::Code(Box::new(run)),
                 Err(error) => Outcome::Refused(format!("{error:#}")),
             }

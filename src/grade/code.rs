@@ -9,11 +9,14 @@
 //! print a passing table, but a file without its closing record is no
 //! verdict.
 //!
-//! The student's code runs with the grader's rights: see
-//! docs/instructors.md before grading code you have not read.
+//! The student's code runs inside a [`Sandbox`] unless the grader asks for
+//! none (`--no-sandbox`): then with the grader's rights, see
+//! docs/instructors.md.
 
 use std::io::Read;
 use std::path::Path;
+
+use super::sandbox::Sandbox;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -85,26 +88,34 @@ const OUTPUT_GRACE: Duration = Duration::from_secs(5);
 /// of `$CARGO` if set, else `cargo` from the PATH), killing it and all it
 /// started when `timeout` passes. An error only when the command cannot be
 /// started at all.
-pub fn run_check(workspace: &Path, timeout: Duration) -> Result<CodeRun, super::GradeError> {
-    static RUNS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let verdict_path = std::env::temp_dir().join(format!(
-        "raylab-grade-{}-{}.jsonl",
-        std::process::id(),
-        RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_file(&verdict_path);
-    let run = run_check_into(workspace, timeout, &verdict_path);
-    let _ = std::fs::remove_file(&verdict_path);
-    run
+pub fn run_check(
+    workspace: &Path,
+    timeout: Duration,
+    sandbox: Option<&Sandbox>,
+) -> Result<CodeRun, super::GradeError> {
+    // A fresh folder of its own for the verdict file: the one folder
+    // outside the workspace the sandbox lets the run write.
+    let folder = tempfile::Builder::new()
+        .prefix("raylab-grade-")
+        .tempdir()
+        .map_err(|error| super::GradeError::Run {
+            cargo: "a temporary folder".into(),
+            workspace: workspace.to_path_buf(),
+            error,
+        })?;
+    let verdict_path = folder.path().join("verdict.jsonl");
+    run_check_into(workspace, timeout, &verdict_path, sandbox)
 }
 
 fn run_check_into(
     workspace: &Path,
     timeout: Duration,
     verdict_path: &Path,
+    sandbox: Option<&Sandbox>,
 ) -> Result<CodeRun, super::GradeError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let mut child = check_command(&cargo, workspace, verdict_path)
+    let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
+    let mut child = check_command(&cargo, workspace, verdict_path, sandbox)
         .spawn()
         .map_err(|error| super::GradeError::Run {
             cargo: cargo.clone().into(),
@@ -151,24 +162,35 @@ fn run_check_into(
     })
 }
 
-/// The `check` command, in `workspace`, with its output piped.
-fn check_command(cargo: &std::ffi::OsStr, workspace: &Path, verdict_path: &Path) -> Command {
-    let mut command = Command::new(cargo);
+/// The `check` command, in `workspace` (inside `sandbox` if given), with
+/// its output piped.
+fn check_command(
+    cargo: &std::ffi::OsStr,
+    workspace: &Path,
+    verdict_path: &Path,
+    sandbox: Option<&Sandbox>,
+) -> Command {
+    let args: Vec<std::ffi::OsString> = ["run", "--release", "--offline", "--", "check"]
+        .into_iter()
+        .map(Into::into)
+        .chain(["--verdict-file".into(), verdict_path.as_os_str().to_owned()])
+        .collect();
+    let mut command = match sandbox {
+        Some(sandbox) => sandbox.command(workspace, verdict_path.parent(), cargo.into(), &args),
+        None => {
+            let mut command = Command::new(cargo);
+            command.args(&args);
+            command
+        }
+    };
     command
-        .args([
-            "run",
-            "--release",
-            "--offline",
-            "--",
-            "check",
-            "--verdict-file",
-        ])
-        .arg(verdict_path)
         .current_dir(workspace)
         // A shared target folder would let cargo take one student's build
         // for another's (same crate name, older sources): each workspace
-        // builds in its own target/.
-        .env_remove("CARGO_TARGET_DIR")
+        // builds in its own target/. Set, not just unset: the variable
+        // overrides a `build.target-dir` of the workspace's own
+        // .cargo/config.toml.
+        .env("CARGO_TARGET_DIR", workspace.join("target"))
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());

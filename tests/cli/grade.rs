@@ -795,31 +795,32 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     );
     fake_workspace(&class, "dee", "fn main() { this is not Rust }\n");
     fake_workspace(&class, "eli", &table("error: cannot read the scene", 2));
-    let pid_file = dir.path().join("sleeper.pid");
+    // A child in a session of its own (out of the process group), then a
+    // wait past the time limit.
     let sleeper = fake_workspace(
         &class,
         "fay",
-        &format!(
-            "fn main() {{\n    let mut child = std::process::Command::new(\"sleep\").arg(\"3600\").spawn().unwrap();\n    std::fs::write({:?}, child.id().to_string()).unwrap();\n    let _ = child.wait();\n}}\n",
-            pid_file.display().to_string()
-        ),
+        "fn main() {\n    std::process::Command::new(\"setsid\").args([\"sleep\", \"3617\"]).spawn().unwrap();\n    std::fs::write(\"started\", \"\").unwrap();\n    std::thread::sleep(std::time::Duration::from_secs(3600));\n}\n",
     );
     std::fs::create_dir(class.join("gus")).expect("mkdir");
     // Built beforehand, so that the time limit falls while the binary runs
     // (a build past the limit would be killed the same way).
-    let target = dir.path().join("target");
+    // Into its own target/, where grading builds each workspace whatever
+    // CARGO_TARGET_DIR says.
     let built = std::process::Command::new(env!("CARGO"))
         .args(["build", "--release", "--offline", "--quiet"])
         .current_dir(&sleeper)
-        .env("CARGO_TARGET_DIR", &target)
+        .env("CARGO_TARGET_DIR", sleeper.join("target"))
         .status()
         .expect("cargo build");
     assert!(built.success());
 
-    let mut command = common::command(&["grade", "--code", "class", "--timeout", "5"], dir.path());
-    // Every workspace builds into one target folder, as a class sharing
-    // raylab's build would; they run one at a time.
-    command.env("CARGO_TARGET_DIR", &target);
+    let mut args = vec!["grade", "--code", "class", "--timeout", "5"];
+    args.extend(sandbox_or_skip(
+        "code_mode_runs_each_workspace_check_with_a_time_limit",
+    ));
+    let mut command = common::command(&args, dir.path());
+    command.env("CARGO_TARGET_DIR", dir.path().join("shared-target"));
     let out = common::output_or_blocked(command);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let md = stdout(&out);
@@ -855,19 +856,172 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     assert!(html.contains("1        pass\n2        FAIL"), "{html}");
     assert!(html.contains("timed out after 5 s"), "{html}");
 
-    // What the student's binary started was killed with it, as a group
-    // (cargo execs the binary, so killing cargo alone would kill the binary
-    // but leave its child running).
-    let pid = std::fs::read_to_string(&pid_file).expect("the sleeper started");
-    let status = std::fs::read_to_string(format!("/proc/{}/status", pid.trim()));
-    if let Ok(status) = status {
-        let state = status
-            .lines()
-            .find(|line| line.starts_with("State:"))
-            .unwrap_or("");
-        assert!(
-            state.contains('Z'),
-            "the sleeper's child is still running: {state}"
-        );
+    // What the student's binary started died with the run, even a child
+    // that left the process group: the sandbox's pid namespace ends whole.
+    assert!(sleeper.join("started").exists(), "the sleeper never ran");
+    assert_eq!(
+        running("sleep\x003617"),
+        0,
+        "the setsid child outlived the run"
+    );
+}
+
+/// `[]` where bubblewrap makes sandboxes here; else `["--no-sandbox"]`
+/// and a note that `test` ran unsandboxed (scripts/test.sh installs
+/// bubblewrap where it can; a machine may forbid user namespaces).
+fn sandbox_or_skip(test: &str) -> Vec<&'static str> {
+    let works = std::process::Command::new("bwrap")
+        .args([
+            "--ro-bind",
+            "/",
+            "/",
+            "--unshare-all",
+            "--die-with-parent",
+            "true",
+        ])
+        .output()
+        .is_ok_and(|out| out.status.success());
+    if works {
+        return Vec::new();
     }
+    eprintln!(
+        "{test}: SKIPPED the sandbox: bubblewrap is missing or cannot make a sandbox here \
+         (apt-get install bubblewrap); running unsandboxed"
+    );
+    vec!["--no-sandbox"]
+}
+
+/// How many live processes have `marker` in their command line (its
+/// arguments joined by NUL bytes).
+fn running(marker: &str) -> usize {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|entry| {
+            let status = std::fs::read_to_string(entry.path().join("status")).unwrap_or_default();
+            let zombie = status
+                .lines()
+                .any(|line| line.starts_with("State:") && line.contains('Z'));
+            !zombie
+                && std::fs::read(entry.path().join("cmdline"))
+                    .is_ok_and(|line| String::from_utf8_lossy(&line).contains(marker))
+        })
+        .count()
+}
+
+/// A hostile workspace under `grade --code`: its build script and its
+/// binary write outside the workspace, connect to a port on the grader's
+/// machine, start a `setsid` child and allocate 50 GB. Nothing is written
+/// outside, no connection arrives, nothing is left running, and the
+/// student is marked (an error: the allocation aborts the check).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_hostile_workspace_is_contained_by_the_sandbox() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let outside = dir.path().join("outside");
+    std::fs::create_dir(&outside).expect("mkdir");
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listen");
+    listener.set_nonblocking(true).expect("non-blocking");
+    let port = listener.local_addr().expect("address").port();
+    let written = |name: &str| outside.join(name).display().to_string();
+    let mallory = fake_workspace(
+        &class,
+        "mallory",
+        &format!(
+            "fn main() {{\n    let _ = std::fs::write({main:?}, \"x\");\n    \
+             let _ = std::net::TcpStream::connect((\"127.0.0.1\", {port}));\n    \
+             let _ = std::process::Command::new(\"setsid\").args([\"sleep\", \"3619\"]).spawn();\n    \
+             std::fs::write(\"reached\", \"\").unwrap();\n    \
+             let hoard = vec![1u8; 50 << 30];\n    println!(\"{{}}\", hoard[12345]);\n}}\n",
+            main = written("from-main"),
+        ),
+    );
+    std::fs::write(
+        mallory.join("build.rs"),
+        format!(
+            "fn main() {{ let _ = std::fs::write({:?}, \"x\"); }}\n",
+            written("from-build-script")
+        ),
+    )
+    .expect("write");
+    if !sandbox_or_skip("a_hostile_workspace_is_contained_by_the_sandbox").is_empty() {
+        return;
+    }
+    let out = raylab(
+        &["grade", "--code", "class", "--timeout", "120"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
+    assert!(csv.contains("mallory,all,error,"), "{csv}");
+    assert!(
+        mallory.join("reached").exists(),
+        "the binary never ran: {csv}"
+    );
+    let escaped: Vec<_> = std::fs::read_dir(&outside)
+        .expect("read")
+        .flatten()
+        .collect();
+    assert!(
+        escaped.is_empty(),
+        "written outside the workspace: {escaped:?}"
+    );
+    assert!(
+        matches!(listener.accept(), Err(error) if error.kind() == std::io::ErrorKind::WouldBlock),
+        "a connection came out of the sandbox"
+    );
+    assert_eq!(
+        running("sleep\x003619"),
+        0,
+        "the setsid child outlived the run"
+    );
+}
+
+/// Without bubblewrap, `grade --code` refuses to run student code, says how
+/// to install it, and runs it only with an explicit --no-sandbox.
+#[cfg(unix)]
+#[test]
+fn code_mode_without_bubblewrap_refuses_unless_told() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    fake_workspace(
+        &class,
+        "ada",
+        &verdict_writer(&[(1, "pass", true, false)], true, ""),
+    );
+    // A PATH with everything of this one (cargo, rustc, the linker) but
+    // bwrap.
+    let tools = dir.path().join("tools");
+    std::fs::create_dir(&tools).expect("mkdir");
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let cargo_folder = Path::new(env!("CARGO")).parent().map(Path::to_path_buf);
+    for folder in std::env::split_paths(&path).chain(cargo_folder) {
+        for entry in std::fs::read_dir(&folder).into_iter().flatten().flatten() {
+            let link = tools.join(entry.file_name());
+            if entry.file_name() != "bwrap" && !link.exists() {
+                let _ = std::os::unix::fs::symlink(entry.path(), link);
+            }
+        }
+    }
+    let tools = tools.as_path();
+    let mut command = common::command(&["grade", "--code", "class"], dir.path());
+    command.env("PATH", tools);
+    let out = command.output().expect("runs");
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("bubblewrap"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("apt-get install bubblewrap"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(stderr(&out).contains("--no-sandbox"), "{}", stderr(&out));
+    assert!(!class.join("grades.csv").exists());
+    let mut command = common::command(&["grade", "--code", "--no-sandbox", "class"], dir.path());
+    command.env("PATH", tools);
+    let out = command.output().expect("runs");
+    let csv = std::fs::read_to_string(class.join("grades.csv")).unwrap_or_default();
+    assert!(csv.contains("ada,all,pass,"), "{}\n{csv}", stderr(&out));
 }
