@@ -20,6 +20,7 @@
 pub mod class;
 pub mod code;
 pub mod sandbox;
+pub mod similarity;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -44,6 +44,9 @@ pub struct Class {
     pub students: Vec<Student>,
     /// Entries of the class folder that are not a student's folder.
     pub ignored: Vec<Ignored>,
+    /// With `--code`: pairs of students (raylab's answer key among them)
+    /// whose chapter files are alike.
+    pub similar: Vec<super::similarity::SimilarPair>,
 }
 
 /// Why a symbolic link in the class folder is not graded.
@@ -143,6 +146,7 @@ pub fn grade_class<R: Chapters>(
         criteria,
         students,
         ignored,
+        similar: Vec::new(),
     })
 }
 
@@ -176,12 +180,77 @@ pub fn grade_class_code(
         };
         write_section(sections, index, student)?;
     }
+    let similar = similar_code(&students)?;
     Ok(Class {
         folder: folder.to_path_buf(),
         criteria: Criteria::default(),
         students,
         ignored,
+        similar,
     })
+}
+
+/// The name raylab's answer key goes by in the similarity report.
+pub const ANSWER_KEY: &str = "raylab's answer key";
+
+/// The largest chapter file read for the similarity report.
+const MAX_CHAPTER_FILE_BYTES: u64 = 1 << 20;
+
+/// The pairs of workspaces (and raylab's answer key) whose chapter files
+/// are alike, skeleton aside (see [`super::similarity`]).
+fn similar_code(students: &[Student]) -> Result<Vec<super::similarity::SimilarPair>, GradeError> {
+    use super::similarity::{Fingerprints, Submission, fingerprints};
+    let raylab = Path::new("/raylab");
+    let skeleton = crate::workspace::files("student", raylab, false);
+    let answers = crate::workspace::files("student", raylab, true);
+    let (Ok(skeleton), Ok(answers)) = (skeleton, answers) else {
+        return Ok(Vec::new());
+    };
+    let path = |info: &crate::chapters::ChapterInfo| format!("src/chapters/{}.rs", info.module());
+    let base: Vec<(u8, Fingerprints)> = crate::chapters::CHAPTERS
+        .iter()
+        .map(|info| {
+            let prints = skeleton
+                .get(&path(info))
+                .and_then(|text| fingerprints(text).ok())
+                .unwrap_or_default();
+            (info.number, prints)
+        })
+        .collect();
+    let skeleton_of = |chapter: u8| {
+        base.iter()
+            .find(|(c, _)| *c == chapter)
+            .map(|(_, prints)| prints.clone())
+            .unwrap_or_default()
+    };
+    let mut submissions = vec![Submission::new(
+        ANSWER_KEY,
+        crate::chapters::CHAPTERS
+            .iter()
+            .filter_map(|info| Some((info.number, answers.get(&path(info))?.to_string())))
+            .collect(),
+        &skeleton_of,
+    )];
+    for student in students {
+        if !matches!(student.outcome, Outcome::Code(_)) {
+            continue;
+        }
+        let files = crate::chapters::CHAPTERS
+            .iter()
+            .filter_map(|info| {
+                let bytes = crate::input::read_bounded(
+                    &student.folder.join(path(info)),
+                    MAX_CHAPTER_FILE_BYTES,
+                    "chapter file",
+                    crate::input::Links::Refuse,
+                )
+                .ok()?;
+                Some((info.number, String::from_utf8(bytes).ok()?))
+            })
+            .collect();
+        submissions.push(Submission::new(&student.name, files, &skeleton_of));
+    }
+    Ok(super::similarity::similar_pairs(&submissions))
 }
 
 /// Writes student number `index`'s section of the class report to
@@ -304,6 +373,7 @@ impl Class {
                 outcome: Outcome::Renders(Box::new(grade)),
             }],
             ignored: Vec::new(),
+            similar: Vec::new(),
         }
     }
 
@@ -438,6 +508,20 @@ impl Class {
             }
             md.push('\n');
         }
+        if !self.similar.is_empty() {
+            md.push_str("Similar code (token k-grams, winnowed; skeleton excluded):\n");
+            for pair in &self.similar {
+                let _ = writeln!(
+                    md,
+                    "- chapter {}: {} and {}, {:.0}% alike",
+                    pair.chapter,
+                    markdown_escape(&pair.first),
+                    markdown_escape(&pair.second),
+                    100.0 * pair.similarity
+                );
+            }
+            md.push('\n');
+        }
         let _ = writeln!(
             md,
             "**{} of {} students pass everything.** Report: {}; CSV: {}",
@@ -508,7 +592,45 @@ impl Class {
         }
         self.html_summary_table(&mut h, code);
         self.html_ignored(&mut h);
+        self.html_similar(&mut h);
         h
+    }
+
+    /// The pairs of similar chapter files, their shared passages side by
+    /// side.
+    fn html_similar(&self, h: &mut String) {
+        if self.similar.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            h,
+            "<section class=\"problems\">\n<h2>Similar code</h2>\n<p>Pairs whose chapter file shares at least {:.0}% of its fingerprints with the other's (token {}-grams winnowed over windows of {}, names and literals ignored, the workspace skeleton excluded): read them before concluding anything.</p>",
+            100.0 * super::similarity::REPORTED,
+            super::similarity::K,
+            super::similarity::WINDOW
+        );
+        for pair in &self.similar {
+            let _ = writeln!(
+                h,
+                "<h3>Chapter {}: {} and {}, {:.0}% alike</h3>\n<table>",
+                pair.chapter,
+                html_escape(&pair.first),
+                html_escape(&pair.second),
+                100.0 * pair.similarity
+            );
+            for (first, second) in &pair.passages {
+                let _ = writeln!(
+                    h,
+                    "<tr><td><pre>line {}\n{}</pre></td><td><pre>line {}\n{}</pre></td></tr>",
+                    first.line,
+                    html_escape(&first.text),
+                    second.line,
+                    html_escape(&second.text)
+                );
+            }
+            h.push_str("</table>\n");
+        }
+        h.push_str("</section>\n");
     }
 
     /// The overview: one row per student, with a column per chapter unless

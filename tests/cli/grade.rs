@@ -980,6 +980,91 @@ fn a_hostile_workspace_is_contained_by_the_sandbox() {
     );
 }
 
+/// `grade --code` reports chapter files that are alike: a copy with its
+/// names changed and its functions reordered, and a renamed copy of the
+/// answer key, but not two independent solutions.
+#[cfg(unix)]
+#[test]
+fn code_mode_reports_copied_chapters() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let passing = verdict_writer(&[(1, "pass", true, false)], true, "");
+    let answer_key = raylab::workspace::files("x", Path::new("/raylab"), true)
+        .expect("the answer key")
+        .get("src/chapters/ch02_sphere.rs")
+        .expect("chapter 2")
+        .to_string();
+    let renamed_key = answer_key
+        .replace("oc", "offset")
+        .replace("near", "first")
+        .replace("far", "second")
+        .replace("roots", "pair");
+    let quadratic = "use raylab::{Ray, Sphere};\n\
+        pub fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {\n\
+            let oc = ray.origin - sphere.center();\n    let a = ray.dir.dot(ray.dir);\n\
+            let half_b = oc.dot(ray.dir);\n\
+            let c = oc.dot(oc) - sphere.radius() * sphere.radius();\n\
+            let discriminant = half_b * half_b - a * c;\n\
+            if discriminant < 0.0 { return None; }\n\
+            let root = discriminant.sqrt();\n    let near = (-half_b - root) / a;\n\
+            if near > t_min && near < t_max { return Some(near); }\n\
+            let far = (-half_b + root) / a;\n\
+            if far > t_min && far < t_max { return Some(far); }\n    None\n}\n";
+    let renamed = quadratic
+        .replace("oc", "w")
+        .replace("half_b", "b")
+        .replace("discriminant", "d")
+        .replace("near", "t0")
+        .replace("far", "t1");
+    let geometric = "use raylab::{Ray, Sphere};\n\
+        fn in_range(t: f32, lo: f32, hi: f32) -> Option<f32> { (t > lo && t < hi).then_some(t) }\n\
+        pub fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {\n\
+            let speed = ray.dir.length();\n    let unit = ray.dir / speed;\n\
+            let to_center = sphere.center() - ray.origin;\n\
+            let along = to_center.dot(unit);\n\
+            let gap = sphere.radius().powi(2) - (to_center - along * unit).length_squared();\n\
+            if gap < 0.0 { return None; }\n    let half = gap.sqrt();\n\
+            in_range((along - half) / speed, t_min, t_max)\n\
+                .or_else(|| in_range((along + half) / speed, t_min, t_max))\n}\n";
+    for (student, chapter) in [
+        ("ann", quadratic.to_string()),
+        ("zoe", renamed),
+        ("bob", geometric.to_string()),
+        ("kim", renamed_key),
+    ] {
+        let folder = fake_workspace(&class, student, &passing);
+        std::fs::create_dir_all(folder.join("src/chapters")).expect("mkdir");
+        std::fs::write(folder.join("src/chapters/ch02_sphere.rs"), chapter).expect("write");
+    }
+    let mut args = vec!["grade", "--code", "class"];
+    args.extend(sandbox_or_skip("code_mode_reports_copied_chapters"));
+    let out = raylab(&args, dir.path());
+    let md = stdout(&out);
+    let similar: Vec<&str> = md
+        .lines()
+        .filter(|line| line.starts_with("- chapter "))
+        .collect();
+    assert_eq!(similar.len(), 2, "{md}");
+    assert!(
+        similar
+            .iter()
+            .any(|line| line.starts_with("- chapter 2: ann and zoe, ")),
+        "{md}"
+    );
+    assert!(
+        similar
+            .iter()
+            .any(|line| line.starts_with("- chapter 2: kim and raylab's answer key, ")),
+        "{md}"
+    );
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    assert!(html.contains("<h2>Similar code</h2>"), "{html}");
+    assert!(
+        html.contains("half_b"),
+        "the shared passage is shown: {html}"
+    );
+}
+
 /// Without bubblewrap, `grade --code` refuses to run student code, says how
 /// to install it, and runs it only with an explicit --no-sandbox.
 #[cfg(unix)]
