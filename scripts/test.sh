@@ -10,10 +10,11 @@ cd "$(dirname "$0")/.."
 bash scripts/setup-embree.sh
 # Debian packages the tests use, installed with apt where this machine has
 # apt and root (or password-less sudo): assimp-testmodels, real OBJ models
-# for tests/cli/mesh.rs, and bubblewrap, the sandbox of `grade --code`
-# (tests/cli/grade.rs). Both are optional here: without them those tests
-# say they skipped (the small models the tests write themselves still run,
-# and the grading tests run unsandboxed). Never fails the script.
+# for tests/cli/mesh.rs, bubblewrap, the sandbox of `grade --code`, and GNU
+# parallel, which runs grading jobs (tests/cli/grade.rs). All are optional
+# here: without them those tests say they skipped (the small models the
+# tests write themselves still run, the grading tests run unsandboxed and
+# their jobs one by one). Never fails the script.
 install_package() {
     local package=$1 without=$2 as_root
     if dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
@@ -40,6 +41,7 @@ install_package() {
 }
 install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
+install_package parallel "the grading-jobs test runs its jobs one by one"
 cargo test --all-targets --features embree
 # The default build needs no Embree, and says how to get it.
 cargo test --test cli

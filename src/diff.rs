@@ -185,7 +185,7 @@ impl From<crate::Rendered> for Image {
 }
 
 /// When two images count as the same.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Criteria {
     /// A pixel is over the threshold when one of its channels differs by
     /// more than this many 8-bit levels.
@@ -206,7 +206,7 @@ impl Default for Criteria {
 }
 
 /// The numbers that summarise how two images differ (see the module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Metrics {
     pub width: u32,
     pub height: u32,
@@ -215,7 +215,9 @@ pub struct Metrics {
     pub max_at: Option<(u32, u32)>,
     pub mean: f64,
     pub rmse: f64,
-    /// Infinite when the images are identical.
+    /// Infinite when the images are identical (`null` in JSON, which has
+    /// no infinity).
+    #[serde(with = "infinite_as_null")]
     pub psnr_db: f64,
     pub pixels_over: u64,
     pub pixels: u64,
@@ -243,12 +245,31 @@ pub fn psnr_text(psnr_db: f64) -> String {
 }
 
 /// Two images compared: the metrics, and each pixel's difference.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Comparison {
     pub metrics: Metrics,
     pub criteria: Criteria,
-    /// Each pixel's largest channel difference, row by row.
+    /// Each pixel's largest channel difference, row by row (not kept in a
+    /// grading job's result file).
+    #[serde(skip)]
     pub pixel_differences: Vec<u8>,
+}
+
+/// An `f64` that may be infinite, as JSON: `null` for infinity.
+mod infinite_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
+        if value.is_infinite() {
+            serializer.serialize_none()
+        } else {
+            serializer.serialize_some(value)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::INFINITY))
+    }
 }
 
 /// Compares two images of the same size. The error names both sizes;

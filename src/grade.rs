@@ -32,7 +32,7 @@ use crate::course::Chapters;
 use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
 
 /// One chapter compared with its reference.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Graded {
     pub chapter: u8,
     pub file: PathBuf,
@@ -40,6 +40,7 @@ pub struct Graded {
     /// student's figures into the report as it goes and then drops them
     /// ([`Graded::drop_images`]), so that its memory does not grow with the
     /// class.
+    #[serde(skip)]
     pub images: Option<Box<GradedImages>>,
     /// Where the reference came from, for people.
     pub reference_source: String,
@@ -54,7 +55,7 @@ pub struct GradedImages {
 }
 
 /// A chapter's file that could not be compared, and why.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Unreadable {
     pub chapter: u8,
     pub file: PathBuf,
@@ -62,14 +63,14 @@ pub struct Unreadable {
 }
 
 /// A folder entry that is not a chapter's PNG, and why.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Ignored {
     pub name: String,
     pub reason: String,
 }
 
 /// The outcome of grading one folder.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Grade {
     pub folder: PathBuf,
     pub criteria: Criteria,
@@ -129,6 +130,15 @@ pub enum GradeError {
     },
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
+    #[error("there is no student {name} in {}", folder.display())]
+    NoSuchStudent { name: String, folder: PathBuf },
+    #[error(
+        "the result of {name} was graded another way (another raylab, --code or not, other \
+         criteria): merge results of one grading"
+    )]
+    MergeMismatch { name: String },
+    #[error("two results for {name}")]
+    MergeTwice { name: String },
     /// The temporary file the class report's sections go to.
     #[error("cannot write the report's temporary file: {0}")]
     Staging(std::io::Error),

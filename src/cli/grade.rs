@@ -86,6 +86,23 @@ pub struct GradeArgs {
     /// with your own rights (only for code you trust, or inside a VM).
     #[arg(long, requires = "code")]
     pub no_sandbox: bool,
+    /// Grade only this student of the class DIR (the name of their folder),
+    /// into the result file --result: one job of a class graded on several
+    /// machines (see --merge).
+    #[arg(
+        long,
+        value_name = "NAME",
+        requires = "result",
+        conflicts_with = "merge"
+    )]
+    pub student: Option<String>,
+    /// With --student, where to write the student's result (JSON).
+    #[arg(long, value_name = "FILE", requires = "student")]
+    pub result: Option<PathBuf>,
+    /// Build the class DIR's report and CSV from the result files (*.json)
+    /// in FOLDER that `--student` jobs wrote, as one run of the class would.
+    #[arg(long, value_name = "FOLDER")]
+    pub merge: Option<PathBuf>,
     #[command(flatten)]
     pub criteria: CriteriaArgs,
 }
@@ -109,7 +126,13 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         Some(folder) => Some(folder),
         None => None,
     };
-    let class = args.code || crate::grade::class::is_class(&args.folder)?;
+    let class = args.code
+        || args.student.is_some()
+        || args.merge.is_some()
+        || crate::grade::class::is_class(&args.folder)?;
+    if let (Some(name), Some(result)) = (&args.student, &args.result) {
+        return grade_one_of_class(args, against, name, result);
+    }
     let report = args
         .report
         .clone()
@@ -174,6 +197,13 @@ fn grade_class(
     report: &Path,
     csv: &Path,
 ) -> Result<i32> {
+    let sandbox = if args.code && !args.no_sandbox && args.merge.is_none() {
+        Some(crate::grade::sandbox::Sandbox::find(
+            crate::grade::sandbox::Limits::DEFAULT,
+        )?)
+    } else {
+        None
+    };
     // The students' sections of the report, written as each is graded: an
     // unnamed file (gone however raylab ends) beside the report, so that
     // the report's size never has to fit in memory.
@@ -187,16 +217,18 @@ fn grade_class(
             folder.display()
         )
     })?;
-    let sandbox = if args.code && !args.no_sandbox {
-        Some(crate::grade::sandbox::Sandbox::find(
-            crate::grade::sandbox::Limits::DEFAULT,
-        )?)
-    } else {
-        None
-    };
     let graded = {
         let mut buffered = std::io::BufWriter::new(&mut sections);
-        let graded = if args.code {
+        let graded = if let Some(results) = &args.merge {
+            crate::grade::class::merge(
+                &args.folder,
+                read_results(results)?,
+                args.code,
+                args.criteria.criteria(),
+                skip,
+                &mut buffered,
+            )?
+        } else if args.code {
             crate::grade::class::grade_class_code(
                 &args.folder,
                 Duration::from_secs(args.timeout),
@@ -250,6 +282,86 @@ fn grade_class(
         EXIT_FAILED_CHECK
     })
 }
+
+/// Grades the student `name` of the class and writes their result file.
+fn grade_one_of_class(
+    args: &GradeArgs,
+    against: Option<&Path>,
+    name: &str,
+    result: &Path,
+) -> Result<i32> {
+    crate::output::check_outputs(&[], &[("--result", result)], false)?;
+    let mut references = References::<crate::Reference>::new(against);
+    let sandbox;
+    let job = if args.code {
+        sandbox = if args.no_sandbox {
+            None
+        } else {
+            Some(crate::grade::sandbox::Sandbox::find(
+                crate::grade::sandbox::Limits::DEFAULT,
+            )?)
+        };
+        crate::grade::class::Job::Code {
+            timeout: Duration::from_secs(args.timeout),
+            sandbox: sandbox.as_ref(),
+        }
+    } else {
+        crate::grade::class::Job::Renders(&mut references)
+    };
+    let graded = crate::grade::class::grade_student(
+        &args.folder,
+        name,
+        job,
+        args.criteria.criteria(),
+        &[result],
+    )?;
+    let json = serde_json::to_vec(&graded).context("cannot write the result as JSON")?;
+    crate::output::write_files(&[(result, &json)])?;
+    println!(
+        "{}: {} -> {}",
+        crate::text::terminal_safe(name),
+        graded.student.verdict(),
+        crate::text::terminal_safe(&result.display().to_string())
+    );
+    Ok(if graded.student.passes() {
+        0
+    } else {
+        EXIT_FAILED_CHECK
+    })
+}
+
+/// The result files (`*.json`) in `folder`, each read within a bound.
+fn read_results(folder: &Path) -> Result<Vec<crate::grade::class::StudentResult>> {
+    let entries = std::fs::read_dir(folder)
+        .with_context(|| format!("--merge {}: cannot read the folder", folder.display()))?;
+    let mut results = Vec::new();
+    for entry in entries {
+        let path = entry
+            .with_context(|| format!("--merge {}: cannot read the folder", folder.display()))?
+            .path();
+        if path.extension().is_none_or(|extension| extension != "json") {
+            continue;
+        }
+        let bytes = crate::input::read_bounded(
+            &path,
+            MAX_RESULT_BYTES,
+            "result file",
+            crate::input::Links::Refuse,
+        )?;
+        let result = serde_json::from_slice(&bytes).with_context(|| {
+            format!(
+                "{}: not a result file of raylab grade --student",
+                path.display()
+            )
+        })?;
+        results.push(result);
+    }
+    Ok(results)
+}
+
+/// The largest result file --merge reads: a student's section holds the
+/// figures of their failing chapters (a few megabytes at 640x480).
+const MAX_RESULT_BYTES: u64 = 256 << 20;
 
 /// Grades one student's folder of renders and writes its report, and its
 /// CSV when one is asked for.

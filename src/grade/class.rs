@@ -17,7 +17,7 @@ use crate::course::Chapters;
 use crate::diff::{Criteria, psnr_text};
 
 /// What grading one student gave.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum Outcome {
     /// Their renders, graded.
     Renders(Box<Grade>),
@@ -28,7 +28,7 @@ pub enum Outcome {
 }
 
 /// One student of the class.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Student {
     /// The subfolder's name.
     pub name: String,
@@ -129,14 +129,9 @@ pub fn grade_class<R: Chapters>(
     sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
-    for (index, student) in students.iter_mut().enumerate() {
-        if matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
-            student.outcome = match grade_with(&student.folder, references, criteria, None) {
-                Ok(grade) => Outcome::Renders(Box::new(grade)),
-                Err(error) => Outcome::Refused(format!("{error:#}")),
-            };
-        }
-        write_section(sections, index, student)?;
+    for student in &mut students {
+        grade_renders_of(student, references, criteria);
+        write_section(sections, student)?;
         if let Outcome::Renders(grade) = &mut student.outcome {
             grade.graded.iter_mut().for_each(Graded::drop_images);
         }
@@ -162,23 +157,9 @@ pub fn grade_class_code(
     sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
-    for (index, student) in students.iter_mut().enumerate() {
-        if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
-            write_section(sections, index, student)?;
-            continue;
-        }
-        let manifest = student.folder.join("Cargo.toml");
-        let is_file = std::fs::symlink_metadata(&manifest).is_ok_and(|m| m.is_file());
-        student.outcome = if !is_file {
-            Outcome::Refused("not a workspace: no Cargo.toml (make one with raylab new)".into())
-        } else {
-            progress(&student.name);
-            match run_check(&student.folder, timeout, sandbox) {
-                Ok(run) => Outcome::Code(Box::new(run)),
-                Err(error) => Outcome::Refused(format!("{error:#}")),
-            }
-        };
-        write_section(sections, index, student)?;
+    for student in &mut students {
+        run_code_of(student, timeout, sandbox, progress);
+        write_section(sections, student)?;
     }
     let similar = similar_code(&students)?;
     Ok(Class {
@@ -188,6 +169,178 @@ pub fn grade_class_code(
         ignored,
         similar,
     })
+}
+
+/// Grades `student`'s renders, unless the student is refused already.
+fn grade_renders_of<R: Chapters>(
+    student: &mut Student,
+    references: &mut References<R>,
+    criteria: Criteria,
+) {
+    if matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
+        student.outcome = match grade_with(&student.folder, references, criteria, None) {
+            Ok(grade) => Outcome::Renders(Box::new(grade)),
+            Err(error) => Outcome::Refused(format!("{error:#}")),
+        };
+    }
+}
+
+/// Runs `student`'s workspace's check, unless the student is refused
+/// already.
+fn run_code_of(
+    student: &mut Student,
+    timeout: Duration,
+    sandbox: Option<&super::sandbox::Sandbox>,
+    progress: &mut dyn FnMut(&str),
+) {
+    if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
+        return;
+    }
+    let manifest = student.folder.join("Cargo.toml");
+    let is_file = std::fs::symlink_metadata(&manifest).is_ok_and(|m| m.is_file());
+    student.outcome = if !is_file {
+        Outcome::Refused("not a workspace: no Cargo.toml (make one with raylab new)".into())
+    } else {
+        progress(&student.name);
+        match run_check(&student.folder, timeout, sandbox) {
+            Ok(run) => Outcome::Code(Box::new(run)),
+            Err(error) => Outcome::Refused(format!("{error:#}")),
+        }
+    };
+}
+
+/// What grading one student of a class gives, as one job of a class
+/// spread over machines (`raylab grade CLASS --student NAME --result
+/// FILE`): the student, their images dropped, and their section of the
+/// report, figures included. [`merge`] builds the class's report from
+/// these, the same as one `grade` run of the whole class.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct StudentResult {
+    /// The version of this file's layout.
+    pub raylab_grade_result: u32,
+    pub code: bool,
+    pub criteria: Criteria,
+    pub student: Student,
+    pub section: String,
+}
+
+/// The layout of [`StudentResult`] this raylab writes and reads.
+pub const RESULT_VERSION: u32 = 1;
+
+/// How a job grades its student: their renders against `references`, or
+/// their workspace's check.
+pub enum Job<'a, R: Chapters> {
+    Renders(&'a mut References<R>),
+    Code {
+        timeout: Duration,
+        sandbox: Option<&'a super::sandbox::Sandbox>,
+    },
+}
+
+/// Grades the student `name` of the class in `folder` alone.
+pub fn grade_student<R: Chapters>(
+    folder: &Path,
+    name: &str,
+    job: Job<'_, R>,
+    criteria: Criteria,
+    skip: &[&Path],
+) -> Result<StudentResult, GradeError> {
+    let (students, _) = students_in(folder, skip)?;
+    let mut student = students
+        .into_iter()
+        .find(|student| student.name == name)
+        .ok_or_else(|| GradeError::NoSuchStudent {
+            name: name.to_string(),
+            folder: folder.to_path_buf(),
+        })?;
+    let code = matches!(job, Job::Code { .. });
+    match job {
+        Job::Renders(references) => grade_renders_of(&mut student, references, criteria),
+        Job::Code { timeout, sandbox } => run_code_of(&mut student, timeout, sandbox, &mut |_| {}),
+    }
+    let mut section = String::new();
+    student_section_html(&mut section, &student)?;
+    if let Outcome::Renders(grade) = &mut student.outcome {
+        grade.graded.iter_mut().for_each(Graded::drop_images);
+    }
+    Ok(StudentResult {
+        raylab_grade_result: RESULT_VERSION,
+        code,
+        criteria: if code { Criteria::default() } else { criteria },
+        student,
+        section,
+    })
+}
+
+/// The class in `folder` from its jobs' `results`: every student of the
+/// folder, in the order of their names, each with their result (a student
+/// with none is refused: "no result"), and their sections written to
+/// `sections`. Results of students not in the folder, twice the same
+/// student, or graded another way (`--code` or not, other criteria) are
+/// errors: a class is merged from one grading.
+pub fn merge(
+    folder: &Path,
+    results: Vec<StudentResult>,
+    code: bool,
+    criteria: Criteria,
+    skip: &[&Path],
+    sections: &mut dyn std::io::Write,
+) -> Result<Class, GradeError> {
+    let (mut students, ignored) = students_in(folder, skip)?;
+    let criteria = if code { Criteria::default() } else { criteria };
+    let mut by_name = std::collections::BTreeMap::new();
+    for result in results {
+        let name = result.student.name.clone();
+        if result.raylab_grade_result != RESULT_VERSION
+            || result.code != code
+            || result.criteria != criteria
+        {
+            return Err(GradeError::MergeMismatch { name });
+        }
+        if !students.iter().any(|student| student.name == name) {
+            return Err(GradeError::NoSuchStudent {
+                name,
+                folder: folder.to_path_buf(),
+            });
+        }
+        if by_name.insert(name.clone(), result).is_some() {
+            return Err(GradeError::MergeTwice { name });
+        }
+    }
+    for student in &mut students {
+        match by_name.remove(&student.name) {
+            Some(result) => {
+                *student = result.student;
+                sections
+                    .write_all(result.section.as_bytes())
+                    .map_err(GradeError::Staging)?;
+            }
+            None => {
+                student.outcome = Outcome::Refused(
+                    "no result: this student's grading job wrote no result file".into(),
+                );
+                write_section(sections, student)?;
+            }
+        }
+    }
+    let similar = if code {
+        similar_code(&students)?
+    } else {
+        Vec::new()
+    };
+    Ok(Class {
+        folder: folder.to_path_buf(),
+        criteria,
+        students,
+        ignored,
+        similar,
+    })
+}
+
+/// The HTML anchor of a student's section: from their name alone, so that
+/// a job grading one student writes the same section as a run of the class.
+fn anchor(name: &str) -> String {
+    format!("student-{:016x}", crate::output::fnv1a64(name.bytes()))
 }
 
 /// The name raylab's answer key goes by in the similarity report.
@@ -253,15 +406,10 @@ fn similar_code(students: &[Student]) -> Result<Vec<super::similarity::SimilarPa
     Ok(super::similarity::similar_pairs(&submissions))
 }
 
-/// Writes student number `index`'s section of the class report to
-/// `sections`.
-fn write_section(
-    sections: &mut dyn std::io::Write,
-    index: usize,
-    student: &Student,
-) -> Result<(), GradeError> {
+/// Writes `student`'s section of the class report to `sections`.
+fn write_section(sections: &mut dyn std::io::Write, student: &Student) -> Result<(), GradeError> {
     let mut section = String::new();
-    student_section_html(&mut section, index, student)?;
+    student_section_html(&mut section, student)?;
     sections
         .write_all(section.as_bytes())
         .map_err(GradeError::Staging)
@@ -540,8 +688,8 @@ impl Class {
     /// few megabytes instead of a few hundred.
     pub fn html(&self) -> Result<String, GradeError> {
         let mut h = self.html_head();
-        for (index, student) in self.students.iter().enumerate() {
-            student_section_html(&mut h, index, student)?;
+        for student in &self.students {
+            student_section_html(&mut h, student)?;
         }
         h.push_str(HTML_TAIL);
         Ok(h)
@@ -643,10 +791,11 @@ impl Class {
             }
         }
         h.push_str("<th>result</th></tr>\n");
-        for (index, student) in self.students.iter().enumerate() {
+        for student in &self.students {
             let _ = write!(
                 h,
-                "<tr><td><a href=\"#student-{index}\">{}</a></td>",
+                "<tr><td><a href=\"#{}\">{}</a></td>",
+                anchor(&student.name),
                 html_escape(&student.name)
             );
             if !code {
@@ -692,11 +841,12 @@ const HTML_TAIL: &str = "</body>\n</html>\n";
 
 /// One student's section of the class report: why they were refused, their
 /// code's check run, or their chapters.
-fn student_section_html(h: &mut String, index: usize, student: &Student) -> Result<(), GradeError> {
+fn student_section_html(h: &mut String, student: &Student) -> Result<(), GradeError> {
     let _ = writeln!(
         h,
-        "<section class=\"chapter {}\" id=\"student-{index}\">\n<h2>{} <span class=\"badge\">{}</span></h2>",
+        "<section class=\"chapter {}\" id=\"{}\">\n<h2>{} <span class=\"badge\">{}</span></h2>",
         if student.passes() { "pass" } else { "fail" },
+        anchor(&student.name),
         html_escape(&student.name),
         html_escape(&student.verdict())
     );

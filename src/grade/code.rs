@@ -25,7 +25,7 @@ use crate::check::Overall;
 use crate::check::verdict_file::{SentReport, process_end};
 
 /// The outcome of one workspace's `check`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CodeStatus {
     /// `check` exited 0: every chapter passes.
     Pass,
@@ -57,7 +57,7 @@ impl CodeStatus {
 }
 
 /// What running a workspace's `check` gave.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CodeRun {
     pub status: CodeStatus,
     /// The exit status, when the process exited by itself.

@@ -700,6 +700,111 @@ fn crc32(bytes: &[u8]) -> u32 {
     !crc
 }
 
+/// A class graded as one job per student (with GNU parallel where it is
+/// installed, else one after another in reverse order), then merged, gives
+/// the same report and CSV as one run over the class; a student whose job
+/// wrote nothing is refused as "no result".
+#[test]
+fn jobs_per_student_merge_into_the_report_of_one_run() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    for student in ["ann", "bob", "cy"] {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    for chapter in [1, 2] {
+        save(
+            &class.join(format!("ann/chapter-{chapter}.png")),
+            &render(chapter, 48, 36, |_| {}),
+        );
+    }
+    save(
+        &class.join("bob/chapter-6.png"),
+        &render(6, 48, 36, |s| s.max_depth = 1),
+    );
+    std::fs::write(class.join("cy/chapter-2.png"), "not a PNG").expect("write");
+
+    let once = raylab(&["grade", "class"], dir.path());
+    assert_eq!(once.status.code(), Some(1), "{}", stderr(&once));
+    let report = std::fs::read(class.join("report.html")).expect("report");
+    let csv = std::fs::read(class.join("grades.csv")).expect("CSV");
+    std::fs::remove_file(class.join("report.html")).expect("rm");
+    std::fs::remove_file(class.join("grades.csv")).expect("rm");
+
+    let results = dir.path().join("results");
+    std::fs::create_dir(&results).expect("mkdir");
+    let binary = env!("CARGO_BIN_EXE_raylab");
+    let parallel = std::process::Command::new("parallel")
+        .args(["--version"])
+        .output()
+        .is_ok_and(|out| out.status.success());
+    if parallel {
+        let status = std::process::Command::new("parallel")
+            .args([
+                "--jobs",
+                "2",
+                binary,
+                "grade",
+                "class",
+                "--student",
+                "{}",
+                "--result",
+                "results/{}.json",
+                ":::",
+                "cy",
+                "bob",
+                "ann",
+            ])
+            .current_dir(dir.path())
+            .output()
+            .expect("parallel runs");
+        // Exit 1: some students fail, as they should; parallel adds them up.
+        assert!(
+            status.status.code().is_some_and(|code| code <= 3),
+            "{status:?}"
+        );
+    } else {
+        eprintln!("jobs_per_student_merge: no GNU parallel here; the jobs run one by one");
+        for name in ["cy", "bob", "ann"] {
+            let result = format!("results/{name}.json");
+            let out = raylab(
+                &["grade", "class", "--student", name, "--result", &result],
+                dir.path(),
+            );
+            assert!(
+                out.status.code().is_some_and(|code| code <= 1),
+                "{}",
+                stderr(&out)
+            );
+        }
+    }
+    let merged = raylab(&["grade", "class", "--merge", "results"], dir.path());
+    assert_eq!(merged.status.code(), Some(1), "{}", stderr(&merged));
+    assert_eq!(stdout(&merged), stdout(&once));
+    assert_eq!(std::fs::read(class.join("grades.csv")).expect("CSV"), csv);
+    assert!(
+        std::fs::read(class.join("report.html")).expect("report") == report,
+        "the merged report differs from one run's"
+    );
+
+    // Without cy's result, cy is refused; a result twice is an error.
+    std::fs::remove_file(results.join("cy.json")).expect("rm");
+    let partial = raylab(&["grade", "class", "--merge", "results"], dir.path());
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
+    assert!(
+        csv.contains("cy,all,refused,,,,,,,,no result"),
+        "{csv}{}",
+        stderr(&partial)
+    );
+    std::fs::copy(results.join("ann.json"), results.join("ann-again.json")).expect("copy");
+    let twice = raylab(&["grade", "class", "--merge", "results"], dir.path());
+    assert_eq!(twice.status.code(), Some(2));
+    assert!(
+        stderr(&twice).contains("two results for ann"),
+        "{}",
+        stderr(&twice)
+    );
+}
+
 /// A fake student workspace: a Cargo project whose binary ignores its
 /// arguments, runs `body` and exits (the real `check` prints its table and
 /// exits 0, 1 or 2).
