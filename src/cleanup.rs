@@ -5,8 +5,9 @@
 //! interrupted write never damages the old file. Without this module, a
 //! Ctrl-C or a `kill` in the middle of a write left the temporary file
 //! behind. [`install_signal_handlers`] (called by the `raylab` binary)
-//! makes SIGINT, SIGTERM and SIGHUP remove every live temporary file, then
-//! exit with the conventional status 128 + the signal (130, 143, 129).
+//! makes the signals that end a process (SIGINT, SIGTERM, SIGHUP, SIGQUIT,
+//! SIGPIPE, SIGXFSZ, ...) remove every live temporary file, then exit with
+//! the conventional status 128 + the signal (130, 143, 129, ...).
 //!
 //! A signal handler may only call async-signal-safe functions: no lock, no
 //! allocation. So the live paths sit in a fixed table of atomic pointers to
@@ -127,12 +128,26 @@ extern "C" fn on_signal(signal: libc::c_int) {
     unsafe { libc::_exit(128 + signal) }
 }
 
-/// Makes SIGINT, SIGTERM and SIGHUP remove the live temporary files and
-/// exit with status 128 + the signal. A signal the parent set to be
+/// Makes every signal whose default action ends the process and that a
+/// user, a shell or the kernel sends to a command (SIGINT, SIGTERM, SIGHUP,
+/// SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGPIPE, SIGXFSZ and SIGXCPU: a
+/// closed pipe, a file-size or CPU limit) remove the live temporary files
+/// and exit with status 128 + the signal. A signal the parent set to be
 /// ignored (`nohup`) stays ignored. Call once, before any thread starts.
 pub fn install_signal_handlers() {
     #[cfg(unix)]
-    for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+    for signal in [
+        libc::SIGINT,
+        libc::SIGTERM,
+        libc::SIGHUP,
+        libc::SIGQUIT,
+        libc::SIGUSR1,
+        libc::SIGUSR2,
+        libc::SIGALRM,
+        libc::SIGPIPE,
+        libc::SIGXFSZ,
+        libc::SIGXCPU,
+    ] {
         // SAFETY: sigaction with a zeroed, then filled, struct; the handler
         // only touches atomics and async-signal-safe functions.
         unsafe {

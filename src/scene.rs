@@ -143,6 +143,12 @@ pub const MAX_DEPTH: u32 = 64;
 /// rendering; a mesh counts as one object here (its triangles are bounded
 /// by [`MAX_PRIMITIVES`]).
 pub const MAX_OBJECTS: usize = 100_000;
+/// Most point lights a scene may have. Every shaded point casts a shadow
+/// ray to each one: 1,024 lights are a thousand times chapter 4's work per
+/// pixel. The TOML parser's tables take far more memory than their bytes
+/// in the file, so the count is checked in the text first
+/// ([`Scene::parse_in`]).
+pub const MAX_LIGHTS: usize = 1024;
 /// Most primitives (planes, spheres and every triangle of every mesh) a
 /// scene may have: 8 million triangles are about 350 MB of shapes, plus
 /// their tree in chapter 11.
@@ -649,6 +655,25 @@ impl Scene {
     /// [`Scene::parse`] for the text of a file in `folder`, where the OBJ
     /// files it names are looked for.
     pub fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Scene, SceneError> {
+        // Before the parser: its tables cost about 2 KB each.
+        for (header, most, what) in [
+            ("[[lights]]", MAX_LIGHTS, "lights"),
+            ("[[objects]]", MAX_OBJECTS, "objects"),
+        ] {
+            let count = text
+                .lines()
+                .filter(|line| line.trim_start().starts_with(header))
+                .take(most + 1)
+                .count();
+            if count > most {
+                return Err(SceneError::Syntax {
+                    origin: origin.to_string(),
+                    message: format!(
+                        "more than {most} {header} tables: a scene may have at most {most} {what}"
+                    ),
+                });
+            }
+        }
         let deserializer = toml::Deserializer::new(text);
         let file: SceneFile = serde_path_to_error::deserialize(deserializer).map_err(|error| {
             let field = error.path().to_string();
@@ -872,6 +897,12 @@ impl SceneFile {
                     light.intensity
                 ));
             }
+        }
+        if self.lights.len() > MAX_LIGHTS {
+            return Err(format!(
+                "{} lights: a scene may have at most {MAX_LIGHTS}",
+                self.lights.len()
+            ));
         }
         if self.objects.len() > MAX_OBJECTS {
             return Err(format!(

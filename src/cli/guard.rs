@@ -40,8 +40,9 @@ pub fn run(command: impl FnOnce() -> i32) -> i32 {
         // Every pixel may panic the same way: the default report (and its
         // backtrace) once is enough. A `todo!()` is no bug to trace: a
         // function not written yet, which the message below says in full.
-        let todo = payload_text(info.payload()).starts_with("not yet implemented");
-        if record(info) && verbose && !todo {
+        let text = payload_text(info.payload());
+        let todo = text.starts_with("not yet implemented");
+        if record(info) && verbose && !todo && unwritable_stream(&text).is_none() {
             default_hook(info);
         }
     }));
@@ -147,6 +148,14 @@ fn chapter_in_backtrace(backtrace: &str) -> Option<u8> {
 
 /// The exit status and the message for a panic.
 fn explain(record: &Record) -> (i32, String) {
+    if let Some((stream, why)) = unwritable_stream(&record.message) {
+        // A full disk or a closed pipe behind `> out.txt`: the user's
+        // setting, not a bug. What was written to files stays.
+        return (
+            EXIT_ERROR,
+            format!("error: cannot write to {stream}: {why} (files written before are kept)"),
+        );
+    }
     let info = record.chapter.and_then(crate::chapters::chapter);
     let not_started = record
         .message
@@ -196,6 +205,17 @@ fn explain(record: &Record) -> (i32, String) {
         ),
     };
     (EXIT_ERROR, report)
+}
+
+/// The stream and the reason of the standard library's panic when
+/// `print!` cannot write (`raylab render > /dev/full`), if `message` is one.
+fn unwritable_stream(message: &str) -> Option<(&'static str, &str)> {
+    [
+        ("failed printing to stdout: ", "the standard output"),
+        ("failed printing to stderr: ", "the standard error"),
+    ]
+    .into_iter()
+    .find_map(|(prefix, stream)| message.strip_prefix(prefix).map(|why| (stream, why)))
 }
 
 fn not_started_message(info: &ChapterInfo, function: Option<&str>) -> String {

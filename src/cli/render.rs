@@ -106,7 +106,7 @@ pub struct SettingsOverrides {
     pub ray_offset: Option<crate::scene::OffsetRule>,
     /// The distance used by --ray-offset fixed; giving it implies
     /// --ray-offset fixed [default: the scene's, else 0.0001].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub epsilon: Option<f32>,
     /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
     #[arg(long, value_parser = crate::cli::parse_threads)]

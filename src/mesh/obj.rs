@@ -347,8 +347,8 @@ fn corner(word: &str, counts: &Counts) -> Result<bool, String> {
         let valid = match index {
             0 => return Err(format!("face corner {word:?}: index 0 (OBJ counts from 1)")),
             1.. => index <= declared,
-            // -1 is the latest one declared.
-            _ => -index <= declared,
+            // -1 is the latest one declared; i64::MIN has no negation.
+            _ => index.checked_neg().is_some_and(|back| back <= declared),
         };
         if !valid {
             return Err(format!(

@@ -566,11 +566,48 @@ fn a_scene_with_too_many_objects_is_refused() {
     );
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("100001 objects: a scene may have at most 100000"),
+        stderr(&out).contains(
+            "more than 100000 [[objects]] tables: a scene may have at most 100000 objects"
+        ),
         "{}",
         stderr(&out)
     );
     assert!(!dir.path().join("crowd.png").exists());
+}
+
+/// Lights are bounded like objects, before the file is parsed (500,000
+/// light tables took 1.2 GB to parse), and after, for inline arrays.
+#[test]
+fn a_scene_with_too_many_lights_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let most = raylab::scene::MAX_LIGHTS;
+    let mut tables = String::from(GOOD);
+    tables.push_str(&"[[lights]]\nposition = [0, 5, 0]\n".repeat(500_000));
+    let light = "{ position = [0, 5, 0] }, ";
+    let inline = format!(
+        "lights = [{}]\n[camera]\nposition = [0, 1, -5]\nlook_at = [0, 0, 0]\n",
+        light.repeat(most + 1)
+    );
+    for (name, scene, message) in [
+        (
+            "tables.toml",
+            tables,
+            format!("more than {most} [[lights]] tables"),
+        ),
+        (
+            "inline.toml",
+            inline,
+            format!("{} lights: a scene may have at most {most}", most + 1),
+        ),
+    ] {
+        std::fs::write(dir.path().join(name), scene).expect("write");
+        let out = raylab(
+            &["render", "--scene", name, "--width", "4", "--height", "3"],
+            dir.path(),
+        );
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        assert!(stderr(&out).contains(&message), "{name}: {}", stderr(&out));
+    }
 }
 
 /// Names with terminal control characters (here `ESC [2J`, which clears
@@ -827,7 +864,8 @@ fn cost_writes_its_files_all_or_none() {
     );
 }
 
-/// SIGTERM or SIGINT while an output is being written must not leave a
+/// A signal that ends the process (SIGTERM, SIGINT, SIGQUIT, SIGPIPE,
+/// SIGXFSZ, ...) while an output is being written must not leave a
 /// `.raylab-XXXXXX.tmp` file: it is removed, the old image survives,
 /// and the exit status is 128 + the signal. The test-only hook
 /// RAYLAB_TEST_PAUSE_BEFORE_RENAME stops raylab with its temporary files
@@ -852,7 +890,19 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
     ];
     assert!(raylab(&args, dir.path()).status.success());
     let old = std::fs::read(dir.path().join("old.png")).expect("old image");
-    for (signal, status) in [(libc::SIGTERM, 143), (libc::SIGINT, 130)] {
+    for signal in [
+        libc::SIGTERM,
+        libc::SIGINT,
+        libc::SIGHUP,
+        libc::SIGQUIT,
+        libc::SIGUSR1,
+        libc::SIGUSR2,
+        libc::SIGALRM,
+        libc::SIGPIPE,
+        libc::SIGXFSZ,
+        libc::SIGXCPU,
+    ] {
+        let status = 128 + signal;
         let mut child = common::command(
             &[
                 "render",
@@ -892,4 +942,50 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
             old
         );
     }
+}
+
+/// A full standard output (`> /dev/full`) is an error that says so, exit
+/// 2, not "a bug in raylab"; the image written before is kept.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_unwritable_standard_output_is_reported_not_a_panic() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    let out = common::command(
+        &[
+            "render", "-c", "1", "--width", "8", "--height", "6", "-o", "a.png",
+        ],
+        dir.path(),
+    )
+    .stdout(full)
+    .output()
+    .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let text = stderr(&out);
+    assert!(
+        text.contains("cannot write to the standard output"),
+        "{text}"
+    );
+    assert!(!text.contains("bug in raylab"), "{text}");
+    assert!(dir.path().join("a.png").is_file());
+}
+
+/// A negative --epsilon is a value out of range, not an unknown option.
+#[test]
+fn a_negative_epsilon_gets_the_range_message() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = raylab(
+        &["render", "-c", "4", "--epsilon", "-1", "-o", "a.png"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("must be a finite number >= 0"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("a.png").exists());
 }

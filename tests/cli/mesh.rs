@@ -432,6 +432,13 @@ fn broken_models_are_refused_naming_the_file_and_line() {
             format!("{triangle}f -1 -2 -4\n"),
             "back.obj:4: face corner \"-4\": vertex -4 does not exist",
         ),
+        // i64::MIN: its negation overflows (a panic in a debug build).
+        (
+            "most-negative.obj",
+            format!("{triangle}f 1 2 -9223372036854775808\n"),
+            "most-negative.obj:4: face corner \"-9223372036854775808\": vertex \
+             -9223372036854775808 does not exist",
+        ),
         (
             "ahead.obj",
             format!("v 0 0 0\nf 1 2 3\n{triangle}"),
