@@ -652,6 +652,23 @@ impl Scene {
         Scene::parse_in(text, origin, None)
     }
 
+    /// The OBJ files the scene text `text` names (`mesh = { obj = ... }`),
+    /// relative to `folder`: inputs an output must not replace. Text that
+    /// does not parse names none.
+    pub fn obj_files(text: &str, folder: &Path) -> Vec<std::path::PathBuf> {
+        let Ok(value) = text.parse::<toml::Table>() else {
+            return Vec::new();
+        };
+        let Some(objects) = value.get("objects").and_then(toml::Value::as_array) else {
+            return Vec::new();
+        };
+        objects
+            .iter()
+            .filter_map(|object| object.get("mesh")?.get("obj")?.as_str())
+            .map(|obj| folder.join(obj))
+            .collect()
+    }
+
     /// [`Scene::parse`] for the text of a file in `folder`, where the OBJ
     /// files it names are looked for.
     pub fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<Scene, SceneError> {

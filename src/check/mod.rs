@@ -809,9 +809,13 @@ fn check_image<C: Chapters>(
         }
     } else if passed && options.write_images {
         // The images of an earlier failure would now mislead: the chapter
-        // draws right. Only raylab's own two names are removed.
+        // draws right. Only raylab's own two names are removed, and only
+        // files raylab wrote (a student's own chapter-3.png stays).
         for name in failure_image_names(info.number) {
-            let _ = std::fs::remove_file(options.failures_dir.join(name));
+            let path = options.failures_dir.join(name);
+            if crate::output::is_raylab_png(&path) {
+                let _ = std::fs::remove_file(path);
+            }
         }
     }
     Ok(Ok(ImageCheck {
@@ -848,6 +852,21 @@ fn write_failure_images(
     let [image_name, heatmap_name] = failure_image_names(chapter);
     let image_path = folder.join(image_name);
     let heatmap_path = folder.join(heatmap_name);
+    // Never over a file raylab did not write, nor a read-only one.
+    let outputs = [
+        ("--failures-dir", image_path.as_path()),
+        ("--failures-dir", heatmap_path.as_path()),
+    ];
+    crate::output::check_outputs(&[], &outputs, false).map_err(|error| format!("{error:#}"))?;
+    for (_, path) in outputs {
+        if std::fs::symlink_metadata(path).is_ok() && !crate::output::is_raylab_png(path) {
+            return Err(format!(
+                "{} was not written by raylab, so it is kept: move it, or give --failures-dir \
+                 another folder",
+                crate::text::terminal_safe(&path.display().to_string())
+            ));
+        }
+    }
     student
         .write_png(&image_path)
         .and_then(|()| heatmap.write_png(&heatmap_path))

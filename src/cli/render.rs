@@ -328,7 +328,20 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
     if let Some(path) = &args.stats_json {
         outputs.push(("--stats-json", path.as_path()));
     }
-    let inputs: Vec<&Path> = args.scene.as_deref().into_iter().collect();
+    // The scene and the OBJ models it names: `--stats-json model.obj` must
+    // not replace the mesh being rendered.
+    let models: Vec<PathBuf> = match args.scene.as_deref() {
+        Some(path) => crate::input::read_scene_text(path)
+            .map(|text| Scene::obj_files(&text, path.parent().unwrap_or(Path::new(""))))
+            .unwrap_or_default(),
+        None => Vec::new(),
+    };
+    let inputs: Vec<&Path> = args
+        .scene
+        .as_deref()
+        .into_iter()
+        .chain(models.iter().map(PathBuf::as_path))
+        .collect();
     crate::output::check_outputs(&inputs, &outputs, args.force)?;
     crate::output::check_replaceable_png("-o", &output, args.force)?;
     let work = estimated_work(&settings, chapter, scene.len());
@@ -405,10 +418,16 @@ fn output_name(
     let stem = scene
         .file_stem()
         .map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
-    match asked_chapter {
-        Some(chapter) => PathBuf::from(format!("{stem}-ch{chapter}.png")),
-        None => PathBuf::from(format!("{stem}.png")),
+    let name = match asked_chapter {
+        Some(chapter) => format!("{stem}-ch{chapter}.png"),
+        None => format!("{stem}.png"),
+    };
+    // `--scene chapter-3.toml` must not write `chapter-3.png`: that name is
+    // a hand-in's, which `grade` takes for the chapter's built-in scene.
+    if crate::grade::chapter_of(&name).is_ok() {
+        return PathBuf::from(format!("{stem}-scene.png"));
     }
+    PathBuf::from(name)
 }
 
 /// The estimated work above which `render` shows a progress bar: about a

@@ -989,3 +989,45 @@ fn a_negative_epsilon_gets_the_range_message() {
     );
     assert!(!dir.path().join("a.png").exists());
 }
+
+/// A scene render never takes a hand-in's name (`--scene chapter-3.toml`
+/// writes `chapter-3-scene.png`, not `chapter-3.png`), and the OBJ models a
+/// scene names are inputs no output may replace.
+#[test]
+fn scene_renders_spare_hand_ins_and_models() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.path().join("chapter-3.toml"),
+        "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[objects]]\nmesh = { obj = \"tri.obj\" }\n",
+    )
+    .expect("write");
+    std::fs::write(dir.path().join("chapter-3.png"), "a hand-in").expect("write");
+    let small = ["--width", "8", "--height", "6"];
+    let mut args = vec!["render", "--scene", "chapter-3.toml"];
+    args.extend(small);
+    let out = raylab(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("chapter-3-scene.png").is_file());
+    assert_eq!(
+        std::fs::read(dir.path().join("chapter-3.png")).expect("kept"),
+        b"a hand-in"
+    );
+    args.extend(["--stats-json", "tri.obj", "--force"]);
+    let out = raylab(&args, dir.path());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("that is an input"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        std::fs::read_to_string(dir.path().join("tri.obj"))
+            .expect("kept")
+            .starts_with("v 0 0 0")
+    );
+}

@@ -736,6 +736,41 @@ fn a_failing_image_is_written_with_its_heatmap() {
     let _ = std::fs::remove_dir_all(&folder);
 }
 
+/// A file in the failures folder that raylab did not write (a student's
+/// own `chapter-1.png`) is neither replaced by a failing check nor removed
+/// by a passing one; a read-only one is not replaced either.
+#[test]
+fn foreign_files_in_the_failures_folder_are_kept() {
+    let folder = tempfile::tempdir().expect("temp dir");
+    let options = CheckOptions {
+        failures_dir: folder.path().to_path_buf(),
+        write_images: true,
+        forbid_answer_key: false,
+    };
+    let own = folder.path().join("chapter-1.png");
+    std::fs::write(&own, "a student's own picture").expect("write");
+    let verdict = check_chapter::<FarClip>(1, &options);
+    assert_eq!(verdict.status, Status::Error, "{}", verdict.text());
+    assert!(
+        verdict.text().contains("chapter-1.png"),
+        "{}",
+        verdict.text()
+    );
+    assert!(
+        verdict
+            .text()
+            .contains("was not written by raylab, so it is kept"),
+        "{}",
+        verdict.text()
+    );
+    let verdict = check_chapter::<Reference>(1, &options);
+    assert_eq!(verdict.status, Status::Pass, "{}", verdict.text());
+    assert_eq!(
+        std::fs::read(&own).expect("kept"),
+        b"a student's own picture"
+    );
+}
+
 /// Chapter 1 that drops hits beyond t = 100.
 struct FarClip;
 impl Chapters for FarClip {
