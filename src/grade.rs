@@ -19,6 +19,7 @@
 
 pub mod class;
 pub mod code;
+pub mod hidden;
 pub mod sandbox;
 pub mod similarity;
 
@@ -139,6 +140,8 @@ pub enum GradeError {
     MergeMismatch { name: String },
     #[error("two results for {name}")]
     MergeTwice { name: String },
+    #[error("hidden scene {}: {why}", file.display())]
+    HiddenScene { file: PathBuf, why: String },
     /// The temporary file the class report's sections go to.
     #[error("cannot write the report's temporary file: {0}")]
     Staging(std::io::Error),

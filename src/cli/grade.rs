@@ -99,6 +99,16 @@ pub struct GradeArgs {
     /// With --student, where to write the student's result (JSON).
     #[arg(long, value_name = "FILE", requires = "student")]
     pub result: Option<PathBuf>,
+    /// With --code, a scene of your own (a TOML file, or a folder of them;
+    /// repeat for more) that each student's chapters render and that is
+    /// compared with raylab's reference chapters on the same scene: a
+    /// copied reference image proves nothing. No OBJ files (generated
+    /// meshes are fine).
+    #[arg(long = "scene", value_name = "FILE", requires = "code")]
+    pub scenes: Vec<PathBuf>,
+    /// The chapter whose stage renders the --scene files.
+    #[arg(long, value_name = "N", default_value_t = crate::chapters::LAST_CHAPTER, value_parser = crate::chapters::parse_chapter)]
+    pub scene_chapter: u8,
     /// Build the class DIR's report and CSV from the result files (*.json)
     /// in FOLDER that `--student` jobs wrote, as one run of the class would.
     #[arg(long, value_name = "FOLDER")]
@@ -233,6 +243,7 @@ fn grade_class(
                 &args.folder,
                 Duration::from_secs(args.timeout),
                 sandbox.as_ref(),
+                &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
                 skip,
                 &mut |student| {
                     eprintln!(
@@ -293,6 +304,7 @@ fn grade_one_of_class(
     crate::output::check_outputs(&[], &[("--result", result)], false)?;
     let mut references = References::<crate::Reference>::new(against);
     let sandbox;
+    let scenes;
     let job = if args.code {
         sandbox = if args.no_sandbox {
             None
@@ -301,9 +313,11 @@ fn grade_one_of_class(
                 crate::grade::sandbox::Limits::DEFAULT,
             )?)
         };
+        scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
         crate::grade::class::Job::Code {
             timeout: Duration::from_secs(args.timeout),
             sandbox: sandbox.as_ref(),
+            scenes: &scenes,
         }
     } else {
         crate::grade::class::Job::Renders(&mut references)

@@ -152,13 +152,14 @@ pub fn grade_class_code(
     folder: &Path,
     timeout: Duration,
     sandbox: Option<&super::sandbox::Sandbox>,
+    scenes: &[super::hidden::HiddenScene],
     skip: &[&Path],
     progress: &mut dyn FnMut(&str),
     sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
     for student in &mut students {
-        run_code_of(student, timeout, sandbox, progress);
+        run_code_of(student, timeout, sandbox, scenes, progress)?;
         write_section(sections, student)?;
     }
     let similar = similar_code(&students)?;
@@ -191,10 +192,11 @@ fn run_code_of(
     student: &mut Student,
     timeout: Duration,
     sandbox: Option<&super::sandbox::Sandbox>,
+    scenes: &[super::hidden::HiddenScene],
     progress: &mut dyn FnMut(&str),
-) {
+) -> Result<(), GradeError> {
     if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
-        return;
+        return Ok(());
     }
     let manifest = student.folder.join("Cargo.toml");
     let is_file = std::fs::symlink_metadata(&manifest).is_ok_and(|m| m.is_file());
@@ -203,10 +205,25 @@ fn run_code_of(
     } else {
         progress(&student.name);
         match run_check(&student.folder, timeout, sandbox) {
-            Ok(run) => Outcome::Code(Box::new(run)),
+            Ok(mut run) => {
+                // Hidden scenes only for a binary that built and ran.
+                if !scenes.is_empty()
+                    && !matches!(run.status, CodeStatus::BuildError | CodeStatus::TimedOut)
+                {
+                    run.scenes = super::hidden::grade_scenes(
+                        &student.folder,
+                        scenes,
+                        timeout,
+                        sandbox,
+                        Criteria::default(),
+                    )?;
+                }
+                Outcome::Code(Box::new(run))
+            }
             Err(error) => Outcome::Refused(format!("{error:#}")),
         }
     };
+    Ok(())
 }
 
 /// What grading one student of a class gives, as one job of a class
@@ -234,6 +251,7 @@ pub enum Job<'a, R: Chapters> {
     Code {
         timeout: Duration,
         sandbox: Option<&'a super::sandbox::Sandbox>,
+        scenes: &'a [super::hidden::HiddenScene],
     },
 }
 
@@ -256,7 +274,11 @@ pub fn grade_student<R: Chapters>(
     let code = matches!(job, Job::Code { .. });
     match job {
         Job::Renders(references) => grade_renders_of(&mut student, references, criteria),
-        Job::Code { timeout, sandbox } => run_code_of(&mut student, timeout, sandbox, &mut |_| {}),
+        Job::Code {
+            timeout,
+            sandbox,
+            scenes,
+        } => run_code_of(&mut student, timeout, sandbox, scenes, &mut |_| {})?,
     }
     let mut section = String::new();
     student_section_html(&mut section, &student)?;
@@ -452,7 +474,9 @@ impl Student {
     pub fn passes(&self) -> bool {
         match &self.outcome {
             Outcome::Renders(grade) => grade.all_pass(),
-            Outcome::Code(run) => run.status == CodeStatus::Pass,
+            Outcome::Code(run) => {
+                run.status == CodeStatus::Pass && run.scenes.iter().all(|scene| scene.passed)
+            }
             Outcome::Refused(_) => false,
         }
     }
@@ -469,6 +493,12 @@ impl Student {
                     run.chapters_passed
                 )
             }
+            Outcome::Code(run) if !run.scenes.is_empty() => format!(
+                "{}; hidden scenes: {} of {} pass",
+                run.status.name(),
+                run.scenes.iter().filter(|scene| scene.passed).count(),
+                run.scenes.len()
+            ),
             Outcome::Code(run) => run.status.name().to_string(),
             Outcome::Refused(_) => "refused".to_string(),
         }
@@ -555,10 +585,31 @@ impl Class {
                     row(&fields);
                 }
                 Outcome::Code(run) => {
-                    let mut fields = vec![name, "all".into(), run.status.name().into()];
+                    let mut fields = vec![name.clone(), "all".into(), run.status.name().into()];
                     fields.extend(blank());
                     fields.push(Student::code_summary(run));
                     row(&fields);
+                    for scene in &run.scenes {
+                        let mut fields = vec![
+                            name.clone(),
+                            format!("scene:{}", scene.name),
+                            if scene.passed { "pass" } else { "fail" }.into(),
+                        ];
+                        match &scene.metrics {
+                            Some(m) => fields.extend([
+                                m.max.to_string(),
+                                format!("{:.6}", m.mean),
+                                format!("{:.6}", m.rmse),
+                                psnr_text(m.psnr_db),
+                                m.pixels_over.to_string(),
+                                format!("{:.4}", m.percent_over()),
+                                format!("{}x{}", m.width, m.height),
+                            ]),
+                            None => fields.extend(blank()),
+                        }
+                        fields.push(scene.detail.clone());
+                        row(&fields);
+                    }
                 }
                 Outcome::Renders(grade) => {
                     for chapter in 1..=LAST_CHAPTER {
@@ -866,6 +917,27 @@ fn student_section_html(h: &mut String, student: &Student) -> Result<(), GradeEr
                 html_escape(&exit),
                 html_escape(&Student::code_summary(run))
             );
+            if !run.scenes.is_empty() {
+                h.push_str("<table>\n<tr><th>hidden scene</th><th>result</th><th>max</th><th>PSNR (dB)</th><th>pixels over</th><th>detail</th></tr>\n");
+                for scene in &run.scenes {
+                    let (max, psnr, over) = match &scene.metrics {
+                        Some(m) => (
+                            m.max.to_string(),
+                            psnr_text(m.psnr_db),
+                            format!("{} ({:.3}%)", m.pixels_over, m.percent_over()),
+                        ),
+                        None => Default::default(),
+                    };
+                    let result = if scene.passed { "pass" } else { "fail" };
+                    let _ = writeln!(
+                        h,
+                        "<tr><td>{}</td><td class=\"{result}\">{result}</td><td>{max}</td><td>{psnr}</td><td>{over}</td><td>{}</td></tr>",
+                        html_escape(&scene.name),
+                        html_escape(&scene.detail)
+                    );
+                }
+                h.push_str("</table>\n");
+            }
         }
         Outcome::Renders(grade) => student_renders_html(h, grade)?,
     }

@@ -69,6 +69,10 @@ pub struct CodeRun {
     pub timeout: Duration,
     /// How many chapters pass, by the verdict file (0 without one).
     pub chapters_passed: usize,
+    /// The instructor's hidden scenes (`--scene`), rendered by the
+    /// student's chapters and compared with raylab's.
+    #[serde(default)]
+    pub scenes: Vec<super::hidden::SceneOutcome>,
 }
 
 /// How much of each output stream is kept: the end, where the summary table
@@ -113,21 +117,14 @@ fn run_check_into(
     verdict_path: &Path,
     sandbox: Option<&Sandbox>,
 ) -> Result<CodeRun, super::GradeError> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
-    let mut child = check_command(&cargo, workspace, verdict_path, sandbox)
-        .spawn()
-        .map_err(|error| super::GradeError::Run {
-            cargo: cargo.clone().into(),
-            workspace: workspace.to_path_buf(),
-            error,
-        })?;
-    let receiver = read_outputs(&mut child);
-    let (exit, timed_out) = wait_within(&mut child, timeout);
-    // Whatever the run left behind in its group (a background process of
-    // the student's) goes too.
-    kill_group(&mut child);
-    let [mut stdout, stderr] = received_outputs(&receiver);
+    let args: Vec<std::ffi::OsString> =
+        ["check".into(), "--verdict-file".into(), verdict_path.into()].to_vec();
+    let Ran {
+        exit,
+        timed_out,
+        mut stdout,
+        stderr,
+    } = run_binary(workspace, &args, verdict_path.parent(), timeout, sandbox)?;
     let exit_code = exit.and_then(|status| status.code());
     let report = SentReport::read(verdict_path).ok();
     let status = if timed_out {
@@ -159,24 +156,69 @@ fn run_check_into(
         stderr,
         timeout,
         chapters_passed,
+        scenes: Vec::new(),
     })
 }
 
-/// The `check` command, in `workspace` (inside `sandbox` if given), with
-/// its output piped.
-fn check_command(
+/// How a run of a workspace's binary ended.
+pub(super) struct Ran {
+    pub exit: Option<ExitStatus>,
+    pub timed_out: bool,
+    /// The end of each output (at most [`KEPT_OUTPUT`] bytes).
+    pub stdout: String,
+    pub stderr: String,
+}
+
+/// `cargo run --release --offline -- ARGS` in `workspace` (inside
+/// `sandbox` if given, where `writable` is the one folder outside the
+/// workspace it may write), killed with all it started when `timeout`
+/// passes. An error only when the command cannot be started at all.
+pub(super) fn run_binary(
+    workspace: &Path,
+    args: &[std::ffi::OsString],
+    writable: Option<&Path>,
+    timeout: Duration,
+    sandbox: Option<&Sandbox>,
+) -> Result<Ran, super::GradeError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
+    let mut child = cargo_command(&cargo, workspace, args, writable, sandbox)
+        .spawn()
+        .map_err(|error| super::GradeError::Run {
+            cargo: cargo.clone().into(),
+            workspace: workspace.to_path_buf(),
+            error,
+        })?;
+    let receiver = read_outputs(&mut child);
+    let (exit, timed_out) = wait_within(&mut child, timeout);
+    // Whatever the run left behind in its group (a background process of
+    // the student's) goes too.
+    kill_group(&mut child);
+    let [stdout, stderr] = received_outputs(&receiver);
+    Ok(Ran {
+        exit,
+        timed_out,
+        stdout,
+        stderr,
+    })
+}
+
+/// `cargo run --release --offline -- ARGS`, in `workspace` (inside
+/// `sandbox` if given), with its output piped.
+fn cargo_command(
     cargo: &std::ffi::OsStr,
     workspace: &Path,
-    verdict_path: &Path,
+    binary_args: &[std::ffi::OsString],
+    writable: Option<&Path>,
     sandbox: Option<&Sandbox>,
 ) -> Command {
-    let args: Vec<std::ffi::OsString> = ["run", "--release", "--offline", "--", "check"]
+    let args: Vec<std::ffi::OsString> = ["run", "--release", "--offline", "--"]
         .into_iter()
         .map(Into::into)
-        .chain(["--verdict-file".into(), verdict_path.as_os_str().to_owned()])
+        .chain(binary_args.iter().cloned())
         .collect();
     let mut command = match sandbox {
-        Some(sandbox) => sandbox.command(workspace, verdict_path.parent(), cargo.into(), &args),
+        Some(sandbox) => sandbox.command(workspace, writable, cargo.into(), &args),
         None => {
             let mut command = Command::new(cargo);
             command.args(&args);

@@ -1170,6 +1170,77 @@ fn code_mode_reports_copied_chapters() {
     );
 }
 
+/// `grade --code --scene` has each workspace's binary render the
+/// instructor's scene (`render --scene S --chapter N -o OUT`, in the
+/// sandbox) and compares the image with raylab's reference chapters on that
+/// scene: the right image passes; raylab's shipped reference of a built-in
+/// scene (what a copier has) fails; a binary that cannot render fails with
+/// its reason.
+#[cfg(unix)]
+#[test]
+fn hidden_scenes_are_rendered_by_each_student_and_compared() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let scene_text = "background = [0.2, 0.3, 0.4]\n[camera]\nposition = [0, 1, -4]\n\
+        look_at = [0, 0.5, 0]\n[render]\nwidth = 40\nheight = 30\n[[lights]]\n\
+        position = [2, 5, -3]\n[[objects]]\nsphere = { center = [0.3, 0.6, 0], radius = 0.6 }\n\
+        [[objects]]\nplane = { point = [0, 0, 0], normal = [0, 1, 0] }\n";
+    let scene_file = dir.path().join("private.toml");
+    std::fs::write(&scene_file, scene_text).expect("write");
+    let scene = raylab::Scene::parse(scene_text, "the hidden scene").expect("parses");
+    let right = raylab::render(&scene, 6, &scene.render, None).expect("renders");
+    // A binary that answers `render ... -o OUT` with a file it was given.
+    let copy_to_output = |source: &str| {
+        format!(
+            "fn main() {{\n    let args: Vec<String> = std::env::args().collect();\n    \
+             if let Some(at) = args.iter().position(|a| a == \"--verdict-file\") {{\n        \
+             std::fs::write(&args[at + 1], \"{{\\\"verdict\\\":{{\\\"chapter\\\":1,\\\"status\\\":\\\"pass\\\",\\\"passes\\\":true,\\\"robust\\\":true,\\\"not_started\\\":false,\\\"error\\\":false,\\\"text\\\":\\\"\\\",\\\"row\\\":\\\"1 pass\\\\n\\\"}}}}\\n\\\"end\\\"\\n\").unwrap();\n        return;\n    }}\n    \
+             let out = args.iter().position(|a| a == \"-o\").unwrap();\n    \
+             std::fs::copy({source:?}, &args[out + 1]).unwrap();\n}}\n"
+        )
+    };
+    let good = fake_workspace(&class, "good", &copy_to_output("good.png"));
+    save(&good.join("good.png"), &right);
+    let copier = fake_workspace(&class, "copier", &copy_to_output("copied.png"));
+    std::fs::copy(snapshots().join("chapter-6.png"), copier.join("copied.png")).expect("copy");
+    fake_workspace(
+        &class,
+        "broken",
+        &copy_to_output("missing.png").replace(
+            "std::fs::copy",
+            "std::process::exit(3); #[allow(unreachable_code)] std::fs::copy",
+        ),
+    );
+    let mut args = vec![
+        "grade",
+        "--code",
+        "class",
+        "--scene",
+        "private.toml",
+        "--scene-chapter",
+        "6",
+    ];
+    args.extend(sandbox_or_skip(
+        "hidden_scenes_are_rendered_by_each_student_and_compared",
+    ));
+    let out = raylab(&args, dir.path());
+    let csv = std::fs::read_to_string(class.join("grades.csv")).unwrap_or_default();
+    assert_eq!(out.status.code(), Some(1), "{}\n{csv}", stderr(&out));
+    assert!(csv.contains("good,scene:private.toml,pass,0,"), "{csv}");
+    assert!(csv.contains("copier,scene:private.toml,fail,"), "{csv}");
+    assert!(csv.contains("broken,scene:private.toml,fail,"), "{csv}");
+    assert!(csv.contains("the render failed"), "{csv}");
+    let md = stdout(&out);
+    assert!(
+        md.contains("| good | pass; hidden scenes: 1 of 1 pass |"),
+        "{md}"
+    );
+    assert!(
+        md.contains("| copier | pass; hidden scenes: 0 of 1 pass |"),
+        "{md}"
+    );
+}
+
 /// Without bubblewrap, `grade --code` refuses to run student code, says how
 /// to install it, and runs it only with an explicit --no-sandbox.
 #[cfg(unix)]
