@@ -133,6 +133,20 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         Some(folder) if !folder.is_dir() => {
             bail!("--against {}: not a folder", folder.display())
         }
+        // The hand-ins compared with themselves would all pass.
+        Some(folder)
+            if folder.canonicalize().ok().is_some_and(|against| {
+                args.folder
+                    .canonicalize()
+                    .is_ok_and(|graded| against.starts_with(&graded))
+            }) =>
+        {
+            bail!(
+                "--against {}: that is the folder being graded (or inside it): each hand-in \
+                 would be compared with itself; give a folder of your own references",
+                folder.display()
+            )
+        }
         Some(folder) => Some(folder),
         None => None,
     };

@@ -345,6 +345,9 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
     crate::output::check_outputs(&inputs, &outputs, args.force)?;
     crate::output::check_replaceable_png("-o", &output, args.force)?;
     let work = estimated_work(&settings, chapter, scene.len());
+    if let Some(warning) = long_render_warning(&settings, chapter, scene.len()) {
+        eprintln!("{warning}");
+    }
     let progress = (std::io::stderr().is_terminal() && work >= PROGRESS_WORK).then(|| {
         let bar = indicatif::ProgressBar::new(u64::from(settings.height));
         bar.set_style(
@@ -434,6 +437,11 @@ fn output_name(
 /// second of rendering.
 const PROGRESS_WORK: u64 = 20_000_000;
 
+/// The estimated work above which `render` warns before it starts: 30
+/// times [`PROGRESS_WORK`], where a scene of triangles, the slowest to
+/// test, takes a minute.
+const WARN_WORK: u64 = 30 * PROGRESS_WORK;
+
 /// The work a render will do, counted in ray-object tests: every primary
 /// sample tests every object (secondary rays add more, but a scene's size
 /// is what makes a render slow beyond the pixel count: 20,000 spheres at
@@ -445,6 +453,27 @@ fn estimated_work(settings: &RenderSettings, chapter: u8, objects: usize) -> u64
         1
     };
     u64::from(settings.width) * u64::from(settings.height) * samples * (objects as u64).max(1)
+}
+
+/// The warning printed before a render whose estimated work is
+/// [`WARN_WORK`] or more, with the estimate; none from chapter 11 on,
+/// where a tree makes the estimate meaningless.
+fn long_render_warning(settings: &RenderSettings, chapter: u8, objects: usize) -> Option<String> {
+    let effects = crate::effects::Effects::for_chapter(chapter);
+    let work = estimated_work(settings, chapter, objects);
+    (work >= WARN_WORK && !effects.bvh).then(|| {
+        format!(
+            "warning: about {work} ray-object tests ({} pixels x {} samples x {objects} \
+             objects, with no tree before chapter 11): this render may take minutes; a smaller \
+             --width and --height show the scene first",
+            u64::from(settings.width) * u64::from(settings.height),
+            if effects.antialiasing {
+                settings.samples
+            } else {
+                1
+            },
+        )
+    })
 }
 
 fn summary_line(
@@ -566,6 +595,18 @@ mod tests {
         // 20,000 spheres at 320x240 take about 20 s, though pixels x samples
         // is only 76,800: counting pixels and samples alone would show no bar.
         assert!(estimated_work(&settings(320, 240, 1), 8, 20_000) >= PROGRESS_WORK);
+        // A million triangles at 32x24 before chapter 11 (a minute) warns
+        // with its estimate; with chapter 11's tree, or at 16x12, it does not.
+        let warning = long_render_warning(&settings(32, 24, 1), 10, 1_000_000);
+        assert!(warning.is_some_and(|text| text.contains("about 768000000 ray-object tests")),);
+        assert_eq!(
+            long_render_warning(&settings(32, 24, 1), 11, 1_000_000),
+            None
+        );
+        assert_eq!(
+            long_render_warning(&settings(16, 12, 1), 10, 1_000_000),
+            None
+        );
         // A built-in scene at the default size stays quiet (well under a second).
         let chapter_8 = builtin::scene(8).expect("built-in scene");
         assert!(estimated_work(&chapter_8.render, 8, chapter_8.len()) < PROGRESS_WORK);

@@ -1286,3 +1286,21 @@ fn code_mode_without_bubblewrap_refuses_unless_told() {
     let csv = std::fs::read_to_string(class.join("grades.csv")).unwrap_or_default();
     assert!(csv.contains("ada,all,pass,"), "{}\n{csv}", stderr(&out));
 }
+
+/// `--against` the folder being graded would compare each hand-in with
+/// itself: refused.
+#[test]
+fn against_the_graded_folder_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let folder = dir.path().join("alice");
+    std::fs::create_dir(&folder).expect("mkdir");
+    save(&folder.join("chapter-1.png"), &render(1, 48, 36, |_| {}));
+    let out = raylab(&["grade", "alice", "--against", "alice"], dir.path());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("compared with itself"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!folder.join("report.html").exists());
+}
