@@ -123,6 +123,21 @@ fn path_from_bytes(bytes: &[u8]) -> std::path::PathBuf {
 #[cfg(unix)]
 extern "C" fn on_signal(signal: libc::c_int) {
     remove_live_files();
+    if signal == libc::SIGPIPE {
+        // A closed pipe ends a command-line tool quietly, by the signal
+        // itself (as `cat` or `ls`): the shell sees no error message.
+        // SAFETY: `signal`, `sigprocmask` and `raise` are async-signal-safe;
+        // the signal is blocked while its handler runs, so it is unblocked
+        // first, and its default action then ends the process.
+        unsafe {
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+            let mut set: libc::sigset_t = std::mem::zeroed();
+            libc::sigemptyset(&mut set);
+            libc::sigaddset(&mut set, libc::SIGPIPE);
+            libc::sigprocmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+            libc::raise(libc::SIGPIPE);
+        }
+    }
     // SAFETY: `_exit` is async-signal-safe; it skips destructors and
     // buffered output on purpose (the work is abandoned).
     unsafe { libc::_exit(128 + signal) }
@@ -132,7 +147,8 @@ extern "C" fn on_signal(signal: libc::c_int) {
 /// user, a shell or the kernel sends to a command (SIGINT, SIGTERM, SIGHUP,
 /// SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGPIPE, SIGXFSZ and SIGXCPU: a
 /// closed pipe, a file-size or CPU limit) remove the live temporary files
-/// and exit with status 128 + the signal. A signal the parent set to be
+/// and exit with status 128 + the signal (SIGPIPE: end by the signal, as
+/// a closed pipe ends any tool). A signal the parent set to be
 /// ignored (`nohup`) stays ignored. Call once, before any thread starts.
 pub fn install_signal_handlers() {
     #[cfg(unix)]

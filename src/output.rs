@@ -301,6 +301,51 @@ pub fn check_replaceable_png(option: &str, path: &Path, force: bool) -> Result<(
     })
 }
 
+/// Refuses to replace an existing text output raylab did not write, unless
+/// `force`: raylab's own has `marker` in its first 64 KiB (a key of its
+/// JSON, the title of its report, the header of its CSV). `--stats-json
+/// model.obj` or `--json notes.txt` must not destroy someone's file. A
+/// missing file is fine.
+pub fn check_replaceable_text(
+    option: &str,
+    path: &Path,
+    force: bool,
+    marker: &str,
+) -> Result<(), OutputError> {
+    use std::io::Read;
+    if force || std::fs::symlink_metadata(path).is_err() {
+        return Ok(());
+    }
+    let mut head = Vec::new();
+    let ours = crate::input::open_regular(path, crate::input::Links::Follow).is_ok_and(|file| {
+        file.take(64 << 10).read_to_end(&mut head).is_ok()
+            && head
+                .windows(marker.len())
+                .any(|window| window == marker.as_bytes())
+    });
+    if ours {
+        return Ok(());
+    }
+    Err(OutputError::NotRaylabs {
+        option: option.to_string(),
+        path: path.to_path_buf(),
+    })
+}
+
+/// What raylab's text outputs carry, for [`check_replaceable_text`].
+pub mod markers {
+    /// `render --stats-json`.
+    pub const STATS_JSON: &str = "\"image_fnv1a64\"";
+    /// `diff --json`.
+    pub const DIFF_JSON: &str = "\"max_abs_difference\"";
+    /// `grade`'s HTML report.
+    pub const GRADE_REPORT: &str = "<title>raylab grade";
+    /// `grade`'s CSV.
+    pub const GRADE_CSV: &str = "student,chapter,status,max,mean";
+    /// `grade --student`'s result file.
+    pub const GRADE_RESULT: &str = "\"raylab_grade_result\"";
+}
+
 /// Checks, before any work is done, that every output can be written and
 /// none would overwrite an input or another output.
 ///

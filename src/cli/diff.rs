@@ -77,6 +77,10 @@ pub struct DiffArgs {
     /// images are identical: JSON has no infinity).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Replace a --heatmap or --json file that raylab did not write, or a
+    /// read-only one.
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn diff(args: &DiffArgs) -> Result<i32> {
@@ -88,7 +92,18 @@ pub fn diff(args: &DiffArgs) -> Result<i32> {
     if let Some(path) = &args.heatmap {
         crate::output::check_png_name("--heatmap", path)?;
     }
-    crate::output::check_outputs(&[&args.a, &args.b], &outputs, false)?;
+    crate::output::check_outputs(&[&args.a, &args.b], &outputs, args.force)?;
+    if let Some(path) = &args.heatmap {
+        crate::output::check_replaceable_png("--heatmap", path, args.force)?;
+    }
+    if let Some(path) = &args.json {
+        crate::output::check_replaceable_text(
+            "--json",
+            path,
+            args.force,
+            crate::output::markers::DIFF_JSON,
+        )?;
+    }
     let a = Image::load_png(&args.a)?;
     let b = Image::load_png(&args.b)?;
     let names = (args.a.display().to_string(), args.b.display().to_string());

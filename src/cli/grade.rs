@@ -109,6 +109,10 @@ pub struct GradeArgs {
     /// The chapter whose stage renders the --scene files.
     #[arg(long, value_name = "N", default_value_t = crate::chapters::LAST_CHAPTER, value_parser = crate::chapters::parse_chapter)]
     pub scene_chapter: u8,
+    /// Replace a --report, --csv or --result file that raylab did not write,
+    /// or a read-only one.
+    #[arg(long)]
+    pub force: bool,
     /// Build the class DIR's report and CSV from the result files (*.json)
     /// in FOLDER that `--student` jobs wrote, as one run of the class would.
     #[arg(long, value_name = "FOLDER")]
@@ -208,7 +212,15 @@ fn check_outputs_spare_hand_ins(
         inputs.extend(files_in(folder)?);
     }
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    crate::output::check_outputs(&inputs, outputs, false)?;
+    crate::output::check_outputs(&inputs, outputs, args.force)?;
+    for &(option, path) in outputs {
+        let marker = if option == "--csv" {
+            crate::output::markers::GRADE_CSV
+        } else {
+            crate::output::markers::GRADE_REPORT
+        };
+        crate::output::check_replaceable_text(option, path, args.force, marker)?;
+    }
     Ok(())
 }
 
@@ -315,7 +327,13 @@ fn grade_one_of_class(
     name: &str,
     result: &Path,
 ) -> Result<i32> {
-    crate::output::check_outputs(&[], &[("--result", result)], false)?;
+    crate::output::check_outputs(&[], &[("--result", result)], args.force)?;
+    crate::output::check_replaceable_text(
+        "--result",
+        result,
+        args.force,
+        crate::output::markers::GRADE_RESULT,
+    )?;
     let mut references = References::<crate::Reference>::new(against);
     let sandbox;
     let scenes;

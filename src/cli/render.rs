@@ -344,6 +344,14 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         .collect();
     crate::output::check_outputs(&inputs, &outputs, args.force)?;
     crate::output::check_replaceable_png("-o", &output, args.force)?;
+    if let Some(path) = &args.stats_json {
+        crate::output::check_replaceable_text(
+            "--stats-json",
+            path,
+            args.force,
+            crate::output::markers::STATS_JSON,
+        )?;
+    }
     let work = estimated_work(&settings, chapter, scene.len());
     if let Some(warning) = long_render_warning(&settings, chapter, scene.len()) {
         eprintln!("{warning}");

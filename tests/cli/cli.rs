@@ -935,7 +935,13 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
         // SAFETY: signalling our own child.
         assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
         let exit = child.wait().expect("wait");
-        assert_eq!(exit.code(), Some(status), "signal {signal}");
+        if signal == libc::SIGPIPE {
+            // Ended by the signal itself, as a closed pipe ends `cat`.
+            use std::os::unix::process::ExitStatusExt;
+            assert_eq!(exit.signal(), Some(signal));
+        } else {
+            assert_eq!(exit.code(), Some(status), "signal {signal}");
+        }
         assert_eq!(common::temporary_files(dir.path()), Vec::<String>::new());
         assert_eq!(
             std::fs::read(dir.path().join("old.png")).expect("old image"),
@@ -1030,4 +1036,60 @@ fn scene_renders_spare_hand_ins_and_models() {
             .expect("kept")
             .starts_with("v 0 0 0")
     );
+}
+
+/// Text outputs (`render --stats-json`, `diff --json`, `diff --heatmap`,
+/// `grade --report` and `--csv`) never replace a file raylab did not write
+/// without --force; raylab's own earlier outputs are replaced.
+#[test]
+fn outputs_spare_files_raylab_did_not_write() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let small = ["--width", "16", "--height", "12"];
+    let mut render = vec!["render", "-c", "1", "-o", "a.png"];
+    render.extend(small);
+    assert!(raylab(&render, dir.path()).status.success());
+    let foreign = dir.path().join("notes.txt");
+    let student = dir.path().join("alice");
+    std::fs::create_dir(&student).expect("mkdir");
+    std::fs::copy(dir.path().join("a.png"), student.join("chapter-1.png")).expect("copy");
+    let cases: Vec<Vec<&str>> = vec![
+        [render.clone(), vec!["--stats-json", "notes.txt"]].concat(),
+        vec!["diff", "a.png", "a.png", "--json", "notes.txt"],
+        vec!["diff", "a.png", "a.png", "--heatmap", "notes.png"],
+        vec!["grade", "alice", "--report", "notes.txt"],
+        vec!["grade", "alice", "--csv", "notes.txt"],
+    ];
+    for args in cases {
+        std::fs::write(&foreign, "someone's notes").expect("write");
+        std::fs::write(dir.path().join("notes.png"), "someone's picture").expect("write");
+        let out = raylab(&args, dir.path());
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains("raylab did not write it"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+        assert_eq!(
+            std::fs::read_to_string(&foreign).expect("kept"),
+            "someone's notes"
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("notes.png")).expect("kept"),
+            "someone's picture"
+        );
+        let forced = [args.clone(), vec!["--force"]].concat();
+        let out = raylab(&forced, dir.path());
+        assert!(
+            out.status.code().is_some_and(|code| code < 2),
+            "{forced:?}: {}",
+            stderr(&out)
+        );
+        // raylab's own output is replaced without --force.
+        let out = raylab(&args, dir.path());
+        assert!(
+            out.status.code().is_some_and(|code| code < 2),
+            "{args:?} again: {}",
+            stderr(&out)
+        );
+    }
 }
