@@ -36,6 +36,7 @@ use crate::diff::{Comparison, Criteria, Image, compare, psnr_text};
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Graded {
     pub chapter: u8,
+    #[serde(with = "raw_path")]
     pub file: PathBuf,
     /// The two images, while they are kept: a class's grading writes a
     /// student's figures into the report as it goes and then drops them
@@ -59,6 +60,7 @@ pub struct GradedImages {
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Unreadable {
     pub chapter: u8,
+    #[serde(with = "raw_path")]
     pub file: PathBuf,
     pub reason: String,
 }
@@ -73,12 +75,46 @@ pub struct Ignored {
 /// The outcome of grading one folder.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Grade {
+    #[serde(with = "raw_path")]
     pub folder: PathBuf,
     pub criteria: Criteria,
     pub graded: Vec<Graded>,
     pub missing: Vec<u8>,
     pub unreadable: Vec<Unreadable>,
     pub ignored: Vec<Ignored>,
+}
+
+/// A path in a grading job's result file as its bytes, so that a student's
+/// folder whose name is not UTF-8 survives the JSON (serde's own `PathBuf`
+/// refuses it).
+pub(crate) mod raw_path {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use std::path::{Path, PathBuf};
+
+    pub fn serialize<S: Serializer>(path: &Path, serializer: S) -> Result<S::Ok, S::Error> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::ffi::OsStrExt;
+            path.as_os_str().as_bytes().serialize(serializer)
+        }
+        #[cfg(not(unix))]
+        {
+            path.to_string_lossy().as_bytes().serialize(serializer)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<PathBuf, D::Error> {
+        let bytes = Vec::<u8>::deserialize(deserializer)?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::ffi::OsStringExt;
+            Ok(PathBuf::from(std::ffi::OsString::from_vec(bytes)))
+        }
+        #[cfg(not(unix))]
+        {
+            Ok(PathBuf::from(String::from_utf8_lossy(&bytes).into_owned()))
+        }
+    }
 }
 
 /// Why a folder or a class could not be graded, a hand-in is unreadable

@@ -35,7 +35,10 @@ pub fn visible_name(name: &std::ffi::OsStr) -> String {
     {
         use std::os::unix::ffi::OsStrExt;
         for chunk in name.as_bytes().utf8_chunks() {
-            out.push_str(&terminal_safe(chunk.valid()).replace('\n', "\\u{a}"));
+            // A backslash doubled first: a name with `\xff` in it must not
+            // look like the byte 0xff.
+            let valid = chunk.valid().replace('\\', "\\\\");
+            out.push_str(&terminal_safe(&valid).replace('\n', "\\u{a}"));
             for byte in chunk.invalid() {
                 out.push_str(&format!("\\x{byte:02x}"));
             }
@@ -61,6 +64,9 @@ mod tests {
         assert_eq!(name("gnp.\u{202e}exe".as_bytes()), "gnp.\\u{202e}exe");
         assert_eq!(name(b"two\nlines\x1b[2J"), "two\\u{a}lines\\u{1b}[2J");
         assert_eq!(name("caf\u{e9}".as_bytes()), "caf\u{e9}");
+        // A literal backslash is not an escape.
+        assert_ne!(name(br"a\xff"), name(b"a\xff"));
+        assert_eq!(name(br"a\xff"), r"a\\xff");
     }
 
     #[test]

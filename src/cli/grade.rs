@@ -95,7 +95,7 @@ pub struct GradeArgs {
         requires = "result",
         conflicts_with = "merge"
     )]
-    pub student: Option<String>,
+    pub student: Option<std::ffi::OsString>,
     /// With --student, where to write the student's result (JSON).
     #[arg(long, value_name = "FILE", requires = "student")]
     pub result: Option<PathBuf>,
@@ -324,7 +324,7 @@ fn grade_class(
 fn grade_one_of_class(
     args: &GradeArgs,
     against: Option<&Path>,
-    name: &str,
+    name: &std::ffi::OsStr,
     result: &Path,
 ) -> Result<i32> {
     crate::output::check_outputs(&[], &[("--result", result)], args.force)?;
@@ -365,7 +365,7 @@ fn grade_one_of_class(
     crate::output::write_files(&[(result, &json)])?;
     println!(
         "{}: {} -> {}",
-        crate::text::terminal_safe(name),
+        graded.student.name,
         graded.student.verdict(),
         crate::text::terminal_safe(&result.display().to_string())
     );

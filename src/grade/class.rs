@@ -32,6 +32,7 @@ pub enum Outcome {
 pub struct Student {
     /// The subfolder's name.
     pub name: String,
+    #[serde(with = "super::raw_path")]
     pub folder: PathBuf,
     pub outcome: Outcome,
 }
@@ -255,20 +256,22 @@ pub enum Job<'a, R: Chapters> {
     },
 }
 
-/// Grades the student `name` of the class in `folder` alone.
+/// Grades the student of the class in `folder` whose folder is `name`
+/// (as the file system has it, or as the report shows it, escaped) alone.
 pub fn grade_student<R: Chapters>(
     folder: &Path,
-    name: &str,
+    name: &std::ffi::OsStr,
     job: Job<'_, R>,
     criteria: Criteria,
     skip: &[&Path],
 ) -> Result<StudentResult, GradeError> {
     let (students, _) = students_in(folder, skip)?;
+    let shown = crate::text::visible_name(name);
     let mut student = students
         .into_iter()
-        .find(|student| student.name == name)
+        .find(|student| student.name == shown || name.to_str() == Some(student.name.as_str()))
         .ok_or_else(|| GradeError::NoSuchStudent {
-            name: name.to_string(),
+            name: shown,
             folder: folder.to_path_buf(),
         })?;
     let code = matches!(job, Job::Code { .. });
@@ -375,7 +378,7 @@ const MAX_CHAPTER_FILE_BYTES: u64 = 1 << 20;
 /// are alike, skeleton aside (see [`super::similarity`]).
 fn similar_code(students: &[Student]) -> Result<Vec<super::similarity::SimilarPair>, GradeError> {
     use super::similarity::{Fingerprints, Submission, fingerprints};
-    let raylab = Path::new("/raylab");
+    let raylab = Path::new(env!("CARGO_MANIFEST_DIR"));
     let skeleton = crate::workspace::files("student", raylab, false);
     let answers = crate::workspace::files("student", raylab, true);
     let (Ok(skeleton), Ok(answers)) = (skeleton, answers) else {
@@ -811,11 +814,13 @@ impl Class {
         for pair in &self.similar {
             let _ = writeln!(
                 h,
-                "<h3>Chapter {}: {} and {}, {:.0}% alike</h3>\n<table>",
+                "<h3>Chapter {}: {} and {}, {:.0}% alike</h3>\n<table>\n<tr><th>{}</th><th>{}</th></tr>",
                 pair.chapter,
                 html_escape(&pair.first),
                 html_escape(&pair.second),
-                100.0 * pair.similarity
+                100.0 * pair.similarity,
+                html_escape(&pair.first),
+                html_escape(&pair.second)
             );
             for (first, second) in &pair.passages {
                 let _ = writeln!(

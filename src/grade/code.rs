@@ -132,7 +132,12 @@ fn run_check_into(
     } else {
         match &report {
             Some(report) if report.complete => classify(report),
-            _ if stderr.contains("could not compile") => CodeStatus::BuildError,
+            // Cargo failed before it ran the binary (it prints `Running`
+            // as it starts it): a compiler error, or a dependency it
+            // cannot find.
+            _ if stderr.contains("could not compile") || !stderr.contains("Running `") => {
+                CodeStatus::BuildError
+            }
             _ => CodeStatus::Error,
         }
     };

@@ -5,8 +5,8 @@
 //! `bubblewrap`), needs no daemon and no root on systems that allow user
 //! namespaces, and builds exactly the view a build needs from command-line
 //! arguments: the whole file system read-only, the student's workspace (and
-//! so its `target/`) and one folder for the verdict file writable, a fresh
-//! `/tmp`, no network (a new network namespace has only its own loopback)
+//! so its `target/`) and one folder for the verdict file (and `TMPDIR`)
+//! writable, no network (a new network namespace has only its own loopback)
 //! and a new pid namespace, whose processes the kernel kills together when
 //! its first process ends: a `setsid` child cannot outlive the run.
 //! Containers (Docker, Podman) would need a daemon or images; `firejail`
@@ -107,15 +107,16 @@ impl Sandbox {
         args: &[OsString],
     ) -> Command {
         let mut command = Command::new(&self.bwrap);
+        // /tmp stays as it is, read-only like the rest: a raylab checkout
+        // or a workspace there must stay visible (a fresh /tmp would hide
+        // the path dependency). Temporary files go to the writable folder.
         command.args(["--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc"]);
-        command.args(["--tmpfs", "/tmp"]);
-        // After /tmp: a workspace or a verdict folder under /tmp stays
-        // visible, and writable, on top of the fresh one.
         if workspace != Path::new("/") {
             command.arg("--bind").arg(workspace).arg(workspace);
         }
         if let Some(folder) = writable {
             command.arg("--bind").arg(folder).arg(folder);
+            command.env("TMPDIR", folder);
         }
         command.args(["--unshare-all", "--die-with-parent", "--new-session"]);
         command.arg("--chdir").arg(workspace);

@@ -59,7 +59,26 @@ pub fn tokens(source: &str) -> Result<Vec<(u64, usize)>, NotRust> {
 }
 
 fn flatten(stream: TokenStream, out: &mut Vec<(u64, usize)>) {
-    for tree in stream {
+    let mut trees = stream.into_iter().peekable();
+    while let Some(tree) = trees.next() {
+        // A doc comment reaches the tokeniser as `#[doc = "..."]` (or
+        // `#![doc = ...]`): a comment, dropped like the others.
+        if let TokenTree::Punct(punct) = &tree {
+            if punct.as_char() == '#' {
+                if matches!(trees.peek(), Some(TokenTree::Punct(bang)) if bang.as_char() == '!') {
+                    let mut ahead = trees.clone();
+                    ahead.next();
+                    if ahead.peek().is_some_and(is_doc_attribute) {
+                        trees.next();
+                        trees.next();
+                        continue;
+                    }
+                } else if trees.peek().is_some_and(is_doc_attribute) {
+                    trees.next();
+                    continue;
+                }
+            }
+        }
         let line = tree.span().start().line;
         match tree {
             TokenTree::Group(group) => {
@@ -91,6 +110,18 @@ fn flatten(stream: TokenStream, out: &mut Vec<(u64, usize)>) {
             }
             TokenTree::Literal(_) => out.push((hash(b"literal"), line)),
         }
+    }
+}
+
+/// Whether `tree` is the bracket of a `#[doc = ...]` attribute.
+fn is_doc_attribute(tree: &TokenTree) -> bool {
+    match tree {
+        TokenTree::Group(group) if group.delimiter() == Delimiter::Bracket => group
+            .stream()
+            .into_iter()
+            .next()
+            .is_some_and(|first| matches!(first, TokenTree::Ident(ident) if ident == "doc")),
+        _ => false,
     }
 }
 
@@ -476,6 +507,10 @@ pub fn describe(sphere: &Sphere) -> String {
     fn comments_and_literals_change_nothing() {
         let commented = QUADRATIC
             .replace("let a =", "// a note\n    let a =")
+            .replace(
+                "pub fn reflect",
+                "/// Doc comments too.\n/// Two lines.\npub fn reflect",
+            )
             .replace("0.0", "1e-9");
         let hashes = |source: &str| -> BTreeSet<u64> {
             fingerprints(source)

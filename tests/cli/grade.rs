@@ -708,8 +708,15 @@ fn crc32(bytes: &[u8]) -> u32 {
 fn jobs_per_student_merge_into_the_report_of_one_run() {
     let dir = tempfile::tempdir().expect("temp dir");
     let class = dir.path().join("class");
-    for student in ["ann", "bob", "cy"] {
+    for student in ["ann", "bob", "cy", "\u{1b}[31mred"] {
         std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    // A name that is not UTF-8, and one that only looks like it.
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        std::fs::create_dir(class.join(std::ffi::OsStr::from_bytes(b"a\xff"))).expect("mkdir");
+        std::fs::create_dir(class.join("a\\xff")).expect("mkdir");
     }
     for chapter in [1, 2] {
         save(
@@ -733,13 +740,25 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
     let results = dir.path().join("results");
     std::fs::create_dir(&results).expect("mkdir");
     let binary = env!("CARGO_BIN_EXE_raylab");
+    // Every student folder's name, as the file system has it, in a shuffled
+    // order (cy before ann).
+    let mut names: Vec<std::ffi::OsString> = std::fs::read_dir(&class)
+        .expect("read")
+        .flatten()
+        .filter(|entry| entry.path().is_dir())
+        .map(|entry| entry.file_name())
+        .collect();
+    names.sort();
+    names.reverse();
     let parallel = std::process::Command::new("parallel")
         .args(["--version"])
         .output()
         .is_ok_and(|out| out.status.success());
     if parallel {
-        let status = std::process::Command::new("parallel")
+        // As docs/instructors.md: NUL-separated names, results by job number.
+        let mut child = std::process::Command::new("parallel")
             .args([
+                "-0",
                 "--jobs",
                 "2",
                 binary,
@@ -748,28 +767,41 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
                 "--student",
                 "{}",
                 "--result",
-                "results/{}.json",
-                ":::",
-                "cy",
-                "bob",
-                "ann",
+                "results/{#}.json",
             ])
             .current_dir(dir.path())
-            .output()
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
             .expect("parallel runs");
-        // Exit 1: some students fail, as they should; parallel adds them up.
+        {
+            use std::io::Write;
+            let mut stdin = child.stdin.take().expect("stdin");
+            for name in &names {
+                stdin
+                    .write_all(name.as_encoded_bytes())
+                    .expect("write a name");
+                stdin.write_all(b"\0").expect("write");
+            }
+        }
+        let ran = child.wait_with_output().expect("parallel ends");
+        // Exit 1 per failing student, as they should; parallel adds them up.
         assert!(
-            status.status.code().is_some_and(|code| code <= 3),
-            "{status:?}"
+            ran.status
+                .code()
+                .is_some_and(|code| code <= names.len() as i32),
+            "{ran:?}"
         );
     } else {
         eprintln!("jobs_per_student_merge: no GNU parallel here; the jobs run one by one");
-        for name in ["cy", "bob", "ann"] {
-            let result = format!("results/{name}.json");
-            let out = raylab(
-                &["grade", "class", "--student", name, "--result", &result],
-                dir.path(),
-            );
+        for (index, name) in names.iter().enumerate() {
+            let result = format!("results/{index}.json");
+            let out = common::command(&["grade", "class", "--result", &result], dir.path())
+                .arg("--student")
+                .arg(name)
+                .output()
+                .expect("runs");
             assert!(
                 out.status.code().is_some_and(|code| code <= 1),
                 "{}",
@@ -787,7 +819,18 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
     );
 
     // Without cy's result, cy is refused; a result twice is an error.
-    std::fs::remove_file(results.join("cy.json")).expect("rm");
+    let result_of = |student: &str| {
+        std::fs::read_dir(&results)
+            .expect("read")
+            .flatten()
+            .map(|entry| entry.path())
+            .find(|path| {
+                std::fs::read_to_string(path)
+                    .is_ok_and(|text| text.contains(&format!("\"name\":\"{student}\"")))
+            })
+            .expect("a result")
+    };
+    std::fs::remove_file(result_of("cy")).expect("rm");
     let partial = raylab(&["grade", "class", "--merge", "results"], dir.path());
     let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
     assert!(
@@ -795,7 +838,7 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
         "{csv}{}",
         stderr(&partial)
     );
-    std::fs::copy(results.join("ann.json"), results.join("ann-again.json")).expect("copy");
+    std::fs::copy(result_of("ann"), results.join("ann-again.json")).expect("copy");
     let twice = raylab(&["grade", "class", "--merge", "results"], dir.path());
     assert_eq!(twice.status.code(), Some(2));
     assert!(
@@ -1094,9 +1137,13 @@ fn code_mode_reports_copied_chapters() {
     let dir = tempfile::tempdir().expect("temp dir");
     let class = dir.path().join("class");
     let passing = verdict_writer(&[(1, "pass", true, false)], true, "");
+    let sphere_file = format!(
+        "src/chapters/{}.rs",
+        raylab::chapters::chapter(2).expect("chapter 2").module()
+    );
     let answer_key = raylab::workspace::files("x", Path::new("/raylab"), true)
         .expect("the answer key")
-        .get("src/chapters/ch02_sphere.rs")
+        .get(&sphere_file)
         .expect("chapter 2")
         .to_string();
     let renamed_key = answer_key
@@ -1139,7 +1186,7 @@ fn code_mode_reports_copied_chapters() {
     ] {
         let folder = fake_workspace(&class, student, &passing);
         std::fs::create_dir_all(folder.join("src/chapters")).expect("mkdir");
-        std::fs::write(folder.join("src/chapters/ch02_sphere.rs"), chapter).expect("write");
+        std::fs::write(folder.join(&sphere_file), chapter).expect("write");
     }
     let mut args = vec!["grade", "--code", "class"];
     args.extend(sandbox_or_skip("code_mode_reports_copied_chapters"));

@@ -1345,12 +1345,15 @@ fn contract_mirror_highlight_in_full() {
 struct FacetMirror;
 impl Chapters for FacetMirror {
     fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        raylab::chapters::ch06_reflection::shade_mirror::<Self>(
-            tracer,
-            &facet_normal(point),
-            depth,
-            weight,
-        )
+        let local = Self::shade_phong(tracer, point);
+        let k = point.material.reflectivity;
+        let mut color = (1.0 - k) * local.diffuse + local.specular;
+        if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
+            let dir = Self::reflect(point.ray.dir, facet_normal(point).normal);
+            let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+            color += k * tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
+        }
+        color
     }
 }
 
