@@ -64,25 +64,6 @@ diffuse = 0.0
 checker = { color = [0.1, 0.1, 0.9], size = 1.5 }
 "#;
 
-/// A glass pane y = 0 (object 0: k_r = 0.25, k_t = 0.5, white, k_a = 0.4,
-/// a highlight k_s = 0.5 of shininess 1, index 1.5) under a light at
-/// (0, 10, 0), nothing else.
-const LIT_PANE_SCENE: &str = r#"
-background = [0.2, 0.4, 0.6]
-ambient_light = [1.0, 1.0, 1.0]
-[camera]
-position = [0.0, 1.0, -5.0]
-look_at = [0.0, 0.0, 0.0]
-[render]
-max_depth = 5
-[[lights]]
-position = [0.0, 10.0, 0.0]
-[[objects]]
-name = "lit pane"
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
-material = { color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.25, transparency = 0.5, ior = 1.5 }
-"#;
-
 /// `count` clear panes y = 0, -1, ... (k_t = 0.5, index 1: rays go straight
 /// through; white, k_a = 0.4, so each one's own light is 0.2), max_depth 2,
 /// ambient light only: the colour tells how deep the refracted rays went.
@@ -224,7 +205,7 @@ pub fn checkpoints() -> Vec<Case> {
                    full (not scaled by 1 - k_r - k_t), and both rays see the sky (0.2, 0.4, 0.6): \
                    expected 0.1 + 0.5 + 0.75 * sky = (0.75, 0.9, 1.05)",
             shading: Shading::Glass,
-            scene: LIT_PANE_SCENE.to_string(),
+            scene: lit_pane(""),
             ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
             depth: 0,
         }),

@@ -80,26 +80,6 @@ color = [0.9, 0.9, 0.85]
 checker = { color = [0.15, 0.15, 0.2], size = 1.0 }
 "#;
 
-/// A lit glass pane y = 0 (object 0: k_r = 0.25, k_t = 0.5, white,
-/// k_a = 0.4, k_s = 0.5, shininess 1, index 1.5, exact Fresnel) under a
-/// light at (0, 10, 0), and the sky (0.2, 0.4, 0.6): chapter 8's lit pane
-/// with Fresnel's share.
-const LIT_GLASS_PANE_SCENE: &str = r#"
-background = [0.2, 0.4, 0.6]
-ambient_light = [1.0, 1.0, 1.0]
-[camera]
-position = [0.0, 1.0, -5.0]
-look_at = [0.0, 0.0, 0.0]
-[render]
-max_depth = 5
-[[lights]]
-position = [0.0, 10.0, 0.0]
-[[objects]]
-name = "lit glass pane"
-plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
-material = { color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.25, transparency = 0.5, ior = 1.5, fresnel = "exact" }
-"#;
-
 /// A clear glass ball of radius 1 at the origin (object 0: k_t = 1, index
 /// 1.5, exact Fresnel, no light of its own), nothing else, no lights.
 const INSIDE_SCENE: &str = r#"
@@ -240,7 +220,7 @@ pub fn checkpoints() -> Vec<Case> {
                    (0.2, 0.4, 0.6), with the shares 0.25 + 0.5 * 0.04 reflected and 0.5 * 0.96 \
                    refracted: expected 0.1 + 0.5 + 0.75 * sky = (0.75, 0.9, 1.05)",
             shading: Shading::Dielectric,
-            scene: LIT_GLASS_PANE_SCENE.to_string(),
+            scene: lit_pane(", fresnel = \"exact\""),
             ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
             depth: 0,
         }),
@@ -250,7 +230,7 @@ pub fn checkpoints() -> Vec<Case> {
             says: "the same ray at depth 5 = max_depth: no more rays, only the pane's own light, \
                    0.1 diffuse and the highlight 0.5: expected (0.6, 0.6, 0.6)",
             shading: Shading::Dielectric,
-            scene: LIT_GLASS_PANE_SCENE.to_string(),
+            scene: lit_pane(", fresnel = \"exact\""),
             ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
             depth: 5,
         }),

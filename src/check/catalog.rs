@@ -186,6 +186,31 @@ impl From<ShadeQuestion> for Case {
     }
 }
 
+/// A lit glass pane y = 0 (object 0: k_r = 0.25, k_t = 0.5, white,
+/// k_a = 0.4, a highlight k_s = 0.5 of shininess 1, index 1.5, and
+/// `material_extra`, more TOML of its material such as `, fresnel =
+/// "exact"`) under a light at (0, 10, 0), the sky (0.2, 0.4, 0.6), nothing
+/// else: chapter 8's and chapter 9's highlight and depth cases.
+pub fn lit_pane(material_extra: &str) -> String {
+    format!(
+        r#"
+background = [0.2, 0.4, 0.6]
+ambient_light = [1.0, 1.0, 1.0]
+[camera]
+position = [0.0, 1.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+max_depth = 5
+[[lights]]
+position = [0.0, 10.0, 0.0]
+[[objects]]
+name = "lit pane"
+plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
+material = {{ color = [1.0, 1.0, 1.0], ambient = 0.4, diffuse = 0.0, specular = 0.5, shininess = 1, reflectivity = 0.25, transparency = 0.5, ior = 1.5{material_extra} }}
+"#
+    )
+}
+
 /// `(t_min, t_max)` for every `t` in front of the ray's origin.
 pub const IN_FRONT: (f32, f32) = (0.0, INF);
 
