@@ -190,6 +190,19 @@ pub fn checkpoints() -> Vec<Case> {
             seed: 1,
             rule: SampleRule::UnlikeSeed(0),
         }),
+        Case::from(SamplesQuestion {
+            name: "samples-every-seed-its-own",
+            section: SAMPLES_7,
+            says: "4 random samples in pixels (5, 6) and (100, 50) with each seed from 0 to 63: \
+                   every seed gives samples of its own; the whole seed goes into the hash, so \
+                   no bit of it can be lost (two seeds that differ in a lost bit render the same \
+                   noise)",
+            sampling: Sampling::Random,
+            count: 4,
+            pixels: vec![(5, 6), (100, 50)],
+            seed: 0,
+            rule: SampleRule::DistinctSeeds(64),
+        }),
         Case::new(
             "pixel-quarters",
             SAMPLES_7,

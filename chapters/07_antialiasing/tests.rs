@@ -59,6 +59,52 @@ fn unit_random_is_in_range_and_roughly_uniform() {
     );
 }
 
+/// The strict avalanche criterion on the inputs that sit side by side in an
+/// image: for 2^16 pixels, the pixel beside it, the pixel below, the next
+/// sample and the other dimension flip each of the 24 bits of the number
+/// with probability 1/2. A bit's count of flips is binomial, standard error
+/// 128; 5 of them bounds the largest of the 96 counts for a good hash
+/// (a false alarm about once in 10^4), while a finalizer that leaves the
+/// top bits unmixed flips some of them every time or never.
+/// The inputs of one random number: pixel, sample index, dimension.
+type Inputs = ((u32, u32), u32, u32);
+
+/// The inputs next to some inputs, in one direction.
+type Neighbour = fn(Inputs) -> Inputs;
+
+#[test]
+fn neighbouring_inputs_flip_every_bit_half_the_time() {
+    let bits = |value: f32| (value * (1u32 << 24) as f32) as u32;
+    let pairs: Vec<Inputs> = (0..1u32 << 16)
+        .map(|i| ((i % 256, i / 256), i % 3, 0))
+        .collect();
+    let neighbours: [(&str, Neighbour); 4] = [
+        ("the pixel beside", |((x, y), i, d)| ((x + 1, y), i, d)),
+        ("the pixel below", |((x, y), i, d)| ((x, y + 1), i, d)),
+        ("the next sample", |(p, i, d)| (p, i + 1, d)),
+        ("the other dimension", |(p, i, d)| (p, i, d + 1)),
+    ];
+    let trials = pairs.len() as f64;
+    for (what, neighbour) in neighbours {
+        let mut flips = [0u32; 24];
+        for &(pixel, index, dimension) in &pairs {
+            let (other_pixel, other_index, other_dimension) = neighbour((pixel, index, dimension));
+            let changed = bits(unit_random(11, pixel, index, dimension))
+                ^ bits(unit_random(11, other_pixel, other_index, other_dimension));
+            for (bit, count) in flips.iter_mut().enumerate() {
+                *count += (changed >> bit) & 1;
+            }
+        }
+        for (bit, &count) in flips.iter().enumerate() {
+            let standard_errors = (f64::from(count) - trials / 2.0) / (trials / 4.0).sqrt();
+            assert!(
+                standard_errors.abs() < 5.0,
+                "{what}: bit {bit} flips {count} times in {trials} ({standard_errors:.1} standard errors)"
+            );
+        }
+    }
+}
+
 #[test]
 fn whole_square_roots() {
     assert_eq!(whole_sqrt(0), 0);

@@ -916,6 +916,27 @@ fn another_hash_and_another_order_of_cells_pass_every_sampled_chapter() {
     }
 }
 
+/// The seed mixed in by `&` instead of `^`: seeds that differ only where
+/// the mask has a zero bit give the same samples (0, 2 and 8 among them),
+/// although seeds 0 and 1 still differ.
+struct SeedBitsLost;
+impl Chapters for SeedBitsLost {
+    fn sample_offset(
+        s: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        Reference::sample_offset(s, count, index, pixel, seed & 0x9E37_79B9_7F4A_7C15)
+    }
+}
+
+#[test]
+fn gallery_seed_bits_lost() {
+    assert_caught::<SeedBitsLost>(7, "samples-every-seed-its-own");
+}
+
 #[test]
 fn gallery_jitter_reused_for_every_cell() {
     assert_caught::<JitterReused>(7, "samples-jittered-spread");

@@ -63,6 +63,9 @@ impl SampleOffsetsCase {
                 },
             };
         }
+        if let SampleRule::DistinctSeeds(end) = *rule {
+            return distinct_seeds::<C>(self, end);
+        }
         for pixel in pixels {
             let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
                 (0..*count)
@@ -162,6 +165,51 @@ impl PixelColorCase {
     }
 }
 
+/// [`SampleRule::DistinctSeeds`]: every seed of `case.seed..end` gives
+/// offsets inside the pixel, and no two of them the same offsets in one
+/// pixel.
+fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase, end: u64) -> Outcome {
+    let SampleOffsetsCase {
+        sampling,
+        count,
+        pixels,
+        seed: first,
+        rule,
+    } = case;
+    for pixel in pixels {
+        let mut seen: std::collections::HashMap<Vec<(u32, u32)>, u64> =
+            std::collections::HashMap::new();
+        for seed in *first..end {
+            let offsets: Vec<(f32, f32)> = (0..*count)
+                .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
+                .collect();
+            let problem = match sample_rule(*rule, *count, &offsets) {
+                Err(problem) => Some(problem),
+                Ok(()) => {
+                    let bits = offsets.iter().map(|(x, y)| (x.to_bits(), y.to_bits()));
+                    seen.insert(bits.collect(), seed)
+                        .map(|earlier| format!("seeds {earlier} and {seed} give the same offsets"))
+                }
+            };
+            if let Some(problem) = problem {
+                return Outcome::Fail {
+                    expected: rule_text(*rule, *count),
+                    got: format!(
+                        "pixel {pixel:?}, seed {seed}: {problem}; offsets {}",
+                        offsets
+                            .iter()
+                            .take(16)
+                            .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    ),
+                };
+            }
+        }
+    }
+    Outcome::Pass
+}
+
 fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(), String> {
     let inside = |v: f32| (0.0..1.0).contains(&v);
     if let Some((x, y)) = offsets.iter().find(|(x, y)| !inside(*x) || !inside(*y)) {
@@ -192,7 +240,10 @@ fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(
             one_per_cell(k, offsets, cell_of)
         }
         SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
-        SampleRule::InsidePixel | SampleRule::UnlikeSeed(_) | SampleRule::Spread => {
+        SampleRule::InsidePixel
+        | SampleRule::UnlikeSeed(_)
+        | SampleRule::DistinctSeeds(_)
+        | SampleRule::Spread => {
             if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
                 Err("every sample is at the same point".into())
             } else {
@@ -235,6 +286,11 @@ fn rule_text(rule: SampleRule, count: u32) -> String {
         SampleRule::UnlikeSeed(other) => {
             format!("samples inside [0, 1)^2, not all at one point, not those of seed {other}")
         }
+        SampleRule::DistinctSeeds(end) => format!(
+            "samples inside [0, 1)^2, not all at one point, and other samples for each seed up \
+             to {}",
+            end.saturating_sub(1)
+        ),
         SampleRule::Spread => format!(
             "samples spread like independent uniform ones{}: chi-square at most {} on 8 x 8 bins \
              for (x, y), for two cells of a pixel, and for two neighbouring pixels",
