@@ -187,13 +187,12 @@ pub(super) fn run_binary(
 ) -> Result<Ran, super::GradeError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
-    let mut child = cargo_command(&cargo, workspace, args, writable, sandbox)
-        .spawn()
-        .map_err(|error| super::GradeError::Run {
-            cargo: cargo.clone().into(),
-            workspace: workspace.to_path_buf(),
-            error,
-        })?;
+    let (mut command, _cap) = cargo_command(&cargo, workspace, args, writable, sandbox);
+    let mut child = command.spawn().map_err(|error| super::GradeError::Run {
+        cargo: cargo.clone().into(),
+        workspace: workspace.to_path_buf(),
+        error,
+    })?;
     let receiver = read_outputs(&mut child);
     let (exit, timed_out) = wait_within(&mut child, timeout);
     // Whatever the run left behind in its group (a background process of
@@ -216,18 +215,21 @@ fn cargo_command(
     binary_args: &[std::ffi::OsString],
     writable: Option<&Path>,
     sandbox: Option<&Sandbox>,
-) -> Command {
+) -> (Command, Option<super::sandbox::ProcessCap>) {
     let args: Vec<std::ffi::OsString> = ["run", "--release", "--offline", "--"]
         .into_iter()
         .map(Into::into)
         .chain(binary_args.iter().cloned())
         .collect();
-    let mut command = match sandbox {
-        Some(sandbox) => sandbox.command(workspace, writable, cargo.into(), &args),
+    let (mut command, cap) = match sandbox {
+        Some(sandbox) => {
+            let sandboxed = sandbox.command(workspace, writable, cargo.into(), &args);
+            (sandboxed.command, sandboxed.cap)
+        }
         None => {
             let mut command = Command::new(cargo);
             command.args(&args);
-            command
+            (command, None)
         }
     };
     command
@@ -249,7 +251,7 @@ fn cargo_command(
         use std::os::unix::process::CommandExt;
         command.process_group(0);
     }
-    command
+    (command, cap)
 }
 
 /// Reads the child's stdout and stderr on threads of their own (one full
