@@ -20,7 +20,7 @@ pub fn sample_offset(
     pixel: (u32, u32),
     seed: u64,
 ) -> (f32, f32) {
-    let cells_per_side = whole_sqrt(count).max(1);
+    let cells_per_side = count.isqrt().max(1);
     let cell = 1.0 / cells_per_side as f32;
     let column = (index % cells_per_side) as f32;
     let row = (index / cells_per_side) as f32;
@@ -32,7 +32,7 @@ pub fn sample_offset(
             // 1 + (1 - 2^-24) is not an f32 and rounds to 2, which would put
             // the sample at 1.0, on the next pixel's edge. Clamping to the
             // largest f32 below 1 keeps every sample inside its own pixel.
-            let inside = |x: f32| x.min(1.0 - f32::EPSILON / 2.0);
+            let inside = |x: f32| x.min(1.0f32.next_down());
             (
                 inside((column + random(0)) * cell),
                 inside((row + random(1)) * cell),
@@ -58,19 +58,6 @@ pub fn pixel_color<C: Chapters>(tracer: &mut Tracer<C>, x: u32, y: u32) -> Vec3 
         sum += tracer.sample(x as f32 + dx, y as f32 + dy);
     }
     sum / samples as f32
-}
-
-/// `floor(sqrt(n))` in integers.
-pub fn whole_sqrt(n: u32) -> u32 {
-    let n = u64::from(n);
-    let mut root = (n as f64).sqrt() as u64;
-    while root * root > n {
-        root -= 1;
-    }
-    while (root + 1) * (root + 1) <= n {
-        root += 1;
-    }
-    root as u32
 }
 
 /// A number in `[0, 1)` that depends only on its arguments.
