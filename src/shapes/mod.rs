@@ -10,10 +10,12 @@
 //! [`Shape::intersect_with`] asks the running course (the `Chapters`
 //! trait) rather than the shape itself.
 
+mod implicit;
 mod plane;
 mod sphere;
 mod triangle;
 
+pub use implicit::{Exactness, ImplicitError, Sdf};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
