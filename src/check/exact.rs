@@ -188,6 +188,142 @@ pub fn terminator_point(corners: [DVec3; 3], normals: [DVec3; 3], point: DVec3) 
     lifted
 }
 
+/// The torus's polynomial at `p`, relative to its centre, around the y
+/// axis: `(|p|^2 + R^2 - r^2)^2 - 4 R^2 (x^2 + z^2)`, zero on the surface
+/// and negative inside. Evaluated as written, not expanded in `t`, so its
+/// rounding is that of a few products of the point's own size.
+pub fn torus_polynomial(major: f64, minor: f64, p: DVec3) -> f64 {
+    let ring = p.length_squared() + major * major - minor * minor;
+    ring * ring - 4.0 * major * major * (p.x * p.x + p.z * p.z)
+}
+
+/// The first `t` in `(t_min, t_max)` where the line `o + t d` crosses the
+/// torus of centre `center` (around the y axis), radii `major` and
+/// `minor`: the roots of a quartic, found without sphere tracing or
+/// Newton's method. The line is first moved to start at its point nearest
+/// the centre (so the quartic's coefficients are of the torus's size, not
+/// of the origin's); the quartic's real roots are isolated between the
+/// roots of its derivatives (a polynomial is monotone between two
+/// neighbouring critical points) and each is bisected to the last bit on
+/// the polynomial evaluated as written. Only crossings count: a line that
+/// touches the surface without entering it (a double root) is a hit only
+/// where the polynomial rounds to exactly 0 at the touching point.
+pub fn torus(
+    center: DVec3,
+    major: f64,
+    minor: f64,
+    o: DVec3,
+    d: DVec3,
+    t_min: f64,
+    t_max: f64,
+) -> Option<f64> {
+    let oc = o - center;
+    let a = d.length_squared();
+    if !(a > 0.0) || !a.is_finite() || !oc.is_finite() || !(major > 0.0) || !(minor > 0.0) {
+        return None;
+    }
+    let nearest = -oc.dot(d) / a;
+    let q = oc + nearest * d;
+    let reach = major + minor;
+    if q.length_squared() > reach * reach {
+        return None;
+    }
+    // (|q + s d|^2 + R^2 - r^2)^2 - 4 R^2 ((q + s d).x^2 + (q + s d).z^2)
+    // in powers of s: the square of a s^2 + b s + c, less 4 R^2 (e s^2 +
+    // f s + g).
+    let (b, c) = (
+        2.0 * q.dot(d),
+        q.length_squared() + major * major - minor * minor,
+    );
+    let four_r2 = 4.0 * major * major;
+    let (e, f, g) = (
+        d.x * d.x + d.z * d.z,
+        2.0 * (q.x * d.x + q.z * d.z),
+        q.x * q.x + q.z * q.z,
+    );
+    let quartic = [
+        c * c - four_r2 * g,
+        2.0 * b * c - four_r2 * f,
+        b * b + 2.0 * a * c - four_r2 * e,
+        2.0 * a * b,
+        a * a,
+    ];
+    // Every root of the line is within the torus's reach of q.
+    let bound = 2.0 * reach / a.sqrt();
+    let on_line = |s: f64| torus_polynomial(major, minor, q + s * d);
+    let mut critical = polynomial_roots(&derivative(&quartic), -bound, bound);
+    critical.insert(0, -bound);
+    critical.push(bound);
+    critical
+        .windows(2)
+        .filter_map(|pair| bisect(on_line, pair[0], pair[1]))
+        .map(|s| nearest + s)
+        .find(|&t| t > t_min && t < t_max)
+}
+
+/// The coefficients (constant first) of a polynomial's derivative.
+fn derivative(coefficients: &[f64]) -> Vec<f64> {
+    coefficients
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(power, coefficient)| power as f64 * coefficient)
+        .collect()
+}
+
+fn evaluate(coefficients: &[f64], x: f64) -> f64 {
+    coefficients.iter().rev().fold(0.0, |sum, c| sum * x + c)
+}
+
+/// The real roots in `[low, high]` of the polynomial (constant first),
+/// sorted: those of its derivative split the interval into monotone
+/// pieces, each with at most one root.
+fn polynomial_roots(coefficients: &[f64], low: f64, high: f64) -> Vec<f64> {
+    let degree = coefficients.iter().rposition(|&c| c != 0.0).unwrap_or(0);
+    let coefficients = &coefficients[..=degree];
+    if degree == 0 {
+        return Vec::new();
+    }
+    if degree == 1 {
+        let root = -coefficients[0] / coefficients[1];
+        return if (low..=high).contains(&root) {
+            vec![root]
+        } else {
+            Vec::new()
+        };
+    }
+    let mut ends = polynomial_roots(&derivative(coefficients), low, high);
+    ends.insert(0, low);
+    ends.push(high);
+    ends.windows(2)
+        .filter_map(|pair| bisect(|x| evaluate(coefficients, x), pair[0], pair[1]))
+        .collect()
+}
+
+/// The point where `function` changes sign in `[low, high]`, bisected
+/// until the interval cannot shrink; `None` without a sign change.
+fn bisect(function: impl Fn(f64) -> f64, mut low: f64, mut high: f64) -> Option<f64> {
+    let (at_low, at_high) = (function(low), function(high));
+    if at_low == 0.0 {
+        return Some(low);
+    }
+    if !(at_low * at_high < 0.0) {
+        return None;
+    }
+    let rising = at_high > 0.0;
+    loop {
+        let middle = 0.5 * (low + high);
+        if middle <= low || middle >= high {
+            return Some(middle);
+        }
+        if (function(middle) > 0.0) == rising {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+}
+
 /// Where the line `origin + t dir` is inside `bounds`: the slab test in
 /// `f64`, where `plane - origin` is exact and the division nearly so (the
 /// exact answer, to judge the `f32` one by). Empty when `entry > exit`; a
@@ -238,3 +374,6 @@ impl Xorshift {
         (self.next() % n as u64) as usize
     }
 }
+
+#[cfg(test)]
+mod tests;
