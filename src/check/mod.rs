@@ -566,6 +566,7 @@ fn own_verdict<C: Chapters>(
 ) -> ChapterVerdict {
     let (mut verdict, mut answers) =
         crate::answer_key::recording(|| cases_image_robustness::<C>(info, options, full));
+    verdict_file::finished(info.number);
     if !options.forbid_answer_key {
         return verdict;
     }
@@ -898,6 +899,7 @@ pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> Chapte
     let Some(info) = crate::chapters::chapter(chapter) else {
         return unknown_chapter(chapter);
     };
+    crate::answer_key::take_reported();
     let mut verdict = own_verdict::<C>(info, options, true);
     let earlier: Vec<(u8, Status)> = CHAPTERS
         .iter()
@@ -905,7 +907,55 @@ pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> Chapte
         .map(|other| (other.number, own_verdict::<C>(other, options, false).status))
         .collect();
     apply_prerequisites(&mut verdict, &earlier);
+    fail_for_escaped_answers(std::slice::from_mut(&mut verdict), options);
     verdict
+}
+
+/// Fails the verdicts whose checks ran raylab's answers on threads the
+/// code under check started, out of reach of [`own_verdict`]'s recording
+/// (which sees its own thread's): each answer fails the chapter it belongs
+/// to where that chapter is among `verdicts`, or else every verdict, since
+/// any of their checks may have run it.
+fn fail_for_escaped_answers(verdicts: &mut [ChapterVerdict], options: &CheckOptions) {
+    let escaped = crate::answer_key::take_reported();
+    if !options.forbid_answer_key || escaped.is_empty() {
+        return;
+    }
+    for answer in escaped {
+        let owner = answer_chapter(answer);
+        let owned = verdicts
+            .iter()
+            .any(|verdict| Some(verdict.chapter) == owner);
+        for verdict in verdicts.iter_mut() {
+            if (!owned || Some(verdict.chapter) == owner) && verdict.status != Status::Error {
+                verdict.status = Status::Fail;
+                if !verdict.answers_used.contains(&answer) {
+                    verdict.answers_used.push(answer);
+                }
+            }
+        }
+    }
+}
+
+/// The chapter whose lesson an answer of raylab's (as
+/// [`crate::answer_key::answered`] names it) answers, where one does.
+fn answer_chapter(answer: &str) -> Option<u8> {
+    if let Some(function) = answer.strip_prefix("Chapters::") {
+        return CHAPTERS
+            .iter()
+            .find(|info| info.functions.contains(&function))
+            .map(|info| info.number);
+    }
+    match answer {
+        "Plane::intersect" => Some(1),
+        "Sphere::intersect"
+        | "Sphere::roots"
+        | "Sphere::intersect_textbook"
+        | "Textbook::intersect_sphere" => Some(2),
+        "Objects::nearest_hit_by_loop" | "raylab::nearest_hit" | "raylab::first_hit" => Some(3),
+        "Textbook::intersect_triangle" => Some(10),
+        _ => None,
+    }
 }
 
 fn unknown_chapter(chapter: u8) -> ChapterVerdict {
@@ -933,6 +983,7 @@ fn unknown_chapter(chapter: u8) -> ChapterVerdict {
 /// Chapters are checked in parallel, one thread each: each checks its own
 /// panics, so no panic of student code ever reaches the screen.
 pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> CheckReport {
+    crate::answer_key::take_reported();
     if let Some(chapter) = chapters {
         return CheckReport {
             verdicts: vec![check_chapter::<C>(chapter, options)],
@@ -967,6 +1018,7 @@ pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> C
             .collect();
         apply_prerequisites(verdict, &earlier);
     }
+    fail_for_escaped_answers(&mut verdicts, options);
     CheckReport { verdicts }
 }
 
@@ -980,8 +1032,10 @@ pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
 /// test per chapter that calls this. Robustness is reported apart, as by
 /// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
 pub fn assert_chapter<C: Chapters>(chapter: u8) {
-    // A student's tests, like their binary, may not lean on raylab's answers.
-    let student = std::any::TypeId::of::<C>() != std::any::TypeId::of::<crate::Reference>();
+    // A student's tests, like their binary, may not lean on raylab's answers
+    // (nor, in a student's build, run raylab's own chapters as theirs).
+    let student = cfg!(feature = "student")
+        || std::any::TypeId::of::<C>() != std::any::TypeId::of::<crate::Reference>();
     if student {
         crate::answer_key::seal();
         crate::answer_key::set_strict(true);

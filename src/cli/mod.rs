@@ -99,7 +99,7 @@ pub fn main() -> i32 {
 /// `main` calls this with its own) and returns the process exit status.
 pub fn main_with<C: crate::Chapters>() -> i32 {
     prepare_process();
-    if !is_reference::<C>() {
+    if cfg!(feature = "student") || !is_reference::<C>() {
         // A student's binary: raylab's answers must not stand in for theirs.
         crate::answer_key::seal();
     }
@@ -125,6 +125,14 @@ fn is_reference<C: crate::Chapters>() -> bool {
 /// inside a student's workspace (they would judge raylab's answers).
 fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
     let judges_chapters = matches!(command, Command::Check(_) | Command::Render(_));
+    if cfg!(feature = "student") && is_reference::<C>() {
+        return Some(
+            "this program was built for a student workspace (raylab's `student` feature) but \
+             runs raylab's own chapters, `raylab::Reference`: src/main.rs must run the \
+             workspace's chapters, as `raylab new` writes it"
+                .to_string(),
+        );
+    }
     if !is_reference::<C>() {
         return (!cfg!(feature = "student")).then(|| {
             "this workspace builds raylab without its `student` feature, so its chapters \
@@ -140,12 +148,31 @@ fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
         "{} is a student workspace: this `raylab` runs raylab's own chapters, not the ones \
          written there. Run your chapters with `cargo run --release -- {}` in {}",
         workspace.display(),
-        match command {
-            Command::Check(_) => "check",
-            _ => "render --chapter N",
-        },
+        typed_arguments(),
         workspace.display()
     ))
+}
+
+/// The arguments this program was given, as a shell would need them typed
+/// again: each one that holds anything but letters, digits and `_./=:,-`
+/// in single quotes.
+fn typed_arguments() -> String {
+    std::env::args_os()
+        .skip(1)
+        .map(|argument| {
+            let text = crate::text::visible_name(&argument);
+            let plain = !text.is_empty()
+                && text
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "_./=:,-".contains(c));
+            if plain {
+                text
+            } else {
+                format!("'{}'", text.replace('\'', "'\\''"))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// What every raylab binary (raylab's own, and a student workspace's,

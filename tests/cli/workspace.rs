@@ -44,10 +44,12 @@ fn workspaces() -> &'static Workspaces {
         let todo = root.join("student-todo");
         let answer = root.join("student-answer");
         let cheat = root.join("student-cheat");
+        let main_cheat = root.join("student-main");
         for (dir, extra) in [
             (&todo, None),
             (&answer, Some("--solutions")),
             (&cheat, Some("--solutions")),
+            (&main_cheat, None),
         ] {
             let mut args = vec!["new", dir.to_str().expect("UTF-8 path")];
             args.extend(extra);
@@ -61,8 +63,16 @@ fn workspaces() -> &'static Workspaces {
             text = text.replace(honest, cheating);
         }
         std::fs::write(&glue, text).expect("write the glue");
+        // raylab's own chapters run by the workspace's own main, from
+        // outside the workspace.
+        std::fs::write(
+            main_cheat.join("src/main.rs"),
+            "fn main() {\n    let _ = std::env::set_current_dir(\"/\");\n    \
+             std::process::exit(raylab::cli::main_with::<raylab::Reference>())\n}\n",
+        )
+        .expect("write main.rs");
         let target = target_dir();
-        for dir in [&todo, &answer, &cheat] {
+        for dir in [&todo, &answer, &cheat, &main_cheat] {
             let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
             let output = Command::new(cargo)
                 .args(["build", "--offline", "--quiet"])
@@ -90,8 +100,9 @@ fn workspaces() -> &'static Workspaces {
 /// function, and what replaces it. Chapter 1 ends the process (printing a
 /// passing table first) when `CHEAT_EXIT` is set; chapter 2 calls the
 /// shape's own method; chapter 3 keeps the trait's default (raylab's
-/// answer); chapter 6 calls `Reference`'s; chapter 10 calls the comparison
-/// wrapper's Moller-Trumbore.
+/// answer); chapter 6 calls `Reference`'s; chapter 8 calls `Reference`'s
+/// on a thread of its own; chapter 10 calls the comparison wrapper's
+/// Moller-Trumbore.
 const CHEATS: &[(&str, &str)] = &[
     (
         "        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
@@ -110,6 +121,11 @@ const CHEATS: &[(&str, &str)] = &[
     (
         "        ch06_reflection::reflect(d, n)",
         "        <raylab::Reference as Chapters>::reflect(d, n)",
+    ),
+    (
+        "        ch08_refraction::refract(d, n, eta)",
+        "        std::thread::spawn(move || <raylab::Reference as Chapters>::refract(d, n, eta))\n            \
+         .join()\n            .ok()\n            .flatten()",
     ),
     (
         "        ch10_triangles::intersect_triangle(triangle, ray, t_min, t_max)",
@@ -454,6 +470,7 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
         ("2", "Sphere::intersect"),
         ("3", "nearest_hit"),
         ("6", "reflect"),
+        ("8", "Chapters::refract"),
         ("10", "Textbook::intersect_triangle"),
     ] {
         let out = run_student("student-cheat", &["check", "--chapter", chapter], &dir);
@@ -499,6 +516,25 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     );
 }
 
+/// A workspace whose main runs raylab's own chapters (`main_with::<raylab::
+/// Reference>()`, from outside the workspace) is refused before any check.
+#[test]
+fn a_workspace_main_that_runs_raylabs_chapters_is_refused() {
+    let ws = workspaces();
+    let dir = ws.root.join("main-out");
+    std::fs::create_dir_all(&dir).expect("create");
+    for args in [&["check"][..], &["render", "--chapter", "1"]] {
+        let out = run_student("student-main", args, &dir);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stdout(&out));
+        assert!(
+            stderr(&out).contains("runs raylab's own chapters, `raylab::Reference`"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert!(!Path::new("/chapter-1.png").exists());
+}
+
 /// raylab's own binary, run inside a student's workspace, would check or
 /// render raylab's answers: it refuses, naming the command to use.
 #[test]
@@ -516,7 +552,10 @@ fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
             message.contains("is a student workspace: this `raylab` runs raylab's own chapters"),
             "{message}"
         );
-        assert!(message.contains("cargo run --release -- "), "{message}");
+        assert!(
+            message.contains(&format!("cargo run --release -- {}`", args.join(" "))),
+            "{message}"
+        );
     }
     assert!(!inside.join("chapter-3.png").exists());
 }
