@@ -193,15 +193,15 @@ pub fn checkpoints() -> Vec<Case> {
         Case::from(SamplesQuestion {
             name: "samples-every-seed-its-own",
             section: SAMPLES_7,
-            says: "4 random samples in pixels (5, 6) and (100, 50) with each seed from 0 to 63: \
-                   every seed gives samples of its own; the whole seed goes into the hash, so \
-                   no bit of it can be lost (two seeds that differ in a lost bit render the same \
-                   noise)",
+            says: "4 random samples in pixels (5, 6) and (100, 50) with seed 0 and with each seed \
+                   of one bit, 1, 2, 4, ... 2^63: every seed gives samples of its own; the whole \
+                   64-bit seed goes into the hash, so no bit of it can be lost (two seeds that \
+                   differ in a lost bit render the same noise)",
             sampling: Sampling::Random,
             count: 4,
             pixels: vec![(5, 6), (100, 50)],
             seed: 0,
-            rule: SampleRule::DistinctSeeds(64),
+            rule: SampleRule::DistinctSeeds,
         }),
         Case::new(
             "pixel-quarters",

@@ -937,6 +937,26 @@ fn gallery_seed_bits_lost() {
     assert_caught::<SeedBitsLost>(7, "samples-every-seed-its-own");
 }
 
+/// A hash of 32-bit words fed `seed as u32`: seeds 2^32 and 0 render the
+/// same noise.
+struct SeedUpperHalfLost;
+impl Chapters for SeedUpperHalfLost {
+    fn sample_offset(
+        s: Sampling,
+        count: u32,
+        index: u32,
+        pixel: (u32, u32),
+        seed: u64,
+    ) -> (f32, f32) {
+        Reference::sample_offset(s, count, index, pixel, u64::from(seed as u32))
+    }
+}
+
+#[test]
+fn gallery_seed_upper_half_lost() {
+    assert_caught::<SeedUpperHalfLost>(7, "samples-every-seed-its-own");
+}
+
 #[test]
 fn gallery_jitter_reused_for_every_cell() {
     assert_caught::<JitterReused>(7, "samples-jittered-spread");

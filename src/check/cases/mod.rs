@@ -105,10 +105,10 @@ pub enum SampleRule {
     /// As `InsidePixel`, and not the same offsets as with this other seed:
     /// the seed changes the samples.
     UnlikeSeed(u64),
-    /// As `InsidePixel`, for every seed from the case's seed up to this
-    /// one (excluded), and no two of those seeds give the same offsets in
-    /// a pixel: every bit of the seed changes the samples.
-    DistinctSeeds(u64),
+    /// As `InsidePixel`, for seed 0 and each of the 64 seeds of one bit,
+    /// and no two of those seeds give the same offsets in a pixel: every
+    /// bit of the seed changes the samples.
+    DistinctSeeds,
     /// Over all the case's pixels, the samples are spread as independent
     /// uniform ones would be (jittered: within their cells): uniform in x
     /// and y together, one cell's independent of another's in the same

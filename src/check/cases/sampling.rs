@@ -28,8 +28,13 @@ impl SampleOffsetsCase {
             seed,
             ..
         } = self;
+        let seeds = if self.rule == SampleRule::DistinctSeeds {
+            "seed 0 and each seed 2^k, k from 0 to 63".to_string()
+        } else {
+            format!("seed {seed}")
+        };
         format!(
-            "sample_offset({sampling:?}, count {count}, index 0..{count}, {} pixel{} from {:?}, seed {seed})",
+            "sample_offset({sampling:?}, count {count}, index 0..{count}, {} pixel{} from {:?}, {seeds})",
             pixels.len(),
             if pixels.len() > 1 { "s" } else { "" },
             pixels.first().copied().unwrap_or_default()
@@ -63,8 +68,8 @@ impl SampleOffsetsCase {
                 },
             };
         }
-        if let SampleRule::DistinctSeeds(end) = *rule {
-            return distinct_seeds::<C>(self, end);
+        if *rule == SampleRule::DistinctSeeds {
+            return distinct_seeds::<C>(self);
         }
         for pixel in pixels {
             let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
@@ -165,21 +170,22 @@ impl PixelColorCase {
     }
 }
 
-/// [`SampleRule::DistinctSeeds`]: every seed of `case.seed..end` gives
+/// [`SampleRule::DistinctSeeds`]: seed 0 and every seed of one bit give
 /// offsets inside the pixel, and no two of them the same offsets in one
-/// pixel.
-fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase, end: u64) -> Outcome {
+/// pixel (a hash that drops a bit of the seed gives that bit's seed the
+/// offsets of seed 0).
+fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase) -> Outcome {
     let SampleOffsetsCase {
         sampling,
         count,
         pixels,
-        seed: first,
         rule,
+        ..
     } = case;
     for pixel in pixels {
         let mut seen: std::collections::HashMap<Vec<(u32, u32)>, u64> =
             std::collections::HashMap::new();
-        for seed in *first..end {
+        for seed in std::iter::once(0).chain((0..64).map(|bit| 1u64 << bit)) {
             let offsets: Vec<(f32, f32)> = (0..*count)
                 .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
                 .collect();
@@ -242,7 +248,7 @@ fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(
         SampleRule::OnePerCell => one_per_cell(k, offsets, cell_of),
         SampleRule::InsidePixel
         | SampleRule::UnlikeSeed(_)
-        | SampleRule::DistinctSeeds(_)
+        | SampleRule::DistinctSeeds
         | SampleRule::Spread => {
             if offsets.len() > 1 && offsets.iter().all(|o| *o == offsets[0]) {
                 Err("every sample is at the same point".into())
@@ -286,11 +292,9 @@ fn rule_text(rule: SampleRule, count: u32) -> String {
         SampleRule::UnlikeSeed(other) => {
             format!("samples inside [0, 1)^2, not all at one point, not those of seed {other}")
         }
-        SampleRule::DistinctSeeds(end) => format!(
-            "samples inside [0, 1)^2, not all at one point, and other samples for each seed up \
-             to {}",
-            end.saturating_sub(1)
-        ),
+        SampleRule::DistinctSeeds => "samples inside [0, 1)^2, not all at one point, and \
+                                       other samples for each seed"
+            .into(),
         SampleRule::Spread => format!(
             "samples spread like independent uniform ones{}: chi-square at most {} on 8 x 8 bins \
              for (x, y), for two cells of a pixel, and for two neighbouring pixels",
