@@ -153,7 +153,9 @@ for kind in caught missed timeout unviable; do
     if [[ $kind == caught ]]; then
         sources+=("$details/previously_caught.txt")
     fi
-    cat "${sources[@]}" 2>/dev/null | sort -u | { grep -Fxf "$out/current.txt" || true; } >"$out/$kind.txt"
+    # A list cargo-mutants did not write (previously_caught.txt outside
+    # --iterate) is empty, not an error.
+    { cat "${sources[@]}" 2>/dev/null || true; } | sort -u | { grep -Fxf "$out/current.txt" || true; } >"$out/$kind.txt"
 done
 untested=$(cat "$out"/{caught,missed,timeout,unviable}.txt | sort -u | { grep -cvxFf - "$out/current.txt" || true; })
 count() { if [[ -s "$out/$1.txt" ]]; then wc -l <"$out/$1.txt"; else echo 0; fi; }

@@ -35,6 +35,11 @@ pub enum Record {
         function: String,
         case: String,
     },
+    /// Chapter `chapter`'s own check has ended (its verdict comes with the
+    /// others at the end).
+    Finished {
+        chapter: u8,
+    },
     Verdict(SentVerdict),
     End,
 }
@@ -146,12 +151,20 @@ pub(crate) fn step(chapter: u8, function: &str, case: &str) {
     }
 }
 
+/// Notes that chapter `chapter`'s own check has ended.
+pub(crate) fn finished(chapter: u8) {
+    if let Some(writer) = PROGRESS.get() {
+        let _ = writer.write(&Record::Finished { chapter });
+    }
+}
+
 /// What a verdict file said.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SentReport {
     pub verdicts: Vec<SentVerdict>,
-    /// The last step started, when the run did not end.
-    pub last_step: Option<(u8, String, String)>,
+    /// The last step started by each chapter whose check had not ended,
+    /// in chapter order: where a run that did not end was.
+    pub running: Vec<(u8, String, String)>,
     /// Whether the closing record came.
     pub complete: bool,
 }
@@ -177,7 +190,13 @@ impl SentReport {
                     chapter,
                     function,
                     case,
-                }) => report.last_step = Some((chapter, function, case)),
+                }) => {
+                    report.running.retain(|(other, ..)| *other != chapter);
+                    report.running.push((chapter, function, case));
+                }
+                Ok(Record::Finished { chapter }) => {
+                    report.running.retain(|(other, ..)| *other != chapter);
+                }
                 Ok(Record::Verdict(verdict)) => report.verdicts.push(verdict),
                 Ok(Record::End) => report.complete = true,
                 Err(_) => {}
@@ -223,12 +242,28 @@ impl SentReport {
     }
 
     fn early_end(&self, ended: &str) -> String {
-        let during = match &self.last_step {
-            Some((chapter, function, case)) => format!(
-                " while chapter {chapter}'s check ran {function} ({})",
-                crate::text::terminal_safe(case)
+        // Chapters are checked in parallel: every one still running is
+        // named, the earliest first, since later chapters call its code.
+        let mut running = self.running.clone();
+        running.sort_by_key(|(chapter, ..)| *chapter);
+        let steps: Vec<String> = running
+            .iter()
+            .map(|(chapter, function, case)| {
+                format!(
+                    "chapter {chapter}'s check ran {function} ({})",
+                    crate::text::terminal_safe(case)
+                )
+            })
+            .collect();
+        let during = match steps.as_slice() {
+            [] => String::new(),
+            [only] => format!(" while {only}"),
+            [first, rest @ ..] => format!(
+                " while {first}{}",
+                rest.iter()
+                    .map(|step| format!(", and {step}"))
+                    .collect::<String>()
             ),
-            None => String::new(),
         };
         format!(
             "the check did not finish: the process {ended}{during}, before the verdict.\n  \
@@ -291,6 +326,42 @@ mod tests {
         writer.write(&Record::End).unwrap();
         let closed = SentReport::read(&path).unwrap();
         assert_eq!(closed.overall(), Overall::Pass);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Chapters run in parallel: the chapter whose check ended is not
+    /// blamed, every chapter still running is, the earliest first.
+    #[test]
+    fn an_unfinished_run_names_every_chapter_still_running() {
+        let dir = std::env::temp_dir().join(format!("raylab-running-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("verdict.jsonl");
+        let writer = VerdictWriter::create(&path).unwrap();
+        let step = |chapter: u8, function: &str, case: &str| Record::Progress {
+            chapter,
+            function: function.into(),
+            case: case.into(),
+        };
+        for record in [
+            step(1, "intersect_plane", "plane-ahead"),
+            step(11, "hit_box", "box-entry"),
+            step(4, "in_shadow", "shadow-blocker"),
+            Record::Finished { chapter: 11 },
+            step(3, "nearest_hit", "nearest-two"),
+        ] {
+            writer.write(&record).unwrap();
+        }
+        let text = SentReport::read(&path)
+            .unwrap()
+            .text("was killed by signal 9");
+        assert!(
+            text.contains(
+                "while chapter 1's check ran intersect_plane (plane-ahead), and chapter 3's \
+                 check ran nearest_hit (nearest-two), and chapter 4's check ran in_shadow"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("hit_box"), "{text}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

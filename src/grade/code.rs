@@ -97,6 +97,7 @@ pub fn run_check(
     timeout: Duration,
     sandbox: Option<&Sandbox>,
 ) -> Result<CodeRun, super::GradeError> {
+    let outside = code_from_outside(workspace);
     // A fresh folder of its own for the verdict file: the one folder
     // outside the workspace the sandbox lets the run write.
     let folder = tempfile::Builder::new()
@@ -108,7 +109,20 @@ pub fn run_check(
             error,
         })?;
     let verdict_path = folder.path().join("verdict.jsonl");
-    run_check_into(workspace, timeout, &verdict_path, sandbox)
+    let mut run = run_check_into(workspace, timeout, &verdict_path, sandbox)?;
+    // Run all the same (inside the sandbox), so that the report shows what
+    // the code did; but no verdict of such code counts.
+    if let Some(outside) = outside {
+        run.status = CodeStatus::Error;
+        run.chapters_passed = 0;
+        run.stdout = format!(
+            "not counted: {outside}. A workspace's chapters are written in its chapter \
+             files, and only those are compared with other students' and with raylab's \
+             answer key.\n{}",
+            run.stdout
+        );
+    }
+    Ok(run)
 }
 
 fn run_check_into(
@@ -163,6 +177,117 @@ fn run_check_into(
         chapters_passed,
         scenes: Vec::new(),
     })
+}
+
+/// Where a workspace takes code from outside its own source files, which
+/// no copy detection would see: a `#[path]` module or an `include!` (of
+/// raylab's own chapter files, say), a build script (which could write
+/// them into `src/` while it builds), or a dependency other than raylab.
+/// `None` for a workspace as `raylab new` makes it.
+pub fn code_from_outside(workspace: &Path) -> Option<String> {
+    if workspace.join("build.rs").exists() {
+        return Some("the workspace has a build script, build.rs".into());
+    }
+    let manifest = std::fs::read_to_string(workspace.join("Cargo.toml")).unwrap_or_default();
+    if let Ok(manifest) = manifest.parse::<toml::Table>() {
+        if manifest
+            .get("package")
+            .and_then(|package| package.get("build"))
+            .is_some()
+        {
+            return Some("Cargo.toml names a build script".into());
+        }
+        for table in ["dependencies", "build-dependencies", "dev-dependencies"] {
+            let names = manifest.get(table).and_then(toml::Value::as_table);
+            if let Some(other) = names.and_then(|names| names.keys().find(|name| *name != "raylab"))
+            {
+                return Some(format!(
+                    "Cargo.toml's [{table}] adds `{}`: a workspace depends on raylab alone",
+                    crate::text::terminal_safe(other)
+                ));
+            }
+        }
+    }
+    let mut folders = vec![workspace.join("src")];
+    let mut files = 0;
+    while let Some(folder) = folders.pop() {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            if kind.is_dir() {
+                folders.push(path);
+            } else if kind.is_file() && path.extension().is_some_and(|ext| ext == "rs") {
+                files += 1;
+                if files > 1000 {
+                    return Some("src/ holds more than 1000 Rust files".into());
+                }
+                let text = crate::input::read_bounded(
+                    &path,
+                    crate::input::MAX_SCENE_BYTES,
+                    "source file",
+                    crate::input::Links::Refuse,
+                )
+                .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
+                .unwrap_or_default();
+                if let Some((line, what)) = outside_reference(&text) {
+                    let shown = path.strip_prefix(workspace).unwrap_or(&path);
+                    return Some(format!(
+                        "{}:{line} takes code from another file with {what}",
+                        crate::text::visible_name(shown.as_os_str())
+                    ));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The line and the form of the first `#[path = ...]` attribute or
+/// `include!`-family macro in Rust source `text`, read as tokens (so a
+/// comment or a string that mentions one is not one).
+fn outside_reference(text: &str) -> Option<(usize, &'static str)> {
+    use proc_macro2::{TokenStream, TokenTree};
+    fn walk(stream: TokenStream, in_attribute: bool) -> Option<(usize, &'static str)> {
+        let tokens: Vec<TokenTree> = stream.into_iter().collect();
+        for (index, token) in tokens.iter().enumerate() {
+            match token {
+                TokenTree::Ident(ident) => {
+                    let name = ident.to_string();
+                    let bang = matches!(tokens.get(index + 1), Some(TokenTree::Punct(p)) if p.as_char() == '!');
+                    if bang && matches!(name.as_str(), "include" | "include_str" | "include_bytes")
+                    {
+                        return Some((ident.span().start().line, "an include! macro"));
+                    }
+                    if in_attribute && name == "path" {
+                        return Some((ident.span().start().line, "a #[path] attribute"));
+                    }
+                }
+                TokenTree::Group(group) => {
+                    let punct = |back: usize| match index.checked_sub(back).map(|at| &tokens[at]) {
+                        Some(TokenTree::Punct(p)) => Some(p.as_char()),
+                        _ => None,
+                    };
+                    // `#[...]` or `#![...]`, not `vec![...]`.
+                    let attribute = in_attribute
+                        || (group.delimiter() == proc_macro2::Delimiter::Bracket
+                            && (punct(1) == Some('#')
+                                || (punct(1) == Some('!') && punct(2) == Some('#'))));
+                    if let Some(found) = walk(group.stream(), attribute) {
+                        return Some(found);
+                    }
+                }
+                _ => {}
+            }
+        }
+        None
+    }
+    // Text the tokeniser refuses cannot compile either: the build says why.
+    walk(text.parse().ok()?, false)
 }
 
 /// How a run of a workspace's binary ended.
@@ -393,6 +518,80 @@ mod tests {
     use crate::check::verdict_file::SentVerdict;
 
     #[test]
+    fn code_from_other_files_is_found_as_tokens() {
+        let found = outside_reference;
+        assert_eq!(
+            found("fn a() {}\n#[path = \"/raylab/chapters/02_sphere/chapter.rs\"]\nmod key;"),
+            Some((2, "a #[path] attribute"))
+        );
+        assert_eq!(
+            found("#![cfg_attr(all(), path = \"x.rs\")]"),
+            Some((1, "a #[path] attribute"))
+        );
+        assert_eq!(
+            found("fn f() -> &'static str { include_str!(\"/etc/passwd\") }"),
+            Some((1, "an include! macro"))
+        );
+        assert_eq!(
+            found("mod m { fn g() { include!(concat!(env!(\"OUT_DIR\"), \"/k.rs\")); } }"),
+            Some((1, "an include! macro"))
+        );
+        // Mentions in comments and strings, a variable named path, a
+        // macro's brackets: none of them.
+        assert_eq!(
+            found(
+                "// #[path = \"x\"] include!()\nfn h(path: u8) -> Vec<u8> { let _ = \"include!(\"; vec![path] }"
+            ),
+            None
+        );
+    }
+
+    #[test]
+    fn a_workspace_as_made_takes_no_code_from_outside_and_a_build_script_does() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let workspace = folder.path();
+        std::fs::create_dir_all(workspace.join("src/chapters")).expect("mkdir");
+        std::fs::write(
+            workspace.join("Cargo.toml"),
+            "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\", features = [\"student\"] }\n",
+        )
+        .expect("write");
+        std::fs::write(
+            workspace.join("src/chapters/ch01_plane.rs"),
+            "pub fn f() {}",
+        )
+        .expect("write");
+        assert_eq!(code_from_outside(workspace), None);
+        std::fs::write(
+            workspace.join("src/chapters/ch02_sphere.rs"),
+            "\n\ninclude!(\"../../k.rs\");",
+        )
+        .expect("write");
+        let found = code_from_outside(workspace).expect("found");
+        assert!(
+            found.contains("ch02_sphere.rs:3 takes code from another file with an include! macro"),
+            "{found}"
+        );
+        std::fs::remove_file(workspace.join("src/chapters/ch02_sphere.rs")).expect("rm");
+        std::fs::write(
+            workspace.join("Cargo.toml"),
+            "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\" }\nkey = { path = \"/k\" }\n",
+        )
+        .expect("write");
+        assert!(
+            code_from_outside(workspace)
+                .expect("found")
+                .contains("adds `key`")
+        );
+        std::fs::write(workspace.join("build.rs"), "fn main() {}").expect("write");
+        assert!(
+            code_from_outside(workspace)
+                .expect("found")
+                .contains("build.rs")
+        );
+    }
+
+    #[test]
     fn runs_are_sorted_by_their_verdicts() {
         let verdict = |chapter, status: &str, passes, not_started| SentVerdict {
             chapter,
@@ -406,7 +605,7 @@ mod tests {
         };
         let report = |verdicts, complete| SentReport {
             verdicts,
-            last_step: None,
+            running: Vec::new(),
             complete,
         };
         let pass = verdict(1, "pass", true, false);
