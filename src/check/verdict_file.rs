@@ -241,12 +241,14 @@ impl SentReport {
         out
     }
 
-    fn early_end(&self, ended: &str) -> String {
-        // Chapters are checked in parallel: every one still running is
-        // named, the earliest first, since later chapters call its code.
+    /// The steps of the chapters still running, earliest chapter first
+    /// (later chapters call its code), in words: "chapter 1's check ran
+    /// intersect_plane (plane-ahead), and chapter 3's ...". Empty when none
+    /// is.
+    pub fn running_text(&self) -> String {
         let mut running = self.running.clone();
         running.sort_by_key(|(chapter, ..)| *chapter);
-        let steps: Vec<String> = running
+        running
             .iter()
             .map(|(chapter, function, case)| {
                 format!(
@@ -254,16 +256,16 @@ impl SentReport {
                     crate::text::terminal_safe(case)
                 )
             })
-            .collect();
-        let during = match steps.as_slice() {
-            [] => String::new(),
-            [only] => format!(" while {only}"),
-            [first, rest @ ..] => format!(
-                " while {first}{}",
-                rest.iter()
-                    .map(|step| format!(", and {step}"))
-                    .collect::<String>()
-            ),
+            .collect::<Vec<_>>()
+            .join(", and ")
+    }
+
+    fn early_end(&self, ended: &str) -> String {
+        let steps = self.running_text();
+        let during = if steps.is_empty() {
+            String::new()
+        } else {
+            format!(" while {steps}")
         };
         format!(
             "the check did not finish: the process {ended}{during}, before the verdict.\n  \

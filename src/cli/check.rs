@@ -112,9 +112,56 @@ fn check_in_child(args: &CheckArgs, path: &Path) -> Result<(SentReport, String)>
     if let Some(chapter) = args.chapter {
         command.arg("--chapter").arg(chapter.to_string());
     }
-    let status = command
-        .status()
+    let mut child = command
+        .spawn()
         .context("cannot start the check of your chapters")?;
+    let status = wait_with_stall_notice(&mut child, path)?;
     let report = SentReport::read(path).unwrap_or_default();
     Ok((report, crate::check::verdict_file::process_end(status)))
+}
+
+/// How long the check may go without starting a new step before the
+/// student is told where it is: every case takes well under a second, a
+/// chapter's image a few seconds. `RAYLAB_STALL_NOTICE_SECONDS` sets it
+/// (the tests make it short).
+fn stall_notice() -> std::time::Duration {
+    let seconds = std::env::var("RAYLAB_STALL_NOTICE_SECONDS")
+        .ok()
+        .and_then(|text| text.parse().ok())
+        .unwrap_or(30);
+    std::time::Duration::from_secs(seconds)
+}
+
+/// Waits for the check's child to end. A check that starts no new step for
+/// [`stall_notice`] is usually a loop that never ends in a chapter: the
+/// student is told once, on stderr, which step each running chapter is in,
+/// and the check goes on (Ctrl-C ends it).
+fn wait_with_stall_notice(
+    child: &mut std::process::Child,
+    path: &Path,
+) -> Result<std::process::ExitStatus> {
+    let mut size = 0;
+    let mut since = std::time::Instant::now();
+    let mut told = false;
+    let notice = stall_notice();
+    loop {
+        if let Some(status) = child.try_wait().context("waiting for the check")? {
+            return Ok(status);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let now = std::fs::metadata(path).map(|meta| meta.len()).unwrap_or(0);
+        if now != size {
+            (size, since, told) = (now, std::time::Instant::now(), false);
+        } else if !told && since.elapsed() >= notice {
+            told = true;
+            let steps = SentReport::read(path).unwrap_or_default().running_text();
+            if !steps.is_empty() {
+                eprintln!(
+                    "still running after {} s without a new step: {steps}. A loop that \
+                     never ends? Ctrl-C stops the check.",
+                    notice.as_secs()
+                );
+            }
+        }
+    }
 }

@@ -97,8 +97,9 @@ fn workspaces() -> &'static Workspaces {
 }
 
 /// The cheating workspace's glue: each honest call to the student's
-/// function, and what replaces it. Chapter 1 ends the process (printing a
-/// passing table first) when `CHEAT_EXIT` is set; chapter 2 calls the
+/// function, and what replaces it. Chapter 1 never returns when
+/// `CHEAT_LOOP` is set, and ends the process (printing a passing table
+/// first) when `CHEAT_EXIT` is; chapter 2 calls the
 /// shape's own method; chapter 3 keeps the trait's default (raylab's
 /// answer); chapter 6 calls `Reference`'s; chapter 8 calls `Reference`'s
 /// on a thread of its own; chapter 10 calls the comparison wrapper's
@@ -106,7 +107,9 @@ fn workspaces() -> &'static Workspaces {
 const CHEATS: &[(&str, &str)] = &[
     (
         "        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
-        "        if std::env::var_os(\"CHEAT_EXIT\").is_some() {\n            \
+        "        if std::env::var_os(\"CHEAT_LOOP\").is_some() {\n            \
+         loop {\n                std::thread::sleep(std::time::Duration::from_secs(1));\n            }\n        }\n        \
+         if std::env::var_os(\"CHEAT_EXIT\").is_some() {\n            \
          println!(\"chapter  status       cases   robustness     image\\n1        pass\");\n            \
          std::process::exit(0);\n        }\n        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
     ),
@@ -513,6 +516,55 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     assert!(
         text.contains("(no verdict: the check did not finish)"),
         "{text}"
+    );
+}
+
+/// A chapter that never returns: the check says where it is once it has
+/// started no new step for a while (here 2 s), and goes on.
+#[cfg(unix)]
+#[test]
+fn a_check_that_stalls_says_where_it_is() {
+    use std::io::Read;
+    use std::os::unix::process::CommandExt;
+    let ws = workspaces();
+    let dir = ws.root.join("loop-out");
+    std::fs::create_dir_all(&dir).expect("create");
+    let mut child = Command::new(ws.target.join("debug").join("student-cheat"))
+        .args(["check", "--chapter", "1"])
+        .current_dir(&dir)
+        .env("CHEAT_LOOP", "1")
+        .env("RAYLAB_STALL_NOTICE_SECONDS", "2")
+        .stderr(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .process_group(0)
+        .spawn()
+        .expect("run the student's check");
+    let mut stderr = child.stderr.take().expect("stderr");
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut seen = Vec::new();
+        let mut chunk = [0u8; 512];
+        while let Ok(read @ 1..) = stderr.read(&mut chunk) {
+            seen.extend_from_slice(&chunk[..read]);
+            if seen.contains(&b'\n') {
+                break;
+            }
+        }
+        let _ = sender.send(String::from_utf8_lossy(&seen).into_owned());
+    });
+    let notice = receiver.recv_timeout(std::time::Duration::from_secs(120));
+    // The check and its worker, a process group of their own.
+    // SAFETY: a plain system call on the group just made.
+    unsafe {
+        libc::kill(-(child.id() as i32), libc::SIGKILL);
+    }
+    let _ = child.wait();
+    let notice = notice.expect("a notice within two minutes");
+    assert!(
+        notice.contains(
+            "still running after 2 s without a new step: chapter 1's check ran intersect_plane"
+        ),
+        "{notice}"
     );
 }
 
