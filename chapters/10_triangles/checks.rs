@@ -154,7 +154,9 @@ const TILTED_NORMALS: [Vec3; 3] = [Vec3::new(0.6, 0.0, 0.8); 3];
 /// mirror image of a ray straight down, and of a grazing one about the
 /// facet), a blue one toward (-0.96, 0, -0.28) (that of a ray straight up
 /// from below) and a small green one toward (-0.22991, 0, -0.97321) (a ray
-/// straight down into glass of index 1.5, bent about the blended normal).
+/// straight down into glass of index 1.5, bent about the blended normal),
+/// and a yellow one toward (0.98, 0, -0.2) (the mirror image about the
+/// facet of a ray leaving it from below along (0.98, 0, 0.2)).
 /// Ambient light only: every colour is a sum of shares of the balls' own.
 fn smooth_facet_scene(material: &str) -> String {
     format!(
@@ -183,6 +185,10 @@ material = {{ color = [0.1, 0.1, 0.9], ambient = 1.0, diffuse = 0.0 }}
 name = "green ball"
 sphere = {{ center = [-0.43973, 0.25, -2.91964], radius = 0.3 }}
 material = {{ color = [0.1, 0.9, 0.1], ambient = 1.0, diffuse = 0.0 }}
+[[objects]]
+name = "yellow ball"
+sphere = {{ center = [9.86, 0.25, -1.96], radius = 1.5 }}
+material = {{ color = [0.9, 0.9, 0.1], ambient = 1.0, diffuse = 0.0 }}
 "#
     )
 }
@@ -195,6 +201,12 @@ const SMOOTH_MIRROR: &str =
 /// The smooth facet as clear glass of index 1.5, exact Fresnel.
 const SMOOTH_GLASS: &str = "{ color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, \
                             transparency = 1.0, ior = 1.5, fresnel = \"exact\" }";
+
+/// The smooth facet as glass of index 1.02, barely denser than air: a ray
+/// leaving it at 74 degrees from the facet's normal is not totally
+/// reflected (the critical angle is 78.6 degrees).
+const THIN_SMOOTH_GLASS: &str = "{ color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, \
+                                 transparency = 1.0, ior = 1.02, fresnel = \"exact\" }";
 
 /// A grazing ray toward +x that meets the smooth facet at (0.25, 0.25, 0):
 /// its blended normal (0.6, 0, 0.8) faces away from it.
@@ -713,6 +725,45 @@ pub fn checkpoints() -> Vec<Case> {
             Shading::Dielectric,
             SMOOTH_GLASS,
             Ray::new(Vec3::new(0.25, 0.25, 0.0) - 5.0 * GRAZING_DIR, GRAZING_DIR),
+        ),
+        smooth_shade(
+            "smooth-glass-from-below",
+            "the same glass hit from below, by a ray from (0.25, 0.25, -5) straight up: the \
+             blended normal is turned toward the ray, (-0.6, 0, -0.8), the ray came from the \
+             facet's back, and the reflected share leaves along (-0.96, 0, -0.28), below the \
+             facet, toward the blue ball, while the rest bends into the glass above it",
+            Shading::Dielectric,
+            SMOOTH_GLASS,
+            Ray::new(Vec3::new(0.25, 0.25, -5.0), Vec3::Z),
+        ),
+        smooth_shade(
+            "smooth-glass-grazing-from-below-falls-back",
+            "a ray along (-0.96, 0, 0.28) from below into the facet made of glass of index \
+             1.02 (leaving it, so no total reflection at this angle): about the blended normal \
+             its mirror image would go above the facet while the refracted ray goes above \
+             too, so the facet's normal is used, turned toward the ray, (0, 0, -1), for both \
+             directions and for Fresnel's cosine (0.28): the reflected share leaves along \
+             (-0.96, 0, -0.28) toward the blue ball, the rest goes on above",
+            Shading::Dielectric,
+            THIN_SMOOTH_GLASS,
+            Ray::new(
+                Vec3::new(0.25, 0.25, 0.0) - 5.0 * Vec3::new(-0.96, 0.0, 0.28),
+                Vec3::new(-0.96, 0.0, 0.28),
+            ),
+        ),
+        smooth_shade(
+            "smooth-glass-leaving-refracts-back-falls-back",
+            "a ray along (0.98, 0, 0.2) from below, leaving the glass of index 1.5: about the \
+             blended normal, turned toward it, (-0.6, 0, -0.8), its mirror image goes back \
+             down, but the refracted ray bends back below the facet too, (0.857, 0, -0.518): \
+             it would not leave, so the facet's normal is used, (0, 0, -1); at cos 0.2 the ray \
+             is totally reflected, along (0.98, 0, -0.2), toward the yellow ball",
+            Shading::Dielectric,
+            SMOOTH_GLASS,
+            Ray::new(
+                Vec3::new(0.25, 0.25, 0.0) - 5.0 * Vec3::new(0.98, 0.0, 0.2),
+                Vec3::new(0.98, 0.0, 0.2),
+            ),
         ),
     ]
 }
