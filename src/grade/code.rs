@@ -521,7 +521,7 @@ mod tests {
     fn code_from_other_files_is_found_as_tokens() {
         let found = outside_reference;
         assert_eq!(
-            found("fn a() {}\n#[path = \"/raylab/chapters/02_sphere/chapter.rs\"]\nmod key;"),
+            found("fn a() {}\n#[path = \"/raylab/chapters/answer.rs\"]\nmod key;"),
             Some((2, "a #[path] attribute"))
         );
         assert_eq!(
@@ -556,23 +556,19 @@ mod tests {
             "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\", features = [\"student\"] }\n",
         )
         .expect("write");
-        std::fs::write(
-            workspace.join("src/chapters/ch01_plane.rs"),
-            "pub fn f() {}",
-        )
-        .expect("write");
+        std::fs::write(workspace.join("src/chapters/first.rs"), "pub fn f() {}").expect("write");
         assert_eq!(code_from_outside(workspace), None);
         std::fs::write(
-            workspace.join("src/chapters/ch02_sphere.rs"),
+            workspace.join("src/chapters/second.rs"),
             "\n\ninclude!(\"../../k.rs\");",
         )
         .expect("write");
         let found = code_from_outside(workspace).expect("found");
         assert!(
-            found.contains("ch02_sphere.rs:3 takes code from another file with an include! macro"),
+            found.contains("second.rs:3 takes code from another file with an include! macro"),
             "{found}"
         );
-        std::fs::remove_file(workspace.join("src/chapters/ch02_sphere.rs")).expect("rm");
+        std::fs::remove_file(workspace.join("src/chapters/second.rs")).expect("rm");
         std::fs::write(
             workspace.join("Cargo.toml"),
             "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\" }\nkey = { path = \"/k\" }\n",
