@@ -18,7 +18,10 @@ pub use super::cases::{
     SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
+#[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};
+#[cfg(feature = "student")]
+pub(crate) use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
 pub use crate::course::PhongTerms;
 pub use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};

@@ -30,7 +30,12 @@
 
 pub mod cases;
 pub mod catalog;
+// The f64 oracle answers every question a chapter asks: out of a student
+// workspace's reach, as the reference chapters are.
+#[cfg(not(feature = "student"))]
 pub mod exact;
+#[cfg(feature = "student")]
+pub(crate) mod exact;
 mod panics;
 pub mod sampled;
 pub mod verdict_file;
@@ -901,13 +906,18 @@ pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> Chapte
     };
     crate::answer_key::take_reported();
     let mut verdict = own_verdict::<C>(info, options, true);
-    let earlier: Vec<(u8, Status)> = CHAPTERS
+    // Before the prerequisites: an answer of an earlier chapter's, run on a
+    // thread of the student's, makes that chapter fail and this one wait.
+    let mut all: Vec<ChapterVerdict> = CHAPTERS
         .iter()
         .filter(|other| other.number < chapter)
-        .map(|other| (other.number, own_verdict::<C>(other, options, false).status))
+        .map(|other| own_verdict::<C>(other, options, false))
         .collect();
+    all.push(verdict);
+    fail_for_escaped_answers(&mut all, options);
+    verdict = all.pop().unwrap_or_else(|| unknown_chapter(chapter));
+    let earlier: Vec<(u8, Status)> = all.iter().map(|v| (v.chapter, v.status)).collect();
     apply_prerequisites(&mut verdict, &earlier);
-    fail_for_escaped_answers(std::slice::from_mut(&mut verdict), options);
     verdict
 }
 
@@ -1009,6 +1019,9 @@ pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> C
             })
             .collect()
     });
+    // Before the prerequisites, so that the chapters after one that ran
+    // raylab's answer on a thread of its own wait for it, as for any fail.
+    fail_for_escaped_answers(&mut verdicts, options);
     let statuses: Vec<(u8, Status)> = verdicts.iter().map(|v| (v.chapter, v.status)).collect();
     for verdict in &mut verdicts {
         let earlier: Vec<(u8, Status)> = statuses
@@ -1018,7 +1031,6 @@ pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> C
             .collect();
         apply_prerequisites(verdict, &earlier);
     }
-    fail_for_escaped_answers(&mut verdicts, options);
     CheckReport { verdicts }
 }
 

@@ -67,8 +67,11 @@ pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
             .map(|elapsed| elapsed.as_nanos())
             .unwrap_or_default()
     ));
+    // Removed on Ctrl-C too (crate::cleanup), not only once the check ends.
+    let registered = crate::cleanup::register(&path);
     let result = check_in_child(args, &path);
     let _ = std::fs::remove_file(&path);
+    drop(registered);
     let (report, ended) = result?;
     print!("{}", report.text(&ended));
     Ok(exit_status(report.overall()))
@@ -111,6 +114,19 @@ fn check_in_child(args: &CheckArgs, path: &Path) -> Result<(SentReport, String)>
         .arg(path);
     if let Some(chapter) = args.chapter {
         command.arg("--chapter").arg(chapter.to_string());
+    }
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: prctl is async-signal-safe and is all that runs between
+        // fork and exec. The worker dies with this process: a check killed
+        // alone (SIGTERM, SIGKILL) leaves no chapter looping on.
+        unsafe {
+            command.pre_exec(|| {
+                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+                Ok(())
+            });
+        }
     }
     let mut child = command
         .spawn()

@@ -115,10 +115,11 @@ pub fn run_check(
     if let Some(outside) = outside {
         run.status = CodeStatus::Error;
         run.chapters_passed = 0;
+        // Last: the report keeps the end of the output.
         run.stdout = format!(
-            "not counted: {outside}. A workspace's chapters are written in its chapter \
+            "{}\nnot counted: {outside}. A workspace's chapters are written in its chapter \
              files, and only those are compared with other students' and with raylab's \
-             answer key.\n{}",
+             answer key.",
             run.stdout
         );
     }
@@ -179,14 +180,25 @@ fn run_check_into(
     })
 }
 
+/// The crates a workspace may depend on: those `raylab new` writes.
+const ALLOWED_DEPENDENCIES: [&str; 2] = ["raylab", "libm"];
+
 /// Where a workspace takes code from outside its own source files, which
-/// no copy detection would see: a `#[path]` module or an `include!` (of
-/// raylab's own chapter files, say), a build script (which could write
-/// them into `src/` while it builds), or a dependency other than raylab.
-/// `None` for a workspace as `raylab new` makes it.
+/// no copy detection would see, or runs something other than its own
+/// chapters: a `#[path]` module or an `include!` (of raylab's own chapter
+/// files, say) in any of its Rust files, a symbolic link among them, a
+/// build script (which could write them into `src/` while it builds), a
+/// dependency `raylab new` does not write, a `.cargo/config.toml` (a
+/// `runner` could replace the binary), or a `src/main.rs` that is not the
+/// one `raylab new` writes. `None` for a workspace as `raylab new` makes it.
 pub fn code_from_outside(workspace: &Path) -> Option<String> {
     if workspace.join("build.rs").exists() {
         return Some("the workspace has a build script, build.rs".into());
+    }
+    for config in [".cargo/config.toml", ".cargo/config"] {
+        if workspace.join(config).exists() {
+            return Some(format!("the workspace has a {config}"));
+        }
     }
     let manifest = std::fs::read_to_string(workspace.join("Cargo.toml")).unwrap_or_default();
     if let Ok(manifest) = manifest.parse::<toml::Table>() {
@@ -197,18 +209,25 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
         {
             return Some("Cargo.toml names a build script".into());
         }
-        for table in ["dependencies", "build-dependencies", "dev-dependencies"] {
-            let names = manifest.get(table).and_then(toml::Value::as_table);
-            if let Some(other) = names.and_then(|names| names.keys().find(|name| *name != "raylab"))
-            {
-                return Some(format!(
-                    "Cargo.toml's [{table}] adds `{}`: a workspace depends on raylab alone",
-                    crate::text::terminal_safe(other)
-                ));
-            }
+        if let Some(other) = foreign_dependency(&manifest) {
+            return Some(other);
+        }
+        let package = manifest
+            .get("package")
+            .and_then(|package| package.get("name"))
+            .and_then(toml::Value::as_str)
+            .unwrap_or_default()
+            .replace('-', "_");
+        let main = std::fs::read_to_string(workspace.join("src/main.rs")).unwrap_or_default();
+        let expected = format!(
+            "fn main() {{\n    std::process::exit(raylab::cli::main_with::<{package}::{}>())\n}}\n",
+            crate::workspace::STUDENT_TYPE
+        );
+        if main.trim() != expected.trim() {
+            return Some("src/main.rs is not the one `raylab new` writes".into());
         }
     }
-    let mut folders = vec![workspace.join("src")];
+    let mut folders = vec![workspace.to_path_buf()];
     let mut files = 0;
     while let Some(folder) = folders.pop() {
         let Ok(entries) = std::fs::read_dir(&folder) else {
@@ -216,15 +235,27 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
         };
         for entry in entries.flatten() {
             let path = entry.path();
+            let shown = || {
+                crate::text::visible_name(path.strip_prefix(workspace).unwrap_or(&path).as_os_str())
+            };
             let Ok(kind) = entry.file_type() else {
                 continue;
             };
+            if kind.is_symlink() {
+                return Some(format!("{} is a symbolic link", shown()));
+            }
             if kind.is_dir() {
+                // The build's own output, and git's.
+                if folder == workspace
+                    && (entry.file_name() == "target" || entry.file_name() == ".git")
+                {
+                    continue;
+                }
                 folders.push(path);
             } else if kind.is_file() && path.extension().is_some_and(|ext| ext == "rs") {
                 files += 1;
                 if files > 1000 {
-                    return Some("src/ holds more than 1000 Rust files".into());
+                    return Some("the workspace holds more than 1000 Rust files".into());
                 }
                 let text = crate::input::read_bounded(
                     &path,
@@ -235,16 +266,46 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
                 .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
                 .unwrap_or_default();
                 if let Some((line, what)) = outside_reference(&text) {
-                    let shown = path.strip_prefix(workspace).unwrap_or(&path);
                     return Some(format!(
                         "{}:{line} takes code from another file with {what}",
-                        crate::text::visible_name(shown.as_os_str())
+                        shown()
                     ));
                 }
             }
         }
     }
     None
+}
+
+/// The first dependency of any kind (normal, build, dev, and each of them
+/// per target) that `raylab new` does not write, in words.
+fn foreign_dependency(manifest: &toml::Table) -> Option<String> {
+    let kinds = ["dependencies", "build-dependencies", "dev-dependencies"];
+    let mut tables: Vec<(String, &toml::Table)> = kinds
+        .iter()
+        .filter_map(|kind| Some((format!("[{kind}]"), manifest.get(*kind)?.as_table()?)))
+        .collect();
+    if let Some(targets) = manifest.get("target").and_then(toml::Value::as_table) {
+        for (target, table) in targets {
+            for kind in kinds {
+                if let Some(names) = table.get(kind).and_then(toml::Value::as_table) {
+                    tables.push((format!("[target.{target}.{kind}]"), names));
+                }
+            }
+        }
+    }
+    tables.into_iter().find_map(|(table, names)| {
+        names
+            .keys()
+            .find(|name| !ALLOWED_DEPENDENCIES.contains(&name.as_str()))
+            .map(|other| {
+                format!(
+                    "Cargo.toml's {} adds `{}`: a workspace depends on raylab and libm alone",
+                    crate::text::terminal_safe(&table),
+                    crate::text::terminal_safe(other)
+                )
+            })
+    })
 }
 
 /// The line and the form of the first `#[path = ...]` attribute or
@@ -546,45 +607,109 @@ mod tests {
         );
     }
 
+    /// Plants a route in a workspace (given it and one of its chapter files).
+    type Plant = fn(&Path, &Path);
+
+    /// A workspace as `raylab new` writes it takes nothing from outside;
+    /// each route planted in a copy of it is found, one at a time.
     #[test]
-    fn a_workspace_as_made_takes_no_code_from_outside_and_a_build_script_does() {
+    fn a_workspace_as_made_takes_no_code_from_outside_and_each_route_is_found() {
         let folder = tempfile::tempdir().expect("a folder");
-        let workspace = folder.path();
-        std::fs::create_dir_all(workspace.join("src/chapters")).expect("mkdir");
-        std::fs::write(
-            workspace.join("Cargo.toml"),
-            "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\", features = [\"student\"] }\n",
-        )
-        .expect("write");
-        std::fs::write(workspace.join("src/chapters/first.rs"), "pub fn f() {}").expect("write");
-        assert_eq!(code_from_outside(workspace), None);
-        std::fs::write(
-            workspace.join("src/chapters/second.rs"),
-            "\n\ninclude!(\"../../k.rs\");",
-        )
-        .expect("write");
-        let found = code_from_outside(workspace).expect("found");
-        assert!(
-            found.contains("second.rs:3 takes code from another file with an include! macro"),
-            "{found}"
-        );
-        std::fs::remove_file(workspace.join("src/chapters/second.rs")).expect("rm");
-        std::fs::write(
-            workspace.join("Cargo.toml"),
-            "[package]\nname = \"w\"\n[dependencies]\nraylab = { path = \"/r\" }\nkey = { path = \"/k\" }\n",
-        )
-        .expect("write");
-        assert!(
-            code_from_outside(workspace)
-                .expect("found")
-                .contains("adds `key`")
-        );
-        std::fs::write(workspace.join("build.rs"), "fn main() {}").expect("write");
-        assert!(
-            code_from_outside(workspace)
-                .expect("found")
-                .contains("build.rs")
-        );
+        let made = crate::workspace::files("w", Path::new("/r"), true).expect("the files");
+        let write = |workspace: &Path| {
+            for (name, text) in &made.0 {
+                let path = workspace.join(name);
+                std::fs::create_dir_all(path.parent().expect("a folder")).expect("mkdir");
+                std::fs::write(path, text).expect("write");
+            }
+        };
+        let fresh = |name: &str| {
+            let workspace = folder.path().join(name);
+            write(&workspace);
+            workspace
+        };
+        let clean = fresh("clean");
+        std::fs::create_dir_all(clean.join("target/release")).expect("mkdir");
+        std::fs::write(clean.join("target/release/x.rs"), "include!(\"y\");").expect("write");
+        assert_eq!(code_from_outside(&clean), None);
+        let chapter = |workspace: &Path| {
+            let name = made
+                .0
+                .iter()
+                .map(|(name, _)| name)
+                .find(|name| name.starts_with("src/chapters/ch"))
+                .expect("a chapter file")
+                .clone();
+            workspace.join(name)
+        };
+        let planted: [(&str, Plant, &str); 7] = [
+            (
+                "include",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    std::fs::write(file, format!("{text}\ninclude!(\"../../k.rs\");"))
+                        .expect("write");
+                },
+                "takes code from another file with an include! macro",
+            ),
+            (
+                "symlink",
+                |workspace, _| {
+                    std::os::unix::fs::symlink("/etc/hostname", workspace.join("src/key.rs"))
+                        .expect("link");
+                },
+                "src/key.rs is a symbolic link",
+            ),
+            (
+                "target-dependency",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(&path, format!("{text}\n[target.'cfg(all())'.dependencies]\nkey = {{ path = \"/k\" }}\n"))
+                        .expect("write");
+                },
+                "adds `key`",
+            ),
+            (
+                "config",
+                |workspace, _| {
+                    std::fs::create_dir_all(workspace.join(".cargo")).expect("mkdir");
+                    std::fs::write(workspace.join(".cargo/config.toml"), "").expect("write");
+                },
+                ".cargo/config.toml",
+            ),
+            (
+                "build-script",
+                |workspace, _| {
+                    std::fs::write(workspace.join("build.rs"), "fn main() {}").expect("write")
+                },
+                "build.rs",
+            ),
+            (
+                "main",
+                |workspace, _| {
+                    std::fs::write(workspace.join("src/main.rs"), "fn main() {}\n").expect("write")
+                },
+                "src/main.rs is not the one",
+            ),
+            (
+                "path-in-tests",
+                |workspace, _| {
+                    std::fs::write(
+                        workspace.join("tests/key.rs"),
+                        "#[path = \"/k.rs\"]\nmod key;",
+                    )
+                    .expect("write")
+                },
+                "tests/key.rs:1 takes code from another file with a #[path] attribute",
+            ),
+        ];
+        for (name, plant, expected) in planted {
+            let workspace = fresh(name);
+            plant(&workspace, &chapter(&workspace));
+            let found = code_from_outside(&workspace).unwrap_or_default();
+            assert!(found.contains(expected), "{name}: {found:?}");
+        }
     }
 
     #[test]

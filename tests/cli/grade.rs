@@ -866,17 +866,44 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
 /// arguments, runs `body` and exits (the real `check` prints its table and
 /// exits 0, 1 or 2).
 fn fake_workspace(class: &Path, student: &str, body: &str) -> PathBuf {
+    // Laid out as `raylab new` lays a workspace out (its main.rs, its one
+    // dependency called raylab), so that grade takes it as one; the
+    // "raylab" is a stand-in crate whose `cli::main_with` runs `body`, so
+    // that nothing of the real raylab is built.
     let folder = class.join(student);
+    let package = format!("student-{}", student.to_lowercase());
     std::fs::create_dir_all(folder.join("src")).expect("mkdir");
+    std::fs::create_dir_all(folder.join("stand-in/src")).expect("mkdir");
     std::fs::write(
         folder.join("Cargo.toml"),
         format!(
-            "[package]\nname = \"student-{}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n[workspace]\n",
-            student.to_lowercase()
+            "[package]\nname = \"{package}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n\
+             [dependencies]\nraylab = {{ path = \"stand-in\" }}\n\n[workspace]\n"
         ),
     )
     .expect("write");
-    std::fs::write(folder.join("src/main.rs"), body).expect("write");
+    std::fs::write(
+        folder.join("stand-in/Cargo.toml"),
+        "[package]\nname = \"raylab\"\nversion = \"0.1.0\"\nedition = \"2021\"\n",
+    )
+    .expect("write");
+    std::fs::write(
+        folder.join("stand-in/src/lib.rs"),
+        format!(
+            "#![allow(dead_code)]\npub mod cli {{\n    pub fn main_with<T>() -> i32 {{\n        \
+             super::main();\n        0\n    }}\n}}\n{body}"
+        ),
+    )
+    .expect("write");
+    std::fs::write(folder.join("src/lib.rs"), "pub struct Mine;\n").expect("write");
+    std::fs::write(
+        folder.join("src/main.rs"),
+        format!(
+            "fn main() {{\n    std::process::exit(raylab::cli::main_with::<{}::Mine>())\n}}\n",
+            package.replace('-', "_")
+        ),
+    )
+    .expect("write");
     folder
 }
 
