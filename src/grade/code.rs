@@ -115,13 +115,13 @@ pub fn run_check(
     if let Some(outside) = outside {
         run.status = CodeStatus::Error;
         run.chapters_passed = 0;
-        // Last: the report keeps the end of the output.
-        run.stdout = format!(
-            "{}\nnot counted: {outside}. A workspace's chapters are written in its chapter \
-             files, and only those are compared with other students' and with raylab's \
-             answer key.",
-            run.stdout
+        // Last in both outputs: the report keeps their ends, stderr's last.
+        let reason = format!(
+            "not counted: {outside}. A workspace's chapters are written in its chapter files, \
+             and only those are compared with other students' and with raylab's answer key."
         );
+        run.stdout = format!("{}\n{reason}", run.stdout);
+        run.stderr = format!("{}\n{reason}", run.stderr);
     }
     Ok(run)
 }
