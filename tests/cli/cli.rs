@@ -903,7 +903,7 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
         libc::SIGXCPU,
     ] {
         let status = 128 + signal;
-        let mut child = common::command(
+        let mut command = common::command(
             &[
                 "render",
                 "-c",
@@ -918,11 +918,24 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
                 "s.json",
             ],
             dir.path(),
-        )
-        .env("RAYLAB_TEST_PAUSE_BEFORE_RENAME", "1")
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
+        );
+        command
+            .env("RAYLAB_TEST_PAUSE_BEFORE_RENAME", "1")
+            .stderr(std::process::Stdio::piped());
+        {
+            use std::os::unix::process::CommandExt;
+            // A signal ignored by whatever started the tests (`nohup`
+            // ignores SIGHUP, a shell's background job SIGINT) stays
+            // ignored in raylab, as it should: give it the default.
+            // SAFETY: signal is async-signal-safe; nothing else runs here.
+            unsafe {
+                command.pre_exec(move || {
+                    libc::signal(signal, libc::SIG_DFL);
+                    Ok(())
+                });
+            }
+        }
+        let mut child = command.spawn().expect("spawn");
         let mut stderr_lines =
             std::io::BufReader::new(child.stderr.take().expect("stderr")).lines();
         let line = stderr_lines.next().expect("a line").expect("text");
