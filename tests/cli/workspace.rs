@@ -529,16 +529,24 @@ fn a_check_that_stalls_says_where_it_is() {
     let ws = workspaces();
     let dir = ws.root.join("loop-out");
     std::fs::create_dir_all(&dir).expect("create");
-    let mut child = Command::new(ws.target.join("debug").join("student-cheat"))
+    let mut command = Command::new(ws.target.join("debug").join("student-cheat"));
+    command
         .args(["check", "--chapter", "1"])
         .current_dir(&dir)
         .env("CHEAT_LOOP", "1")
         .env("RAYLAB_STALL_NOTICE_SECONDS", "2")
         .stderr(std::process::Stdio::piped())
         .stdout(std::process::Stdio::null())
-        .process_group(0)
-        .spawn()
-        .expect("run the student's check");
+        .process_group(0);
+    // SAFETY: signal is async-signal-safe; nothing else runs here. A SIGINT
+    // ignored by whatever started the tests would stay ignored in raylab.
+    unsafe {
+        command.pre_exec(|| {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = command.spawn().expect("run the student's check");
     let mut stderr = child.stderr.take().expect("stderr");
     let (sender, receiver) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
@@ -553,12 +561,32 @@ fn a_check_that_stalls_says_where_it_is() {
         let _ = sender.send(String::from_utf8_lossy(&seen).into_owned());
     });
     let notice = receiver.recv_timeout(std::time::Duration::from_secs(120));
-    // The check and its worker, a process group of their own.
-    // SAFETY: a plain system call on the group just made.
+    // Ctrl-C, to the check and its worker (a process group of their own);
+    // a kill if it does not end within a minute.
+    // SAFETY: plain system calls on the group just made.
+    unsafe {
+        libc::kill(-(child.id() as i32), libc::SIGINT);
+    }
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while child.try_wait().expect("wait").is_none() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
     unsafe {
         libc::kill(-(child.id() as i32), libc::SIGKILL);
     }
     let _ = child.wait();
+    // The check's verdict file, named after its process, went with it.
+    let prefix = format!("raylab-check-{}-", child.id());
+    let left: Vec<_> = std::fs::read_dir(std::env::temp_dir())
+        .expect("the temporary folder")
+        .flatten()
+        .filter(|entry| entry.file_name().to_string_lossy().starts_with(&prefix))
+        .map(|entry| entry.path())
+        .collect();
+    for path in &left {
+        let _ = std::fs::remove_file(path);
+    }
+    assert!(left.is_empty(), "left behind: {left:?}");
     let notice = notice.expect("a notice within two minutes");
     assert!(
         notice.contains(
