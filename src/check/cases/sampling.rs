@@ -89,12 +89,7 @@ impl SampleOffsetsCase {
                     expected: rule_text(*rule, *count),
                     got: format!(
                         "pixel {pixel:?}: {problem}; offsets {}",
-                        offsets
-                            .iter()
-                            .take(16)
-                            .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
-                            .collect::<Vec<_>>()
-                            .join(" ")
+                        shown_offsets(&offsets)
                     ),
                 };
             }
@@ -202,18 +197,23 @@ fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase) -> Outcome {
                     expected: rule_text(*rule, *count),
                     got: format!(
                         "pixel {pixel:?}, seed {seed}: {problem}; offsets {}",
-                        offsets
-                            .iter()
-                            .take(16)
-                            .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
-                            .collect::<Vec<_>>()
-                            .join(" ")
+                        shown_offsets(&offsets)
                     ),
                 };
             }
         }
     }
     Outcome::Pass
+}
+
+/// The first 16 offsets, as a failure quotes them.
+fn shown_offsets(offsets: &[(f32, f32)]) -> String {
+    offsets
+        .iter()
+        .take(16)
+        .map(|(x, y)| format!("({}, {})", num(*x), num(*y)))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn sample_rule(rule: SampleRule, count: u32, offsets: &[(f32, f32)]) -> Result<(), String> {
