@@ -54,6 +54,10 @@ macro_rules! for_each_chapter {
             11 ch11_bvh "11_bvh" "Bounding volume hierarchy"
                 "a tree of boxes: hits among thousands of objects in a few dozen tests"
                 |e| { e.bvh = true } [hit_box, build_bvh, nearest_hit_bvh, any_hit_bvh];
+            12 ch12_implicit "12_implicit" "Surfaces without a formula"
+                "implicit surfaces: sphere tracing, Newton's method, normals by differences"
+                |e| { e.implicit = true }
+                [sphere_trace, newton_bracketed, implicit_normal, intersect_implicit];
         }
     };
 }

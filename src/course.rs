@@ -16,11 +16,11 @@
 use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
-    ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh,
+    ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh, ch12_implicit,
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
-use crate::shapes::{Plane, Shape, Sphere, SurfacePoint, Triangle};
+use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
 use crate::{Material, Ray, Sampling, Vec3};
 
 /// Which object a ray met, and where along the ray.
@@ -301,6 +301,43 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         crate::answer_key::answered_by(Self::COMPARISON, "Chapters::any_hit_bvh");
         ch11_bvh::any_hit_bvh(bvh, objects, ray, t_min, t_max)
     }
+
+    /// Chapter 12: the nearest `t` with `t_min < t < t_max` where `ray`
+    /// comes within the march's tolerance of `surface` (sphere tracing).
+    #[inline(always)]
+    fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::sphere_trace");
+        ch12_implicit::sphere_trace(surface, ray, t_min, t_max)
+    }
+
+    /// Chapter 12: a root of `g` (value and slope) inside `bracket`, by
+    /// Newton's method kept inside the bracket by bisection.
+    #[inline(always)]
+    fn newton_bracketed(
+        g: &dyn Fn(f32) -> (f32, f32),
+        bracket: Bracket,
+        tolerance: f32,
+        max_iterations: u32,
+    ) -> f32 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::newton_bracketed");
+        ch12_implicit::newton_bracketed(g, bracket, tolerance, max_iterations)
+    }
+
+    /// Chapter 12: the unit normal of `surface` at `point`, by the
+    /// march's method.
+    #[inline(always)]
+    fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::implicit_normal");
+        ch12_implicit::implicit_normal(surface, point)
+    }
+
+    /// Chapter 12: the nearest `t` with `t_min < t < t_max` where `ray`
+    /// meets `surface`: sphere tracing, then Newton inside a bracket.
+    #[inline(always)]
+    fn intersect_implicit(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::intersect_implicit");
+        ch12_implicit::intersect_implicit::<Self>(surface, ray, t_min, t_max)
+    }
 }
 
 /// The chapters `C` with the textbook tests in place of `C`'s where asked:
@@ -369,6 +406,23 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
         C::build_bvh(bounds, options)
+    }
+    fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        C::sphere_trace(surface, ray, t_min, t_max)
+    }
+    fn newton_bracketed(
+        g: &dyn Fn(f32) -> (f32, f32),
+        bracket: Bracket,
+        tolerance: f32,
+        max_iterations: u32,
+    ) -> f32 {
+        C::newton_bracketed(g, bracket, tolerance, max_iterations)
+    }
+    fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
+        C::implicit_normal(surface, point)
+    }
+    fn intersect_implicit(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        C::intersect_implicit(surface, ray, t_min, t_max)
     }
     // The functions below take `Self`'s tracer, which `C`'s cannot accept:
     // each runs the reference code with this type, so a student's textbook
@@ -549,6 +603,19 @@ impl<'a> HitPoint<'a> {
         }
     }
 
+    /// The point with `normal` as its surface's geometric normal (chapter
+    /// 12's, for an implicit surface), turned toward the eye as
+    /// [`HitPoint::new`] turns it.
+    pub fn with_normal(mut self, normal: Vec3) -> HitPoint<'a> {
+        self.surface.normal = normal;
+        self.normal = if normal.dot(self.to_eye) >= 0.0 {
+            normal
+        } else {
+            -normal
+        };
+        self
+    }
+
     /// Whether a light at `light` can shine on the side of the surface the
     /// ray arrived on, before any shadow test: it must be in front of that
     /// side, and, seen from inside a sphere, inside the same sphere (the
@@ -598,6 +665,10 @@ impl Shape {
             Shape::Plane(plane) => C::intersect_plane(plane, ray, t_min, t_max),
             Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
             Shape::Triangle(triangle) => C::intersect_triangle(triangle, ray, t_min, t_max),
+            Shape::Implicit(surface) => {
+                crate::shapes::march_started();
+                C::intersect_implicit(surface, ray, t_min, t_max)
+            }
         }
     }
 }

@@ -138,6 +138,12 @@ pub fn scene_size(scene: &Scene) -> f32 {
                     include(corner, 0.0);
                 }
             }
+            Shape::Implicit(surface) => {
+                if let Some(bounds) = surface.bounds() {
+                    include(bounds.min, 0.0);
+                    include(bounds.max, 0.0);
+                }
+            }
         }
     }
     (high - low).max_element().max(1.0)
@@ -203,6 +209,10 @@ pub fn primitives(shapes: &[Shape], scene: &Scene) -> (Vec<Primitive>, Vec<Optio
                 (Primitive::Quad(quad.corners), Some(quad))
             }
             Shape::Triangle(triangle) => (Primitive::Triangle(triangle.corners()), None),
+            // Embree has no implicit surfaces: a triangle of NaN corners,
+            // which it skips, keeps the others' indices (`raylab
+            // crosscheck` refuses such scenes before it comes to this).
+            Shape::Implicit(_) => (Primitive::Triangle([Vec3::NAN; 3]), None),
         })
         .unzip()
 }
@@ -447,7 +457,7 @@ impl Reference<'_> {
         let rounding =
             TOLERANCE_EPSILONS * f32::EPSILON * error_scale(&self.shapes[object], ray, t);
         let quad = self.quads.get(object).copied().flatten();
-        let quad_error = match (quad, self.shapes[object]) {
+        let quad_error = match (quad, &self.shapes[object]) {
             (Some(quad), Shape::Plane(plane)) if !quad.axis_aligned => {
                 let reach = quad
                     .corners
@@ -465,10 +475,10 @@ impl Reference<'_> {
     /// The boundary case the ray is at on `object`, if any (`t` is the hit
     /// one backend reported there).
     pub fn boundary_of(&self, object: usize, ray: &Ray, t: f32) -> Option<Boundary> {
-        match self.shapes[object] {
-            Shape::Sphere(sphere) => on_silhouette(&sphere, ray).then_some(Boundary::Silhouette),
+        match &self.shapes[object] {
+            Shape::Sphere(sphere) => on_silhouette(sphere, ray).then_some(Boundary::Silhouette),
             Shape::Plane(plane) => {
-                if grazes(&plane, ray) {
+                if grazes(plane, ray) {
                     return Some(Boundary::Grazing);
                 }
                 let quad = self.quads.get(object).copied().flatten()?;
@@ -478,12 +488,13 @@ impl Reference<'_> {
                     .then_some(Boundary::BeyondQuad)
             }
             Shape::Triangle(triangle) => {
-                if grazes_triangle(&triangle, ray) {
+                if grazes_triangle(triangle, ray) {
                     Some(Boundary::Grazing)
                 } else {
-                    on_edge(&triangle, ray).then_some(Boundary::Edge)
+                    on_edge(triangle, ray).then_some(Boundary::Edge)
                 }
             }
+            Shape::Implicit(_) => None,
         }
     }
 }
@@ -546,6 +557,9 @@ pub fn error_scale(shape: &Shape, ray: &Ray, t: f32) -> f32 {
             let weights = crossing.reach * crossing.offset * spread / crossing.capped_det();
             (crossing.reach + distance) / crossing.capped_cosine() + weights
         }
+        // A march stops at its tolerance, not at a rounding: no rounding
+        // scale applies (and `raylab crosscheck` refuses implicit surfaces).
+        Shape::Implicit(_) => return f32::INFINITY,
     };
     (scale / length) as f32
 }

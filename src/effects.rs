@@ -45,6 +45,8 @@ pub struct Effects {
     /// Chapter 11: rays find their hits through a bounding volume
     /// hierarchy instead of testing every object.
     pub bvh: bool,
+    /// Chapter 12: implicit surfaces, marched by sphere tracing.
+    pub implicit: bool,
 }
 
 /// From how many objects with a box (spheres, triangles) chapter 11 builds
@@ -82,6 +84,7 @@ impl Effects {
         triangles: false,
         smooth_shading: false,
         bvh: false,
+        implicit: false,
     };
 
     /// Everything chapters `1..=chapter` teach: each chapter of the
@@ -151,6 +154,11 @@ impl Effects {
                     .filter(|shape| shape.bounds().is_some())
                     .count()
                     >= BVH_MIN_OBJECTS,
+            implicit: self.implicit
+                && scene
+                    .shapes
+                    .iter()
+                    .any(|shape| shape.as_implicit().is_some()),
             ..self
         }
     }
@@ -179,6 +187,7 @@ impl Effects {
         add(self.triangles, "triangles");
         add(self.smooth_shading, "smooth-shading");
         add(self.bvh, "bvh");
+        add(self.implicit, "implicit");
         names
     }
 }

@@ -70,6 +70,13 @@ pub struct RayCounts {
     pub self_shadowed_pixels: u64,
     /// Samples whose colour was NaN or infinite (written as black).
     pub non_finite_samples: u64,
+    /// Rays marched against an implicit surface (chapter 12): each ray
+    /// that reaches one, once per surface.
+    pub implicit_marches: u64,
+    /// Evaluations of implicit functions, for marching and normals.
+    pub implicit_evaluations: u64,
+    /// Of those, the ones spent on normals (chapter 12's differences).
+    pub normal_evaluations: u64,
 }
 
 impl RayCounts {
@@ -85,6 +92,9 @@ impl RayCounts {
         self.self_shadow_hits += other.self_shadow_hits;
         self.self_shadowed_pixels += other.self_shadowed_pixels;
         self.non_finite_samples += other.non_finite_samples;
+        self.implicit_marches += other.implicit_marches;
+        self.implicit_evaluations += other.implicit_evaluations;
+        self.normal_evaluations += other.normal_evaluations;
         self
     }
 
@@ -210,6 +220,11 @@ impl<'a, C: Chapters> Stage<'a, C> {
                 Shape::Plane(_) => effects.planes,
                 Shape::Sphere(_) => effects.spheres,
                 Shape::Triangle(_) => effects.triangles,
+                Shape::Implicit(_) => effects.implicit,
+            })
+            .map(|(shape, owner)| match shape {
+                Shape::Implicit(surface) => (surface.with_march(settings.march()).into(), *owner),
+                Shape::Plane(_) | Shape::Sphere(_) | Shape::Triangle(_) => (shape.clone(), *owner),
             })
             .unzip();
         let bvh = effects.bvh.then(|| {
@@ -284,6 +299,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             counts: RayCounts::default(),
             recorder,
             media: MediumStack::EMPTY,
+            normal_evaluations: std::cell::Cell::new(0),
         }
     }
 }
@@ -305,6 +321,9 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     /// The media the ray being traced travels through (chapter 9): empty
     /// (air) for camera rays, set by [`Tracer::trace_in`] for the others.
     media: MediumStack,
+    /// Evaluations spent on implicit normals (a cell: hit points are
+    /// made through a shared reference).
+    normal_evaluations: std::cell::Cell<u64>,
 }
 
 /// What [`Tracer::trace_in`] saw along a ray.
@@ -319,7 +338,10 @@ pub struct Traced {
 impl<'a, C: Chapters> Tracer<'a, C> {
     /// The rays cast so far, by kind.
     pub fn counts(&self) -> RayCounts {
-        self.counts
+        RayCounts {
+            normal_evaluations: self.normal_evaluations.get(),
+            ..self.counts
+        }
     }
 
     /// The objects this stage intersects.
@@ -334,11 +356,27 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         let shape = &self.stage.shapes[object];
         let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
         let point = HitPoint::new(object, shape, material, ray, t);
-        if self.stage.effects.smooth_shading {
+        if self.stage.effects.smooth_shading && shape.is_triangle() {
             self.smoothed(point, shape)
+        } else if self.stage.effects.implicit {
+            self.implicit_normal(point, shape)
         } else {
             point
         }
+    }
+
+    /// `point` with chapter 12's normal, when `shape` is an implicit
+    /// surface; its evaluations are counted apart from the march's.
+    #[inline(never)]
+    fn implicit_normal(&self, point: HitPoint<'a>, shape: &Shape) -> HitPoint<'a> {
+        let Some(surface) = shape.as_implicit() else {
+            return point;
+        };
+        let before = crate::shapes::evaluations();
+        let normal = C::implicit_normal(surface, point.surface.point);
+        self.normal_evaluations
+            .set(self.normal_evaluations.get() + crate::shapes::evaluations() - before);
+        point.with_normal(normal)
     }
 
     /// `point` on `shape` as chapter 10's smooth shading sees it, when the
@@ -439,7 +477,12 @@ impl<'a, C: Chapters> Tracer<'a, C> {
                 // flat triangle (chapter 10's terminator fix): there the
                 // triangle itself may rightly stand between the point and
                 // a light, the faceted shadow the lift trades for.
-                if blocker.object == from.object && !self.starts_off_its_surface(from.object) {
+                // An implicit surface may be anything but convex (a torus
+                // shadows its own hole), so its self-shadowing is not
+                // counted as acne either.
+                let own_shadow_possible = self.starts_off_its_surface(from.object)
+                    || self.stage.shapes[from.object].as_implicit().is_some();
+                if blocker.object == from.object && !own_shadow_possible {
                     self.counts.self_shadow_hits += 1;
                 }
                 true
@@ -665,6 +708,7 @@ pub fn render_stage<C: Chapters>(
         .enumerate()
         .map(|(y, row)| {
             let mut tracer = stage.tracer(None);
+            let (evaluations, marches) = (crate::shapes::evaluations(), crate::shapes::marches());
             let mut self_shadowed_pixels = 0;
             for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
                 let self_shadowed_before = tracer.counts.self_shadow_hits;
@@ -677,8 +721,10 @@ pub fn render_stage<C: Chapters>(
             if let Some(bar) = progress {
                 bar.inc(1);
             }
-            let mut counts = tracer.counts;
+            let mut counts = tracer.counts();
             counts.self_shadowed_pixels = self_shadowed_pixels;
+            counts.implicit_evaluations = crate::shapes::evaluations() - evaluations;
+            counts.implicit_marches = crate::shapes::marches() - marches;
             counts
         })
         .reduce(RayCounts::default, RayCounts::add);

@@ -12,7 +12,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::shapes::Triangle;
+use crate::shapes::{
+    Implicit, ImplicitError, LipschitzRule, MAX_IMPLICIT_DEPTH, MAX_MARCH_STEPS, March,
+    NormalMethod, Sdf, Triangle,
+};
 use crate::{Plane, Sphere, Vec3};
 
 /// Reading the numbers of a scene file. TOML numbers are `f64` (or `i64`);
@@ -333,6 +336,26 @@ pub struct RenderSettings {
     /// fix for the shadow terminator) or `"flat"` (from the flat triangle,
     /// to show the problem it fixes).
     pub terminator: TerminatorRule,
+    /// Chapter 12: a march stops within this fraction of the distance
+    /// travelled from an implicit surface.
+    #[serde(deserialize_with = "number::f32")]
+    pub march_tolerance: f32,
+    /// Chapter 12: evaluations a march may spend before it gives up.
+    pub march_steps: u32,
+    /// Chapter 12: over-relaxation of the march's steps, 1 to 2 (1: safe
+    /// steps only).
+    #[serde(deserialize_with = "number::f32")]
+    pub march_relaxation: f32,
+    /// Chapter 12: `"bound"` (the tree's Lipschitz bound) or `"one"`
+    /// (trust every function as a distance, to show the holes).
+    pub lipschitz: LipschitzRule,
+    /// Chapter 12: refine each march's hit by Newton's method in a bracket.
+    pub newton: bool,
+    /// Chapter 12: `"analytic"`, `"central"` or `"tetrahedron"`.
+    pub normals: NormalMethod,
+    /// Chapter 12: the step of the finite-difference normals.
+    #[serde(deserialize_with = "number::f32")]
+    pub normal_step: f32,
 }
 
 /// Where the rays that leave a smooth-shaded triangle start.
@@ -390,6 +413,13 @@ impl Default for RenderSettings {
             fixed_epsilon: 1e-4,
             triangle_test: TriangleTest::Watertight,
             terminator: TerminatorRule::Lifted,
+            march_tolerance: March::default().tolerance,
+            march_steps: March::default().max_steps,
+            march_relaxation: March::default().relaxation,
+            lipschitz: LipschitzRule::Bound,
+            newton: March::default().newton,
+            normals: NormalMethod::Analytic,
+            normal_step: March::default().normal_step,
         }
     }
 }
@@ -425,6 +455,14 @@ pub enum SettingsError {
     MinContribution { min_contribution: f32 },
     #[error("fixed_epsilon = {fixed_epsilon}: must be a finite number >= 0")]
     FixedEpsilon { fixed_epsilon: f32 },
+    #[error("march_tolerance = {0}: must be a number > 0 and at most 0.1")]
+    MarchTolerance(f32),
+    #[error("march_steps = {0}: must be between 1 and {MAX_MARCH_STEPS}")]
+    MarchSteps(u32),
+    #[error("march_relaxation = {0}: must be at least 1 and below 2")]
+    MarchRelaxation(f32),
+    #[error("normal_step = {0}: must be a number > 0 and at most 1")]
+    NormalStep(f32),
 }
 
 impl RenderSettings {
@@ -443,6 +481,13 @@ impl RenderSettings {
             triangle_test: _,
             terminator: _,
             fixed_epsilon,
+            march_tolerance,
+            march_steps,
+            march_relaxation,
+            lipschitz: _,
+            newton: _,
+            normals: _,
+            normal_step,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(SettingsError::Side { width, height });
@@ -477,7 +522,32 @@ impl RenderSettings {
         if !(fixed_epsilon >= 0.0 && fixed_epsilon.is_finite()) {
             return Err(SettingsError::FixedEpsilon { fixed_epsilon });
         }
+        if !(march_tolerance > 0.0 && march_tolerance <= 0.1) {
+            return Err(SettingsError::MarchTolerance(march_tolerance));
+        }
+        if !(1..=MAX_MARCH_STEPS).contains(&march_steps) {
+            return Err(SettingsError::MarchSteps(march_steps));
+        }
+        if !(1.0..2.0).contains(&march_relaxation) {
+            return Err(SettingsError::MarchRelaxation(march_relaxation));
+        }
+        if !(normal_step > 0.0 && normal_step <= 1.0) {
+            return Err(SettingsError::NormalStep(normal_step));
+        }
         Ok(())
+    }
+
+    /// How chapter 12 marches implicit surfaces under these settings.
+    pub fn march(&self) -> March {
+        March {
+            tolerance: self.march_tolerance,
+            max_steps: self.march_steps,
+            relaxation: self.march_relaxation,
+            lipschitz: self.lipschitz,
+            newton: self.newton,
+            normal: self.normals,
+            normal_step: self.normal_step,
+        }
     }
 
     /// The secondary-ray offset these settings ask for.
@@ -531,8 +601,212 @@ struct ObjectSpec {
     sphere: Option<SphereSpec>,
     triangle: Option<TriangleSpec>,
     mesh: Option<MeshSpec>,
+    implicit: Option<SdfSpec>,
     #[serde(default)]
     material: Material,
+}
+
+/// `implicit = { torus = { center = [..], major = .., minor = .. } }`: a
+/// node of an implicit surface's tree, by name (chapter 12).
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum SdfSpec {
+    Sphere {
+        #[serde(deserialize_with = "number::vec3")]
+        center: Vec3,
+        #[serde(deserialize_with = "number::f32")]
+        radius: f32,
+    },
+    Box {
+        #[serde(deserialize_with = "number::vec3")]
+        center: Vec3,
+        #[serde(deserialize_with = "number::vec3")]
+        half_size: Vec3,
+    },
+    RoundBox {
+        #[serde(deserialize_with = "number::vec3")]
+        center: Vec3,
+        #[serde(deserialize_with = "number::vec3")]
+        half_size: Vec3,
+        #[serde(deserialize_with = "number::f32")]
+        radius: f32,
+    },
+    Torus {
+        #[serde(deserialize_with = "number::vec3")]
+        center: Vec3,
+        #[serde(deserialize_with = "number::f32")]
+        major: f32,
+        #[serde(deserialize_with = "number::f32")]
+        minor: f32,
+    },
+    Capsule {
+        #[serde(deserialize_with = "number::vec3")]
+        a: Vec3,
+        #[serde(deserialize_with = "number::vec3")]
+        b: Vec3,
+        #[serde(deserialize_with = "number::f32")]
+        radius: f32,
+    },
+    Plane {
+        #[serde(deserialize_with = "number::vec3")]
+        point: Vec3,
+        #[serde(deserialize_with = "number::vec3")]
+        normal: Vec3,
+    },
+    Union(Vec<SdfSpec>),
+    Intersection(Vec<SdfSpec>),
+    Difference {
+        shape: Box<SdfSpec>,
+        minus: Box<SdfSpec>,
+    },
+    SmoothUnion {
+        #[serde(deserialize_with = "number::f32")]
+        blend: f32,
+        shapes: Vec<SdfSpec>,
+    },
+    Translate {
+        #[serde(deserialize_with = "number::vec3")]
+        offset: Vec3,
+        shape: Box<SdfSpec>,
+    },
+    Rotate {
+        #[serde(deserialize_with = "number::vec3")]
+        degrees: Vec3,
+        shape: Box<SdfSpec>,
+    },
+    Displace {
+        #[serde(deserialize_with = "number::f32")]
+        amplitude: f32,
+        #[serde(deserialize_with = "number::f32")]
+        frequency: f32,
+        shape: Box<SdfSpec>,
+    },
+}
+
+impl SdfSpec {
+    /// The tree, or why not. A smooth union of more than two shapes blends
+    /// them in order, pairwise.
+    fn tree(&self) -> Result<Sdf, String> {
+        let boxed = |spec: &SdfSpec| spec.tree().map(Box::new);
+        Ok(match self {
+            SdfSpec::Sphere { center, radius } => Sdf::Sphere {
+                center: *center,
+                radius: *radius,
+            },
+            SdfSpec::Box { center, half_size } => Sdf::Box {
+                center: *center,
+                half_size: *half_size,
+            },
+            SdfSpec::RoundBox {
+                center,
+                half_size,
+                radius,
+            } => Sdf::RoundBox {
+                center: *center,
+                half_size: *half_size,
+                radius: *radius,
+            },
+            SdfSpec::Torus {
+                center,
+                major,
+                minor,
+            } => Sdf::Torus {
+                center: *center,
+                major: *major,
+                minor: *minor,
+            },
+            SdfSpec::Capsule { a, b, radius } => Sdf::Capsule {
+                a: *a,
+                b: *b,
+                radius: *radius,
+            },
+            SdfSpec::Plane { point, normal } => Sdf::Plane {
+                point: *point,
+                normal: crate::unit_vector(*normal).ok_or_else(|| {
+                    format!("plane.normal = {normal}: a plane's normal must be finite and not zero")
+                })?,
+            },
+            SdfSpec::Union(shapes) => {
+                Sdf::Union(shapes.iter().map(SdfSpec::tree).collect::<Result<_, _>>()?)
+            }
+            SdfSpec::Intersection(shapes) => {
+                Sdf::Intersection(shapes.iter().map(SdfSpec::tree).collect::<Result<_, _>>()?)
+            }
+            SdfSpec::Difference { shape, minus } => Sdf::Difference(boxed(shape)?, boxed(minus)?),
+            SdfSpec::SmoothUnion { blend, shapes } => {
+                let mut trees = shapes.iter().map(SdfSpec::tree);
+                let (Some(first), Some(second)) = (trees.next(), trees.next()) else {
+                    return Err(format!(
+                        "smooth_union has {} shapes: it blends at least two",
+                        shapes.len()
+                    ));
+                };
+                let mut blended = Sdf::SmoothUnion {
+                    shapes: (Box::new(first?), Box::new(second?)),
+                    blend: *blend,
+                };
+                for next in trees {
+                    blended = Sdf::SmoothUnion {
+                        shapes: (Box::new(blended), Box::new(next?)),
+                        blend: *blend,
+                    };
+                }
+                blended
+            }
+            SdfSpec::Translate { offset, shape } => Sdf::Translate {
+                offset: *offset,
+                shape: boxed(shape)?,
+            },
+            SdfSpec::Rotate { degrees, shape } => {
+                let radians = *degrees * (std::f32::consts::PI / 180.0);
+                Sdf::Rotate {
+                    rotation: glam::Quat::from_euler(
+                        glam::EulerRot::XYZ,
+                        radians.x,
+                        radians.y,
+                        radians.z,
+                    ),
+                    shape: boxed(shape)?,
+                }
+            }
+            SdfSpec::Displace {
+                amplitude,
+                frequency,
+                shape,
+            } => Sdf::Displace {
+                amplitude: *amplitude,
+                frequency: *frequency,
+                shape: boxed(shape)?,
+            },
+        })
+    }
+
+    /// How many levels the spec has, counted without recursing deeper
+    /// than the tree may be (a hostile file's depth costs nothing).
+    fn depth_within(&self, limit: usize) -> Option<usize> {
+        if limit == 0 {
+            return None;
+        }
+        let children: Vec<&SdfSpec> = match self {
+            SdfSpec::Sphere { .. }
+            | SdfSpec::Box { .. }
+            | SdfSpec::RoundBox { .. }
+            | SdfSpec::Torus { .. }
+            | SdfSpec::Capsule { .. }
+            | SdfSpec::Plane { .. } => vec![],
+            SdfSpec::Union(shapes) | SdfSpec::Intersection(shapes) => shapes.iter().collect(),
+            SdfSpec::SmoothUnion { shapes, .. } => shapes.iter().collect(),
+            SdfSpec::Difference { shape, minus } => vec![shape, minus],
+            SdfSpec::Translate { shape, .. }
+            | SdfSpec::Rotate { shape, .. }
+            | SdfSpec::Displace { shape, .. } => vec![shape],
+        };
+        let mut deepest = 0;
+        for child in children {
+            deepest = deepest.max(child.depth_within(limit - 1)?);
+        }
+        Some(deepest + 1)
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -949,7 +1223,11 @@ impl SceneFile {
             };
             check_material(&label, &object.material)?;
             if let Some(mesh) = &object.mesh {
-                if object.plane.is_some() || object.sphere.is_some() || object.triangle.is_some() {
+                if object.plane.is_some()
+                    || object.sphere.is_some()
+                    || object.triangle.is_some()
+                    || object.implicit.is_some()
+                {
                     return Err(format!(
                         "{label}: has a `mesh` and another shape; give exactly one shape per object"
                     ));
@@ -1095,6 +1373,30 @@ fn generated_model(
 
 impl ObjectSpec {
     fn shape(&self, label: &str) -> Result<Shape, String> {
+        if let Some(spec) = &self.implicit {
+            if self.plane.is_some() || self.sphere.is_some() || self.triangle.is_some() {
+                return Err(format!(
+                    "{label}: has an `implicit` surface and another shape; give exactly one \
+                     shape per object"
+                ));
+            }
+            // Smooth unions of n shapes become n - 1 nodes, so the spec's
+            // own depth is checked before the tree is built.
+            if spec.depth_within(MAX_IMPLICIT_DEPTH).is_none() {
+                return Err(format!("{label}: implicit: {}", ImplicitError::TooDeep));
+            }
+            let tree = spec
+                .tree()
+                .map_err(|error| format!("{label}: implicit: {error}"))?;
+            if let Some(bounds) = tree.bounds() {
+                for (what, corner) in [("lowest", bounds.min), ("highest", bounds.max)] {
+                    check_coordinates(&format!("{label}: implicit ({what} corner)"), corner)?;
+                }
+            }
+            let surface =
+                Implicit::new(tree).map_err(|error| format!("{label}: implicit: {error}"))?;
+            return Ok(surface.into());
+        }
         if let Some(triangle) = &self.triangle {
             if self.plane.is_some() || self.sphere.is_some() {
                 return Err(format!(
@@ -1146,7 +1448,8 @@ impl ObjectSpec {
             (None, None) => Err(format!(
                 "{label}: has no shape; give it `plane = {{ point = [..], normal = [..] }}`, \
                  `sphere = {{ center = [..], radius = .. }}`, `triangle = {{ a = [..], b = [..], \
-                 c = [..] }}` or `mesh = {{ obj = \"file.obj\" }}`"
+                 c = [..] }}`, `mesh = {{ obj = \"file.obj\" }}` or `implicit = {{ sphere = {{ \
+                 center = [..], radius = .. }} }}`"
             )),
         }
     }

@@ -125,7 +125,7 @@ fn a_tie_goes_to_the_lower_index_as_in_chapter_3() {
     // The same sphere twice, far apart in the tree's leaves if need be.
     let ball: Shape = Sphere::new(Vec3::new(0.0, 0.0, 5.0), 1.0).into();
     let other: Shape = Sphere::new(Vec3::new(10.0, 0.0, 5.0), 1.0).into();
-    let shapes = vec![other, ball, other, ball];
+    let shapes = vec![other.clone(), ball.clone(), other, ball];
     let options = BvhOptions {
         max_leaf: 1,
         ..BvhOptions::default()

@@ -18,12 +18,17 @@ pub use super::cases::{
     SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
+pub use super::cases::{
+    ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
+    surface_of,
+};
 #[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};
 #[cfg(feature = "student")]
 pub(crate) use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
 pub use crate::course::PhongTerms;
+pub use crate::shapes::{Implicit, LipschitzRule, March, NormalMethod, Sdf};
 pub use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
 
 pub const INF: f32 = f32::INFINITY;

@@ -261,6 +261,157 @@ pub fn torus(
         .find(|&t| t > t_min && t < t_max)
 }
 
+/// The first root in `[low, high]` of the polynomial (constant first).
+pub fn polynomial_root_in(coefficients: &[f64], low: f64, high: f64) -> Option<f64> {
+    polynomial_roots(coefficients, low, high).first().copied()
+}
+
+/// The polynomial (constant first) at `x`, in `f64`.
+pub fn polynomial(coefficients: &[f64], x: f64) -> f64 {
+    evaluate(coefficients, x)
+}
+
+/// An implicit surface's function at `p`, in `f64`: the formulas of
+/// `shapes::implicit` written again, each evaluated in double precision.
+pub fn sdf_distance(tree: &crate::shapes::Sdf, p: DVec3) -> f64 {
+    use crate::shapes::Sdf;
+    let box_distance = |local: DVec3, half: DVec3| {
+        let beyond = local.abs() - half;
+        beyond.max(DVec3::ZERO).length() + beyond.max_element().min(0.0)
+    };
+    match tree {
+        Sdf::Sphere { center, radius } => (p - wide(*center)).length() - f64::from(*radius),
+        Sdf::Box { center, half_size } => box_distance(p - wide(*center), wide(*half_size)),
+        Sdf::RoundBox {
+            center,
+            half_size,
+            radius,
+        } => {
+            let radius = f64::from(*radius);
+            box_distance(p - wide(*center), wide(*half_size) - DVec3::splat(radius)) - radius
+        }
+        Sdf::Torus {
+            center,
+            major,
+            minor,
+        } => {
+            let local = p - wide(*center);
+            let from_ring = (local.x * local.x + local.z * local.z).sqrt() - f64::from(*major);
+            (from_ring * from_ring + local.y * local.y).sqrt() - f64::from(*minor)
+        }
+        Sdf::Capsule { a, b, radius } => {
+            let (a, b) = (wide(*a), wide(*b));
+            let along = b - a;
+            let share = ((p - a).dot(along) / along.length_squared()).clamp(0.0, 1.0);
+            (p - (a + along * share)).length() - f64::from(*radius)
+        }
+        Sdf::Plane { point, normal } => (p - wide(*point)).dot(wide(*normal)),
+        Sdf::Union(shapes) => shapes
+            .iter()
+            .map(|shape| sdf_distance(shape, p))
+            .fold(f64::INFINITY, f64::min),
+        Sdf::Intersection(shapes) => shapes
+            .iter()
+            .map(|shape| sdf_distance(shape, p))
+            .fold(f64::NEG_INFINITY, f64::max),
+        Sdf::Difference(kept, removed) => sdf_distance(kept, p).max(-sdf_distance(removed, p)),
+        Sdf::SmoothUnion {
+            shapes: (first, second),
+            blend,
+        } => {
+            let (a, b, k) = (
+                sdf_distance(first, p),
+                sdf_distance(second, p),
+                f64::from(*blend),
+            );
+            let h = (0.5 + 0.5 * (b - a) / k).clamp(0.0, 1.0);
+            b + (a - b) * h - k * h * (1.0 - h)
+        }
+        Sdf::Translate { offset, shape } => sdf_distance(shape, p - wide(*offset)),
+        Sdf::Rotate { rotation, shape } => sdf_distance(shape, rotation.as_dquat().inverse() * p),
+        Sdf::Displace {
+            amplitude,
+            frequency,
+            shape,
+        } => {
+            let w = f64::from(*frequency);
+            sdf_distance(shape, p)
+                + f64::from(*amplitude) * (w * p.x).sin() * (w * p.y).sin() * (w * p.z).sin()
+        }
+    }
+}
+
+/// The first `t` in `(t_min, t_max)` where the line `o + t d` reaches the
+/// surface of `tree`, whose function changes by at most `lipschitz` per
+/// unit: safe steps of `|f| / L` in `f64`, which cannot cross the surface,
+/// until `|f|` is below `1e-10` of the scene's scale (then the point is
+/// within that of the surface, before it). `None` when the line leaves
+/// `(t_min, t_max)` first, or after ten million steps (a line that runs
+/// along the surface without meeting it).
+pub fn first_crossing(
+    tree: &crate::shapes::Sdf,
+    lipschitz: f64,
+    o: DVec3,
+    d: DVec3,
+    t_min: f64,
+    t_max: f64,
+) -> Option<f64> {
+    let speed = d.length();
+    if !(speed > 0.0) || !speed.is_finite() || !o.is_finite() || !(lipschitz > 0.0) {
+        return None;
+    }
+    let scale = 1e-10 * (o.abs().max_element() + 1.0);
+    let mut t = t_min;
+    for _ in 0..10_000_000 {
+        if !(t < t_max) {
+            return None;
+        }
+        let value = sdf_distance(tree, o + t * d).abs();
+        if value < scale && t > t_min {
+            return Some(t);
+        }
+        t += (value / lipschitz).max(0.25 * scale) / speed;
+    }
+    None
+}
+
+/// The unit normal of `tree` at `p` as `method` finds it, every
+/// evaluation in `f64`: for the analytic gradient, central differences
+/// with a step far below any feature and far above `f64`'s rounding (the
+/// gradient's direction to about 1e-9); for the differences, the same
+/// formula with the same step `h` (what a correct `f32` version
+/// approximates, blur included).
+pub fn difference_normal(
+    tree: &crate::shapes::Sdf,
+    p: DVec3,
+    method: crate::shapes::NormalMethod,
+    h: f64,
+) -> DVec3 {
+    use crate::shapes::NormalMethod;
+    let f = |q: DVec3| sdf_distance(tree, q);
+    let central = |h: f64| {
+        DVec3::new(
+            f(p + h * DVec3::X) - f(p - h * DVec3::X),
+            f(p + h * DVec3::Y) - f(p - h * DVec3::Y),
+            f(p + h * DVec3::Z) - f(p - h * DVec3::Z),
+        )
+    };
+    let gradient = match method {
+        NormalMethod::Analytic => central(1e-6 * (p.abs().max_element() + 1.0)),
+        NormalMethod::Central => central(h),
+        NormalMethod::Tetrahedron => [
+            DVec3::new(1.0, -1.0, -1.0),
+            DVec3::new(-1.0, -1.0, 1.0),
+            DVec3::new(-1.0, 1.0, -1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+        ]
+        .into_iter()
+        .map(|corner| corner * f(p + h * corner))
+        .sum(),
+    };
+    gradient.normalize_or_zero()
+}
+
 /// The coefficients (constant first) of a polynomial's derivative.
 fn derivative(coefficients: &[f64]) -> Vec<f64> {
     coefficients

@@ -117,6 +117,10 @@ pub fn probe<C: Chapters>(args: &ProbeArgs) -> Result<i32> {
                 Some(t) => format!("triangle, t = {t}"),
                 None => "triangle, no hit ahead".into(),
             },
+            Shape::Implicit(_) => match shape.intersect(&ray, 0.0, f32::INFINITY) {
+                Some(t) => format!("implicit surface, t = {t} (sphere tracing, then Newton)"),
+                None => "implicit surface, no hit ahead".into(),
+            },
         };
         println!("  {object}: {name:<16} {answer}");
     }
@@ -237,6 +241,19 @@ mod with_embree {
         let (scene, chapter) = chosen_scene(args.chapter, args.scene.as_deref())?;
         let settings = args.overrides.settings_for(&scene, chapter)?;
         let stage = Stage::<C>::with_chapters(&scene, chapter, settings)?;
+        let implicit = stage
+            .shapes()
+            .iter()
+            .filter(|shape| shape.as_implicit().is_some());
+        let implicit = implicit.count();
+        if implicit > 0 {
+            anyhow::bail!(
+                "this scene has {implicit} implicit surfaces at chapter {chapter}, and Embree \
+                 has no such primitive: `raylab crosscheck` compares planes, spheres and \
+                 triangles (chapter 12's marcher is compared with the exact torus and sphere \
+                 by its tests)"
+            );
+        }
         let rays = args.overrides.in_pool(|| {
             crate::record::record_rays_within(&stage, crosscheck::MAX_RECORDED_RAYS)
         })??;

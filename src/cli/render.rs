@@ -136,6 +136,7 @@ impl SettingsOverrides {
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
             triangle_test: self.triangle_test.unwrap_or(base.triangle_test),
             terminator: self.terminator.unwrap_or(base.terminator),
+            ..base
         };
         settings
             .validate()
@@ -523,6 +524,23 @@ fn stats_text(rendered: &Rendered) -> String {
         rays.self_shadow_hits,
         rays.self_shadowed_pixels,
         rays.non_finite_samples,
+    ) + &implicit_text(rendered)
+}
+
+/// The implicit surfaces' share of the work, when the render marched any.
+fn implicit_text(rendered: &Rendered) -> String {
+    let rays = &rendered.rays;
+    if !rendered.effects.implicit {
+        return String::new();
+    }
+    let per_march = rays
+        .implicit_evaluations
+        .saturating_sub(rays.normal_evaluations) as f64
+        / rays.implicit_marches.max(1) as f64;
+    format!(
+        "implicit surfaces: {} marches, {} evaluations of their functions ({per_march:.1} a \
+         march), {} of them for normals\n",
+        rays.implicit_marches, rays.implicit_evaluations, rays.normal_evaluations
     )
 }
 
@@ -551,6 +569,11 @@ pub fn stats_json(
         "self_shadow_hits": rays.self_shadow_hits,
         "self_shadowed_pixels": rays.self_shadowed_pixels,
         "non_finite_samples": rays.non_finite_samples,
+        "implicit": {
+            "marches": rays.implicit_marches,
+            "evaluations": rays.implicit_evaluations,
+            "normal_evaluations": rays.normal_evaluations,
+        },
         "image_fnv1a64": format!("{:016x}", rendered.hash()),
     })
 }

@@ -13,8 +13,8 @@
 //! `|f(p) - f(q)| <= L |p - q|` is at most `L` times the distance to its
 //! zero set, so a step of `f(p) / L` never crosses the surface.
 
-use crate::Vec3;
 use crate::bvh::Aabb;
+use crate::{Ray, Vec3};
 
 /// The deepest tree a scene may give: deeper trees cost a call per level at
 /// every step of every ray, and nothing a scene shows needs more.
@@ -506,6 +506,269 @@ impl Sdf {
         Ok(())
     }
 }
+
+/// How a ray marches against an implicit surface: the knobs of chapter
+/// 12, set from the render settings ([`crate::scene::RenderSettings`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct March {
+    /// A point counts as on the surface when its function is below this
+    /// fraction of its distance along the ray (a cone of that half angle:
+    /// far points need no more precision than a pixel shows).
+    pub tolerance: f32,
+    /// Evaluations of the function a march may spend before it gives up.
+    pub max_steps: u32,
+    /// Each step is `relaxation` times the safe one (over-relaxation,
+    /// 1 to 2), with a fall back to safe steps once two spheres fail to
+    /// overlap.
+    pub relaxation: f32,
+    /// Whether the march divides by the tree's Lipschitz constant, or
+    /// trusts the function as a distance (`lipschitz = "one"`, to show the
+    /// holes that makes).
+    pub lipschitz: LipschitzRule,
+    /// Whether a hit is refined by Newton's method inside a bracket.
+    pub newton: bool,
+    /// How the normal is found.
+    pub normal: NormalMethod,
+    /// The step `h` of the finite differences, in the scene's units.
+    pub normal_step: f32,
+}
+
+impl Default for March {
+    fn default() -> March {
+        March {
+            tolerance: 1e-4,
+            max_steps: 256,
+            relaxation: 1.0,
+            lipschitz: LipschitzRule::Bound,
+            newton: true,
+            normal: NormalMethod::Analytic,
+            normal_step: 1e-3,
+        }
+    }
+}
+
+/// Which constant a march divides its steps by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LipschitzRule {
+    /// The tree's own bound ([`Sdf::lipschitz`]): no step crosses the surface.
+    #[default]
+    Bound,
+    /// 1, as if every function were a distance: wrong for a displacement.
+    One,
+}
+
+/// How an implicit surface's normal is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NormalMethod {
+    /// The gradient from the tree's formulas ([`Sdf::gradient`]).
+    #[default]
+    Analytic,
+    /// Central differences along each axis: 6 evaluations.
+    Central,
+    /// Differences along the four corners of a tetrahedron: 4 evaluations.
+    Tetrahedron,
+}
+
+/// An implicit surface as a scene holds it: its tree (shared, since every
+/// stage copies the scene's shapes), the facts a march needs about it, and
+/// the march's settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Implicit {
+    tree: std::sync::Arc<Sdf>,
+    lipschitz: f32,
+    bounds: Option<Aabb>,
+    exactness: Exactness,
+    march: March,
+}
+
+impl Implicit {
+    /// The surface of `tree`, once [`Sdf::check`] accepts it.
+    pub fn new(tree: Sdf) -> Result<Implicit, ImplicitError> {
+        tree.check()?;
+        Ok(Implicit {
+            lipschitz: tree.lipschitz(),
+            bounds: tree.bounds(),
+            exactness: tree.exactness(),
+            tree: std::sync::Arc::new(tree),
+            march: March::default(),
+        })
+    }
+
+    /// The same surface marched with `march`.
+    pub fn with_march(&self, march: March) -> Implicit {
+        Implicit {
+            march,
+            ..self.clone()
+        }
+    }
+
+    pub fn tree(&self) -> &Sdf {
+        &self.tree
+    }
+
+    pub fn march(&self) -> &March {
+        &self.march
+    }
+
+    /// The function at `point`. Each call is one evaluation in the stats
+    /// ([`evaluations`]).
+    #[inline]
+    pub fn distance(&self, point: Vec3) -> f32 {
+        counters::evaluated();
+        self.tree.distance(point)
+    }
+
+    /// The gradient from the tree's formulas (not counted: no evaluation
+    /// of the function).
+    pub fn gradient(&self, point: Vec3) -> Vec3 {
+        self.tree.gradient(point)
+    }
+
+    /// The constant a march divides by: the tree's bound, or 1 under
+    /// [`LipschitzRule::One`].
+    pub fn lipschitz(&self) -> f32 {
+        match self.march.lipschitz {
+            LipschitzRule::Bound => self.lipschitz,
+            LipschitzRule::One => 1.0,
+        }
+    }
+
+    /// The tree's own bound, whatever the march uses.
+    pub fn lipschitz_bound(&self) -> f32 {
+        self.lipschitz
+    }
+
+    pub fn exactness(&self) -> Exactness {
+        self.exactness
+    }
+
+    /// A box the surface lies in; `None` when no box holds it.
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.bounds
+    }
+
+    /// The part of `t_min < t < t_max` where `ray` is inside the
+    /// surface's box (all of it when there is no box), or `None` when the
+    /// ray misses the box: outside it the function is at least the
+    /// distance to the box, so a march needs only this span. The box is
+    /// padded by `8 epsilon` of its largest coordinate and the span
+    /// widened by as much of its ends, far more than the rounding of the
+    /// slab test, so no surface point is cut off.
+    pub fn span(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, f32)> {
+        let Some(bounds) = self.bounds else {
+            return Some((t_min, t_max));
+        };
+        let margin = 8.0 * f32::EPSILON;
+        let pad = margin * bounds.min.abs().max(bounds.max.abs()).max_element();
+        let (low, high) = (bounds.min - Vec3::splat(pad), bounds.max + Vec3::splat(pad));
+        let (mut enter, mut leave) = (t_min, t_max);
+        for axis in 0..3 {
+            let inverse = 1.0 / ray.dir[axis];
+            let near = (low[axis] - ray.origin[axis]) * inverse;
+            let far = (high[axis] - ray.origin[axis]) * inverse;
+            // A NaN slab (a zero direction on a slab's plane) is skipped by
+            // `max` and `min`, as chapter 11's test does.
+            enter = enter.max(near.min(far));
+            leave = leave.min(near.max(far));
+        }
+        let enter = (enter - margin * enter.abs()).max(t_min);
+        let leave = (leave + margin * leave.abs()).min(t_max);
+        (enter <= leave).then_some((enter, leave))
+    }
+}
+
+/// An interval of a ray's parameter known to hold a root of a function
+/// along it: the function's values at `low` and `high` differ in sign (or
+/// one of them is zero). Chapter 12's Newton iteration never leaves it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bracket {
+    pub low: f32,
+    pub high: f32,
+}
+
+pub use counters::{Counted, evaluations, limit_evaluations, march_started, marches};
+
+/// How many times this thread evaluated an implicit function: the stats'
+/// figure, read before and after a piece of work (a row of pixels is one
+/// thread's, so the counts never mix between threads).
+mod counters {
+    use std::cell::Cell;
+
+    thread_local! {
+        static EVALUATIONS: Cell<u64> = const { Cell::new(0) };
+        static LIMIT: Cell<u64> = const { Cell::new(u64::MAX) };
+        static MARCHES: Cell<u64> = const { Cell::new(0) };
+    }
+
+    /// Rays this thread marched against an implicit surface so far.
+    pub fn marches() -> u64 {
+        MARCHES.with(Cell::get)
+    }
+
+    /// One more ray marched (the shapes' intersection calls it).
+    #[inline]
+    pub fn march_started() {
+        MARCHES.with(|count| count.set(count.get() + 1));
+    }
+
+    /// Evaluations made on this thread so far.
+    pub fn evaluations() -> u64 {
+        EVALUATIONS.with(Cell::get)
+    }
+
+    #[inline]
+    pub(super) fn evaluated() {
+        let count = EVALUATIONS.with(|count| {
+            let next = count.get() + 1;
+            count.set(next);
+            next
+        });
+        if count > LIMIT.with(Cell::get) {
+            // A check's budget: a march that never stops must end, and the
+            // check's panic guard turns this into a verdict.
+            LIMIT.with(|limit| limit.set(u64::MAX));
+            panic!(
+                "the march did not stop: more than {} evaluations of the function in one call \
+                 (a loop needs a step budget and must stop past t_max)",
+                super::CHECK_EVALUATION_LIMIT
+            );
+        }
+    }
+
+    /// Until the guard is dropped, more than `limit` evaluations on this
+    /// thread panic (a check runs a student's march under it).
+    pub fn limit_evaluations(limit: u64) -> Counted {
+        let start = evaluations();
+        LIMIT.with(|cell| cell.set(start.saturating_add(limit)));
+        Counted { start }
+    }
+
+    /// The evaluations made since it was made; lifts the limit when dropped.
+    pub struct Counted {
+        start: u64,
+    }
+
+    impl Counted {
+        pub fn count(&self) -> u64 {
+            evaluations() - self.start
+        }
+    }
+
+    impl Drop for Counted {
+        fn drop(&mut self) {
+            LIMIT.with(|limit| limit.set(u64::MAX));
+        }
+    }
+}
+
+/// The evaluations a check lets one call make: far more than any budget
+/// a scene may set ([`MAX_MARCH_STEPS`]) times the few a normal takes.
+pub const CHECK_EVALUATION_LIMIT: u64 = 1_000_000;
+
+/// The largest step budget a scene may set.
+pub const MAX_MARCH_STEPS: u32 = 100_000;
 
 /// Quilez's exact box distance for a point `local` to the box's centre.
 fn box_distance(local: Vec3, half_size: Vec3) -> f32 {

@@ -15,7 +15,13 @@ mod plane;
 mod sphere;
 mod triangle;
 
-pub use implicit::{Exactness, ImplicitError, Sdf};
+/// The deepest tree an implicit surface may have.
+pub use implicit::MAX_DEPTH as MAX_IMPLICIT_DEPTH;
+pub use implicit::{
+    Bracket, CHECK_EVALUATION_LIMIT, Counted, Exactness, Implicit, ImplicitError, LipschitzRule,
+    MAX_MARCH_STEPS, March, NormalMethod, Sdf, evaluations, limit_evaluations, march_started,
+    marches,
+};
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -23,11 +29,14 @@ pub use triangle::Triangle;
 use crate::{Ray, Vec3, unit_vector};
 
 /// A primitive the tracer can intersect.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
     Plane(Plane),
     Sphere(Sphere),
     Triangle(Triangle),
+    /// Boxed: a surface's tree and march settings would make every shape
+    /// (a mesh's millions of triangles) as large as itself.
+    Implicit(Box<Implicit>),
 }
 
 /// How many `f32::EPSILON`s (each `2u`, `u = 2^-24`) of the coordinates
@@ -66,6 +75,7 @@ impl Shape {
                 let [a, b, c] = triangle.corners();
                 Some(crate::bvh::Aabb::new(a.min(b).min(c), a.max(b).max(c)))
             }
+            Shape::Implicit(surface) => surface.bounds(),
         }
     }
 
@@ -81,7 +91,7 @@ impl Shape {
     pub fn as_triangle(&self) -> Option<&Triangle> {
         match self {
             Shape::Triangle(triangle) => Some(triangle),
-            Shape::Plane(_) | Shape::Sphere(_) => None,
+            Shape::Plane(_) | Shape::Sphere(_) | Shape::Implicit(_) => None,
         }
     }
 
@@ -89,7 +99,15 @@ impl Shape {
     pub fn as_sphere(&self) -> Option<&Sphere> {
         match self {
             Shape::Sphere(sphere) => Some(sphere),
-            Shape::Plane(_) | Shape::Triangle(_) => None,
+            Shape::Plane(_) | Shape::Triangle(_) | Shape::Implicit(_) => None,
+        }
+    }
+
+    /// The implicit surface, when this shape is one.
+    pub fn as_implicit(&self) -> Option<&Implicit> {
+        match self {
+            Shape::Implicit(surface) => Some(surface),
+            Shape::Plane(_) | Shape::Sphere(_) | Shape::Triangle(_) => None,
         }
     }
 
@@ -106,7 +124,7 @@ impl Shape {
             Shape::Sphere(sphere) => point - sphere.center(),
             // A mesh is laid out in the scene's own coordinates, so that the
             // squares run on across its triangles.
-            Shape::Triangle(_) => point,
+            Shape::Triangle(_) | Shape::Implicit(_) => point,
         }
     }
 
@@ -159,7 +177,37 @@ impl Shape {
                     error: Vec3::splat(scale * magnitude),
                 }
             }
+            Shape::Implicit(surface) => implicit_surface_point(surface, on_ray, scale),
         }
+    }
+}
+
+/// The point of an implicit surface near `on_ray`: one Newton step in
+/// space, `p - f(p) grad f / |grad f|^2`, moves it onto the surface to
+/// first order. What is left is bounded by the function there: `|f| / L`
+/// is at most the distance to the surface only for an exact distance, so
+/// the bound takes `|f|` itself times a margin of 2 for the bounds' slack,
+/// plus the rounding of the coordinates. The normal is the tree's
+/// gradient; chapter 12 replaces it with the chosen method's.
+fn implicit_surface_point(surface: &Implicit, on_ray: Vec3, scale: f32) -> SurfacePoint {
+    let gradient = surface.gradient(on_ray);
+    let value = surface.tree().distance(on_ray);
+    let length_squared = gradient.length_squared();
+    let point = if length_squared > 0.0 && value.is_finite() {
+        on_ray - gradient * (value / length_squared)
+    } else {
+        on_ray
+    };
+    let residual = surface.tree().distance(point).abs();
+    let residual = if residual.is_finite() {
+        residual
+    } else {
+        f32::INFINITY
+    };
+    SurfacePoint {
+        point,
+        normal: unit_vector(gradient).unwrap_or(Vec3::NAN),
+        error: Vec3::splat(2.0 * residual + scale * (point.abs().max_element() + 1.0)),
     }
 }
 
@@ -178,6 +226,12 @@ impl From<Plane> for Shape {
 impl From<Triangle> for Shape {
     fn from(triangle: Triangle) -> Self {
         Shape::Triangle(triangle)
+    }
+}
+
+impl From<Implicit> for Shape {
+    fn from(surface: Implicit) -> Self {
+        Shape::Implicit(Box::new(surface))
     }
 }
 

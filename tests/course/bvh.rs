@@ -182,7 +182,7 @@ fn scene(size: f32, max_spheres: usize) -> impl Strategy<Value = Vec<Shape>> {
         .prop_map(|(mut shapes, planes, twins, at)| {
             if !shapes.is_empty() {
                 for twin in twins {
-                    let copy = shapes[twin.index(shapes.len())];
+                    let copy = shapes[twin.index(shapes.len())].clone();
                     shapes.push(copy);
                 }
             }

@@ -657,6 +657,23 @@ impl Chapters for NothingWritten {
     ) -> Option<raylab::Hit> {
         todo!()
     }
+    fn sphere_trace(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
+    fn newton_bracketed(
+        _: &dyn Fn(f32) -> (f32, f32),
+        _: raylab::shapes::Bracket,
+        _: f32,
+        _: u32,
+    ) -> f32 {
+        todo!()
+    }
+    fn implicit_normal(_: &raylab::shapes::Implicit, _: Vec3) -> Vec3 {
+        todo!()
+    }
+    fn intersect_implicit(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
 }
 
 #[test]

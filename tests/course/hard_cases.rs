@@ -175,7 +175,7 @@ fn v(x: f32, y: f32, z: f32) -> Vec3 {
 fn check_intersection(case: &Case, textbook: bool) -> Result<f64, String> {
     let shape = case.shape.shape();
     let ray = Ray::new(case.origin, case.dir);
-    let got = match (shape, textbook) {
+    let got = match (&shape, textbook) {
         (Shape::Sphere(s), true) => s.intersect_textbook(&ray, case.t_min, case.t_max),
         _ => shape.intersect(&ray, case.t_min, case.t_max),
     };

@@ -116,6 +116,7 @@ fn primitives_of(shapes: &[Shape]) -> Vec<Primitive> {
                 radius: sphere.radius(),
             },
             Shape::Plane(_) => panic!("no planes in these tests"),
+            Shape::Implicit(_) => panic!("no implicit surfaces in these tests"),
         })
         .collect()
 }

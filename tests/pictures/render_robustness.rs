@@ -97,6 +97,9 @@ impl RayLog for AcneLog<'_> {
                 ray.dir.as_dvec3().dot(outward) < 0.0
             }
             Shape::Plane(_) | Shape::Triangle(_) => false,
+            // Not convex (a torus shadows its own hole): a shadow ray may
+            // rightly meet its own surface again, so it is never counted.
+            Shape::Implicit(_) => true,
         };
         if !into_itself && shape.intersect(ray, t_min, t_max).is_some() {
             self.self_hits += 1;

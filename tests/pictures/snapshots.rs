@@ -178,6 +178,10 @@ fn chapter_10_triangles() {
 fn chapter_11_bvh() {
     check_chapter(11);
 }
+#[test]
+fn chapter_12_implicit() {
+    check_chapter(12);
+}
 
 /// Chapter 11 adds speed, not pixels: its scene drawn at chapter 10's stage
 /// (every ray tests every object) is the same image, bit for bit. Small, so

@@ -126,5 +126,74 @@ pub(super) fn shape_text(shape: &Shape) -> String {
             let [a, b, c] = triangle.corners();
             format!("triangle {} {} {}", vec(a), vec(b), vec(c))
         }
+        Shape::Implicit(surface) => format!("implicit {}", sdf_text(surface.tree())),
+    }
+}
+
+/// An implicit surface's tree as a student would write it in a scene.
+pub(super) fn sdf_text(tree: &crate::shapes::Sdf) -> String {
+    use crate::shapes::Sdf;
+    let list = |shapes: &[Sdf]| shapes.iter().map(sdf_text).collect::<Vec<_>>().join(", ");
+    match tree {
+        Sdf::Sphere { center, radius } => format!("sphere {} r {}", vec(*center), num(*radius)),
+        Sdf::Box { center, half_size } => {
+            format!("box {} half size {}", vec(*center), vec(*half_size))
+        }
+        Sdf::RoundBox {
+            center,
+            half_size,
+            radius,
+        } => format!(
+            "rounded box {} half size {} r {}",
+            vec(*center),
+            vec(*half_size),
+            num(*radius)
+        ),
+        Sdf::Torus {
+            center,
+            major,
+            minor,
+        } => format!(
+            "torus {} major {} minor {}",
+            vec(*center),
+            num(*major),
+            num(*minor)
+        ),
+        Sdf::Capsule { a, b, radius } => {
+            format!("capsule {} to {} r {}", vec(*a), vec(*b), num(*radius))
+        }
+        Sdf::Plane { point, normal } => {
+            format!("half space below {} normal {}", vec(*point), vec(*normal))
+        }
+        Sdf::Union(shapes) => format!("union [{}]", list(shapes)),
+        Sdf::Intersection(shapes) => format!("intersection [{}]", list(shapes)),
+        Sdf::Difference(kept, removed) => {
+            format!("({}) minus ({})", sdf_text(kept), sdf_text(removed))
+        }
+        Sdf::SmoothUnion {
+            shapes: (first, second),
+            blend,
+        } => format!(
+            "smooth union blend {} [{}, {}]",
+            num(*blend),
+            sdf_text(first),
+            sdf_text(second)
+        ),
+        Sdf::Translate { offset, shape } => {
+            format!("({}) moved by {}", sdf_text(shape), vec(*offset))
+        }
+        Sdf::Rotate { rotation, shape } => format!("({}) turned by {rotation}", sdf_text(shape)),
+        Sdf::Displace {
+            amplitude,
+            frequency,
+            shape,
+        } => format!(
+            "({}) displaced by {} sin({} x) sin({} y) sin({} z)",
+            sdf_text(shape),
+            num(*amplitude),
+            num(*frequency),
+            num(*frequency),
+            num(*frequency)
+        ),
     }
 }

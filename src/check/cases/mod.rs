@@ -8,6 +8,7 @@
 
 mod boxes;
 mod directions;
+mod implicit;
 mod inputs;
 mod intersections;
 mod sampling;
@@ -17,6 +18,10 @@ mod tree;
 
 pub use boxes::{BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase};
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
+pub use implicit::{
+    ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
+    surface_of,
+};
 pub use inputs::{num, num64, vec};
 pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
 pub use sampling::{PixelColorCase, SampleOffsetsCase};
@@ -145,6 +150,9 @@ pub enum CaseKind {
     BoxEdges(BoxEdgesCase),
     BvhBuild(BvhBuildCase),
     BvhHits(BvhHitsCase),
+    March(MarchCase),
+    Newton(NewtonCase),
+    ImplicitNormal(ImplicitNormalCase),
 }
 
 impl CaseKind {
@@ -174,6 +182,9 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.function(),
             CaseKind::BvhBuild(case) => case.function(),
             CaseKind::BvhHits(case) => case.function(),
+            CaseKind::March(case) => case.function(),
+            CaseKind::Newton(case) => case.function(),
+            CaseKind::ImplicitNormal(case) => case.function(),
         }
     }
 
@@ -203,6 +214,9 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.inputs(),
             CaseKind::BvhBuild(case) => case.inputs(),
             CaseKind::BvhHits(case) => case.inputs(),
+            CaseKind::March(case) => case.inputs(),
+            CaseKind::Newton(case) => case.inputs(),
+            CaseKind::ImplicitNormal(case) => case.inputs(),
         }
     }
 
@@ -233,6 +247,9 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.evaluate::<C>(robust),
             CaseKind::BvhBuild(case) => case.evaluate::<C>(robust),
             CaseKind::BvhHits(case) => case.evaluate::<C>(robust),
+            CaseKind::March(case) => case.evaluate::<C>(robust),
+            CaseKind::Newton(case) => case.evaluate::<C>(robust),
+            CaseKind::ImplicitNormal(case) => case.evaluate::<C>(robust),
         }
     }
 }

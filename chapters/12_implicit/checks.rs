@@ -1,0 +1,585 @@
+//! Chapter 12's checkpoints (level 1) and hard cases (level 2) for
+//! `raylab check --chapter 12`; the builders they share are in
+//! `raylab::check::catalog`.
+
+use crate::check::catalog::*;
+
+const TRACE_12: &str = "Sphere tracing";
+const LIPSCHITZ_12: &str = "Bounds, not distances: the Lipschitz constant";
+const RELAX_12: &str = "Longer steps: over-relaxation";
+const TOLERANCE_12: &str = "When to stop: a cone, not a distance";
+const NEWTON_12: &str = "Newton's method inside a bracket";
+const NORMALS_12: &str = "Normals from the function";
+const HARD_12: &str = "The hard cases";
+
+/// Where the image differs when every checkpoint passes: what to look at
+/// in the heatmap.
+pub const IMAGE_HINT: &str = "on the implicit surfaces: the march's step divided by the Lipschitz constant, its cone tolerance, the bracket that Newton keeps, and the normal's method and step";
+
+/// The unit sphere at the origin.
+fn unit_sphere() -> Sdf {
+    Sdf::Sphere {
+        center: Vec3::ZERO,
+        radius: 1.0,
+    }
+}
+
+/// The torus at the origin around the y axis, radii 1 and 0.25.
+fn ring() -> Sdf {
+    Sdf::Torus {
+        center: Vec3::ZERO,
+        major: 1.0,
+        minor: 0.25,
+    }
+}
+
+/// A march question on `tree` marched with `march`: the ray from
+/// `ray.0` along `ray.1`, `range.0 < t < range.1`.
+struct MarchQuestion {
+    name: &'static str,
+    section: &'static str,
+    says: &'static str,
+    marcher: Marcher,
+    tree: Sdf,
+    march: March,
+    ray: (Vec3, Vec3),
+    range: (f32, f32),
+    expect: Expect,
+    /// For a hit: how far before the root the march may stop, as a
+    /// multiple of its cone at the root (`tolerance t |d|` over the
+    /// cosine of the angle of incidence the question knows).
+    cones: f64,
+    most_evaluations: Option<u64>,
+}
+
+impl From<MarchQuestion> for Case {
+    fn from(question: MarchQuestion) -> Case {
+        let surface = surface_of(question.tree).with_march(question.march);
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        let root = exact_root(&surface, origin, dir, t_min, t_max);
+        let expect = match question.expect {
+            Expect::Hit => {
+                let root = root.unwrap_or(f64::NAN);
+                MarchExpect::Hit {
+                    root,
+                    early: question.cones * f64::from(question.march.tolerance) * root.abs()
+                        + 1e-5 * root.abs().max(1.0),
+                    late: 1e-5 * root.abs().max(1.0),
+                }
+            }
+            Expect::Miss => MarchExpect::Miss,
+            Expect::Either => MarchExpect::Either,
+        };
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::March(MarchCase {
+                marcher: question.marcher,
+                surface,
+                ray: Ray::new(origin, dir),
+                t_min,
+                t_max,
+                expect,
+                most_evaluations: question.most_evaluations,
+            }),
+        )
+    }
+}
+
+/// The exact first root: the sphere's and the torus's in closed form,
+/// any other tree's by safe steps in `f64`.
+fn exact_root(surface: &Implicit, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<f64> {
+    let (o, d, low, high) = (wide(origin), wide(dir), f64::from(t_min), f64::from(t_max));
+    match surface.tree() {
+        Sdf::Sphere { center, radius } => {
+            exact::sphere(wide(*center), f64::from(*radius), o, d, low, high)
+        }
+        Sdf::Torus {
+            center,
+            major,
+            minor,
+        } => exact::torus(
+            wide(*center),
+            f64::from(*major),
+            f64::from(*minor),
+            o,
+            d,
+            low,
+            high,
+        ),
+        tree => exact::first_crossing(tree, f64::from(surface.lipschitz_bound()), o, d, low, high),
+    }
+}
+
+fn march_with(change: impl FnOnce(&mut March)) -> March {
+    let mut march = March::default();
+    change(&mut march);
+    march
+}
+
+fn newton(
+    name: &'static str,
+    says: &'static str,
+    function: NewtonFunction,
+    bracket: (f32, f32),
+    max_iterations: u32,
+    expect: f64,
+    within: f64,
+) -> Case {
+    Case::new(
+        name,
+        NEWTON_12,
+        says,
+        CaseKind::Newton(NewtonCase {
+            function,
+            bracket,
+            tolerance: 1e-7,
+            max_iterations,
+            expect,
+            within,
+        }),
+    )
+}
+
+/// Newton's first step from `low` on `function`, or the midpoint when
+/// it leaves the bracket: the answer of one iteration, in `f64`.
+fn first_iterate(function: &NewtonFunction, (low, high): (f32, f32)) -> f64 {
+    let (low, high) = (f64::from(low), f64::from(high));
+    let (value, slope) = function.exact(low);
+    let step = low - value / slope;
+    if step >= low && step <= high {
+        step
+    } else {
+        0.5 * (low + high)
+    }
+}
+
+fn normal(
+    name: &'static str,
+    says: &'static str,
+    tree: Sdf,
+    method: NormalMethod,
+    step: f32,
+    point: Vec3,
+) -> Case {
+    let march = march_with(|march| {
+        march.normal = method;
+        march.normal_step = step;
+    });
+    Case::new(
+        name,
+        NORMALS_12,
+        says,
+        CaseKind::ImplicitNormal(ImplicitNormalCase {
+            surface: surface_of(tree).with_march(march),
+            point,
+            within: 1e-3,
+        }),
+    )
+}
+
+/// A point on [`ring`]: around the axis by `around`, around the tube by
+/// `tube` (radians).
+fn on_ring(around: f32, tube: f32) -> Vec3 {
+    let radial = Vec3::new(around.cos(), 0.0, around.sin());
+    radial * (1.0 + 0.25 * tube.cos()) + Vec3::Y * (0.25 * tube.sin())
+}
+
+/// A bumpy unit sphere whose bumps' slope makes its function change up to
+/// 3 times as fast as a distance (`L = 1 + 0.25 * 8`).
+fn bumpy() -> Sdf {
+    Sdf::Displace {
+        amplitude: 0.25,
+        frequency: 8.0,
+        shape: Box::new(unit_sphere()),
+    }
+}
+
+/// Chapter 12's checkpoint cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
+pub fn checkpoints() -> Vec<Case> {
+    let quadratic = NewtonFunction::Polynomial(vec![-2.0, 0.0, 1.0]);
+    let torus_ray = NewtonFunction::TorusAlongRay {
+        major: 1.0,
+        minor: 0.25,
+        origin: Vec3::new(-3.0, 0.0, 0.0),
+        dir: Vec3::X,
+    };
+    vec![
+        MarchQuestion {
+            name: "march-toward-a-sphere-along-its-axis",
+            section: TRACE_12,
+            says: "From (0, 0, -5) toward the unit sphere, the function is 4: one step of 4 lands on the surface at t = 4, and the second evaluation, 0, says so. Far more evaluations means the steps are not the distance.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 2.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-with-a-direction-not-unit",
+            section: TRACE_12,
+            says: "The same sphere along (0, 0, 2): t counts lengths of the direction, so the surface is at t = 2 and each step of distance r moves t by r / 2.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.0, 0.0, 2.0)),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 2.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-beside-a-sphere-misses",
+            section: TRACE_12,
+            says: "From (0, 2, -5) along +z the ray passes 1 unit above the unit sphere: no hit, and the march gives up after its 256 steps.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 2.0, -5.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Miss,
+            cones: 2.0,
+            most_evaluations: Some(300),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-stops-past-t-max",
+            section: TRACE_12,
+            says: "The unit sphere from (0, 0, -5) with t_max = 3: the first step reaches t = 4, past t_max, and the march stops there with no hit.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            range: (0.0, 3.0),
+            expect: Expect::Miss,
+            cones: 2.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-from-inside-finds-the-way-out",
+            section: TRACE_12,
+            says: "From the centre of the unit sphere the function is -1: the surface is 1 away in every direction, so the step is |f| = 1 and the exit is at t = 1.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 2.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-divides-by-the-lipschitz-constant",
+            section: LIPSCHITZ_12,
+            says: "A unit sphere with bumps of amplitude 0.25 and frequency 8 (L = 3), seen from (0.3, 0.2, -3) along (0, 0.05, 1): a step of f instead of f / L can jump past the first bump the ray meets.",
+            marcher: Marcher::SphereTrace,
+            tree: bumpy(),
+            march: March::default(),
+            ray: (Vec3::new(0.3, 0.2, -3.0), Vec3::new(0.0, 0.05, 1.0)),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 40.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-over-relaxed-steps-back",
+            section: RELAX_12,
+            says: "Relaxation 1.9 toward the unit sphere from (0, 0, -5): the first step, 1.9 x 4 = 7.6, ends inside it, where the radius 1.6 and the last one, 4, do not reach across the 7.6 travelled; go back to the safe step, t = 4, and hit there.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: march_with(|march| march.relaxation = 1.9),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 2.0,
+            most_evaluations: Some(16),
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-a-torus-through-its-tube",
+            section: NEWTON_12,
+            says: "The torus of radii 1 and 0.25 around y, from (-3, 0, 0) along +x: the ray enters the tube at x = -1.25, t = 1.75.",
+            marcher: Marcher::Intersect,
+            tree: ring(),
+            march: March::default(),
+            ray: (Vec3::new(-3.0, 0.0, 0.0), Vec3::X),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-refines-a-coarse-march",
+            section: NEWTON_12,
+            says: "With a coarse tolerance of 0.01 the march stops up to 1% short of the unit sphere, seen from (0.2, 0.3, -4) along +z; Newton in the bracket just past it pins the hit to the surface.",
+            marcher: Marcher::Intersect,
+            tree: unit_sphere(),
+            march: march_with(|march| march.tolerance = 0.01),
+            ray: (Vec3::new(0.2, 0.3, -4.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-without-newton-is-the-march",
+            section: NEWTON_12,
+            says: "The same with newton = false: the march's own answer, within its cone before the surface.",
+            marcher: Marcher::Intersect,
+            tree: unit_sphere(),
+            march: march_with(|march| {
+                march.tolerance = 0.01;
+                march.newton = false;
+            }),
+            ray: (Vec3::new(0.2, 0.3, -4.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 3.0,
+            most_evaluations: None,
+        }
+        .into(),
+        newton(
+            "newton-first-iterate-on-a-torus-ray",
+            "On the ray from (-3, 0, 0) along +x, the torus of radii 1 and 0.25 has the quartic g(t) = ((t - 3)^2 + 0.9375)^2 - 4 (t - 3)^2. One iteration from the bracket's low end t = 1.5: g = 1.16015625, g' = -7.125, so t = 1.5 + 0.16283 = 1.66283.",
+            torus_ray.clone(),
+            (1.5, 2.0),
+            1,
+            first_iterate(&torus_ray, (1.5, 2.0)),
+            1e-4,
+        ),
+        newton(
+            "newton-step-out-of-the-bracket-bisects",
+            "g(t) = t^2 - 2 in [0.1, 2]: Newton from 0.1 goes to 10.05, outside the bracket, so the step is the midpoint, 1.05.",
+            quadratic.clone(),
+            (0.1, 2.0),
+            1,
+            1.05,
+            1e-5,
+        ),
+        newton(
+            "newton-flat-slope-bisects",
+            "g(t) = t^2 - 2 in [0, 2]: the slope at 0 is 0, Newton's step is infinite, and the midpoint 1 is taken instead.",
+            quadratic.clone(),
+            (0.0, 2.0),
+            1,
+            1.0,
+            1e-5,
+        ),
+        newton(
+            "newton-doubles-its-digits",
+            "g(t) = t^2 - 2 in [1, 2]: 1.5, 1.41667, 1.414216, 1.41421356: four Newton steps reach sqrt(2) to f32's precision, where five halvings of the bracket would still be 0.03 off.",
+            quadratic.clone(),
+            (1.0, 2.0),
+            5,
+            std::f64::consts::SQRT_2,
+            1e-6,
+        ),
+        newton(
+            "newton-root-at-the-low-end",
+            "g(t) = t - 1 in [1, 3]: g is already 0 at the low end, which is the root.",
+            NewtonFunction::Polynomial(vec![-1.0, 1.0]),
+            (1.0, 3.0),
+            8,
+            1.0,
+            1e-6,
+        ),
+        normal(
+            "normal-analytic-on-a-sphere",
+            "The unit sphere at (0.6, 0.8, 0): its gradient, (0.6, 0.8, 0).",
+            unit_sphere(),
+            NormalMethod::Analytic,
+            1e-3,
+            Vec3::new(0.6, 0.8, 0.0),
+        ),
+        normal(
+            "normal-central-on-a-torus",
+            "Central differences with h = 0.001 at a point of the torus of radii 1 and 0.25, 0.7 radians around its axis and 1.1 around its tube: (f(p + h x) - f(p - h x), ...) made unit.",
+            ring(),
+            NormalMethod::Central,
+            1e-3,
+            on_ring(0.7, 1.1),
+        ),
+        normal(
+            "normal-tetrahedron-on-a-torus",
+            "The same point by the tetrahedron's 4 evaluations: the sum of k f(p + h k) over its corners k = (1, -1, -1), (-1, -1, 1), (-1, 1, -1), (1, 1, 1), made unit.",
+            ring(),
+            NormalMethod::Tetrahedron,
+            1e-3,
+            on_ring(0.7, 1.1),
+        ),
+        normal(
+            "normal-central-with-a-wide-step",
+            "Central differences with h = 0.1 on the box of half size 1, at (1, 0.95, 0), 0.05 from an edge: the step reaches past the edge, and the answer is the blurred normal that h gives, not the face's.",
+            Sdf::Box {
+                center: Vec3::ZERO,
+                half_size: Vec3::ONE,
+            },
+            NormalMethod::Central,
+            0.1,
+            Vec3::new(1.0, 0.95, 0.0),
+        ),
+    ]
+}
+
+/// Chapter 12's hard cases.
+///
+/// A list of cases that reads as data, one entry per case: kept whole,
+/// however long.
+pub fn robustness() -> Vec<Case> {
+    let torus_ray = NewtonFunction::TorusAlongRay {
+        major: 1.0,
+        minor: 0.25,
+        origin: Vec3::new(-3.0, 0.0, 0.0),
+        dir: Vec3::X,
+    };
+    robust(vec![
+        MarchQuestion {
+            name: "intersect-far-small-sphere",
+            section: TOLERANCE_12,
+            says: "A sphere of radius 0.5 at (0.3, 0, 10000), from the origin along +z: at 10,000 units f32 spaces points 0.001 apart, so an absolute tolerance of 0.0001 is never met; the cone's, 1 unit there, is.",
+            marcher: Marcher::Intersect,
+            tree: Sdf::Sphere {
+                center: Vec3::new(0.3, 0.0, 10000.0),
+                radius: 0.5,
+            },
+            march: March::default(),
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-a-thin-shell",
+            section: HARD_12,
+            says: "A shell 0.002 thick (the unit sphere less the sphere of radius 0.998), from (0.1, 0.1, -5) along +z: stepping by a fixed 0.01 could jump over it; steps by the function never do.",
+            marcher: Marcher::Intersect,
+            tree: Sdf::Difference(
+                Box::new(unit_sphere()),
+                Box::new(Sdf::Sphere {
+                    center: Vec3::ZERO,
+                    radius: 0.998,
+                }),
+            ),
+            march: March::default(),
+            ray: (Vec3::new(0.1, 0.1, -5.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-from-inside-the-tube",
+            section: HARD_12,
+            says: "From (1, 0, 0), on the circle at the heart of the torus's tube, along +x: the exit is 0.25 away.",
+            marcher: Marcher::Intersect,
+            tree: ring(),
+            march: March::default(),
+            ray: (Vec3::X, Vec3::X),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-tangent-to-the-torus",
+            section: HARD_12,
+            says: "From (-3, 0.25, 0) along +x the ray touches the top of the tube at x = -1 and x = 1: rounding decides, but a hit must be on the surface.",
+            marcher: Marcher::Intersect,
+            tree: ring(),
+            march: March::default(),
+            ray: (Vec3::new(-3.0, 0.25, 0.0), Vec3::X),
+            range: (0.0, INF),
+            expect: Expect::Either,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-grazing-a-silhouette",
+            section: HARD_12,
+            says: "From (0, 0.99999, -5) along +z, a hundred-thousandth inside the unit sphere's outline: the steps shrink as the ray skims the surface, and the march must still end (a hit on the surface, or the step budget's miss).",
+            marcher: Marcher::Intersect,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.99999, -5.0), Vec3::Z),
+            range: (0.0, INF),
+            expect: Expect::Either,
+            cones: 0.0,
+            most_evaluations: Some(400),
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-nan-direction",
+            section: HARD_12,
+            says: "A direction with a NaN: the function is NaN at once, no comparison holds, and the march must stop with no hit rather than spend its budget.",
+            marcher: Marcher::Intersect,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::new(f32::NAN, 0.0, 1.0)),
+            range: (0.0, INF),
+            expect: Expect::Miss,
+            cones: 0.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-zero-direction",
+            section: HARD_12,
+            says: "A zero direction goes nowhere: no hit, at once.",
+            marcher: Marcher::Intersect,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO),
+            range: (0.0, INF),
+            expect: Expect::Miss,
+            cones: 0.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-parallel-to-a-plane-ends",
+            section: HARD_12,
+            says: "Along a half space's surface, 1 above it: the function stays 1 and t grows by 1 a step; with t_max = inf only the step budget stops the march.",
+            marcher: Marcher::SphereTrace,
+            tree: Sdf::Plane {
+                point: Vec3::ZERO,
+                normal: Vec3::Y,
+            },
+            march: March::default(),
+            ray: (Vec3::Y, Vec3::X),
+            range: (0.0, INF),
+            expect: Expect::Miss,
+            cones: 0.0,
+            most_evaluations: Some(300),
+        }
+        .into(),
+        newton(
+            "newton-stays-in-its-bracket-on-the-torus",
+            "The torus ray from (-3, 0, 0) along +x, bracket [2, 2.3] around the root t = 2.25 where it leaves the tube: at t = 2 the slope is small, and a free Newton step jumps to t = 2.98, toward another root; the bracket keeps the iteration on t = 2.25.",
+            torus_ray,
+            (2.0, 2.3),
+            16,
+            2.25,
+            1e-5,
+        ),
+    ])
+}
