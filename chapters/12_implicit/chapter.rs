@@ -152,7 +152,7 @@ pub fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
 /// closes the bracket, and Newton, with `g' = grad f . d`, finds the root
 /// to a few units in the last place of `t`. If `|g|` grows instead, the
 /// ray skims the surface without crossing it (a silhouette): the march's
-/// answer stands, as it does after [`BRACKET_STEPS`] steps (a ray that
+/// answer stands, as it does after `BRACKET_STEPS` steps (a ray that
 /// grazes at a shallower angle than that many cone widths reach).
 pub fn intersect_implicit<C: Chapters>(
     surface: &Implicit,

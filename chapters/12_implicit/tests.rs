@@ -217,3 +217,7 @@ fn the_normal_methods_agree_on_a_smooth_surface() {
         assert!((found - point).length() < 1e-3, "{normal:?}: {found}");
     }
 }
+
+// The bug gallery and the accepted alternatives of this chapter.
+#[path = "gallery.rs"]
+mod gallery;
