@@ -250,8 +250,8 @@ mod with_embree {
             anyhow::bail!(
                 "this scene has {implicit} implicit surfaces at chapter {chapter}, and Embree \
                  has no such primitive: `raylab crosscheck` compares planes, spheres and \
-                 triangles (chapter 12's marcher is compared with the exact torus and sphere \
-                 by its tests)"
+                 triangles (chapter 12's marcher is compared with the exact torus and sphere, \
+                 and with their tessellations in Embree, by raylab's tests)"
             );
         }
         let rays = args.overrides.in_pool(|| {

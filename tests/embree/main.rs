@@ -4,4 +4,5 @@
 #![cfg(feature = "embree")]
 
 mod embree;
+mod embree_implicit;
 mod embree_triangles;
