@@ -41,10 +41,17 @@ pub enum Knob {
     /// and trace time against triangles, split rule, leaf size, and from
     /// how many objects a tree pays (chapter 11).
     Bvh,
+    /// The march of implicit surfaces: hit tolerance, step budget,
+    /// over-relaxation, the Lipschitz factor and Newton's refinement
+    /// (chapter 12).
+    March,
+    /// How implicit surfaces' normals are found: analytic, central
+    /// differences and the tetrahedron, at several steps (chapter 12).
+    Normals,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 7] = [
+    pub const ALL: [Knob; 9] = [
         Knob::Samples,
         Knob::Depth,
         Knob::Offset,
@@ -52,6 +59,8 @@ impl Knob {
         Knob::Fresnel,
         Knob::TriangleTest,
         Knob::Bvh,
+        Knob::March,
+        Knob::Normals,
     ];
 
     /// The chapter that introduces this knob.
@@ -64,6 +73,7 @@ impl Knob {
             Knob::Fresnel => 9,
             Knob::TriangleTest => 10,
             Knob::Bvh => 11,
+            Knob::March | Knob::Normals => 12,
         }
     }
 
@@ -77,6 +87,8 @@ impl Knob {
             Knob::Fresnel => "fresnel",
             Knob::TriangleTest => "triangle-test",
             Knob::Bvh => "bvh",
+            Knob::March => "march",
+            Knob::Normals => "normals",
         }
     }
 
@@ -143,6 +155,12 @@ pub fn reference_settings(base: &RenderSettings) -> RenderSettings {
         ray_offset: OffsetRule::Scaled,
         sphere_formula: SphereFormula::Stable,
         triangle_test: TriangleTest::Watertight,
+        march_tolerance: REFERENCE_MARCH_TOLERANCE,
+        march_steps: REFERENCE_MARCH_STEPS,
+        march_relaxation: 1.0,
+        lipschitz: crate::shapes::LipschitzRule::Bound,
+        newton: true,
+        normals: crate::shapes::NormalMethod::Analytic,
         ..*base
     }
 }
@@ -365,6 +383,97 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
             }
             // Measured by `crate::bvh_reports::cost`, not by rendering.
             Knob::Bvh => {}
+            Knob::March => jobs.extend(march_jobs(base)),
+            Knob::Normals => jobs.extend(normal_jobs(base)),
+        }
+    }
+    jobs
+}
+
+/// Hit tolerances swept by [`Knob::March`], coarsest first.
+pub const MARCH_TOLERANCES: [f32; 4] = [1e-2, 1e-3, 1e-4, 1e-5];
+/// Step budgets swept by [`Knob::March`].
+pub const MARCH_STEPS: [u32; 4] = [16, 64, 256, 1024];
+/// Over-relaxation factors swept by [`Knob::March`] (Keinert et al. 2014).
+pub const RELAXATIONS: [f32; 4] = [1.0, 1.3, 1.6, 1.9];
+/// Finite-difference steps swept by [`Knob::Normals`].
+pub const NORMAL_STEPS: [f32; 4] = [1e-1, 1e-3, 1e-5, 1e-7];
+/// The reference's march: a tolerance and a budget far beyond the sweep's,
+/// safe steps, Newton, the analytic normal.
+pub const REFERENCE_MARCH_TOLERANCE: f32 = 1e-6;
+pub const REFERENCE_MARCH_STEPS: u32 = 4096;
+
+/// The march knob's renders: each tolerance (Newton off, to show the
+/// march's own error), each step budget, each relaxation, the step without
+/// the Lipschitz factor, and Newton on against off.
+fn march_jobs(base: RenderSettings) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for march_tolerance in MARCH_TOLERANCES {
+        let settings = RenderSettings {
+            march_tolerance,
+            newton: false,
+            ..base
+        };
+        let label = format!("tolerance {march_tolerance:e}, no newton");
+        jobs.push(Job::new(Knob::March, label, settings));
+    }
+    for march_steps in MARCH_STEPS {
+        let settings = RenderSettings {
+            march_steps,
+            ..base
+        };
+        jobs.push(Job::new(
+            Knob::March,
+            format!("{march_steps} steps"),
+            settings,
+        ));
+    }
+    for march_relaxation in RELAXATIONS {
+        let settings = RenderSettings {
+            march_relaxation,
+            ..base
+        };
+        let label = format!("relaxation {march_relaxation}");
+        jobs.push(Job::new(Knob::March, label, settings));
+    }
+    let settings = RenderSettings {
+        lipschitz: crate::shapes::LipschitzRule::One,
+        ..base
+    };
+    jobs.push(Job::new(
+        Knob::March,
+        "lipschitz one (unsafe)".into(),
+        settings,
+    ));
+    for newton in [false, true] {
+        let settings = RenderSettings { newton, ..base };
+        let label = if newton { "newton" } else { "no newton" };
+        jobs.push(Job::new(Knob::March, label.into(), settings));
+    }
+    jobs
+}
+
+/// The normals knob's renders: the analytic gradient, then each difference
+/// at each step.
+fn normal_jobs(base: RenderSettings) -> Vec<Job> {
+    use crate::shapes::NormalMethod;
+    let analytic = RenderSettings {
+        normals: NormalMethod::Analytic,
+        ..base
+    };
+    let mut jobs = vec![Job::new(Knob::Normals, "analytic".into(), analytic)];
+    for (normals, name) in [
+        (NormalMethod::Central, "central"),
+        (NormalMethod::Tetrahedron, "tetrahedron"),
+    ] {
+        for normal_step in NORMAL_STEPS {
+            let settings = RenderSettings {
+                normals,
+                normal_step,
+                ..base
+            };
+            let label = format!("{name}, h = {normal_step:e}");
+            jobs.push(Job::new(Knob::Normals, label, settings));
         }
     }
     jobs
@@ -438,7 +547,12 @@ fn offset_jobs(base: RenderSettings) -> Vec<Job> {
 
 /// How many renders [`run`] makes: for a progress bar.
 pub fn render_count(config: &CostConfig) -> u64 {
-    let references = 1 + u64::from(config.knobs.contains(&Knob::SphereFormula));
+    let implicit_knobs = config
+        .knobs
+        .iter()
+        .any(|knob| matches!(knob, Knob::March | Knob::Normals));
+    let references =
+        1 + u64::from(config.knobs.contains(&Knob::SphereFormula)) + u64::from(implicit_knobs);
     references + jobs(config).len() as u64 * u64::from(config.repeats.max(1))
 }
 
@@ -466,12 +580,49 @@ pub fn run<C: crate::Chapters>(
         references.push((true, render(&scenes.far_sphere, &reference_settings)?));
     }
     let mut rows = reference_rows(&references, reference_settings)?;
+    // The march's and the normals' error is their own, not the
+    // anti-aliasing's: their reference is the scene's own samples and
+    // depth with the reference's march.
+    let implicit_knobs = config
+        .knobs
+        .iter()
+        .any(|knob| matches!(knob, Knob::March | Knob::Normals));
+    let march_reference = if implicit_knobs {
+        let settings = RenderSettings {
+            march_tolerance: REFERENCE_MARCH_TOLERANCE,
+            march_steps: REFERENCE_MARCH_STEPS,
+            ..reference_settings
+        };
+        let settings = RenderSettings {
+            samples: config.base.samples,
+            sampling: config.base.sampling,
+            max_depth: config.base.max_depth,
+            min_contribution: config.base.min_contribution,
+            ..settings
+        };
+        let rendered = render(&scenes.reference, &settings)?;
+        let mut row = measured(
+            None,
+            "reference, march (the scene's samples)".into(),
+            settings,
+            false,
+            vec![rendered.clone()],
+        );
+        row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
+        rows.push(row);
+        Some(rendered)
+    } else {
+        None
+    };
     let jobs = jobs(config);
     let runs = render_repeats(&jobs, repeats, |job| {
         render(scenes.of(job, config), &job.settings)
     })?;
     for (job, job_runs) in jobs.into_iter().zip(runs) {
-        let reference = reference_of(&references, job.far_sphere);
+        let reference = match (&march_reference, job.knob) {
+            (Some(march), Some(Knob::March | Knob::Normals)) => march,
+            _ => reference_of(&references, job.far_sphere),
+        };
         let error = ImageError::between(&job_runs[0].rgb, &reference.rgb)?;
         let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
         row.error = error;
@@ -1089,6 +1240,55 @@ mod tests {
             .to_string();
         assert!(message.contains("6 bytes"), "{message}");
         assert!(message.contains("same size"), "{message}");
+    }
+
+    /// The march's knobs against their own reference (the scene's samples,
+    /// a tight march): a finer tolerance and a larger budget are never
+    /// worse, and the step without the Lipschitz factor is worse than the
+    /// safe one. Errors are deterministic; times are not compared.
+    #[test]
+    fn the_march_knobs_trade_error_as_the_lesson_says() {
+        let scene = crate::builtin::scene(12).expect("the built-in scene");
+        let base = RenderSettings {
+            width: 80,
+            height: 60,
+            ..scene.render
+        };
+        let config = CostConfig {
+            chapter: 12,
+            scene,
+            scene_name: "built-in scene".into(),
+            base,
+            knobs: vec![Knob::March],
+            repeats: 1,
+        };
+        let report = run::<crate::Reference>(&config, None).expect("the sweep runs");
+        let rmse = |label: &str| {
+            report
+                .rows
+                .iter()
+                .find(|row| row.label == label)
+                .map(|row| row.error.rmse)
+                .unwrap_or_else(|| panic!("no row {label}"))
+        };
+        let tolerances: Vec<f64> = MARCH_TOLERANCES
+            .iter()
+            .map(|tolerance| rmse(&format!("tolerance {tolerance:e}, no newton")))
+            .collect();
+        assert!(
+            tolerances.windows(2).all(|pair| pair[1] <= pair[0]),
+            "{tolerances:?}"
+        );
+        let budgets: Vec<f64> = MARCH_STEPS
+            .iter()
+            .map(|steps| rmse(&format!("{steps} steps")))
+            .collect();
+        assert!(
+            budgets.windows(2).all(|pair| pair[1] <= pair[0]),
+            "{budgets:?}"
+        );
+        assert!(rmse("lipschitz one (unsafe)") > 2.0 * rmse("relaxation 1"));
+        assert!(rmse("newton") <= rmse("no newton"));
     }
 
     #[test]

@@ -23,7 +23,8 @@ pub struct CostArgs {
     /// the secondary-ray offset, 6 the reflection depth, 7 the samples, 9
     /// the Fresnel model, 10 the triangle test (and counts the rays that
     /// leak through a closed mesh), 11 the BVH report (build and trace
-    /// time against triangles, split rule, leaf size, loop or tree).
+    /// time against triangles, split rule, leaf size, loop or tree), 12
+    /// the march of implicit surfaces and their normals.
     #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.

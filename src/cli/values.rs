@@ -59,6 +59,8 @@ words!(Knob {
     Fresnel = "fresnel": "Fresnel on every transparent material: none (chapter 8's constants), Schlick, exact (chapter 9)",
     TriangleTest = "triangle-test": "Moller-Trumbore against the watertight triangle test (chapter 10)",
     Bvh = "bvh": "Not an image knob (the tree changes no pixel): the BVH report, build and trace time against triangles, split rule, leaf size, and from how many objects a tree pays (chapter 11)",
+    March = "march": "The march of implicit surfaces: hit tolerance, step budget, over-relaxation, the Lipschitz factor, Newton (chapter 12)",
+    Normals = "normals": "Implicit surfaces' normals: analytic, central differences and the tetrahedron at steps 1e-1 to 1e-7 (chapter 12)",
 });
 
 #[cfg(test)]
