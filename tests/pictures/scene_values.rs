@@ -238,3 +238,64 @@ fn an_empty_obj_path_is_named_as_such() {
     let message = refused(&text);
     assert_names(&message, &["object 2 (\"model\")", "mesh.obj is empty"]);
 }
+
+/// An implicit surface's tree (chapter 12): a misspelt node, a missing or
+/// extra field, a negative radius, a smooth union of one shape, a tree too
+/// deep and a march setting out of range are each refused, naming the
+/// object, the field and the problem; a valid tree loads and renders.
+#[test]
+fn implicit_trees_are_refused_with_the_node_and_the_field_named() {
+    let with = |object: &str| format!("{}\n[[objects]]\n{object}\n", scene(CAMERA, LIGHT));
+    let sphere = "{ sphere = { center = [0, 1, 0], radius = 1 } }";
+    for (object, needles) in [
+        (
+            "implicit = { sphre = { center = [0, 1, 0], radius = 1 } }".to_string(),
+            &["objects[1].implicit", "unknown variant `sphre`", "`sphere`"][..],
+        ),
+        (
+            "implicit = { sphere = { center = [0, 1, 0] } }".into(),
+            &["objects[1].implicit.sphere", "missing field `radius`"],
+        ),
+        (
+            "implicit = { torus = { center = [0, 1, 0], major = 1, minor = 0.2, tube = 3 } }"
+                .into(),
+            &["objects[1].implicit.torus", "tube"],
+        ),
+        (
+            "implicit = { sphere = { center = [0, 1, 0], radius = -1 } }".into(),
+            &["object 2", "a sphere's radius", "-1"],
+        ),
+        (
+            format!("implicit = {{ smooth_union = {{ blend = 0.1, shapes = [ {sphere} ] }} }}"),
+            &["object 2", "smooth_union has 1 shapes"],
+        ),
+        (
+            format!(
+                "implicit = {}{sphere}{}",
+                "{ translate = { offset = [0, 0, 0], shape = ".repeat(20),
+                " } }".repeat(20)
+            ),
+            &["object 2", "deeper than 16 levels"],
+        ),
+    ] {
+        assert_names(&refused(&with(&object)), needles);
+    }
+    let bad_march = with(&format!("implicit = {sphere}"))
+        .replace("[camera]", "[render]\nmarch_relaxation = 2.5\n\n[camera]");
+    assert_names(&refused(&bad_march), &["march_relaxation = 2.5", "below 2"]);
+    let good = with(&format!("implicit = {sphere}"));
+    let loaded = Scene::parse(&good, "test scene").expect("a valid tree");
+    let settings = RenderSettings {
+        width: 8,
+        height: 6,
+        ..loaded.render
+    };
+    let rendered = raylab::render(&loaded, 12, &settings, None).expect("renders");
+    assert!(rendered.effects.implicit && rendered.rays.implicit_marches > 0);
+    let before = raylab::render(&loaded, 11, &settings, None).expect("renders");
+    assert!(!before.effects.implicit && before.rays.implicit_marches == 0);
+    // Chapter 12 on a scene with no implicit surface marches nothing.
+    let plain = Scene::parse(&scene(CAMERA, LIGHT), "test scene").expect("valid");
+    let rendered = raylab::render(&plain, 12, &settings, None).expect("renders");
+    assert!(!rendered.effects.implicit && rendered.rays.implicit_evaluations == 0);
+}
