@@ -107,12 +107,14 @@ pub fn newton_bracketed(
 /// evaluations), or the four corners of a tetrahedron (4).
 ///
 /// A central difference `(f(p + h x) - f(p - h x)) / 2h` has an error of
-/// order `h^2` from the curvature, and a rounding error of order
-/// `epsilon |f| / h` from subtracting two nearly equal values: too large an
-/// `h` blurs detail, too small a one is noise. Only the direction matters,
-/// so the common factor `1 / 2h` is left out. The tetrahedron's corners
-/// `k` sum to zero and `sum k k^T = 4 I`, so `sum k f(p + h k)` is `4 h`
-/// times the gradient plus the same order of error, with 4 evaluations.
+/// order `h^2` from the third derivatives, and a rounding error of order
+/// `epsilon |p| / h` from subtracting two nearly equal values (each
+/// computed to about `epsilon |p|`): too large an `h` blurs detail, too
+/// small a one is noise. Only the direction matters, so the common factor
+/// `1 / 2h` is left out. The tetrahedron's corners `k` sum to zero and
+/// `sum k k^T = 4 I`, so `sum k f(p + h k)` is `4 h` times the gradient,
+/// with 4 evaluations; their third moment does not vanish, so its error is
+/// of order `h` times the curvature, one order worse.
 pub fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
     let h = surface.march().normal_step;
     let gradient = match surface.march().normal {
