@@ -1308,7 +1308,8 @@ mod tests {
         assert_eq!(Knob::of_chapter(8), Knob::ALL[..4].to_vec());
         assert_eq!(Knob::of_chapter(9), Knob::ALL[..5].to_vec());
         assert_eq!(Knob::of_chapter(10), Knob::ALL[..6].to_vec());
-        assert_eq!(Knob::of_chapter(11), Knob::ALL.to_vec());
+        assert_eq!(Knob::of_chapter(11), Knob::ALL[..7].to_vec());
+        assert_eq!(Knob::of_chapter(12), Knob::ALL.to_vec());
     }
 
     #[test]
