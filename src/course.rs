@@ -666,8 +666,10 @@ impl Shape {
             Shape::Sphere(sphere) => C::intersect_sphere(sphere, ray, t_min, t_max),
             Shape::Triangle(triangle) => C::intersect_triangle(triangle, ray, t_min, t_max),
             Shape::Implicit(surface) => {
-                crate::shapes::march_started();
-                C::intersect_implicit(surface, ray, t_min, t_max)
+                let before = crate::shapes::evaluations();
+                let hit = C::intersect_implicit(surface, ray, t_min, t_max);
+                crate::shapes::march_ended(crate::shapes::evaluations() - before);
+                hit
             }
         }
     }

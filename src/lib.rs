@@ -52,6 +52,7 @@ pub mod effects;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod grade;
+pub mod implicit_probe;
 pub mod input;
 pub mod medium;
 pub mod mesh;

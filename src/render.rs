@@ -70,9 +70,9 @@ pub struct RayCounts {
     pub self_shadowed_pixels: u64,
     /// Samples whose colour was NaN or infinite (written as black).
     pub non_finite_samples: u64,
-    /// Rays marched against an implicit surface (chapter 12): each ray
-    /// that reaches one, once per surface.
-    pub implicit_marches: u64,
+    /// Rays marched against an implicit surface (chapter 12), once per
+    /// ray and surface, by the evaluations each march made.
+    pub march_histogram: crate::shapes::MarchHistogram,
     /// Evaluations of implicit functions, for marching and normals.
     pub implicit_evaluations: u64,
     /// Of those, the ones spent on normals (chapter 12's differences).
@@ -84,6 +84,11 @@ impl RayCounts {
         self.primary + self.shadow + self.reflection + self.refraction
     }
 
+    /// Rays marched against an implicit surface, once per ray and surface.
+    pub fn implicit_marches(&self) -> u64 {
+        self.march_histogram.marches()
+    }
+
     fn add(mut self, other: RayCounts) -> RayCounts {
         self.primary += other.primary;
         self.shadow += other.shadow;
@@ -92,7 +97,7 @@ impl RayCounts {
         self.self_shadow_hits += other.self_shadow_hits;
         self.self_shadowed_pixels += other.self_shadowed_pixels;
         self.non_finite_samples += other.non_finite_samples;
-        self.implicit_marches += other.implicit_marches;
+        self.march_histogram = self.march_histogram.add(&other.march_histogram);
         self.implicit_evaluations += other.implicit_evaluations;
         self.normal_evaluations += other.normal_evaluations;
         self
@@ -708,7 +713,10 @@ pub fn render_stage<C: Chapters>(
         .enumerate()
         .map(|(y, row)| {
             let mut tracer = stage.tracer(None);
-            let (evaluations, marches) = (crate::shapes::evaluations(), crate::shapes::marches());
+            let (evaluations, marches) = (
+                crate::shapes::evaluations(),
+                crate::shapes::march_histogram(),
+            );
             let mut self_shadowed_pixels = 0;
             for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
                 let self_shadowed_before = tracer.counts.self_shadow_hits;
@@ -724,7 +732,7 @@ pub fn render_stage<C: Chapters>(
             let mut counts = tracer.counts();
             counts.self_shadowed_pixels = self_shadowed_pixels;
             counts.implicit_evaluations = crate::shapes::evaluations() - evaluations;
-            counts.implicit_marches = crate::shapes::marches() - marches;
+            counts.march_histogram = crate::shapes::march_histogram().since(&marches);
             counts
         })
         .reduce(RayCounts::default, RayCounts::add);

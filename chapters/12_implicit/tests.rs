@@ -117,6 +117,82 @@ fn every_ray_of_the_scene_meets_the_torus_and_sphere_where_the_closed_forms_do()
     );
 }
 
+/// Where a render's steps go: the marches that spend the most evaluations
+/// (128 or more, half the default budget) are the camera rays that pass
+/// close to a silhouette. Each surface of the built-in scene, alone, at
+/// every pixel's centre: a costly march is "at a silhouette" when a pixel
+/// within 2 of it sees that surface at a depth 10% or more away, or does
+/// not see it at all: the edge of the surface or a fold of it, where it
+/// hides a part of itself (the inner rim of the torus, a bump). The
+/// others hit it at a slant.
+#[test]
+fn the_costliest_marches_are_at_silhouettes() {
+    let scene = crate::builtin::scene(12).expect("the built-in scene");
+    let stage = crate::Stage::new(&scene, 12, scene.render).expect("valid settings");
+    let (width, height) = (scene.render.width as usize, scene.render.height as usize);
+    let (mut costly, mut at_silhouette, mut marches) = (0usize, 0usize, 0usize);
+    let (mut slanted, mut steepest) = (0usize, 0.0f32);
+    let mut costly_evaluations = 0u64;
+    let mut all_evaluations = 0u64;
+    for surface in stage
+        .shapes()
+        .iter()
+        .filter_map(|shape| shape.as_implicit())
+    {
+        let mut depths = vec![f32::INFINITY; width * height];
+        let mut spent = vec![0u64; width * height];
+        for y in 0..height {
+            for x in 0..width {
+                let ray = stage.camera().ray_through(x as f32 + 0.5, y as f32 + 0.5);
+                let before = crate::shapes::evaluations();
+                let hit = intersect_implicit::<Reference>(surface, &ray, 0.0, f32::INFINITY);
+                depths[y * width + x] = hit.unwrap_or(f32::INFINITY);
+                spent[y * width + x] = crate::shapes::evaluations() - before;
+            }
+        }
+        for y in 0..height {
+            for x in 0..width {
+                let evaluations = spent[y * width + x];
+                marches += usize::from(evaluations > 0);
+                all_evaluations += evaluations;
+                if evaluations < 128 {
+                    continue;
+                }
+                costly += 1;
+                costly_evaluations += evaluations;
+                let depth = depths[y * width + x];
+                let edge = (y.saturating_sub(2)..(y + 3).min(height)).any(|near_y| {
+                    (x.saturating_sub(2)..(x + 3).min(width)).any(|near_x| {
+                        let near = depths[near_y * width + near_x];
+                        !((near - depth).abs() < 0.1 * depth.min(near))
+                    })
+                });
+                at_silhouette += usize::from(edge);
+                if !edge {
+                    // Not at an edge: then the ray meets the surface at a
+                    // slant, more than 60 degrees from its normal, after
+                    // running close to it.
+                    let ray = stage.camera().ray_through(x as f32 + 0.5, y as f32 + 0.5);
+                    let normal = surface.gradient(ray.at(depth)).normalize_or_zero();
+                    let cosine = normal.dot(ray.dir.normalize()).abs();
+                    slanted += usize::from(cosine < 0.5);
+                    steepest = steepest.max(cosine);
+                }
+            }
+        }
+    }
+    println!(
+        "{costly} of {marches} camera-ray marches made 128 evaluations or more \
+         ({costly_evaluations} of the {all_evaluations} evaluations): {at_silhouette} within \
+         2 pixels of a silhouette, {slanted} hits at a slant (cosine at most {steepest})"
+    );
+    assert!(costly > 0, "no march spent 128 evaluations");
+    assert!(
+        at_silhouette * 4 >= costly * 3 && at_silhouette + slanted == costly,
+        "{at_silhouette} of {costly} costly marches at a silhouette, {slanted} at a slant"
+    );
+}
+
 /// Random exact primitives, moved about.
 fn primitive() -> impl Strategy<Value = Sdf> {
     let point =

@@ -9,6 +9,7 @@ use clap::Args;
 
 use super::render::{SettingsOverrides, select_scene};
 use crate::crosscheck::{self, Answer};
+use crate::implicit_probe::{ImplicitStory, Iterate, Step, story};
 use crate::{Ray, Scene, Shape, Stage, Vec3};
 
 /// How to get the Embree backend, for messages.
@@ -123,6 +124,9 @@ pub fn probe<C: Chapters>(args: &ProbeArgs) -> Result<i32> {
             },
         };
         println!("  {object}: {name:<16} {answer}");
+        if let Shape::Implicit(surface) = shape {
+            print!("{}", implicit_story_text(&story::<C>(surface, &ray)));
+        }
     }
     let ours = crosscheck::ours(stage.shapes(), &primary_cast(ray));
     match ours {
@@ -141,6 +145,83 @@ pub fn probe<C: Chapters>(args: &ProbeArgs) -> Result<i32> {
     }
     probe_embree(&stage, &scene, &ray, ours.map(Answer::from))?;
     Ok(0)
+}
+
+/// The march and Newton's iterates of one implicit surface, indented
+/// under its line.
+fn implicit_story_text(story: &ImplicitStory) -> String {
+    let Some((enter, leave)) = story.span else {
+        return "       the ray misses its box: no evaluation\n".into();
+    };
+    let digits = |iterate: &Iterate| match iterate.digits {
+        Some(digits) => format!("{digits:5.1}"),
+        None => "  all".into(),
+    };
+    let mut text = format!("       in its box for t from {enter} to {leave}\n");
+    text += &match story.march {
+        Some(t) => format!(
+            "       sphere tracing: stops at t = {t} after {} evaluations\n",
+            story.march_evaluations
+        ),
+        None => format!(
+            "       sphere tracing: no hit after {} evaluations\n",
+            story.march_evaluations
+        ),
+    };
+    let Some(root) = story.root else {
+        text += "       no root in the box (f64 reference): nothing for Newton to find\n";
+        return text;
+    };
+    text += &format!("       the first root, in f64: t = {root:.10}\n");
+    let table = |iterates: &[Iterate]| {
+        let mut rows =
+            String::from("         step  how        t               g(t)         digits right\n");
+        for (number, iterate) in iterates.iter().enumerate() {
+            let how = match iterate.step {
+                Step::Start => "start",
+                Step::Newton => "Newton",
+                Step::Bisection => "bisection",
+            };
+            rows += &format!(
+                "         {number:>4}  {how:<9}  {:<14}  {:<11.4e}  {}\n",
+                iterate.t,
+                iterate.value,
+                digits(iterate)
+            );
+        }
+        rows
+    };
+    match &story.bracketed {
+        Some((bracket, iterates)) => {
+            text += &format!(
+                "       Newton in the bracket [{}, {}], from its low end (newton_bracketed):\n",
+                bracket.low, bracket.high
+            );
+            text += &table(iterates);
+        }
+        None => text += "       no sign change just past the root: the ray only touches it\n",
+    }
+    text += "       Newton alone from the same start, no bracket (t - g / g'):\n";
+    text += &table(&story.alone);
+    if let Some(last) = story.alone.last()
+        && !(last.digits.is_none_or(|digits| digits > 5.0))
+    {
+        text += &format!(
+            "         it ends at t = {}, not at the first root ({root:.7})\n",
+            last.t
+        );
+    }
+    text += &match story.answer {
+        Some(t) => format!(
+            "       intersect_implicit (march, bracket, Newton): t = {t}, {} evaluations\n",
+            story.answer_evaluations
+        ),
+        None => format!(
+            "       intersect_implicit: no hit, {} evaluations\n",
+            story.answer_evaluations
+        ),
+    };
+    text
 }
 
 /// `ray` as a primary ray looking for any hit ahead.

@@ -10,6 +10,7 @@ use clap::Args;
 use crate::chapters::{CHAPTERS, LAST_CHAPTER};
 use crate::effects::Effects;
 use crate::render::Rendered;
+use crate::shapes::MarchHistogram;
 use crate::{RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
@@ -536,12 +537,45 @@ fn implicit_text(rendered: &Rendered) -> String {
     let per_march = rays
         .implicit_evaluations
         .saturating_sub(rays.normal_evaluations) as f64
-        / rays.implicit_marches.max(1) as f64;
+        / rays.implicit_marches().max(1) as f64;
     format!(
         "implicit surfaces: {} marches, {} evaluations of their functions ({per_march:.1} a \
          march), {} of them for normals\n",
-        rays.implicit_marches, rays.implicit_evaluations, rays.normal_evaluations
-    )
+        rays.implicit_marches(),
+        rays.implicit_evaluations,
+        rays.normal_evaluations
+    ) + &histogram_text(&rays.march_histogram)
+}
+
+/// The marches by their evaluations, one bar a bucket: where a render's
+/// steps go. The marches that missed the surfaces' boxes made none and
+/// are counted apart.
+fn histogram_text(histogram: &MarchHistogram) -> String {
+    let counts = &histogram.counts;
+    let missed = counts[0];
+    let marched = histogram.marches() - missed;
+    let mut text =
+        format!("  {missed} of the marches missed their surface's box and made no evaluation\n");
+    let Some(last) = counts
+        .iter()
+        .rposition(|&count| count > 0)
+        .filter(|&last| last > 0)
+    else {
+        return text;
+    };
+    let most = counts[1..].iter().copied().max().unwrap_or(0).max(1);
+    text += &format!("  the other {marched}, by their evaluations:\n");
+    for (bucket, &count) in counts.iter().enumerate().take(last + 1).skip(1) {
+        let range = match MarchHistogram::range(bucket) {
+            (low, Some(high)) if low == high => low.to_string(),
+            (low, Some(high)) => format!("{low}-{high}"),
+            (low, None) => format!("{low}+"),
+        };
+        let share = 100.0 * count as f64 / marched.max(1) as f64;
+        let bar = "#".repeat((40 * count).div_ceil(most) as usize);
+        text += &format!("  {range:>9} {count:>10} {share:>5.1}% {bar}\n");
+    }
+    text
 }
 
 /// The statistics of a render as JSON.
@@ -570,7 +604,11 @@ pub fn stats_json(
         "self_shadowed_pixels": rays.self_shadowed_pixels,
         "non_finite_samples": rays.non_finite_samples,
         "implicit": {
-            "marches": rays.implicit_marches,
+            "marches": rays.implicit_marches(),
+            "evaluations_a_march": rays.march_histogram.counts.iter().enumerate().map(|(bucket, &count)| {
+                let (from, to) = MarchHistogram::range(bucket);
+                serde_json::json!({ "from": from, "to": to, "marches": count })
+            }).collect::<Vec<_>>(),
             "evaluations": rays.implicit_evaluations,
             "normal_evaluations": rays.normal_evaluations,
         },

@@ -673,6 +673,12 @@ impl Implicit {
             enter = enter.max(near.min(far));
             leave = leave.min(near.max(far));
         }
+        // A ray parallel to a slab and outside it has an infinite end,
+        // which the widening below would turn into NaN (inf - inf), and
+        // NaN into the whole ray.
+        if !(enter <= leave) || !enter.is_finite() {
+            return None;
+        }
         let enter = (enter - margin * enter.abs()).max(t_min);
         let leave = (leave + margin * leave.abs()).min(t_max);
         (enter <= leave).then_some((enter, leave))
@@ -688,7 +694,9 @@ pub struct Bracket {
     pub high: f32,
 }
 
-pub use counters::{Counted, evaluations, limit_evaluations, march_started, marches};
+pub use counters::{
+    Counted, MarchHistogram, evaluations, limit_evaluations, march_ended, march_histogram,
+};
 
 /// How many times this thread evaluated an implicit function: the stats'
 /// figure, read before and after a piece of work (a row of pixels is one
@@ -699,18 +707,78 @@ mod counters {
     thread_local! {
         static EVALUATIONS: Cell<u64> = const { Cell::new(0) };
         static LIMIT: Cell<u64> = const { Cell::new(u64::MAX) };
-        static MARCHES: Cell<u64> = const { Cell::new(0) };
+        static MARCHES: Cell<MarchHistogram> = const { Cell::new(MarchHistogram::EMPTY) };
     }
 
-    /// Rays this thread marched against an implicit surface so far.
-    pub fn marches() -> u64 {
+    /// Marches counted by how many evaluations each made, in powers of
+    /// two: bucket 0 is the marches that made none (the ray missed the
+    /// surface's box), bucket `k` those with `2^(k-1)` to `2^k - 1`, and
+    /// the last one everything from `2^(BUCKETS - 2)` on. Where a render's
+    /// steps go: the grazing rays of a silhouette are its tail.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+    pub struct MarchHistogram {
+        pub counts: [u64; MarchHistogram::BUCKETS],
+    }
+
+    impl MarchHistogram {
+        /// Up to 512 and more: past the default budget of 256 steps.
+        pub const BUCKETS: usize = 11;
+        const EMPTY: MarchHistogram = MarchHistogram {
+            counts: [0; MarchHistogram::BUCKETS],
+        };
+
+        /// The bucket of a march that made `evaluations` evaluations.
+        pub fn bucket(evaluations: u64) -> usize {
+            let bits = (u64::BITS - evaluations.leading_zeros()) as usize;
+            bits.min(Self::BUCKETS - 1)
+        }
+
+        /// The evaluations bucket `bucket` holds: from, and up to
+        /// (inclusive; `None` for the last, open bucket).
+        pub fn range(bucket: usize) -> (u64, Option<u64>) {
+            match bucket {
+                0 => (0, Some(0)),
+                last if last >= Self::BUCKETS - 1 => (1 << (last - 1), None),
+                _ => (1 << (bucket - 1), Some((1 << bucket) - 1)),
+            }
+        }
+
+        /// All the marches counted.
+        pub fn marches(&self) -> u64 {
+            self.counts.iter().sum()
+        }
+
+        /// The marches counted here and not in `earlier`.
+        pub fn since(&self, earlier: &MarchHistogram) -> MarchHistogram {
+            MarchHistogram {
+                counts: std::array::from_fn(|bucket| {
+                    self.counts[bucket].saturating_sub(earlier.counts[bucket])
+                }),
+            }
+        }
+
+        /// Both histograms' marches.
+        pub fn add(&self, other: &MarchHistogram) -> MarchHistogram {
+            MarchHistogram {
+                counts: std::array::from_fn(|bucket| self.counts[bucket] + other.counts[bucket]),
+            }
+        }
+    }
+
+    /// The marches this thread made so far, by their evaluations.
+    pub fn march_histogram() -> MarchHistogram {
         MARCHES.with(Cell::get)
     }
 
-    /// One more ray marched (the shapes' intersection calls it).
+    /// One more ray marched, with the evaluations it made (the shapes'
+    /// intersection calls it, once per ray and surface).
     #[inline]
-    pub fn march_started() {
-        MARCHES.with(|count| count.set(count.get() + 1));
+    pub fn march_ended(evaluations: u64) {
+        MARCHES.with(|histogram| {
+            let mut counts = histogram.get();
+            counts.counts[MarchHistogram::bucket(evaluations)] += 1;
+            histogram.set(counts);
+        });
     }
 
     /// Evaluations made on this thread so far.

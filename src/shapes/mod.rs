@@ -19,8 +19,8 @@ mod triangle;
 pub use implicit::MAX_DEPTH as MAX_IMPLICIT_DEPTH;
 pub use implicit::{
     Bracket, CHECK_EVALUATION_LIMIT, Counted, Exactness, Implicit, ImplicitError, LipschitzRule,
-    MAX_MARCH_STEPS, March, NormalMethod, Sdf, evaluations, limit_evaluations, march_started,
-    marches,
+    MAX_MARCH_STEPS, March, MarchHistogram, NormalMethod, Sdf, evaluations, limit_evaluations,
+    march_ended, march_histogram,
 };
 pub use plane::Plane;
 pub use sphere::Sphere;

@@ -73,6 +73,57 @@ fn stats_name_effects_and_ray_kinds_and_json_agrees() {
     assert!(json["rays"]["refraction"].as_u64().expect("a count") > 0);
 }
 
+/// Chapter 12's stats count the marches by their evaluations, in text and
+/// in JSON, and the two agree with the total.
+#[test]
+fn stats_count_the_marches_by_their_evaluations() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let args = [
+        "render",
+        "-c",
+        "12",
+        "--width",
+        "80",
+        "--height",
+        "60",
+        "--stats",
+        "--stats-json",
+        "s.json",
+    ];
+    let out = raylab(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.contains("of the marches missed their surface's box and made no evaluation"),
+        "{text}"
+    );
+    assert!(text.contains(", by their evaluations:"), "{text}");
+    assert!(text.contains("      8-15 "), "{text}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("s.json")).expect("json file"),
+    )
+    .expect("valid json");
+    let implicit = &json["implicit"];
+    let buckets = implicit["evaluations_a_march"]
+        .as_array()
+        .expect("the histogram");
+    let counted: u64 = buckets
+        .iter()
+        .map(|bucket| bucket["marches"].as_u64().expect("a count"))
+        .sum();
+    assert_eq!(Some(counted), implicit["marches"].as_u64());
+    assert_eq!(buckets[0]["to"], 0);
+    assert_eq!(buckets[3]["from"], 4);
+    assert_eq!(buckets[3]["to"], 7);
+    assert!(buckets.last().expect("a last bucket")["to"].is_null());
+    // Several buckets are filled: a histogram, not one count.
+    let filled = buckets
+        .iter()
+        .filter(|bucket| bucket["marches"] != 0)
+        .count();
+    assert!(filled >= 5, "{buckets:?}");
+}
+
 #[test]
 fn chapters_lists_every_chapter() {
     let out = raylab(&["chapters"], Path::new("."));
@@ -392,6 +443,51 @@ fn probe_prints_each_shape_and_our_nearest_hit() {
         "{text}"
     );
     assert!(text.contains("embree: "), "{text}");
+}
+
+/// Chapter 12's probe: the march, then Newton in its bracket and alone,
+/// each iterate with the digits it has right; on the lesson's ray, Newton
+/// alone settles on the tube's far side.
+#[test]
+fn probe_tells_the_march_and_newton_of_an_implicit_surface() {
+    let out = raylab(
+        &[
+            "probe",
+            "--chapter",
+            "12",
+            "--ray",
+            "0,2.2,-5.5,-0.33,-0.3,1",
+        ],
+        Path::new("."),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    for expected in [
+        "torus            implicit surface, t = 6.23165",
+        "sphere tracing: stops at t = ",
+        "the first root, in f64: t = 6.23165",
+        "Newton in the bracket [5.3333",
+        "bisection",
+        "Newton alone from the same start, no bracket",
+        "it ends at t = 6.7904",
+        "intersect_implicit (march, bracket, Newton): t = 6.23165",
+        "blend            implicit surface, no hit ahead",
+        "the ray misses its box: no evaluation",
+    ] {
+        assert!(text.contains(expected), "{expected:?} in\n{text}");
+    }
+    // The last bracketed iterate has all the digits f32 holds.
+    let bracketed = text
+        .split("Newton alone")
+        .next()
+        .and_then(|part| part.lines().rev().find(|line| line.contains("Newton ")))
+        .expect("a Newton step in the bracket");
+    let digits: f64 = bracketed
+        .split_whitespace()
+        .last()
+        .and_then(|word| word.parse().ok())
+        .expect("digits at the end of the row");
+    assert!(digits > 7.0, "{bracketed}");
 }
 
 #[test]

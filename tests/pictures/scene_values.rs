@@ -291,9 +291,9 @@ fn implicit_trees_are_refused_with_the_node_and_the_field_named() {
         ..loaded.render
     };
     let rendered = raylab::render(&loaded, 12, &settings, None).expect("renders");
-    assert!(rendered.effects.implicit && rendered.rays.implicit_marches > 0);
+    assert!(rendered.effects.implicit && rendered.rays.implicit_marches() > 0);
     let before = raylab::render(&loaded, 11, &settings, None).expect("renders");
-    assert!(!before.effects.implicit && before.rays.implicit_marches == 0);
+    assert!(!before.effects.implicit && before.rays.implicit_marches() == 0);
     // Chapter 12 on a scene with no implicit surface marches nothing.
     let plain = Scene::parse(&scene(CAMERA, LIGHT), "test scene").expect("valid");
     let rendered = raylab::render(&plain, 12, &settings, None).expect("renders");

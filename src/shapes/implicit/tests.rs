@@ -106,6 +106,26 @@ fn a_smooth_union_reaches_beyond_its_shapes_and_its_box_follows() {
 }
 
 #[test]
+fn a_ray_parallel_to_slabs_and_outside_them_misses_the_box() {
+    // The torus's box: x and z in [-1.25, 1.25], y in [0.75, 1.25].
+    let surface = Implicit::new(torus()).expect("a valid torus");
+    let span = |origin: [f32; 3], dir: Vec3| {
+        surface.span(&Ray::new(Vec3::from(origin), dir), 0.0, f32::INFINITY)
+    };
+    // Below the z slab and beyond the x slab, parallel to both: one slab
+    // says "never in" (+inf) and the other "out before the start" (-inf).
+    assert_eq!(span([3.0, 0.0, -4.0], Vec3::Y), None);
+    assert_eq!(span([-3.0, 0.0, 4.0], Vec3::Y), None);
+    assert_eq!(span([3.0, 0.0, 0.0], Vec3::Y), None);
+    // Inside both, up through the hole: the box's height.
+    let (enter, leave) = span([1.0, 0.0, 0.0], Vec3::Y).expect("the ray crosses the box");
+    assert!(
+        (enter - 0.75).abs() < 1e-5 && (leave - 1.25).abs() < 1e-5,
+        "{enter} {leave}"
+    );
+}
+
+#[test]
 fn checks_name_what_is_wrong() {
     let radius = sphere([0.0; 3], -1.0).check();
     assert!(
