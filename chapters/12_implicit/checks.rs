@@ -139,6 +139,7 @@ fn newton(
             max_iterations,
             expect,
             within,
+            most_evaluations: None,
         }),
     )
 }
@@ -179,6 +180,34 @@ fn normal(
         }),
     )
 }
+
+/// Where the tetrahedron's torus is moved to: its corners must be placed
+/// around the point, not scaled with it.
+const RAISED: Vec3 = Vec3::new(0.0, 2.0, 0.0);
+
+/// The unit sphere less the sphere of radius 0.998: a shell 0.002 thick.
+fn thin_shell() -> Sdf {
+    Sdf::Difference(
+        Box::new(unit_sphere()),
+        Box::new(Sdf::Sphere {
+            center: Vec3::ZERO,
+            radius: 0.998,
+        }),
+    )
+}
+
+/// The ground: the half space below y = 0.
+fn ground() -> Sdf {
+    Sdf::Plane {
+        point: Vec3::ZERO,
+        normal: Vec3::Y,
+    }
+}
+
+/// Fewer evaluations than safe steps take down onto [`ground`] in
+/// `march-over-relaxed-keeps-relaxing` (67), and a few more than the
+/// relaxed march needs (41).
+const RELAXED_GROUND_BUDGET: u64 = 48;
 
 /// A point on [`ring`]: around the axis by `around`, around the tube by
 /// `tube` (radians).
@@ -297,15 +326,29 @@ pub fn checkpoints() -> Vec<Case> {
         MarchQuestion {
             name: "march-over-relaxed-steps-back",
             section: RELAX_12,
-            says: "Relaxation 1.9 toward the unit sphere from (0, 0, -5): the first step, 1.9 x 4 = 7.6, ends inside it, where the radius 1.6 and the last one, 4, do not reach across the 7.6 travelled; go back to the safe step, t = 4, and hit there.",
+            says: "Relaxation 1.9 toward the unit sphere from (0, 0, -5) along (0, 0, 2): the first step, 1.9 x 4 = 7.6 in distance (3.8 in t), ends inside it, where the radius 1.6 and the last one, 4, do not reach across the 7.6 travelled; go back to the safe step, t = 2, and hit there: 3 evaluations, or 4 if you look again at the point you went back to.",
             marcher: Marcher::SphereTrace,
             tree: unit_sphere(),
             march: march_with(|march| march.relaxation = 1.9),
-            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.0, 0.0, 2.0)),
             range: (0.0, INF),
             expect: Expect::Hit,
             cones: 2.0,
-            most_evaluations: Some(16),
+            most_evaluations: Some(4),
+        }
+        .into(),
+        MarchQuestion {
+            name: "march-over-relaxed-keeps-relaxing",
+            section: RELAX_12,
+            says: "Relaxation 1.6 down onto the ground (the half space y < 0) from (0, 0.1, 0) along (2, -0.2, 0), 5.7 degrees above it: each step of 1.6 r ends where the new ball and the last overlap (r + r' > 1.6 r), so no step is undone, and the march lands at t = 0.5 in 41 evaluations, where safe steps take 67.",
+            marcher: Marcher::SphereTrace,
+            tree: ground(),
+            march: march_with(|march| march.relaxation = 1.6),
+            ray: (Vec3::new(0.0, 0.1, 0.0), Vec3::new(2.0, -0.2, 0.0)),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 12.0,
+            most_evaluations: Some(RELAXED_GROUND_BUDGET),
         }
         .into(),
         MarchQuestion {
@@ -389,6 +432,20 @@ pub fn checkpoints() -> Vec<Case> {
             std::f64::consts::SQRT_2,
             1e-6,
         ),
+        Case::new(
+            "newton-stops-when-its-step-is-small",
+            NEWTON_12,
+            "g(t) = t^2 - 2 in [1, 2] with tolerance 0.001 and up to 40 iterations: the steps are 0.5, 0.083, 0.0025 and 2e-6; the last is below the tolerance, so the method stops there, after 5 evaluations of g, with sqrt(2) to f32's precision.",
+            CaseKind::Newton(NewtonCase {
+                function: quadratic.clone(),
+                bracket: (1.0, 2.0),
+                tolerance: 1e-3,
+                max_iterations: 40,
+                expect: std::f64::consts::SQRT_2,
+                within: 1e-6,
+                most_evaluations: Some(7),
+            }),
+        ),
         newton(
             "newton-root-at-the-low-end",
             "g(t) = t - 1 in [1, 3]: g is already 0 at the low end, which is the root.",
@@ -416,10 +473,13 @@ pub fn checkpoints() -> Vec<Case> {
         ),
         normal(
             "normal-tetrahedron-on-a-torus",
-            "The same point by the tetrahedron's 4 evaluations: the sum of k f(p + h k) over its corners k = (1, -1, -1), (-1, -1, 1), (-1, 1, -1), (1, 1, 1) (or their opposites), made unit: the gradient's direction to an error of order h times the curvature, 0.01 radians here.",
-            ring(),
+            "The same point of the torus moved to (0, 2, 0), by the tetrahedron's 4 evaluations: the sum of k f(p + h k) over its corners k = (1, -1, -1), (-1, -1, 1), (-1, 1, -1), (1, 1, 1) (or their opposites), made unit: the gradient's direction to an error of order h times the curvature, 0.01 radians here.",
+            Sdf::Translate {
+                offset: RAISED,
+                shape: Box::new(ring()),
+            },
             (NormalMethod::Tetrahedron, 1e-3),
-            on_ring(0.7, 1.1),
+            on_ring(0.7, 1.1) + RAISED,
             1e-2,
         ),
         normal(
@@ -470,17 +530,53 @@ pub fn robustness() -> Vec<Case> {
             section: HARD_12,
             says: "A shell 0.002 thick (the unit sphere less the sphere of radius 0.998), from (0.1, 0.1, -5) along +z: stepping by a fixed 0.01 could jump over it; steps by the function never do.",
             marcher: Marcher::Intersect,
-            tree: Sdf::Difference(
-                Box::new(unit_sphere()),
-                Box::new(Sdf::Sphere {
-                    center: Vec3::ZERO,
-                    radius: 0.998,
-                }),
-            ),
+            tree: thin_shell(),
             march: March::default(),
             ray: (Vec3::new(0.1, 0.1, -5.0), Vec3::Z),
             range: (0.0, INF),
             expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-a-thin-shell-at-a-slant",
+            section: HARD_12,
+            says: "The same shell from (0.6, 0.3, -5) along (0, 0, 4), meeting it 42 degrees from its normal: the march stops short, and the bracket's search must creep on by safe steps (|g| / (L |d|) in t), not by distances, or it steps over both of the shell's surfaces.",
+            marcher: Marcher::Intersect,
+            tree: thin_shell(),
+            march: March::default(),
+            ray: (Vec3::new(0.6, 0.3, -5.0), Vec3::new(0.0, 0.0, 4.0)),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-refines-a-bumpy-surface",
+            section: HARD_12,
+            says: "The bumpy sphere (L = 3) with a coarse tolerance of 0.01, from (0.3, 0.2, -3) along (0, 0.1, 2): the march stops well short on a curved bump, and one Newton step is not enough; iterate until the step is below the tolerance you were given.",
+            marcher: Marcher::Intersect,
+            tree: bumpy(),
+            march: march_with(|march| march.tolerance = 0.01),
+            ray: (Vec3::new(0.3, 0.2, -3.0), Vec3::new(0.0, 0.1, 2.0)),
+            range: (0.0, INF),
+            expect: Expect::Hit,
+            cones: 0.0,
+            most_evaluations: None,
+        }
+        .into(),
+        MarchQuestion {
+            name: "intersect-a-root-at-t-max",
+            section: HARD_12,
+            says: "Down onto the ground at 45 degrees, from (0, 1, 0) along (1, -1, 0), with t_max = 1, exactly where the ray reaches it: a hit must have t < t_max, so either no hit or a point of the march's cone before it.",
+            marcher: Marcher::Intersect,
+            tree: ground(),
+            march: March::default(),
+            ray: (Vec3::Y, Vec3::new(1.0, -1.0, 0.0)),
+            range: (0.0, 1.0),
+            expect: Expect::Either,
             cones: 0.0,
             most_evaluations: None,
         }

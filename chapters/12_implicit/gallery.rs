@@ -38,7 +38,8 @@ fn the_reference_passes_chapter_12_at_both_levels() {
 /// The reference's march with the step and the stopping test given:
 /// `step(radius, lipschitz)` is the distance moved, `near(radius, t)`
 /// whether the point counts as on the surface, `budget` whether the step
-/// budget and `t_max` stop it.
+/// budget and `t_max` stop it. It over-relaxes as the reference does
+/// (the gap test and its fallback), so that each bug is the only one.
 fn march(
     surface: &Implicit,
     ray: &Ray,
@@ -48,21 +49,37 @@ fn march(
     budget: bool,
 ) -> Option<f32> {
     let speed = ray.dir.length();
+    let mut relaxation = surface.march().relaxation;
     let mut t = t_min;
+    let mut last: Option<(f32, f32)> = None;
     let mut steps = 0;
     loop {
-        if budget && (steps >= surface.march().max_steps || !(t < t_max)) {
+        if budget && steps >= surface.march().max_steps {
             return None;
         }
         steps += 1;
         let value = surface.distance(ray.at(t)).abs();
+        let moved = step(value, surface.lipschitz());
+        if let Some((last_t, last_moved)) = last
+            && relaxation > 1.0
+            && last_moved + moved < (t - last_t) * speed
+        {
+            relaxation = 1.0;
+            t = last_t + last_moved / speed;
+            last = None;
+            continue;
+        }
+        if budget && !(t < t_max) {
+            return None;
+        }
         if near(value, t * speed, surface.march().tolerance) && t > t_min {
             return Some(t);
         }
         if budget && !value.is_finite() {
             return None;
         }
-        t += step(value, surface.lipschitz()) / speed;
+        last = Some((t, moved));
+        t += relaxation * moved / speed;
     }
 }
 

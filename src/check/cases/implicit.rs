@@ -250,7 +250,9 @@ impl NewtonFunction {
 }
 
 /// `newton_bracketed(g, bracket, tolerance, max_iterations)`: expected
-/// `expect` within `within`.
+/// `expect` within `within`, and in at most `most_evaluations` calls of
+/// `g` when that is given (a method that stops when its step is below the
+/// tolerance, not at `max_iterations`).
 #[derive(Debug, Clone)]
 pub struct NewtonCase {
     pub function: NewtonFunction,
@@ -259,6 +261,7 @@ pub struct NewtonCase {
     pub max_iterations: u32,
     pub expect: f64,
     pub within: f64,
+    pub most_evaluations: Option<u32>,
 }
 
 impl NewtonCase {
@@ -278,17 +281,26 @@ impl NewtonCase {
     }
 
     pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let g = |t: f32| self.function.narrow(t);
+        let calls = std::cell::Cell::new(0u32);
+        let g = |t: f32| {
+            calls.set(calls.get() + 1);
+            self.function.narrow(t)
+        };
         let bracket = Bracket {
             low: self.bracket.0,
             high: self.bracket.1,
         };
         let got = C::newton_bracketed(&g, bracket, self.tolerance, self.max_iterations);
-        verdict(
-            got.is_finite() && (f64::from(got) - self.expect).abs() <= self.within,
-            format!("{} (within {})", num64(self.expect), num64(self.within)),
-            num(got),
-        )
+        let expected = format!("{} (within {})", num64(self.expect), num64(self.within));
+        let close = got.is_finite() && (f64::from(got) - self.expect).abs() <= self.within;
+        match self.most_evaluations {
+            Some(most) => verdict(
+                close && calls.get() <= most,
+                format!("{expected}, in at most {most} evaluations of g"),
+                format!("{} after {} evaluations of g", num(got), calls.get()),
+            ),
+            None => verdict(close, expected, num(got)),
+        }
     }
 }
 
