@@ -147,15 +147,16 @@ pub fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
 ///
 /// The march runs only where the ray is inside the surface's box
 /// ([`Implicit::span`]), and stops within its cone of the surface, a little
-/// before it. To bracket the root, creep on from there by the larger of
-/// the safe step `|g| / (L |d|)` and the cone's width `tolerance t`: the
-/// cone's width may cross the surface, but never by more than what the
-/// pixel resolves. The first step where `g(t) = f(o + t d)` changes sign
-/// closes the bracket, and Newton, with `g' = grad f . d`, finds the root
-/// to a few units in the last place of `t`. If `|g|` grows instead, the
-/// ray skims the surface without crossing it (a silhouette): the march's
-/// answer stands, as it does after `BRACKET_STEPS` steps (a ray that
-/// grazes at a shallower angle than that many cone widths reach).
+/// before it: where the safe step `|g| / (L |d|)` fell below the cone's
+/// width `tolerance t`. A ray that crosses the surface at an angle `a` is
+/// then less than `1 / sin a` cone widths from the root, so creep on by
+/// cone widths: the first step where `g(t) = f(o + t d)`
+/// changes sign closes the bracket, and Newton, with `g' = grad f . d`,
+/// finds the root to a few units in the last place of `t`. If `|g|` stops
+/// shrinking instead, the ray skims the surface without crossing it (a
+/// silhouette), or has reached the end of the box: the march's answer
+/// stands, as it does after `BRACKET_STEPS` steps (a ray that grazes at a
+/// shallower angle than that many cone widths reach).
 pub fn intersect_implicit<C: Chapters>(
     surface: &Implicit,
     ray: &Ray,
@@ -176,21 +177,24 @@ pub fn intersect_implicit<C: Chapters>(
             surface.gradient(point).dot(ray.dir),
         )
     };
-    let speed = ray.dir.length();
     let cone = surface.march().tolerance * near;
     let (mut low, mut at_low) = (near, surface.distance(ray.at(near)));
     for _ in 0..BRACKET_STEPS {
         if at_low == 0.0 {
             return Some(low);
         }
-        let high = (low + (at_low.abs() / (surface.lipschitz() * speed)).max(cone)).min(leave);
+        // At the end of the box this is `leave` again, where `|g|` is the
+        // same: no longer shrinking, so the search ends below.
+        let high = (low + cone).min(leave);
         let at_high = surface.distance(ray.at(high));
         if (at_low > 0.0) != (at_high > 0.0) {
             let bracket = Bracket { low, high };
             let t = C::newton_bracketed(&g, bracket, 2.0 * f32::EPSILON * high, NEWTON_ITERATIONS);
-            return (t > t_min && t < t_max).then_some(t);
+            // Newton stays in the bracket, after the march's point and so
+            // after t_min; only t_max can be reached, by a root on it.
+            return (t < t_max).then_some(t);
         }
-        if !(high < leave) || !(at_high.abs() < at_low.abs()) {
+        if !(at_high.abs() < at_low.abs()) {
             break;
         }
         (low, at_low) = (high, at_high);
