@@ -150,12 +150,13 @@ pub fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
 /// before it: where the safe step `|g| / (L |d|)` fell below the cone's
 /// width `tolerance t`. A ray that crosses the surface at an angle `a` is
 /// then less than `1 / sin a` cone widths from the root, so creep on by
-/// cone widths: the first step where `g(t) = f(o + t d)`
-/// changes sign closes the bracket, and Newton, with `g' = grad f . d`,
-/// finds the root to a few units in the last place of `t`. If `|g|` stops
+/// cone widths, up to 32 of them: the first step where `g(t) = f(o + t d)`
+/// changes sign closes the bracket, and Newton (`newton_bracketed` with
+/// `g' = grad f . d`, a tolerance of two ulps of the bracket's high end,
+/// `2 f32::EPSILON high`, and 16 iterations) finds the root. If `|g|` stops
 /// shrinking instead, the ray skims the surface without crossing it (a
 /// silhouette), or has reached the end of the box: the march's answer
-/// stands, as it does after `BRACKET_STEPS` steps (a ray that grazes at a
+/// stands, as it does after the 32 steps (a ray that grazes at a
 /// shallower angle than that many cone widths reach).
 pub fn intersect_implicit<C: Chapters>(
     surface: &Implicit,

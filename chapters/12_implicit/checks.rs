@@ -268,6 +268,20 @@ pub fn checkpoints() -> Vec<Case> {
         }
         .into(),
         MarchQuestion {
+            name: "march-hits-only-past-t-min",
+            section: TRACE_12,
+            says: "The unit sphere from (0, 0, -5) with t_min = 3.9999: the first point, t = 3.9999, is already within the cone (f = 0.0001 < 0.0001 x 3.9999), but a hit must have t > t_min (a march that starts where the ray enters a box, or leaves a surface, must not stop where it starts): step on, to t = 4.",
+            marcher: Marcher::SphereTrace,
+            tree: unit_sphere(),
+            march: March::default(),
+            ray: (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            range: (3.9999, INF),
+            expect: Expect::Hit,
+            cones: 2.0,
+            most_evaluations: Some(8),
+        }
+        .into(),
+        MarchQuestion {
             name: "march-beside-a-sphere-misses",
             section: TRACE_12,
             says: "From (0, 2, -5) along +z the ray passes 1 unit above the unit sphere: no hit, and the march gives up after its 256 steps.",

@@ -1,7 +1,8 @@
 //! Chapter 12, surfaces without a formula, as `raylab check` judges it:
 //! the reference passes both levels; its bug gallery (a step without the
 //! Lipschitz factor, Newton without its bracket, a forward-difference
-//! normal with `h = 1e-7`, an absolute tolerance, a loop with no budget)
+//! normal with `h = 1e-7`, an absolute tolerance, a loop with no budget,
+//! a march that stops where it starts)
 //! fails chapter 12 on the case that names the mistake; a correct
 //! alternative (the other tetrahedron) passes.
 
@@ -152,6 +153,25 @@ impl Chapters for ForwardDifferenceTinyStep {
 #[test]
 fn a_forward_difference_with_a_tiny_step_is_caught() {
     assert_caught::<ForwardDifferenceTinyStep>("normal-central-on-a-torus");
+}
+
+/// Bug: the march stops where it starts when that point is already
+/// within the cone: a hit at `t = t_min`, which the range excludes (a
+/// march started at a box's entry, or at the surface a ray leaves).
+struct StopsWhereItStarts;
+impl Chapters for StopsWhereItStarts {
+    fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let radius = surface.distance(ray.at(t_min)).abs() / surface.lipschitz();
+        if radius < surface.march().tolerance * t_min * ray.dir.length() {
+            return Some(t_min);
+        }
+        Reference::sphere_trace(surface, ray, t_min, t_max)
+    }
+}
+
+#[test]
+fn a_march_that_stops_where_it_starts_is_caught() {
+    assert_caught::<StopsWhereItStarts>("march-hits-only-past-t-min");
 }
 
 /// Bug: an absolute tolerance. Every checkpoint passes, but it is not the

@@ -194,7 +194,8 @@ fn implicit_story_text(story: &ImplicitStory) -> String {
     match &story.bracketed {
         Some((bracket, iterates)) => {
             text += &format!(
-                "       Newton in the bracket [{}, {}], from its low end (newton_bracketed):\n",
+                "       Newton in the bracket [{}, {}] (the box's entry, and the first f32 past \
+                 the root where g changes sign), from its low end (newton_bracketed):\n",
                 bracket.low, bracket.high
             );
             text += &table(iterates);

@@ -534,13 +534,16 @@ fn implicit_text(rendered: &Rendered) -> String {
     if !rendered.effects.implicit {
         return String::new();
     }
+    // A march that misses the box makes no evaluation: the mean is over
+    // the others.
+    let entered = rays.implicit_marches() - rays.march_histogram.counts[0];
     let per_march = rays
         .implicit_evaluations
         .saturating_sub(rays.normal_evaluations) as f64
-        / rays.implicit_marches().max(1) as f64;
+        / entered.max(1) as f64;
     format!(
         "implicit surfaces: {} marches, {} evaluations of their functions ({per_march:.1} a \
-         march), {} of them for normals\n",
+         march that entered a box), {} of them for normals\n",
         rays.implicit_marches(),
         rays.implicit_evaluations,
         rays.normal_evaluations

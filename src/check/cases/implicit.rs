@@ -101,11 +101,12 @@ impl MarchCase {
         let (pass, expected) = match *expect {
             MarchExpect::Hit { root, early, late } => (
                 got.is_some_and(|t| {
+                    let in_range = t > *t_min && t < *t_max;
                     let t = f64::from(t);
-                    t.is_finite() && t >= root - early && t <= root + late
+                    in_range && t.is_finite() && t >= root - early && t <= root + late
                 }),
                 format!(
-                    "Some(t) with {} <= t <= {} (the surface is at t = {})",
+                    "Some(t) with {} <= t <= {} (the surface is at t = {}), and t_min < t < t_max",
                     num64(root - early),
                     num64(root + late),
                     num64(root)
