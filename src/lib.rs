@@ -59,6 +59,7 @@ pub mod mesh;
 pub mod output;
 pub mod plots;
 pub mod ray;
+pub mod ray_tree;
 pub mod record;
 pub mod render;
 pub mod scene;

@@ -48,10 +48,19 @@ pub enum RayKind {
 }
 
 /// Something that wants to see every ray the tracer casts (for
-/// `raylab crosscheck`); counting is built into the tracer.
+/// `raylab crosscheck` and `raylab trace`); counting is built into the
+/// tracer. For each ray, in the order the tracer computes them: `cast`,
+/// then `met` with what it found, then (for every kind but shadow rays,
+/// once the point is shaded, after the rays its shading cast) `returned`
+/// with the colour it brings back.
 pub trait RayLog {
     /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
+    /// What the ray just cast met: the nearest hit, or for a shadow ray
+    /// the blocker found; `None` when nothing is in its range.
+    fn met(&mut self, _hit: Option<Hit>) {}
+    /// The colour the innermost ray still being shaded brings back.
+    fn returned(&mut self, _color: Vec3) {}
 }
 
 /// How many rays of each kind a render cast, and how many went wrong.
@@ -473,6 +482,9 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             Some(bvh) => C::any_hit_bvh(bvh, &self.objects, ray, t_min, t_max),
             None => self.objects.first_hit(ray, t_min, t_max),
         };
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.met(blocker);
+        }
         match blocker {
             Some(blocker) => {
                 // Planes and flat triangles are flat and spheres convex, and
@@ -551,7 +563,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         } else {
             self.objects.first_hit(ray, 0.0, f32::INFINITY)
         };
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.met(hit);
+        }
         let Some(Hit { object, t }) = hit else {
+            self.returned(self.stage.scene.background);
             return (self.stage.scene.background, None);
         };
         let point = self.hit_point(object, ray, t);
@@ -572,7 +588,15 @@ impl<'a, C: Chapters> Tracer<'a, C> {
                 }
             }
         };
+        self.returned(color);
         (color, Some(t))
+    }
+
+    #[inline]
+    fn returned(&mut self, color: Vec3) {
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.returned(color);
+        }
     }
 
     /// The colour of one camera ray through the image point `(x, y)` (in

@@ -20,8 +20,8 @@ enum Layer {
     /// code: no tool, no command line.
     Engine,
     /// check, grade, workspace, cost, crosscheck, the BVH reports (the race
-    /// among them), the implicit probe, and each chapter's cases: never the
-    /// command line.
+    /// among them), the implicit probe, the ray trees, and each chapter's
+    /// cases: never the command line.
     Tool,
     /// The command line: clap, exit codes, printing.
     Cli,
@@ -65,7 +65,7 @@ fn module_layer(module: &str) -> Option<Layer> {
             Layer::Engine
         }
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
-        | "embree" | "plots" | "implicit_probe" => Layer::Tool,
+        | "embree" | "plots" | "implicit_probe" | "ray_tree" => Layer::Tool,
         "cli" | "main" => Layer::Cli,
         _ => return None,
     })

@@ -13,6 +13,7 @@ mod mesh;
 mod new;
 mod race;
 mod render;
+mod trace;
 mod values;
 
 /// raylab: learn ray tracing one chapter at a time.
@@ -48,6 +49,7 @@ pub enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Show what one ray hits: each shape, our nearest hit, and Embree's.
     Probe(crosscheck::ProbeArgs),
+    Trace(trace::TraceArgs),
     Check(check::CheckArgs),
     /// Create a student workspace: a crate where you write each chapter,
     /// with `render`, `check` and every other command running your code.
@@ -124,7 +126,10 @@ fn is_reference<C: crate::Chapters>() -> bool {
 /// could call raylab's answers), or raylab's own `check` or `render` run
 /// inside a student's workspace (they would judge raylab's answers).
 fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
-    let judges_chapters = matches!(command, Command::Check(_) | Command::Render(_));
+    let judges_chapters = matches!(
+        command,
+        Command::Check(_) | Command::Render(_) | Command::Trace(_)
+    );
     if cfg!(feature = "student") && is_reference::<C>() {
         return Some(
             "this program was built for a student workspace (raylab's `student` feature) but \
@@ -208,6 +213,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::Grade(args) => grade::grade(&args),
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
+        Command::Trace(args) => trace::trace::<C>(&args),
         Command::Check(args) => check::check::<C>(&args),
         Command::New(args) => new::new(&args),
         Command::Mesh(args) => mesh::mesh(&args),

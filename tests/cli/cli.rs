@@ -490,6 +490,81 @@ fn probe_tells_the_march_and_newton_of_an_implicit_surface() {
     assert!(digits > 7.0, "{bracketed}");
 }
 
+/// `raylab trace`: the ray tree of one pixel, as text and as JSON, ending
+/// in the pixel the render writes; a pixel outside the image, a sample
+/// that does not exist and a malformed pixel are errors.
+#[test]
+fn trace_prints_a_pixels_ray_tree_ending_in_its_rendered_value() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let size = ["--width", "32", "--height", "24"];
+    let render = raylab(
+        &[&["render", "-c", "6", "-o", "six.png"][..], &size[..]].concat(),
+        dir.path(),
+    );
+    assert!(render.status.success(), "{}", stderr(&render));
+    let image = image::open(dir.path().join("six.png"))
+        .expect("the render")
+        .to_rgb8();
+    let pixel = image.get_pixel(16, 12).0;
+    let out = raylab(
+        &[&["trace", "-c", "6", "--pixel", "16,12"][..], &size[..]].concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(
+        text.starts_with("chapter 6, pixel 16,12: 1 camera ray"),
+        "{text}"
+    );
+    assert!(text.contains("  camera ray from "), "{text}");
+    assert!(text.contains("shadow ray from "), "{text}");
+    assert!(text.contains("brings back ("), "{text}");
+    let last = text.lines().last().expect("a last line");
+    let srgb = format!(
+        "-> sRGB ({}, {}, {}), as the render writes it",
+        pixel[0], pixel[1], pixel[2]
+    );
+    assert!(last.ends_with(&srgb), "{last} vs {srgb}");
+
+    let out = raylab(
+        &[
+            &["trace", "-c", "6", "--pixel", "16,12", "--json"][..],
+            &size[..],
+        ]
+        .concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&out)).expect("valid json");
+    assert_eq!(json["srgb"], serde_json::json!(pixel));
+    assert_eq!(json["samples"][0]["ray"]["kind"], "camera");
+    assert!(
+        json["samples"][0]["ray"]["children"]
+            .as_array()
+            .is_some_and(|c| !c.is_empty())
+    );
+
+    for (args, message) in [
+        (
+            vec!["--pixel", "32,0"],
+            "pixel 32,0 is outside the 32x24 image",
+        ),
+        (
+            vec!["--pixel", "1,1", "--sample", "1"],
+            "sample 1 does not exist",
+        ),
+        (vec!["--pixel", "1"], "expected `x,y`"),
+        (vec!["--pixel", "-1,2"], "is not a whole number of pixels"),
+    ] {
+        let out = raylab(
+            &[&["trace", "-c", "6"][..], &size[..], &args[..]].concat(),
+            dir.path(),
+        );
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(message), "{args:?}: {}", stderr(&out));
+    }
+}
+
 #[test]
 fn probe_refuses_a_malformed_ray() {
     for bad in ["1,2,3", "0,0,0,0,0,0", "0,0,0,1,nan,0", "a,b,c,d,e,f"] {

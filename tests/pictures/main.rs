@@ -6,6 +6,7 @@
 mod determinism;
 mod effects;
 mod lesson_images;
+mod ray_trees;
 mod render_robustness;
 mod scene_values;
 mod snapshots;

@@ -1,0 +1,228 @@
+//! Every ray of one pixel, as a tree: what `raylab trace` prints. The
+//! tracer tells a [`RayLog`] each ray it casts, what the ray met and the
+//! colour it brought back, in the order it computes them; [`TreeLog`]
+//! nests them (the rays a point's shading casts are its children), and
+//! [`trace_pixel`] adds what each hit was: the object, the point, its
+//! normals and material. The pixel it returns is the one the render
+//! writes, since the tracer computes it the same way with or without a
+//! log.
+
+use crate::course::{Chapters, Hit};
+use crate::render::{RayKind, RayLog, Stage};
+use crate::{Ray, Vec3};
+
+/// One ray of a pixel, with the rays its point's shading cast.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TracedRay {
+    pub kind: RayKind,
+    pub ray: Ray,
+    /// The tracer looked for hits with `t_min < t < t_max`.
+    pub t_min: f32,
+    pub t_max: f32,
+    /// What it met: the nearest hit, or a shadow ray's blocker.
+    pub hit: Option<RayHit>,
+    /// The colour it brought back, in linear light; `None` for shadow rays,
+    /// which bring back only whether they were blocked.
+    pub color: Option<Vec3>,
+    /// For a shadow ray, the light its range ends at (an index into the
+    /// scene's lights).
+    pub light: Option<usize>,
+    pub children: Vec<TracedRay>,
+}
+
+/// What a ray met.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RayHit {
+    /// The primitive hit (an index into the stage's shapes), and the name
+    /// of its object in the scene.
+    pub shape: usize,
+    pub name: String,
+    pub t: f32,
+    pub point: Vec3,
+    /// The geometric normal, and the one the chapter shades with (turned
+    /// toward the ray, smoothed on a mesh, from the function on an implicit
+    /// surface).
+    pub geometric_normal: Vec3,
+    pub shading_normal: Vec3,
+    pub material: crate::scene::Material,
+    /// The material's colour there (its checker applied).
+    pub albedo: Vec3,
+}
+
+/// One pixel's rays and its colour.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PixelTrace {
+    pub pixel: (u32, u32),
+    /// The camera rays of the pixel, one a sample, each the root of its tree.
+    pub samples: Vec<TracedRay>,
+    /// The pixel's colour in linear light, as the chapters computed it.
+    pub color: Vec3,
+    /// The same as the image stores it: 8-bit sRGB.
+    pub srgb: [u8; 3],
+    /// Whether the pixel cast more than [`MAX_TRACED_RAYS`], of which only
+    /// the first are kept.
+    pub truncated: bool,
+}
+
+/// The most rays one trace keeps: far more than any pixel casts at the
+/// depth and sample limits a scene may set, so that a chapter that casts
+/// without end (a student's, say) cannot exhaust memory.
+pub const MAX_TRACED_RAYS: usize = 1_000_000;
+
+/// A [`RayLog`] that nests the rays it is told about.
+#[derive(Debug, Default)]
+pub struct TreeLog {
+    /// The rays still being shaded, outermost first.
+    open: Vec<TracedRay>,
+    /// The camera rays done, in order.
+    roots: Vec<TracedRay>,
+    /// A shadow ray cast and not yet told what it met.
+    shadow: Option<TracedRay>,
+    kept: usize,
+    /// Rays past [`MAX_TRACED_RAYS`] still being shaded (all inside the
+    /// kept ones), and whether the shadow ray just cast is one of them.
+    dropped_open: usize,
+    dropped_shadow: bool,
+    /// Whether [`MAX_TRACED_RAYS`] was reached (the rest were not kept).
+    pub truncated: bool,
+}
+
+impl TreeLog {
+    fn attach(&mut self, ray: TracedRay) {
+        match self.open.last_mut() {
+            Some(parent) => parent.children.push(ray),
+            None => self.roots.push(ray),
+        }
+    }
+
+    /// The camera rays, each with its tree; rays still open (a chapter
+    /// that panicked mid-shading) are closed as they are.
+    pub fn into_roots(mut self) -> Vec<TracedRay> {
+        if let Some(shadow) = self.shadow.take() {
+            self.attach(shadow);
+        }
+        while let Some(ray) = self.open.pop() {
+            self.attach(ray);
+        }
+        self.roots
+    }
+}
+
+impl RayLog for TreeLog {
+    fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
+        if self.kept >= MAX_TRACED_RAYS {
+            self.truncated = true;
+            if kind == RayKind::Shadow {
+                self.dropped_shadow = true;
+            } else {
+                self.dropped_open += 1;
+            }
+            return;
+        }
+        self.kept += 1;
+        let node = TracedRay {
+            kind,
+            ray: *ray,
+            t_min,
+            t_max,
+            hit: None,
+            color: None,
+            light: None,
+            children: Vec::new(),
+        };
+        if kind == RayKind::Shadow {
+            self.shadow = Some(node);
+        } else {
+            self.open.push(node);
+        }
+    }
+
+    fn met(&mut self, hit: Option<Hit>) {
+        let found = hit.map(|hit| RayHit {
+            shape: hit.object,
+            name: String::new(),
+            t: hit.t,
+            point: Vec3::ZERO,
+            geometric_normal: Vec3::ZERO,
+            shading_normal: Vec3::ZERO,
+            material: crate::scene::Material::default(),
+            albedo: Vec3::ZERO,
+        });
+        // A shadow ray is told what it met at once, before anything else
+        // is cast: it is done.
+        if std::mem::take(&mut self.dropped_shadow) {
+            return;
+        }
+        if let Some(mut shadow) = self.shadow.take() {
+            shadow.hit = found;
+            self.attach(shadow);
+        } else if self.dropped_open == 0
+            && let Some(open) = self.open.last_mut()
+        {
+            open.hit = found;
+        }
+    }
+
+    fn returned(&mut self, color: Vec3) {
+        if self.dropped_open > 0 {
+            self.dropped_open -= 1;
+        } else if let Some(mut ray) = self.open.pop() {
+            ray.color = Some(color);
+            self.attach(ray);
+        }
+    }
+}
+
+/// Pixel `(x, y)` of `stage` traced ray by ray: every sample's tree, and
+/// the pixel's colour exactly as the render computes it. `None` when the
+/// pixel is outside the image.
+pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Option<PixelTrace> {
+    if x >= stage.settings.width || y >= stage.settings.height {
+        return None;
+    }
+    let mut log = TreeLog::default();
+    let color = {
+        let mut tracer = stage.tracer(Some(&mut log));
+        tracer.pixel(x, y)
+    };
+    let truncated = log.truncated;
+    let mut samples = log.into_roots();
+    let describer = stage.tracer(None);
+    for sample in &mut samples {
+        describe(stage, &describer, sample);
+    }
+    Some(PixelTrace {
+        pixel: (x, y),
+        samples,
+        color,
+        srgb: color.to_array().map(crate::output::linear_to_srgb8),
+        truncated,
+    })
+}
+
+/// Fills in each hit's object, point, normals and material, and each
+/// shadow ray's light.
+fn describe<C: Chapters>(
+    stage: &Stage<'_, C>,
+    tracer: &crate::render::Tracer<'_, C>,
+    traced: &mut TracedRay,
+) {
+    if let Some(hit) = traced.hit.as_mut() {
+        let point = tracer.hit_point(hit.shape, &traced.ray, hit.t);
+        hit.name = stage.name(hit.shape).unwrap_or("?").to_string();
+        hit.point = point.surface.point;
+        hit.geometric_normal = point.surface.normal;
+        hit.shading_normal = point.normal;
+        hit.material = *point.material;
+        hit.albedo = point.albedo;
+    }
+    if traced.kind == RayKind::Shadow {
+        let end = traced.ray.at(traced.t_max);
+        traced.light = tracer.lights().iter().position(|light| {
+            (light.position - end).length() <= 1e-3 * (1.0 + light.position.length())
+        });
+    }
+    for child in &mut traced.children {
+        describe(stage, tracer, child);
+    }
+}

@@ -1,0 +1,83 @@
+//! `raylab trace`'s ray trees: the pixel a tree ends in is the rendered
+//! pixel, for every chapter and every pixel of a small image, and each
+//! tree holds the rays the stage casts for that pixel, nested.
+
+use raylab::RayKind;
+use raylab::ray_tree::{TracedRay, trace_pixel};
+
+fn count(ray: &TracedRay) -> usize {
+    1 + ray.children.iter().map(count).sum::<usize>()
+}
+
+#[test]
+fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
+    for chapter in raylab::chapters::CHAPTERS
+        .iter()
+        .map(|chapter| chapter.number)
+    {
+        let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+        let settings = raylab::RenderSettings {
+            width: 24,
+            height: 18,
+            ..scene.render
+        };
+        let rendered = raylab::render(&scene, chapter, &settings, None).expect("renders");
+        let stage = raylab::Stage::new(&scene, chapter, settings).expect("valid settings");
+        let mut rays = 0;
+        for y in 0..settings.height {
+            for x in 0..settings.width {
+                let traced = trace_pixel(&stage, (x, y)).expect("a pixel of the image");
+                let at = 3 * (y * settings.width + x) as usize;
+                assert_eq!(
+                    traced.srgb[..],
+                    rendered.rgb[at..at + 3],
+                    "chapter {chapter}, pixel {x},{y}"
+                );
+                assert!(!traced.truncated);
+                assert!(
+                    traced
+                        .samples
+                        .iter()
+                        .all(|root| root.kind == RayKind::Primary && root.color.is_some())
+                );
+                rays += traced.samples.iter().map(count).sum::<usize>();
+            }
+        }
+        // The trees hold every ray the render cast: no more, no fewer.
+        assert_eq!(rays as u64, rendered.rays.total(), "chapter {chapter}");
+    }
+}
+
+#[test]
+fn shadow_rays_name_their_light_and_bounces_nest_under_their_point() {
+    // Chapter 6's centre pixel meets the mirror ball: a reflection ray
+    // under the camera ray, and shadow rays toward the scene's lights.
+    let scene = raylab::builtin::scene(6).expect("built-in scene");
+    let stage = raylab::Stage::new(&scene, 6, scene.render).expect("valid settings");
+    let centre = (scene.render.width / 2, scene.render.height / 2);
+    let traced = trace_pixel(&stage, centre).expect("the centre pixel");
+    let root = &traced.samples[0];
+    let hit = root.hit.as_ref().expect("the camera ray meets something");
+    assert!(!hit.name.is_empty());
+    let shadows: Vec<&TracedRay> = root
+        .children
+        .iter()
+        .filter(|child| child.kind == RayKind::Shadow)
+        .collect();
+    assert!(!shadows.is_empty(), "{root:#?}");
+    for shadow in &shadows {
+        let light = shadow.light.expect("a shadow ray ends at a light");
+        assert!(light < scene.lights.len());
+        assert!(shadow.color.is_none() && shadow.children.is_empty());
+    }
+    let bounce = root
+        .children
+        .iter()
+        .find(|child| child.kind == RayKind::Reflection)
+        .expect("the mirror reflects");
+    assert!(bounce.color.is_some());
+    // The bounce leaves from the camera ray's point.
+    assert!((bounce.ray.origin - hit.point).length() < 1e-3);
+    // Outside the image: no pixel.
+    assert!(trace_pixel(&stage, (scene.render.width, 0)).is_none());
+}
