@@ -8,6 +8,7 @@
 //! log.
 
 use crate::course::{Chapters, Hit};
+use crate::effects::Lighting;
 use crate::render::{RayKind, RayLog, Stage};
 use crate::{Ray, Vec3};
 
@@ -27,6 +28,10 @@ pub struct TracedRay {
     /// For a shadow ray, the light its range ends at (an index into the
     /// scene's lights).
     pub light: Option<usize>,
+    /// For a shadow ray that reached its light at a stage with Phong
+    /// lighting (chapter 5 on): what that light adds at the point, by the
+    /// chapters' `phong_terms`, its share of the point's colour.
+    pub light_share: Option<crate::course::PhongTerms>,
     pub children: Vec<TracedRay>,
 }
 
@@ -128,6 +133,7 @@ impl RayLog for TreeLog {
             hit: None,
             color: None,
             light: None,
+            light_share: None,
             children: Vec::new(),
         };
         if kind == RayKind::Shadow {
@@ -207,6 +213,7 @@ fn describe<C: Chapters>(
     tracer: &crate::render::Tracer<'_, C>,
     traced: &mut TracedRay,
 ) {
+    let mut shaded = None;
     if let Some(hit) = traced.hit.as_mut() {
         let point = tracer.hit_point(hit.shape, &traced.ray, hit.t);
         hit.name = stage.name(hit.shape).unwrap_or("?").to_string();
@@ -215,6 +222,9 @@ fn describe<C: Chapters>(
         hit.shading_normal = point.normal;
         hit.material = *point.material;
         hit.albedo = point.albedo;
+        if traced.kind != RayKind::Shadow {
+            shaded = Some(point);
+        }
     }
     if traced.kind == RayKind::Shadow {
         let end = traced.ray.at(traced.t_max);
@@ -224,5 +234,23 @@ fn describe<C: Chapters>(
     }
     for child in &mut traced.children {
         describe(stage, tracer, child);
+        // What each light that reached the point adds there: the terms the
+        // chapter's Phong shading sums for it.
+        if let Some(point) = &shaded
+            && stage.effects.lighting == Lighting::Phong
+            && child.kind == RayKind::Shadow
+            && child.hit.is_none()
+            && let Some(light) = child.light.and_then(|index| tracer.lights().get(index))
+        {
+            let to_light = (light.position - point.surface.point).normalize();
+            child.light_share = Some(C::phong_terms(
+                point.material,
+                point.albedo,
+                point.normal,
+                to_light,
+                point.to_eye,
+                light.radiance(),
+            ));
+        }
     }
 }

@@ -149,10 +149,20 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
             hit.t,
             light_text(ray.light)
         )),
-        (None, RayKind::Shadow) => out.push_str(&format!(
-            "{indent}  nothing in the way: {} lights the point\n",
-            light_text(ray.light)
-        )),
+        (None, RayKind::Shadow) => {
+            out.push_str(&format!(
+                "{indent}  nothing in the way: {} lights the point",
+                light_text(ray.light)
+            ));
+            if let Some(share) = ray.light_share {
+                out.push_str(&format!(
+                    ", adding diffuse {} and specular {}",
+                    show(share.diffuse),
+                    show(share.specular)
+                ));
+            }
+            out.push('\n');
+        }
         (Some(hit), _) => out.push_str(&format!(
             "{indent}  hits \"{}\" (shape {}) at t = {}, point {}, geometric normal {}, shading \
              normal {}, albedo {}\n",
@@ -228,6 +238,10 @@ fn ray_json(ray: &TracedRay) -> serde_json::Value {
         "t_max": ray.t_max,
         "hit": hit,
         "light": ray.light,
+        "light_share": ray.light_share.map(|share| serde_json::json!({
+            "diffuse": share.diffuse.to_array(),
+            "specular": share.specular.to_array(),
+        })),
         "color": ray.color.map(|color| color.to_array()),
         "children": ray.children.iter().map(ray_json).collect::<Vec<_>>(),
     })

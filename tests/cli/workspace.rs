@@ -615,8 +615,8 @@ fn a_workspace_main_that_runs_raylabs_chapters_is_refused() {
     assert!(!Path::new("/chapter-1.png").exists());
 }
 
-/// raylab's own binary, run inside a student's workspace, would check or
-/// render raylab's answers: it refuses, naming the command to use.
+/// raylab's own binary, run inside a student's workspace, would check,
+/// render or trace raylab's answers: it refuses, naming the command to use.
 #[test]
 fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
     let ws = workspaces();
@@ -624,6 +624,7 @@ fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
     for args in [
         &["check", "--chapter", "3"][..],
         &["render", "--chapter", "3"],
+        &["trace", "--chapter", "3", "--pixel", "1,1"],
     ] {
         let out = raylab(args, &inside);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stdout(&out));

@@ -81,3 +81,43 @@ fn shadow_rays_name_their_light_and_bounces_nest_under_their_point() {
     // Outside the image: no pixel.
     assert!(trace_pixel(&stage, (scene.render.width, 0)).is_none());
 }
+
+/// At a Phong stage, each unblocked shadow ray carries what its light adds
+/// at the point: for chapter 5's matte surfaces (no mirror, no glass), the
+/// point's colour is the ambient term plus those shares, every pixel.
+#[test]
+fn the_lights_shares_and_the_ambient_term_make_a_phong_points_colour() {
+    let scene = raylab::builtin::scene(5).expect("built-in scene");
+    let settings = raylab::RenderSettings {
+        width: 32,
+        height: 24,
+        ..scene.render
+    };
+    let stage = raylab::Stage::new(&scene, 5, settings).expect("valid settings");
+    let mut with_light = 0;
+    for y in 0..settings.height {
+        for x in 0..settings.width {
+            let traced = trace_pixel(&stage, (x, y)).expect("a pixel");
+            let root = &traced.samples[0];
+            let Some(hit) = &root.hit else { continue };
+            let mut sum = hit.albedo * hit.material.ambient * scene.ambient_light;
+            for shadow in &root.children {
+                assert_eq!(shadow.kind, RayKind::Shadow);
+                match (&shadow.hit, shadow.light_share) {
+                    (None, Some(share)) => {
+                        sum += share.diffuse + share.specular;
+                        with_light += 1;
+                    }
+                    (Some(_), None) => {}
+                    other => panic!("pixel {x},{y}: {other:?}"),
+                }
+            }
+            let color = root.color.expect("a colour");
+            assert!(
+                (color - sum).abs().max_element() <= 1e-5 * (1.0 + color.max_element()),
+                "pixel {x},{y}: {color} vs {sum}"
+            );
+        }
+    }
+    assert!(with_light > 0);
+}
