@@ -20,6 +20,10 @@ pub struct TracedRay {
     /// The tracer looked for hits with `t_min < t < t_max`.
     pub t_min: f32,
     pub t_max: f32,
+    /// Its share of the pixel (`None` for shadow rays): 1 for a camera
+    /// ray; a bounce's is its parent's times the share the chapter gave it
+    /// (reflectivity, transparency, the Fresnel split).
+    pub weight: Option<f32>,
     /// What it met: the nearest hit, or a shadow ray's blocker.
     pub hit: Option<RayHit>,
     /// The colour it brought back, in linear light; `None` for shadow rays,
@@ -130,6 +134,7 @@ impl RayLog for TreeLog {
             ray: *ray,
             t_min,
             t_max,
+            weight: None,
             hit: None,
             color: None,
             light: None,
@@ -140,6 +145,14 @@ impl RayLog for TreeLog {
             self.shadow = Some(node);
         } else {
             self.open.push(node);
+        }
+    }
+
+    fn weighted(&mut self, weight: f32) {
+        if self.dropped_open == 0
+            && let Some(open) = self.open.last_mut()
+        {
+            open.weight = Some(weight);
         }
     }
 

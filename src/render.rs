@@ -56,6 +56,11 @@ pub enum RayKind {
 pub trait RayLog {
     /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
     fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
+    /// The share of the pixel the ray just cast carries (every kind but
+    /// shadow rays): 1 for a camera ray, and what the chapters passed to
+    /// [`Tracer::trace`] for a bounce (a mirror's reflectivity, glass's
+    /// Fresnel split, times the parent's share).
+    fn weighted(&mut self, _weight: f32) {}
     /// What the ray just cast met: the nearest hit, or for a shadow ray
     /// the blocker found; `None` when nothing is in its range.
     fn met(&mut self, _hit: Option<Hit>) {}
@@ -556,6 +561,9 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             return (Vec3::ZERO, None);
         }
         self.log(kind, ray, 0.0, f32::INFINITY);
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.weighted(weight);
+        }
         let hit = if let Some(bvh) = &self.stage.bvh {
             C::nearest_hit_bvh(bvh, &self.objects, ray, 0.0, f32::INFINITY)
         } else if self.stage.effects.nearest_hit {

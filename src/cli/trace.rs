@@ -134,8 +134,12 @@ fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
 fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
     let indent = "  ".repeat(depth);
     let range = format!("{} < t < {}", ray.t_min, ray.t_max);
+    let share = match ray.weight {
+        Some(weight) => format!(", {weight} of the pixel"),
+        None => String::new(),
+    };
     out.push_str(&format!(
-        "{indent}{} ray from {} along {}, {range}\n",
+        "{indent}{} ray from {} along {}, {range}{share}\n",
         kind_name(ray.kind),
         show(ray.ray.origin),
         show(ray.ray.dir)
@@ -180,7 +184,16 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
         ray_text(child, depth + 1, out);
     }
     if let Some(color) = ray.color {
-        out.push_str(&format!("{indent}  brings back {}\n", show(color)));
+        let contribution = match ray.weight {
+            Some(weight) if ray.kind != RayKind::Primary => {
+                format!(" (times its share: {})", show(color * weight))
+            }
+            _ => String::new(),
+        };
+        out.push_str(&format!(
+            "{indent}  brings back {}{contribution}\n",
+            show(color)
+        ));
     }
 }
 
@@ -236,6 +249,7 @@ fn ray_json(ray: &TracedRay) -> serde_json::Value {
         "direction": ray.ray.dir.to_array(),
         "t_min": ray.t_min,
         "t_max": ray.t_max,
+        "weight": ray.weight,
         "hit": hit,
         "light": ray.light,
         "light_share": ray.light_share.map(|share| serde_json::json!({

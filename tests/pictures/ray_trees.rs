@@ -9,6 +9,22 @@ fn count(ray: &TracedRay) -> usize {
     1 + ray.children.iter().map(count).sum::<usize>()
 }
 
+/// Every bounce carries a share of the pixel no larger than its parent's
+/// (a reflectivity, a transparency, a Fresnel split is at most 1), and
+/// shadow rays none.
+fn shares_shrink(ray: &TracedRay, parent: f32) {
+    match ray.kind {
+        RayKind::Shadow => assert_eq!(ray.weight, None),
+        _ => {
+            let weight = ray.weight.expect("a traced ray's share");
+            assert!(weight > 0.0 && weight <= parent, "{weight} under {parent}");
+            for child in &ray.children {
+                shares_shrink(child, weight);
+            }
+        }
+    }
+}
+
 #[test]
 fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
     for chapter in raylab::chapters::CHAPTERS
@@ -41,6 +57,10 @@ fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
                         .all(|root| root.kind == RayKind::Primary && root.color.is_some())
                 );
                 rays += traced.samples.iter().map(count).sum::<usize>();
+                for root in &traced.samples {
+                    assert_eq!(root.weight, Some(1.0));
+                    shares_shrink(root, 1.0);
+                }
             }
         }
         // The trees hold every ray the render cast: no more, no fewer.
