@@ -283,6 +283,10 @@ proptest! {
     #![proptest_config(ProptestConfig {
         cases: 256,
         failure_persistence: Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions"))),
+        // The same cases on every run: a test must not pass or fail by the
+        // draw (proptest's f32 sampler has a debug assertion that a rare
+        // draw trips, as a CI run met).
+        rng_seed: proptest::test_runner::RngSeed::Fixed(11),
         ..ProptestConfig::default()
     })]
 
