@@ -14,8 +14,9 @@ use crate::check::{CheckOptions, Overall, check_all};
 /// can work out by hand (the first failing one is printed with the lesson
 /// section to read), then its built-in scene rendered with your code at
 /// 160x120 and compared with the reference image shipped in raylab (on
-/// failure your image and a heatmap are written to --failures-dir), then
-/// the hard cases, reported apart ("correct, not yet robust").
+/// failure your image and a heatmap are written to --failures-dir), then,
+/// once the cases and the image pass, the hard cases, reported apart
+/// ("correct, not yet robust"; "-" while something before them fails).
 ///
 /// A chapter whose functions are still todo!() is "not started". Chapter N
 /// builds on chapters 1 to N-1, and says so when one of them fails. Your
