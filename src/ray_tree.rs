@@ -36,6 +36,18 @@ pub struct TracedRay {
     /// lighting (chapter 5 on): what that light adds at the point, by the
     /// chapters' `phong_terms`, its share of the point's colour.
     pub light_share: Option<crate::course::PhongTerms>,
+    /// What this ray adds to the pixel beyond what its bounces bring:
+    /// its colour times its share of the pixel, less each bounce's colour
+    /// times the bounce's share (`None` for shadow rays). A point's own
+    /// light (ambient, diffuse, specular) is this; a perfect mirror adds
+    /// nothing of its own. Summed over every ray of every sample it is
+    /// the mean of the samples' colours, whatever a chapter does with
+    /// them: each bounce's colour times its share is counted once with a
+    /// plus (its own) and once with a minus (its parent's).
+    pub contribution: Option<glam::DVec3>,
+    /// The sum of the contributions of the rays cast up to this one, in
+    /// the order they were cast: after the last ray, the pixel.
+    pub running_sum: Option<glam::DVec3>,
     pub children: Vec<TracedRay>,
 }
 
@@ -139,6 +151,8 @@ impl RayLog for TreeLog {
             color: None,
             light: None,
             light_share: None,
+            contribution: None,
+            running_sum: None,
             children: Vec::new(),
         };
         if kind == RayKind::Shadow {
@@ -210,6 +224,11 @@ pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Opt
     for sample in &mut samples {
         describe(stage, &describer, sample);
     }
+    let per_sample = 1.0 / samples.len().max(1) as f64;
+    let mut running_sum = glam::DVec3::ZERO;
+    for sample in &mut samples {
+        add_contributions(sample, per_sample, &mut running_sum);
+    }
     Some(PixelTrace {
         pixel: (x, y),
         samples,
@@ -217,6 +236,27 @@ pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Opt
         srgb: color.to_array().map(crate::output::linear_to_srgb8),
         truncated,
     })
+}
+
+/// Sets each ray's [`TracedRay::contribution`] (its colour and shares
+/// scaled by `per_sample`, the share of one sample in the pixel) and its
+/// running sum, in the order the rays were cast.
+fn add_contributions(traced: &mut TracedRay, per_sample: f64, running_sum: &mut glam::DVec3) {
+    let weighted = |ray: &TracedRay| match (ray.weight, ray.color) {
+        (Some(weight), Some(color)) => Some(color.as_dvec3() * f64::from(weight) * per_sample),
+        _ => None,
+    };
+    let Some(own) = weighted(traced) else {
+        return;
+    };
+    let bounces: glam::DVec3 = traced.children.iter().filter_map(weighted).sum();
+    let contribution = own - bounces;
+    *running_sum += contribution;
+    traced.contribution = Some(contribution);
+    traced.running_sum = Some(*running_sum);
+    for child in &mut traced.children {
+        add_contributions(child, per_sample, running_sum);
+    }
 }
 
 /// Fills in each hit's object, point, normals and material, and each
@@ -266,4 +306,86 @@ fn describe<C: Chapters>(
             ));
         }
     }
+}
+
+/// The name `raylab trace` and its JSON give a kind of ray.
+pub fn kind_name(kind: RayKind) -> &'static str {
+    match kind {
+        RayKind::Primary => "camera",
+        RayKind::Shadow => "shadow",
+        RayKind::Reflection => "reflection",
+        RayKind::Refraction => "refraction",
+    }
+}
+
+impl PixelTrace {
+    /// The camera rays to show: every sample, or only sample `only`.
+    pub fn chosen(&self, only: Option<usize>) -> impl Iterator<Item = (usize, &TracedRay)> {
+        self.samples
+            .iter()
+            .enumerate()
+            .filter(move |(index, _)| only.is_none_or(|only| only == *index))
+    }
+
+    /// The trace as `raylab trace --json` prints it and the browser page
+    /// draws it. JSON has no infinity: a `t_max` of `null` is an unbounded
+    /// range.
+    pub fn to_json(&self, chapter: u8, only: Option<usize>) -> serde_json::Value {
+        let (x, y) = self.pixel;
+        let samples: Vec<serde_json::Value> = self
+            .chosen(only)
+            .map(|(index, root)| serde_json::json!({ "sample": index, "ray": ray_json(root) }))
+            .collect();
+        serde_json::json!({
+            "chapter": chapter,
+            "pixel": [x, y],
+            "samples": samples,
+            "sample_count": self.samples.len(),
+            "color": self.color.to_array(),
+            "srgb": self.srgb,
+            "truncated": self.truncated,
+        })
+    }
+}
+
+fn ray_json(ray: &TracedRay) -> serde_json::Value {
+    let hit = ray.hit.as_ref().map(|hit| {
+        serde_json::json!({
+            "shape": hit.shape,
+            "name": hit.name,
+            "t": hit.t,
+            "point": hit.point.to_array(),
+            "geometric_normal": hit.geometric_normal.to_array(),
+            "shading_normal": hit.shading_normal.to_array(),
+            "albedo": hit.albedo.to_array(),
+            "material": {
+                "color": hit.material.color.to_array(),
+                "ambient": hit.material.ambient,
+                "diffuse": hit.material.diffuse,
+                "specular": hit.material.specular,
+                "shininess": hit.material.shininess,
+                "reflectivity": hit.material.reflectivity,
+                "transparency": hit.material.transparency,
+                "ior": hit.material.ior,
+            },
+        })
+    });
+    serde_json::json!({
+        "kind": kind_name(ray.kind),
+        "origin": ray.ray.origin.to_array(),
+        "direction": ray.ray.dir.to_array(),
+        "t_min": ray.t_min,
+        "t_max": ray.t_max.is_finite().then_some(ray.t_max),
+        "weight": ray.weight,
+        "hit": hit,
+        "light": ray.light,
+        "light_share": ray.light_share.map(|share| serde_json::json!({
+            "diffuse": share.diffuse.to_array(),
+            "specular": share.specular.to_array(),
+        })),
+        "color": ray.color.map(|color| color.to_array()),
+        "contribution": ray.contribution.map(|sum| sum.to_array()),
+        "running_sum": ray.running_sum.map(|sum| sum.to_array()),
+        "children": ray.children.iter().map(ray_json).collect::<Vec<_>>(),
+    })
 }

@@ -179,6 +179,8 @@ pub enum RenderError {
     Settings(crate::scene::SettingsError),
     #[error("there is no chapter {0}; chapters are 1 to {LAST_CHAPTER}")]
     NoSuchChapter(u8),
+    #[error("rows {start} to {end} are not rows of an image {height} pixels high")]
+    Rows { start: u32, end: u32, height: u32 },
 }
 
 /// A scene prepared for one chapter's stage: what every thread shares.
@@ -744,27 +746,10 @@ pub fn render_stage<C: Chapters>(
         .par_chunks_mut(width as usize * 3)
         .enumerate()
         .map(|(y, row)| {
-            let mut tracer = stage.tracer(None);
-            let (evaluations, marches) = (
-                crate::shapes::evaluations(),
-                crate::shapes::march_histogram(),
-            );
-            let mut self_shadowed_pixels = 0;
-            for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
-                let self_shadowed_before = tracer.counts.self_shadow_hits;
-                let color = tracer.pixel(x as u32, y as u32);
-                if tracer.counts.self_shadow_hits > self_shadowed_before {
-                    self_shadowed_pixels += 1;
-                }
-                pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
-            }
+            let counts = render_row(stage, y as u32, row);
             if let Some(bar) = progress {
                 bar.inc(1);
             }
-            let mut counts = tracer.counts();
-            counts.self_shadowed_pixels = self_shadowed_pixels;
-            counts.implicit_evaluations = crate::shapes::evaluations() - evaluations;
-            counts.march_histogram = crate::shapes::march_histogram().since(&marches);
             counts
         })
         .reduce(RayCounts::default, RayCounts::add);
@@ -776,4 +761,77 @@ pub fn render_stage<C: Chapters>(
         rays,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Rows `rows` of the image of `scene` at `chapter`'s stage, as
+/// [`render_with`] renders them (sRGB, 3 bytes a pixel), and the rays they
+/// cast: the same bytes whichever rows are asked for and in what order, so
+/// that any split of an image (the browser's workers) puts the same image
+/// back together. Rows past the image are refused.
+pub fn render_rows<C: Chapters>(
+    scene: &Scene,
+    chapter: u8,
+    settings: &RenderSettings,
+    rows: std::ops::Range<u32>,
+) -> Result<(Vec<u8>, RayCounts), RenderError> {
+    use crate::course::Textbook;
+    fn run<C: Chapters>(
+        scene: &Scene,
+        chapter: u8,
+        settings: &RenderSettings,
+        rows: std::ops::Range<u32>,
+    ) -> Result<(Vec<u8>, RayCounts), RenderError> {
+        let stage = Stage::<C>::with_chapters(scene, chapter, *settings)?;
+        let width = settings.width as usize * 3;
+        let mut rgb = vec![0u8; width * rows.len()];
+        let mut counts = RayCounts::default();
+        for (row, y) in rgb.chunks_exact_mut(width).zip(rows) {
+            counts = counts.add(render_row(&stage, y, row));
+        }
+        Ok((rgb, counts))
+    }
+    if rows.end > settings.height || rows.start > rows.end {
+        return Err(RenderError::Rows {
+            start: rows.start,
+            end: rows.end,
+            height: settings.height,
+        });
+    }
+    let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
+    match (settings.sphere_formula, textbook_triangle) {
+        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, rows),
+        (SphereFormula::Textbook, false) => {
+            run::<Textbook<C, true, false>>(scene, chapter, settings, rows)
+        }
+        (SphereFormula::Stable, true) => {
+            run::<Textbook<C, false, true>>(scene, chapter, settings, rows)
+        }
+        (SphereFormula::Textbook, true) => {
+            run::<Textbook<C, true, true>>(scene, chapter, settings, rows)
+        }
+    }
+}
+
+/// Row `y` of `stage`'s image into `row` (sRGB, 3 bytes a pixel), and the
+/// rays it cast.
+fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayCounts {
+    let mut tracer = stage.tracer(None);
+    let (evaluations, marches) = (
+        crate::shapes::evaluations(),
+        crate::shapes::march_histogram(),
+    );
+    let mut self_shadowed_pixels = 0;
+    for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+        let self_shadowed_before = tracer.counts.self_shadow_hits;
+        let color = tracer.pixel(x as u32, y);
+        if tracer.counts.self_shadow_hits > self_shadowed_before {
+            self_shadowed_pixels += 1;
+        }
+        pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
+    }
+    let mut counts = tracer.counts();
+    counts.self_shadowed_pixels = self_shadowed_pixels;
+    counts.implicit_evaluations = crate::shapes::evaluations() - evaluations;
+    counts.march_histogram = crate::shapes::march_histogram().since(&marches);
+    counts
 }

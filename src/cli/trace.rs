@@ -5,7 +5,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use super::render::{SettingsOverrides, select_scene};
-use crate::ray_tree::{PixelTrace, TracedRay, trace_pixel};
+use crate::ray_tree::{PixelTrace, TracedRay, kind_name, trace_pixel};
 use crate::render::RayKind;
 use crate::{Stage, Vec3};
 
@@ -72,7 +72,7 @@ pub fn trace<C: Chapters>(args: &TraceArgs) -> Result<i32> {
     if args.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&json(chapter, &traced, args.sample))?
+            serde_json::to_string_pretty(&traced.to_json(chapter, args.sample))?
         );
     } else {
         print!("{}", text(chapter, &traced, args.sample));
@@ -80,26 +80,15 @@ pub fn trace<C: Chapters>(args: &TraceArgs) -> Result<i32> {
     Ok(0)
 }
 
-fn kind_name(kind: RayKind) -> &'static str {
-    match kind {
-        RayKind::Primary => "camera",
-        RayKind::Shadow => "shadow",
-        RayKind::Reflection => "reflection",
-        RayKind::Refraction => "refraction",
-    }
+fn show_wide(v: glam::DVec3) -> String {
+    // Six decimals: an 8-bit pixel is a step of 1/255 in sRGB, and what a
+    // difference of colours leaves below 1e-6 is rounding.
+    let digits = |x: f64| format!("{:.6}", if x.abs() < 5e-7 { 0.0 } else { x });
+    format!("({}, {}, {})", digits(v.x), digits(v.y), digits(v.z))
 }
 
 fn show(v: Vec3) -> String {
     format!("({}, {}, {})", v.x, v.y, v.z)
-}
-
-fn chosen(traced: &PixelTrace, sample: Option<usize>) -> Vec<(usize, &TracedRay)> {
-    traced
-        .samples
-        .iter()
-        .enumerate()
-        .filter(|(index, _)| sample.is_none_or(|only| only == *index))
-        .collect()
 }
 
 fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
@@ -113,7 +102,7 @@ fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
             "rays"
         }
     );
-    for (index, root) in chosen(traced, sample) {
+    for (index, root) in traced.chosen(sample) {
         out += &format!("sample {index}:\n");
         ray_text(root, 1, &mut out);
     }
@@ -180,6 +169,13 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
         )),
         (None, _) => out.push_str(&format!("{indent}  misses everything: the background\n")),
     }
+    if let (Some(own), Some(sum)) = (ray.contribution, ray.running_sum) {
+        out.push_str(&format!(
+            "{indent}  adds {} of its own to the pixel: running sum {}\n",
+            show_wide(own),
+            show_wide(sum)
+        ));
+    }
     for child in &ray.children {
         ray_text(child, depth + 1, out);
     }
@@ -202,61 +198,4 @@ fn light_text(light: Option<usize>) -> String {
         Some(index) => format!("light {index}"),
         None => "the light".to_string(),
     }
-}
-
-fn json(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> serde_json::Value {
-    let (x, y) = traced.pixel;
-    let samples: Vec<serde_json::Value> = chosen(traced, sample)
-        .into_iter()
-        .map(|(index, root)| serde_json::json!({ "sample": index, "ray": ray_json(root) }))
-        .collect();
-    serde_json::json!({
-        "chapter": chapter,
-        "pixel": [x, y],
-        "samples": samples,
-        "sample_count": traced.samples.len(),
-        "color": traced.color.to_array(),
-        "srgb": traced.srgb,
-        "truncated": traced.truncated,
-    })
-}
-
-fn ray_json(ray: &TracedRay) -> serde_json::Value {
-    let hit = ray.hit.as_ref().map(|hit| {
-        serde_json::json!({
-            "shape": hit.shape,
-            "name": hit.name,
-            "t": hit.t,
-            "point": hit.point.to_array(),
-            "geometric_normal": hit.geometric_normal.to_array(),
-            "shading_normal": hit.shading_normal.to_array(),
-            "albedo": hit.albedo.to_array(),
-            "material": {
-                "color": hit.material.color.to_array(),
-                "ambient": hit.material.ambient,
-                "diffuse": hit.material.diffuse,
-                "specular": hit.material.specular,
-                "shininess": hit.material.shininess,
-                "reflectivity": hit.material.reflectivity,
-                "transparency": hit.material.transparency,
-                "ior": hit.material.ior,
-            },
-        })
-    });
-    serde_json::json!({
-        "kind": kind_name(ray.kind),
-        "origin": ray.ray.origin.to_array(),
-        "direction": ray.ray.dir.to_array(),
-        "t_min": ray.t_min,
-        "t_max": ray.t_max,
-        "weight": ray.weight,
-        "hit": hit,
-        "light": ray.light,
-        "light_share": ray.light_share.map(|share| serde_json::json!({
-            "diffuse": share.diffuse.to_array(),
-            "specular": share.specular.to_array(),
-        })),
-        "color": ray.color.map(|color| color.to_array()),
-        "children": ray.children.iter().map(ray_json).collect::<Vec<_>>(),
-    })
 }

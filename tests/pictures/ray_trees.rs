@@ -25,6 +25,18 @@ fn shares_shrink(ray: &TracedRay, parent: f32) {
     }
 }
 
+/// The running sum after the last ray cast (the deepest last bounce).
+fn last_running_sum(ray: &TracedRay) -> glam::DVec3 {
+    ray.children
+        .iter()
+        .rev()
+        .find(|child| child.running_sum.is_some())
+        .map_or_else(
+            || ray.running_sum.expect("a camera ray has a running sum"),
+            last_running_sum,
+        )
+}
+
 #[test]
 fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
     for chapter in raylab::chapters::CHAPTERS
@@ -61,6 +73,12 @@ fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
                     assert_eq!(root.weight, Some(1.0));
                     shares_shrink(root, 1.0);
                 }
+                let sum = last_running_sum(traced.samples.last().expect("a camera ray"));
+                let pixel = traced.color.as_dvec3();
+                assert!(
+                    (sum - pixel).abs().max_element() <= 1e-5 * (1.0 + pixel.max_element()),
+                    "chapter {chapter}, pixel {x},{y}: running sum {sum} for {pixel}"
+                );
             }
         }
         // The trees hold every ray the render cast: no more, no fewer.
