@@ -80,6 +80,27 @@ impl Camera {
         let dir = self.forward + horizontal * self.right_edge + vertical * self.top_edge;
         Ray::new(self.origin, dir.normalize())
     }
+
+    /// Where `point` appears in the image, in pixels from the top-left
+    /// corner (the inverse of [`Camera::ray_through`]); `None` for a point
+    /// behind the camera or in its plane.
+    pub fn project(&self, point: Vec3) -> Option<(f32, f32)> {
+        let offset = point - self.origin;
+        let depth = offset.dot(self.forward);
+        if !(depth > 0.0) {
+            return None;
+        }
+        let horizontal = offset.dot(self.right_edge) / (self.right_edge.length_squared() * depth);
+        let vertical = offset.dot(self.top_edge) / (self.top_edge.length_squared() * depth);
+        let x = (horizontal + 1.0) * self.width / 2.0;
+        let y = (1.0 - vertical) * self.height / 2.0;
+        (x.is_finite() && y.is_finite()).then_some((x, y))
+    }
+
+    /// The depth of `point` along the viewing direction.
+    pub fn depth(&self, point: Vec3) -> f32 {
+        (point - self.origin).dot(self.forward)
+    }
 }
 
 /// Why [`Camera::try_new`] can build no camera for a spec, in the words of
@@ -123,4 +144,32 @@ fn direction(v: Vec3) -> Option<Vec3> {
 fn in_normal_range(v: Vec3) -> bool {
     let squared = v.length_squared();
     squared >= f32::MIN_POSITIVE && squared.is_finite()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_on_a_pixel_s_ray_projects_to_that_pixel() {
+        let spec = CameraSpec {
+            position: Vec3::new(0.5, 1.6, -6.0),
+            look_at: Vec3::new(0.0, 1.0, 0.0),
+            up: Vec3::Y,
+            fov_degrees: 50.0,
+        };
+        let camera = Camera::new(&spec, 64, 48);
+        for (x, y) in [(0.5, 0.5), (31.5, 20.25), (63.5, 47.5)] {
+            let ray = camera.ray_through(x, y);
+            let (px, py) = camera.project(ray.at(7.0)).expect("in front");
+            assert!(
+                (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+                "{px},{py} for {x},{y}"
+            );
+        }
+        assert_eq!(
+            camera.project(spec.position - Vec3::new(0.0, 0.0, 1.0)),
+            None
+        );
+    }
 }

@@ -23,7 +23,7 @@ use std::sync::atomic::{AtomicPtr, Ordering};
 /// most three outputs together).
 const SLOTS: usize = 32;
 
-static LIVE: [AtomicPtr<libc::c_char>; SLOTS] =
+static LIVE: [AtomicPtr<std::ffi::c_char>; SLOTS] =
     [const { AtomicPtr::new(std::ptr::null_mut()) }; SLOTS];
 
 /// A registered temporary path; dropping it unregisters the path (drop it
@@ -85,6 +85,7 @@ pub fn live_paths() -> Vec<std::path::PathBuf> {
 }
 
 /// Removes every registered temporary file (what the signal handler does).
+#[cfg(unix)]
 fn remove_live_files() {
     for slot in &LIVE {
         let pointer = slot.load(Ordering::Acquire);

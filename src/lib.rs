@@ -29,6 +29,9 @@
 // then unused, which is the point.
 #![cfg_attr(feature = "student", allow(dead_code, unused_imports))]
 
+// The browser page (web/) builds this crate for WebAssembly without the
+// command line, the cost tables and their plots: see Cargo.toml.
+
 // The chapter files name raylab's items as `raylab::...`, as a student
 // workspace does, so that the same text compiles in both places.
 extern crate self as raylab;
@@ -43,7 +46,9 @@ pub mod bvh_reports;
 pub mod camera;
 pub mod check;
 pub mod cleanup;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cost;
 pub mod course;
 pub mod crosscheck;
@@ -57,6 +62,7 @@ pub mod input;
 pub mod medium;
 pub mod mesh;
 pub mod output;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod plots;
 pub mod ray;
 pub mod ray_tree;
@@ -65,6 +71,7 @@ pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod text;
+pub mod web;
 pub mod workspace;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.

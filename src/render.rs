@@ -665,6 +665,22 @@ pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
     crate::record::record_rays_within(stage, u64::MAX).unwrap_or_default()
 }
 
+/// What a render tells of each row it finishes: a terminal's progress bar.
+#[cfg(not(target_arch = "wasm32"))]
+pub type Progress = indicatif::ProgressBar;
+
+/// In the browser page the workers report their rows themselves: no render
+/// is given a progress bar there.
+#[cfg(target_arch = "wasm32")]
+pub enum Progress {}
+
+#[cfg(target_arch = "wasm32")]
+impl Progress {
+    fn inc(&self, _rows: u64) {
+        match *self {}
+    }
+}
+
 /// A finished render.
 #[derive(Debug, Clone)]
 pub struct Rendered {
@@ -693,7 +709,7 @@ pub fn render(
     scene: &Scene,
     chapter: u8,
     settings: &RenderSettings,
-    progress: Option<&indicatif::ProgressBar>,
+    progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
     render_with::<Reference>(scene, chapter, settings, progress)
 }
@@ -705,14 +721,14 @@ pub fn render_with<C: Chapters>(
     scene: &Scene,
     chapter: u8,
     settings: &RenderSettings,
-    progress: Option<&indicatif::ProgressBar>,
+    progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
     use crate::course::Textbook;
     fn run<C: Chapters>(
         scene: &Scene,
         chapter: u8,
         settings: &RenderSettings,
-        progress: Option<&indicatif::ProgressBar>,
+        progress: Option<&Progress>,
     ) -> Result<Rendered, RenderError> {
         render_stage(
             &Stage::<C>::with_chapters(scene, chapter, *settings)?,
@@ -737,7 +753,7 @@ pub fn render_with<C: Chapters>(
 /// Renders a prepared stage.
 pub fn render_stage<C: Chapters>(
     stage: &Stage<'_, C>,
-    progress: Option<&indicatif::ProgressBar>,
+    progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
     let start = Instant::now();
     let (width, height) = (stage.settings.width, stage.settings.height);

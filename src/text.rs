@@ -45,9 +45,7 @@ pub fn visible_name(name: &std::ffi::OsStr) -> String {
         }
     }
     #[cfg(not(unix))]
-    {
-        out = terminal_safe(&name.to_string_lossy()).replace('\n', "\\u{a}");
-    }
+    out.push_str(&terminal_safe(&name.to_string_lossy()).replace('\n', "\\u{a}"));
     out
 }
 

@@ -65,7 +65,7 @@ fn module_layer(module: &str) -> Option<Layer> {
             Layer::Engine
         }
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
-        | "embree" | "plots" | "implicit_probe" | "ray_tree" => Layer::Tool,
+        | "embree" | "plots" | "implicit_probe" | "ray_tree" | "web" => Layer::Tool,
         "cli" | "main" => Layer::Cli,
         _ => return None,
     })

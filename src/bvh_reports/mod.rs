@@ -14,6 +14,7 @@
 //! a render runs the same whether or not anyone measures it.
 
 pub mod cost;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod format;
 pub mod leaks;
 pub mod measure;

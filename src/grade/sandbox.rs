@@ -174,6 +174,8 @@ pub struct Sandboxed {
 #[derive(Debug)]
 pub struct ProcessCap {
     folder: PathBuf,
+    // Written only where there are processes to cap (Unix).
+    #[cfg_attr(not(unix), allow(dead_code))]
     procs: std::fs::File,
 }
 

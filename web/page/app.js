@@ -1,0 +1,355 @@
+// The page: a chapter's image rendered by workers, its scene in an editor,
+// its settings on sliders, and the ray tree of the pixel clicked.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const ROWS_A_TASK = 4;
+const KIND_COLOURS = { camera: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00" };
+
+const page = {
+  module: null,
+  raylab: null, // the main thread's instance: chapters, prepare, trace
+  chapters: [],
+  workers: [],
+  render: null, // the render in progress or last finished
+  generation: 0,
+  sceneEdited: false,
+};
+// What the browser tests read.
+window.raylabPage = page;
+
+function setState(state) {
+  document.body.dataset.state = state;
+}
+
+function status(text) {
+  $("status").textContent = text;
+}
+
+async function start() {
+  const bytes = await (await fetch("raylab.wasm")).arrayBuffer();
+  page.module = await WebAssembly.compile(bytes);
+  page.raylab = await Raylab.instantiate(page.module);
+  page.chapters = page.raylab.call({ op: "chapters" }).json;
+  for (const chapter of page.chapters) {
+    const option = document.createElement("option");
+    option.value = chapter.number;
+    option.textContent = `${chapter.number}. ${chapter.title}`;
+    $("chapter").append(option);
+  }
+  // One worker a core, or as many as ?workers=N asks (the benchmark: 1).
+  const asked = Number(new URLSearchParams(location.search).get("workers"));
+  const cores = Math.max(1, Math.min(asked || navigator.hardwareConcurrency || 2, 16));
+  await Promise.all(Array.from({ length: cores }, () => addWorker()));
+  const wanted = Number(new URLSearchParams(location.search).get("chapter")) || 8;
+  $("chapter").value = String(page.chapters.some((c) => c.number === wanted) ? wanted : 8);
+  chapterChanged();
+  for (const id of ["width", "samples", "depth", "epsilon", "fixed-epsilon"]) {
+    $(id).addEventListener("input", () => { showValues(); scheduleRender(); });
+  }
+  $("chapter").addEventListener("change", chapterChanged);
+  $("scene").addEventListener("input", () => { page.sceneEdited = true; scheduleRender(400); });
+  $("image").addEventListener("click", pixelClicked);
+}
+
+function addWorker() {
+  return new Promise((resolve) => {
+    const worker = new Worker("worker.js");
+    const entry = { worker, busy: false };
+    worker.onmessage = (event) => {
+      if (event.data.ready) {
+        page.workers.push(entry);
+        resolve(entry);
+        return;
+      }
+      entry.busy = false;
+      rowsDone(event.data);
+      dispatch();
+    };
+    worker.postMessage({ module: page.module });
+  });
+}
+
+// A chapter starts from its built-in scene's own settings: the page then
+// shows what `raylab render --chapter N --width W` renders.
+function chapterChanged() {
+  const chapter = currentChapter();
+  $("scene").value = chapter.scene;
+  page.sceneEdited = false;
+  const own = page.raylab.call({ op: "prepare", job: { chapter: chapter.number } }).json;
+  if (!own.error) {
+    $("width").value = String(Math.min(own.width, 320));
+    $("samples").value = String(own.settings.samples);
+    $("depth").value = String(own.settings.depth);
+    $("fixed-epsilon").checked = own.settings.epsilon !== null;
+    if (own.settings.epsilon !== null) $("epsilon").value = String(Math.log10(own.settings.epsilon));
+  }
+  $("lesson").href = `doc/raylab/chapters/${chapter.module}/index.html`;
+  $("lesson").textContent = `lesson ${chapter.number}: ${chapter.title}`;
+  clearTree();
+  showValues();
+  scheduleRender(0);
+}
+
+function currentChapter() {
+  return page.chapters.find((c) => c.number === Number($("chapter").value));
+}
+
+function showValues() {
+  for (const output of document.querySelectorAll("output")) {
+    const input = $(output.htmlFor.value);
+    output.textContent = input.id === "epsilon" ? epsilon().toExponential(1) : input.value;
+  }
+  $("epsilon").disabled = !$("fixed-epsilon").checked;
+}
+
+function epsilon() {
+  return Math.pow(10, Number($("epsilon").value));
+}
+
+// The job every worker renders a share of: the chapter, the scene's text
+// (null: the built-in scene, exactly as `raylab render --chapter N`) and
+// the sliders, which mean what raylab render's options mean.
+function job() {
+  const width = Number($("width").value);
+  const [sceneWidth, sceneHeight] = sceneSize();
+  return {
+    chapter: currentChapter().number,
+    scene: page.sceneEdited ? $("scene").value : null,
+    width,
+    height: Math.max(1, Math.round((width * sceneHeight) / sceneWidth)),
+    samples: Number($("samples").value),
+    depth: Number($("depth").value),
+    epsilon: $("fixed-epsilon").checked ? epsilon() : null,
+  };
+}
+
+// The built-in scene's own proportions (its [render] size).
+function sceneSize() {
+  const text = currentChapter().scene;
+  const width = Number((text.match(/^\s*width\s*=\s*(\d+)/m) || [])[1]) || 4;
+  const height = Number((text.match(/^\s*height\s*=\s*(\d+)/m) || [])[1]) || 3;
+  return [width, height];
+}
+
+let renderTimer = null;
+function scheduleRender(delay = 150) {
+  clearTimeout(renderTimer);
+  renderTimer = setTimeout(startRender, delay);
+}
+
+function startRender() {
+  const request = job();
+  const prepared = page.raylab.call({ op: "prepare", job: request }).json;
+  if (prepared.error) {
+    showSceneError(prepared);
+    setState("error");
+    return;
+  }
+  showSceneError(null);
+  stopWorkers();
+  const id = ++page.generation;
+  const canvas = $("image");
+  canvas.width = prepared.width;
+  canvas.height = prepared.height;
+  const scale = Math.max(1, Math.floor(640 / prepared.width));
+  canvas.style.width = `${prepared.width * scale}px`;
+  canvas.style.height = `${prepared.height * scale}px`;
+  $("overlay").setAttribute("width", prepared.width * scale);
+  $("overlay").setAttribute("height", prepared.height * scale);
+  $("overlay").setAttribute("viewBox", `0 0 ${prepared.width} ${prepared.height}`);
+  $("overlay").replaceChildren();
+  $("effects").textContent = `Simulated: ${prepared.effects.join(", ") || "nothing"} (${prepared.samples} sample${prepared.samples === 1 ? "" : "s"} a pixel)`;
+  const tasks = [];
+  for (let row = 0; row < prepared.height; row += ROWS_A_TASK) {
+    tasks.push([row, Math.min(prepared.height, row + ROWS_A_TASK)]);
+  }
+  page.render = {
+    id, job: request, prepared, tasks, pending: tasks.length, started: performance.now(),
+    rays: { camera: 0, shadow: 0, reflection: 0, refraction: 0 }, error: null,
+  };
+  setState("rendering");
+  status("rendering…");
+  dispatch();
+}
+
+// Workers still busy with an older render are replaced: a render can take
+// long (or a chapter loop for ever), and its rows would be thrown away.
+function stopWorkers() {
+  for (const entry of page.workers.filter((e) => e.busy)) {
+    entry.worker.terminate();
+    page.workers.splice(page.workers.indexOf(entry), 1);
+    addWorker().then(dispatch);
+  }
+}
+
+function dispatch() {
+  const render = page.render;
+  if (!render || render.error) return;
+  for (const entry of page.workers) {
+    if (entry.busy || render.tasks.length === 0) continue;
+    entry.busy = true;
+    entry.worker.postMessage({ id: render.id, job: render.job, rows: render.tasks.shift() });
+  }
+}
+
+function rowsDone(message) {
+  const render = page.render;
+  if (!render || message.id !== render.id) return;
+  if (message.error) {
+    render.error = message.error;
+    status(message.error);
+    $("scene-error").hidden = false;
+    $("scene-error").textContent = message.error;
+    setState("error");
+    return;
+  }
+  const [first, end] = message.rows;
+  const image = new ImageData(new Uint8ClampedArray(message.pixels), render.prepared.width, end - first);
+  $("image").getContext("2d").putImageData(image, 0, first);
+  for (const kind of Object.keys(render.rays)) render.rays[kind] += message.rays[kind];
+  render.pending -= 1;
+  const rays = render.rays;
+  $("rays").textContent = `Rays: ${rays.camera} camera, ${rays.shadow} shadow, ${rays.reflection} reflection, ${rays.refraction} refraction`;
+  if (render.pending === 0) {
+    render.milliseconds = performance.now() - render.started;
+    status(`rendered ${render.prepared.width}x${render.prepared.height} in ${render.milliseconds.toFixed(0)} ms on ${page.workers.length} workers`);
+    setState("done");
+  }
+}
+
+function showSceneError(answer) {
+  const box = $("scene-error");
+  if (!answer) {
+    box.hidden = true;
+    return;
+  }
+  box.hidden = false;
+  box.textContent = answer.error;
+  status("the scene has an error");
+  if (answer.line) {
+    // Select the line the error names, so the editor shows where it is.
+    const lines = $("scene").value.split("\n");
+    const startOfLine = lines.slice(0, answer.line - 1).reduce((n, line) => n + line.length + 1, 0);
+    const at = startOfLine + Math.max(0, (answer.column || 1) - 1);
+    const end = startOfLine + (lines[answer.line - 1] || "").length;
+    $("scene").setSelectionRange(at, Math.max(at, end));
+  }
+}
+
+function pixelClicked(event) {
+  const render = page.render;
+  if (!render || render.error) return;
+  const canvas = $("image");
+  // The image starts inside the canvas's border.
+  const box = canvas.getBoundingClientRect();
+  const left = event.clientX - box.left - canvas.clientLeft;
+  const top = event.clientY - box.top - canvas.clientTop;
+  const x = Math.min(canvas.width - 1, Math.max(0, Math.floor((left / canvas.clientWidth) * canvas.width)));
+  const y = Math.min(canvas.height - 1, Math.max(0, Math.floor((top / canvas.clientHeight) * canvas.height)));
+  showTrace(x, y);
+}
+
+function showTrace(x, y) {
+  let answer;
+  try {
+    answer = page.raylab.call({ op: "trace", job: page.render.job, pixel: [x, y] }).json;
+  } catch (error) {
+    $("pixel-value").textContent = error.message;
+    Raylab.instantiate(page.module).then((fresh) => { page.raylab = fresh; });
+    return;
+  }
+  if (answer.error) {
+    $("pixel-value").textContent = answer.error;
+    return;
+  }
+  page.trace = answer;
+  drawTree(answer);
+  listTree(answer);
+}
+
+function clearTree() {
+  $("overlay").replaceChildren();
+  $("tree").tBodies[0].replaceChildren();
+  $("pixel-value").textContent = "";
+  $("tree-title").textContent = "Ray tree";
+}
+
+function drawTree(trace) {
+  const overlay = $("overlay");
+  overlay.replaceChildren();
+  const svg = (name, attributes) => {
+    const element = document.createElementNS("http://www.w3.org/2000/svg", name);
+    for (const [key, value] of Object.entries(attributes)) element.setAttribute(key, value);
+    overlay.append(element);
+    return element;
+  };
+  const draw = (ray) => {
+    if (ray.screen) {
+      const [[x1, y1], [x2, y2]] = ray.screen;
+      const blocked = ray.kind === "shadow" && ray.hit;
+      svg("line", {
+        x1, y1, x2, y2,
+        stroke: blocked ? "#888" : KIND_COLOURS[ray.kind],
+        "stroke-width": 1.5,
+        "vector-effect": "non-scaling-stroke",
+        "stroke-dasharray": ray.kind === "shadow" ? "4 3" : "none",
+        class: `ray ${ray.kind}`,
+      });
+      if (ray.hit && ray.kind !== "shadow") {
+        svg("circle", { cx: x2, cy: y2, r: 3, fill: KIND_COLOURS[ray.kind], "vector-effect": "non-scaling-stroke", class: "hit" });
+      }
+    }
+    ray.children.forEach(draw);
+  };
+  trace.samples.forEach((sample) => draw(sample.ray));
+  const [x, y] = trace.pixel;
+  svg("rect", { x, y, width: 1, height: 1, fill: "none", stroke: "#fff", "stroke-width": 1, "vector-effect": "non-scaling-stroke" });
+}
+
+const number = (value) => (value === null || value === undefined ? "" : Number(value).toPrecision(4));
+const triple = (values) => (values ? values.map((value) => Number(value).toFixed(4)).join(", ") : "");
+function swatch(values) {
+  if (!values) return "";
+  const [r, g, b] = values.map((value) => Math.round(255 * Math.min(1, Math.max(0, value)) ** (1 / 2.2)));
+  return `<span class="swatch" style="background: rgb(${r}, ${g}, ${b})"></span>`;
+}
+
+function listTree(trace) {
+  const body = $("tree").tBodies[0];
+  body.replaceChildren();
+  let index = 0;
+  const list = (ray, depth, sample) => {
+    const row = body.insertRow();
+    row.className = `ray ${ray.kind}`;
+    const met = ray.hit
+      ? `${ray.hit.name} (shape ${ray.hit.shape})`
+      : ray.kind === "shadow" ? `nothing: light ${ray.light} lights the point` : "nothing: the background";
+    const cells = [
+      `${"&nbsp;".repeat(2 * depth)}${index++}${sample === null ? "" : ` (sample ${sample})`}`,
+      ray.kind,
+      ray.kind === "shadow" && ray.hit ? `blocked by ${ray.hit.name}` : met,
+      ray.hit ? number(ray.hit.t) : "",
+      number(ray.weight),
+      ray.color ? swatch(ray.color) + triple(ray.color) : "",
+      triple(ray.contribution),
+      ray.running_sum ? swatch(ray.running_sum) + triple(ray.running_sum) : "",
+    ];
+    cells.forEach((content, column) => {
+      // Names come from the scene: text, never markup.
+      if (column === 2) row.insertCell().textContent = content;
+      else row.insertCell().innerHTML = content;
+    });
+    ray.children.forEach((child) => list(child, depth + 1, null));
+  };
+  trace.samples.forEach((sample) => list(sample.ray, 0, sample.sample));
+  const [x, y] = trace.pixel;
+  const [r, g, b] = trace.srgb;
+  $("tree-title").textContent = `Ray tree of pixel ${x},${y} (${trace.sample_count} sample${trace.sample_count === 1 ? "" : "s"})`;
+  $("pixel-value").innerHTML = `${swatch(trace.color)}pixel ${x},${y}: linear ${triple(trace.color)} → sRGB <span id="pixel-srgb">${r}, ${g}, ${b}</span>, as the render writes it`;
+}
+
+start().catch((error) => {
+  status(`the page could not start: ${error.message}`);
+  setState("broken");
+});
