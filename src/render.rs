@@ -790,40 +790,63 @@ pub fn render_rows<C: Chapters>(
     settings: &RenderSettings,
     rows: std::ops::Range<u32>,
 ) -> Result<(Vec<u8>, RayCounts), RenderError> {
-    use crate::course::Textbook;
-    fn run<C: Chapters>(
-        scene: &Scene,
-        chapter: u8,
-        settings: &RenderSettings,
-        rows: std::ops::Range<u32>,
-    ) -> Result<(Vec<u8>, RayCounts), RenderError> {
-        let stage = Stage::<C>::with_chapters(scene, chapter, *settings)?;
-        let width = settings.width as usize * 3;
-        let mut rgb = vec![0u8; width * rows.len()];
+    row_renderer::<C>(scene, chapter, settings)?.render_rows(rows)
+}
+
+/// A stage prepared once (its tree built) to render rows again and again.
+pub trait RowRenderer {
+    /// As [`render_rows`].
+    fn render_rows(&self, rows: std::ops::Range<u32>) -> Result<(Vec<u8>, RayCounts), RenderError>;
+}
+
+impl<C: Chapters> RowRenderer for Stage<'_, C> {
+    fn render_rows(&self, rows: std::ops::Range<u32>) -> Result<(Vec<u8>, RayCounts), RenderError> {
+        let (width, height) = (self.settings.width, self.settings.height);
+        if rows.end > height || rows.start > rows.end {
+            return Err(RenderError::Rows {
+                start: rows.start,
+                end: rows.end,
+                height,
+            });
+        }
+        let row_bytes = width as usize * 3;
+        let mut rgb = vec![0u8; row_bytes * rows.len()];
         let mut counts = RayCounts::default();
-        for (row, y) in rgb.chunks_exact_mut(width).zip(rows) {
-            counts = counts.add(render_row(&stage, y, row));
+        for (row, y) in rgb.chunks_exact_mut(row_bytes).zip(rows) {
+            counts = counts.add(render_row(self, y, row));
         }
         Ok((rgb, counts))
     }
-    if rows.end > settings.height || rows.start > rows.end {
-        return Err(RenderError::Rows {
-            start: rows.start,
-            end: rows.end,
-            height: settings.height,
-        });
+}
+
+/// The stage [`render_with`] renders, as a [`RowRenderer`]: the chapters
+/// `C`, or the textbook tests the settings ask for in their place.
+pub fn row_renderer<'a, C: Chapters>(
+    scene: &'a Scene,
+    chapter: u8,
+    settings: &RenderSettings,
+) -> Result<Box<dyn RowRenderer + 'a>, RenderError> {
+    use crate::course::Textbook;
+    fn boxed<'a, C: Chapters>(
+        scene: &'a Scene,
+        chapter: u8,
+        settings: &RenderSettings,
+    ) -> Result<Box<dyn RowRenderer + 'a>, RenderError> {
+        Ok(Box::new(Stage::<C>::with_chapters(
+            scene, chapter, *settings,
+        )?))
     }
     let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
     match (settings.sphere_formula, textbook_triangle) {
-        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, rows),
+        (SphereFormula::Stable, false) => boxed::<C>(scene, chapter, settings),
         (SphereFormula::Textbook, false) => {
-            run::<Textbook<C, true, false>>(scene, chapter, settings, rows)
+            boxed::<Textbook<C, true, false>>(scene, chapter, settings)
         }
         (SphereFormula::Stable, true) => {
-            run::<Textbook<C, false, true>>(scene, chapter, settings, rows)
+            boxed::<Textbook<C, false, true>>(scene, chapter, settings)
         }
         (SphereFormula::Textbook, true) => {
-            run::<Textbook<C, true, true>>(scene, chapter, settings, rows)
+            boxed::<Textbook<C, true, true>>(scene, chapter, settings)
         }
     }
 }

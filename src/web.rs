@@ -155,9 +155,7 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
             job,
             rows: [first, end],
         } => {
-            let (scene, settings) = job.resolve()?;
-            let (rgb, counts) =
-                crate::render::render_rows::<C>(&scene, job.chapter, &settings, first..end)?;
+            let (rgb, counts) = render_cached::<C>(&job, first..end)?;
             let pixels = rgb
                 .chunks_exact(3)
                 .flat_map(|pixel| [pixel[0], pixel[1], pixel[2], 255])
@@ -249,6 +247,74 @@ fn screen_segment(
     };
     let (a, b) = (camera.project(start)?, camera.project(end)?);
     Some([[a.0, a.1], [b.0, b.1]])
+}
+
+/// A job prepared once: a worker renders many slices of one image, and a
+/// stage costs a scene parse and, at chapter 11, a tree; built again for
+/// each slice of 4 rows, chapter 11's mesh makes the page 30 times slower
+/// than the command line.
+struct Prepared {
+    key: String,
+    /// Borrows `*scene`: dropped first.
+    renderer: std::mem::ManuallyDrop<Box<dyn crate::render::RowRenderer>>,
+    scene: *mut Scene,
+}
+
+impl Drop for Prepared {
+    fn drop(&mut self) {
+        // SAFETY: the renderer, which borrows the scene, is dropped first
+        // and never used again; the scene came from `Box::into_raw` and
+        // nothing else holds it.
+        unsafe {
+            std::mem::ManuallyDrop::drop(&mut self.renderer);
+            drop(Box::from_raw(self.scene));
+        }
+    }
+}
+
+thread_local! {
+    static PREPARED: std::cell::RefCell<Option<Prepared>> = const { std::cell::RefCell::new(None) };
+}
+
+/// [`crate::render::render_rows`] for `job`, with the stage of the last job
+/// kept while the jobs are the same.
+fn render_cached<C: Chapters>(
+    job: &Job,
+    rows: std::ops::Range<u32>,
+) -> Result<(Vec<u8>, crate::RayCounts), WebError> {
+    let key = format!("{}{job:?}", std::any::type_name::<C>());
+    PREPARED.with(|cell| {
+        let mut slot = cell.borrow_mut();
+        if slot.as_ref().is_some_and(|prepared| prepared.key != key) {
+            // The old stage goes before the new scene is parsed: one scene
+            // in memory at a time.
+            *slot = None;
+        }
+        let prepared = match &mut *slot {
+            Some(prepared) => prepared,
+            empty => empty.insert(prepare::<C>(job, key)?),
+        };
+        Ok(prepared.renderer.render_rows(rows)?)
+    })
+}
+
+fn prepare<C: Chapters>(job: &Job, key: String) -> Result<Prepared, WebError> {
+    let (scene, settings) = job.resolve()?;
+    let scene = Box::into_raw(Box::new(scene));
+    // SAFETY: the scene lives until `Prepared` is dropped, which drops the
+    // renderer first; it is never moved or changed.
+    match crate::render::row_renderer::<C>(unsafe { &*scene }, job.chapter, &settings) {
+        Ok(renderer) => Ok(Prepared {
+            key,
+            renderer: std::mem::ManuallyDrop::new(renderer),
+            scene,
+        }),
+        Err(error) => {
+            // SAFETY: from `Box::into_raw` above, borrowed by nothing now.
+            drop(unsafe { Box::from_raw(scene) });
+            Err(error.into())
+        }
+    }
 }
 
 fn chapters() -> serde_json::Value {
@@ -397,6 +463,36 @@ mod tests {
             .collect();
         assert_eq!(rgb, whole.rgb[10 * 40 * 3..17 * 40 * 3]);
         assert!(answer.json["rays"]["camera"].as_u64() == Some(40 * 7));
+    }
+
+    #[test]
+    fn a_kept_stage_renders_its_own_job_only() {
+        // Chapter 11's mesh, then chapter 6, then chapter 11 again: each
+        // slice is its own job's, the stage kept or not.
+        let whole = |chapter: u8| {
+            let scene = crate::builtin::scene(chapter).expect("built-in scene");
+            let settings = RenderSettings {
+                width: 32,
+                height: 24,
+                ..scene.render
+            };
+            crate::render(&scene, chapter, &settings, None).expect("renders").rgb
+        };
+        for (chapter, rows) in [(11, [0, 5]), (11, [5, 24]), (6, [3, 9]), (11, [2, 4])] {
+            let request = serde_json::json!({
+                "op": "render",
+                "job": {"chapter": chapter, "width": 32, "height": 24},
+                "rows": rows,
+            });
+            let answer = call::<Reference>(request.to_string().as_bytes());
+            let rgb: Vec<u8> = answer
+                .pixels
+                .chunks_exact(4)
+                .flat_map(|pixel| pixel[..3].to_vec())
+                .collect();
+            let [first, end] = rows.map(|row| row as usize * 32 * 3);
+            assert_eq!(rgb, whole(chapter)[first..end], "chapter {chapter}, rows {rows:?}");
+        }
     }
 
     #[test]
