@@ -16,7 +16,8 @@ fi
 # Debian packages the tests use, installed with apt where this machine has
 # apt and root (or password-less sudo): assimp-testmodels, real OBJ models
 # for tests/cli/mesh.rs, bubblewrap, the sandbox of `grade --code`, and GNU
-# parallel, which runs grading jobs (tests/cli/grade.rs). All are optional
+# parallel, which runs grading jobs (tests/cli/grade.rs), and chromium, the
+# browser of the page's tests (scripts/test-browser.sh). All are optional
 # here: without them those tests say they skipped (the small models the
 # tests write themselves still run, the grading tests run unsandboxed and
 # their jobs one by one). Never fails the script.
@@ -47,6 +48,7 @@ install_package() {
 install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
+install_package chromium "the browser page's tests are skipped"
 cargo test --all-targets --features embree
 # The default build needs no Embree, and says how to get it.
 cargo test --test cli
@@ -56,3 +58,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 # Exactly the snapshot and determinism modules of the `pictures` test binary.
 cargo test --release --test pictures -- snapshots:: determinism::
 cargo bench --no-run
+# The browser page: built for WebAssembly, then tested in headless Chromium
+# against the debug binary the tests above built (skipped, with a message,
+# where this machine cannot build it or has no browser).
+bash scripts/test-browser.sh target/debug/raylab

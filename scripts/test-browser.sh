@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The browser page's tests (tests/browser/page.test.mjs): builds the page
+# (scripts/build-web.sh), then drives it in headless Chromium with
+# playwright-core from the npm registry (pinned by its lock file). Each
+# piece that this machine cannot provide is skipped with a message saying
+# what is missing, as scripts/test.sh does for the other optional tools; a
+# test that runs and fails fails the script.
+# Usage: scripts/test-browser.sh [RAYLAB_BINARY]   (default target/debug/raylab)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+RAYLAB_BIN="$(realpath "${1:-target/debug/raylab}")"
+skip() { echo "test-browser: skipping the browser tests: $*" >&2; exit 0; }
+
+[[ -x "$RAYLAB_BIN" ]] || { echo "test-browser: no raylab binary at $RAYLAB_BIN (cargo build first)" >&2; exit 1; }
+CHROMIUM="${CHROMIUM:-$(command -v chromium || command -v chromium-browser || true)}"
+[[ -n "$CHROMIUM" ]] || skip "no chromium (apt-get install chromium)"
+command -v node >/dev/null && command -v npm >/dev/null || skip "no node and npm (apt-get install nodejs npm)"
+node_major="$(node -p 'process.versions.node.split(".")[0]')"
+[[ $node_major -ge 20 ]] || skip "node $node_major is older than playwright-core needs (20)"
+
+status=0
+bash scripts/build-web.sh --out target/web || status=$?
+if [[ $status -eq 3 ]]; then
+    skip "the page cannot be built here (above)"
+elif [[ $status -ne 0 ]]; then
+    exit "$status"
+fi
+if [[ ! -d tests/browser/node_modules/playwright-core ]]; then
+    npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error \
+        || skip "npm could not install playwright-core"
+fi
+RAYLAB_PAGE=target/web RAYLAB_BIN="$RAYLAB_BIN" CHROMIUM="$CHROMIUM" RAYLAB_ARTIFACTS=target/browser \
+    node --test tests/browser/page.test.mjs
+echo "test-browser: screenshots in target/browser/" >&2
