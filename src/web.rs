@@ -476,7 +476,9 @@ mod tests {
                 height: 24,
                 ..scene.render
             };
-            crate::render(&scene, chapter, &settings, None).expect("renders").rgb
+            crate::render(&scene, chapter, &settings, None)
+                .expect("renders")
+                .rgb
         };
         for (chapter, rows) in [(11, [0, 5]), (11, [5, 24]), (6, [3, 9]), (11, [2, 4])] {
             let request = serde_json::json!({
@@ -491,7 +493,11 @@ mod tests {
                 .flat_map(|pixel| pixel[..3].to_vec())
                 .collect();
             let [first, end] = rows.map(|row| row as usize * 32 * 3);
-            assert_eq!(rgb, whole(chapter)[first..end], "chapter {chapter}, rows {rows:?}");
+            assert_eq!(
+                rgb,
+                whole(chapter)[first..end],
+                "chapter {chapter}, rows {rows:?}"
+            );
         }
     }
 

@@ -15,6 +15,7 @@ mod race;
 mod render;
 mod trace;
 mod values;
+mod web;
 
 /// raylab: learn ray tracing one chapter at a time.
 ///
@@ -55,6 +56,7 @@ pub enum Command {
     /// with `render`, `check` and every other command running your code.
     New(new::NewArgs),
     Mesh(mesh::MeshArgs),
+    Web(web::WebArgs),
     /// Race chapter 11's tree against Embree on generated models of 1,000
     /// to 1,000,000 triangles (needs the `embree` feature).
     Race(race::RaceArgs),
@@ -128,7 +130,7 @@ fn is_reference<C: crate::Chapters>() -> bool {
 fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
     let judges_chapters = matches!(
         command,
-        Command::Check(_) | Command::Render(_) | Command::Trace(_)
+        Command::Check(_) | Command::Render(_) | Command::Trace(_) | Command::Web(_)
     );
     if cfg!(feature = "student") && is_reference::<C>() {
         return Some(
@@ -218,6 +220,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::New(args) => new::new(&args),
         Command::Mesh(args) => mesh::mesh(&args),
         Command::Race(args) => race::race(&args),
+        Command::Web(args) => web::web::<C>(&args),
     };
     match result {
         Ok(status) => status,

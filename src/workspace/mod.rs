@@ -230,6 +230,57 @@ impl Files {
     }
 }
 
+/// The crate that builds a workspace's chapters for the browser page: a
+/// `cdylib` depending on the workspace's package `package` at `workspace`
+/// and on the raylab at `raylab_dir` (its `student` feature on), exporting
+/// the page's functions for `chapters_type` (the workspace's chapters, as
+/// `my_course::Mine`). `raylab web` writes it in the workspace's `target/`
+/// and builds it with raylab's scripts/build-web.sh.
+pub fn web_crate(
+    workspace: &Path,
+    package: &str,
+    chapters_type: &str,
+    raylab_dir: &Path,
+) -> Result<Files, WorkspaceError> {
+    let text = |path: &Path| {
+        path.to_str()
+            .map(|text| toml::Value::String(text.to_string()).to_string())
+            .ok_or(WorkspaceError::RaylabPathNotUtf8)
+    };
+    let (raylab, student) = (text(raylab_dir)?, text(workspace)?);
+    let key = toml::Value::String(package.to_string());
+    let cargo_toml = format!(
+        r#"[package]
+name = "raylab-web-page"
+version = "0.1.0"
+edition = "2024"
+publish = false
+
+[lib]
+crate-type = ["cdylib"]
+path = "lib.rs"
+
+[dependencies]
+raylab = {{ path = {raylab}, features = ["student"] }}
+{key} = {{ path = {student} }}
+
+[workspace]
+
+[profile.release]
+panic = "abort"
+opt-level = 3
+"#
+    );
+    let lib_rs = format!(
+        "//! Your chapters for raylab's browser page (written by `raylab web`).\n\n\
+         raylab::web_exports!({chapters_type});\n"
+    );
+    Ok(Files(vec![
+        ("Cargo.toml".to_string(), cargo_toml),
+        ("lib.rs".to_string(), lib_rs),
+    ]))
+}
+
 /// The files of a workspace whose package is `package`, depending on the
 /// raylab at `raylab_dir`: with `todo!()` bodies, or the reference bodies
 /// when `solutions` is set.
@@ -994,6 +1045,36 @@ mod tests {
         let skeleton = chapter_file(&CHAPTERS[1], "/raylab", false).expect("cut");
         assert!(!skeleton.contains("[`root_error`]"), "{skeleton}");
         assert!(!skeleton.contains("[`choose_root`]"), "{skeleton}");
+    }
+
+    #[test]
+    fn the_web_crate_names_the_workspace_s_chapters() {
+        let files = web_crate(
+            Path::new("/home/ada/my \"course\""),
+            "my-course",
+            "my_course::Mine",
+            Path::new("/opt/raylab"),
+        )
+        .expect("UTF-8 paths");
+        let manifest: toml::Table = files
+            .get("Cargo.toml")
+            .expect("a manifest")
+            .parse()
+            .expect("valid TOML, quotes and all");
+        assert_eq!(
+            manifest["dependencies"]["my-course"]["path"].as_str(),
+            Some("/home/ada/my \"course\"")
+        );
+        assert_eq!(
+            manifest["dependencies"]["raylab"]["features"][0].as_str(),
+            Some("student")
+        );
+        assert_eq!(manifest["lib"]["crate-type"][0].as_str(), Some("cdylib"));
+        assert!(
+            files
+                .get("lib.rs")
+                .is_some_and(|lib| lib.contains("raylab::web_exports!(my_course::Mine);"))
+        );
     }
 
     #[test]
