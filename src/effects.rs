@@ -163,6 +163,54 @@ impl Effects {
         }
     }
 
+    /// These effects less the ones `off` names. Without `phong`, lighting
+    /// is chapter 4's flat lighting (no specular term); without `lighting`,
+    /// surfaces show their colour, unlit, as in chapter 3 (and cast no
+    /// shadow rays).
+    pub fn without(self, off: crate::scene::SwitchedOff) -> Effects {
+        let lit = self.lighting != Lighting::Unlit && !off.contains("lighting");
+        let phong = lit && self.lighting == Lighting::Phong && !off.contains("phong");
+        let refraction = self.refraction && !off.contains("refraction");
+        let nested_media = self.nested_media && refraction && !off.contains("nested-media");
+        Effects {
+            planes: self.planes && !off.contains("planes"),
+            spheres: self.spheres && !off.contains("spheres"),
+            nearest_hit: self.nearest_hit && !off.contains("nearest-hit"),
+            lighting: match self.lighting {
+                _ if !lit => Lighting::Unlit,
+                Lighting::Phong if !phong => Lighting::Flat,
+                lighting => lighting,
+            },
+            shadows: self.shadows && lit,
+            specular: self.specular && phong,
+            reflection: self.reflection && !off.contains("reflection"),
+            antialiasing: self.antialiasing && !off.contains("antialiasing"),
+            refraction,
+            nested_media,
+            // Fresnel's split and absorption are chapter 9's glass, which
+            // only a stage with media shades.
+            fresnel: self.fresnel && nested_media,
+            absorption: self.absorption && nested_media,
+            triangles: self.triangles && !off.contains("triangles"),
+            smooth_shading: self.smooth_shading && !off.contains("smooth-shading"),
+            bvh: self.bvh && !off.contains("bvh"),
+            implicit: self.implicit && !off.contains("implicit"),
+            ..self
+        }
+    }
+
+    /// The effects on that a stage can be asked to leave out, by their
+    /// names in [`crate::scene::SwitchedOff::NAMES`].
+    pub fn switchable(&self) -> Vec<&'static str> {
+        crate::scene::SwitchedOff::NAMES
+            .into_iter()
+            .filter(|name| {
+                let off = crate::scene::SwitchedOff::parse([*name]).unwrap_or_default();
+                self.without(off) != *self
+            })
+            .collect()
+    }
+
     /// The names of the effects switched on, in chapter order.
     pub fn names(&self) -> Vec<&'static str> {
         let mut names = Vec::new();

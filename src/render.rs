@@ -226,7 +226,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             return Err(RenderError::NoSuchChapter(chapter));
         }
         settings.validate().map_err(RenderError::Settings)?;
-        let stage = Effects::for_chapter(chapter);
+        let stage = Effects::for_chapter(chapter).without(settings.without);
         let samples = if stage.antialiasing {
             settings.samples
         } else {

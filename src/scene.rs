@@ -356,6 +356,80 @@ pub struct RenderSettings {
     /// Chapter 12: the step of the finite-difference normals.
     #[serde(deserialize_with = "number::f32")]
     pub normal_step: f32,
+    /// Effects of the chapter's stage not to simulate (`without =
+    /// ["reflection"]`): what the image is without them.
+    pub without: SwitchedOff,
+}
+
+/// The effects a stage can be asked to leave out, each by its name in
+/// `raylab chapters` (see [`SwitchedOff::NAMES`]): the ones whose absence
+/// the renderer knows how to draw (a stage without reflection shades as
+/// chapter 5 did; without the tree it tests every object).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SwitchedOff(u16);
+
+impl SwitchedOff {
+    /// Every effect that can be switched off, in chapter order.
+    pub const NAMES: [&'static str; 13] = [
+        "planes",
+        "spheres",
+        "nearest-hit",
+        "lighting",
+        "phong",
+        "reflection",
+        "antialiasing",
+        "refraction",
+        "nested-media",
+        "triangles",
+        "smooth-shading",
+        "bvh",
+        "implicit",
+    ];
+
+    /// The set of the effects named, or the name that is not one.
+    pub fn parse<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<SwitchedOff, String> {
+        let mut set = SwitchedOff::default();
+        for name in names {
+            let Some(index) = Self::NAMES.iter().position(|known| *known == name) else {
+                return Err(format!(
+                    "`{name}` is not an effect that can be switched off: {}",
+                    Self::NAMES.join(", ")
+                ));
+            };
+            set.0 |= 1 << index;
+        }
+        Ok(set)
+    }
+
+    /// The effects off in either set.
+    pub fn union(self, other: SwitchedOff) -> SwitchedOff {
+        SwitchedOff(self.0 | other.0)
+    }
+
+    /// Whether the effect `name` (one of [`SwitchedOff::NAMES`]) is off.
+    pub fn contains(self, name: &str) -> bool {
+        Self::NAMES
+            .iter()
+            .position(|known| *known == name)
+            .is_some_and(|index| self.0 & (1 << index) != 0)
+    }
+
+    /// The names of the effects off, in chapter order.
+    pub fn names(self) -> Vec<&'static str> {
+        Self::NAMES
+            .iter()
+            .enumerate()
+            .filter(|(index, _)| self.0 & (1 << index) != 0)
+            .map(|(_, name)| *name)
+            .collect()
+    }
+}
+
+impl<'de> Deserialize<'de> for SwitchedOff {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let names = Vec::<String>::deserialize(deserializer)?;
+        SwitchedOff::parse(names.iter().map(String::as_str)).map_err(serde::de::Error::custom)
+    }
 }
 
 /// Where the rays that leave a smooth-shaded triangle start.
@@ -420,6 +494,7 @@ impl Default for RenderSettings {
             newton: March::default().newton,
             normals: NormalMethod::Analytic,
             normal_step: March::default().normal_step,
+            without: SwitchedOff::default(),
         }
     }
 }
@@ -488,6 +563,8 @@ impl RenderSettings {
             newton: _,
             normals: _,
             normal_step,
+            // Any set of effects may be left out.
+            without: _,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(SettingsError::Side { width, height });

@@ -21,7 +21,7 @@
 //!   as `raylab trace --json` prints it.
 //!
 //! A JOB is `{"chapter": N, "scene": TOML or null (the built-in scene),
-//! "width", "height", "samples", "depth", "epsilon"}`, each setting
+//! "width", "height", "samples", "depth", "epsilon", "without"}`, each setting
 //! optional and meaning what the same option of `raylab render` means.
 
 use crate::course::Chapters;
@@ -49,6 +49,8 @@ struct Job {
     depth: Option<u32>,
     /// A fixed offset along the ray, as `raylab render --epsilon`.
     epsilon: Option<f32>,
+    /// Effects to leave out, as `raylab render --without`.
+    without: Option<Vec<String>>,
 }
 
 /// Why a request has no answer. The page shows the message; a scene's
@@ -145,6 +147,10 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                         "epsilon": (settings.ray_offset == OffsetRule::Fixed).then_some(settings.fixed_epsilon),
                     },
                     "effects": stage.effects.names(),
+                    // What the page offers to switch off: the chapter's
+                    // stage, before the job's own `without`.
+                    "switchable": crate::effects::Effects::for_chapter(job.chapter).switchable(),
+                    "without": settings.without.names(),
                     "objects": scene.len(),
                     "lights": scene.lights.len(),
                 }),
@@ -352,6 +358,11 @@ impl Job {
                 base.ray_offset
             },
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
+            without: match &self.without {
+                Some(names) => crate::scene::SwitchedOff::parse(names.iter().map(String::as_str))
+                    .map_err(WebError::Request)?,
+                None => base.without,
+            },
             ..base
         };
         settings.validate().map_err(WebError::Settings)?;

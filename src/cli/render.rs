@@ -109,9 +109,19 @@ pub struct SettingsOverrides {
     /// --ray-offset fixed [default: the scene's, else 0.0001].
     #[arg(long, allow_negative_numbers = true)]
     pub epsilon: Option<f32>,
+    /// Effects of the chapter's stage to leave out, by name, comma-separated
+    /// (planes, spheres, nearest-hit, lighting, phong, reflection, antialiasing,
+    /// refraction, nested-media, triangles, smooth-shading, bvh, implicit):
+    /// the image without them [default: the scene's `without`, else none].
+    #[arg(long, value_name = "EFFECTS", value_delimiter = ',', value_parser = parse_switched_off)]
+    pub without: Option<Vec<crate::scene::SwitchedOff>>,
     /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
     #[arg(long, value_parser = crate::cli::parse_threads)]
     pub threads: Option<usize>,
+}
+
+fn parse_switched_off(name: &str) -> Result<crate::scene::SwitchedOff, String> {
+    crate::scene::SwitchedOff::parse([name.trim()])
 }
 
 impl SettingsOverrides {
@@ -137,6 +147,10 @@ impl SettingsOverrides {
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
             triangle_test: self.triangle_test.unwrap_or(base.triangle_test),
             terminator: self.terminator.unwrap_or(base.terminator),
+            without: self.without.as_ref().map_or(base.without, |sets| {
+                sets.iter()
+                    .fold(Default::default(), |all, set| all.union(*set))
+            }),
             ..base
         };
         settings
@@ -251,6 +265,14 @@ impl SettingsOverrides {
         use crate::scene::OffsetRule;
         let effects = Effects::for_chapter(chapter);
         let mut warnings = Vec::new();
+        let on = effects.switchable();
+        for name in settings.without.names() {
+            if !on.contains(&name) {
+                warnings.push(format!(
+                    "--without {name} has no effect at chapter {chapter}, whose stage has no {name}"
+                ));
+            }
+        }
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {
                 warnings.push(

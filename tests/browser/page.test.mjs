@@ -138,6 +138,18 @@ test("a slider renders again, as the option of raylab render would", async () =>
   await page.close();
 });
 
+test("switching an effect off renders what raylab render --without renders", async () => {
+  const page = await openPage("?chapter=6");
+  await setInput(page, "width", WIDTH);
+  const generation = await page.evaluate(() => window.raylabPage.generation);
+  await page.click('#switches input[data-effect="reflection"]');
+  assert.equal(await waitForRender(page, generation), "done");
+  const shown = await canvasHash(page);
+  assert.equal(shown.hash, nativeHash(6, shown.width, shown.height, ["--without", "reflection"]));
+  assert.doesNotMatch(await page.textContent("#effects"), /reflection/);
+  await page.close();
+});
+
 test("a broken scene shows its error at the line and column it names", async () => {
   const page = await openPage("?chapter=2");
   const generation = await page.evaluate(() => window.raylabPage.generation);

@@ -1277,3 +1277,42 @@ fn outputs_spare_files_raylab_did_not_write() {
         );
     }
 }
+
+/// `--without` leaves effects out, says so in the stats, warns about an
+/// effect the chapter does not have, and refuses a name that is no effect.
+#[test]
+fn without_leaves_effects_out_and_names_the_ones_it_knows() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let small = ["--width", "40", "--height", "30", "--stats"];
+    let out = raylab(
+        &[
+            &["render", "-c", "8", "--without", "refraction,reflection"],
+            &small[..],
+        ]
+        .concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("effects simulated: planes, spheres, nearest-hit, phong-diffuse, shadows, phong-specular, antialiasing\n"), "{text}");
+    let out = raylab(
+        &[&["render", "-c", "3", "--without", "bvh"], &small[..]].concat(),
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("warning: --without bvh has no effect at chapter 3"),
+        "{}",
+        stderr(&out)
+    );
+    let out = raylab(
+        &[&["render", "-c", "3", "--without", "shadow"], &small[..]].concat(),
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("`shadow` is not an effect that can be switched off"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -237,3 +237,53 @@ fn acne_is_counted_where_the_offset_fails_and_only_there() {
     assert!(acne.self_shadowed_pixels > 100, "{acne:?}");
     assert!(acne.self_shadow_hits >= acne.self_shadowed_pixels);
 }
+
+/// Each chapter's stage without what the chapter adds is the chapter
+/// before, pixel for pixel and ray for ray, on the chapter's own scene.
+#[test]
+fn a_stage_without_its_chapter_s_effects_is_the_chapter_before() {
+    use raylab::effects::Effects;
+    for chapter in 2..=raylab::chapters::LAST_CHAPTER {
+        let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+        let added: Vec<&str> = Effects::for_chapter(chapter)
+            .switchable()
+            .into_iter()
+            .filter(|name| {
+                !Effects::for_chapter(chapter - 1)
+                    .switchable()
+                    .contains(name)
+            })
+            .collect();
+        assert!(
+            !added.is_empty(),
+            "chapter {chapter} adds nothing to switch off"
+        );
+        let without = RenderSettings {
+            without: raylab::scene::SwitchedOff::parse(added.iter().copied()).expect("names"),
+            ..small(&scene, 4)
+        };
+        let off = raylab::render(&scene, chapter, &without, None).expect("renders");
+        let before = raylab::render(&scene, chapter - 1, &small(&scene, 4), None).expect("renders");
+        assert!(off.rgb == before.rgb, "chapter {chapter} without {added:?}");
+        assert_eq!(off.rays, before.rays, "chapter {chapter} without {added:?}");
+        assert_eq!(
+            names(&off),
+            names(&before),
+            "chapter {chapter} without {added:?}"
+        );
+    }
+}
+
+#[test]
+fn an_unknown_effect_is_refused_with_the_names_that_exist() {
+    let error = raylab::scene::SwitchedOff::parse(["reflections"]).expect_err("no such effect");
+    assert!(
+        error.contains("`reflections`") && error.contains("nested-media"),
+        "{error}"
+    );
+    let scene = Scene::parse(
+        "[camera]\nposition = [0, 1, -5]\nlook_at = [0, 1, 0]\n[render]\nwithout = [\"shadow\"]\n",
+        "test",
+    );
+    assert!(scene.is_err_and(|error| error.to_string().contains("`shadow`")));
+}

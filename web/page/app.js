@@ -85,6 +85,20 @@ function chapterChanged() {
     $("depth").value = String(own.settings.depth);
     $("fixed-epsilon").checked = own.settings.epsilon !== null;
     if (own.settings.epsilon !== null) $("epsilon").value = String(Math.log10(own.settings.epsilon));
+    // One box per effect of the stage that can be left out, ticked: the
+    // image without it is `raylab render --without NAME`.
+    const switches = $("switches");
+    switches.querySelectorAll("label").forEach((label) => label.remove());
+    for (const name of own.switchable) {
+      const label = document.createElement("label");
+      const box = document.createElement("input");
+      box.type = "checkbox";
+      box.checked = !own.without.includes(name);
+      box.dataset.effect = name;
+      box.addEventListener("input", () => scheduleRender());
+      label.append(box, name);
+      switches.append(label);
+    }
   }
   $("lesson").href = `doc/raylab/chapters/${chapter.module}/index.html`;
   $("lesson").textContent = `lesson ${chapter.number}: ${chapter.title}`;
@@ -123,6 +137,7 @@ function job() {
     samples: Number($("samples").value),
     depth: Number($("depth").value),
     epsilon: $("fixed-epsilon").checked ? epsilon() : null,
+    without: Array.from(document.querySelectorAll("#switches input:not(:checked)"), (box) => box.dataset.effect),
   };
 }
 
