@@ -195,7 +195,6 @@ impl Effects {
             smooth_shading: self.smooth_shading && !off.contains("smooth-shading"),
             bvh: self.bvh && !off.contains("bvh"),
             implicit: self.implicit && !off.contains("implicit"),
-            ..self
         }
     }
 
