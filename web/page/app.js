@@ -20,6 +20,20 @@ const page = {
 window.raylabPage = page;
 page.rerender = () => startRender();
 
+// A call on the main thread's instance. A chapter that panics there (a
+// student's tree still todo!(), say) ends that instance: its message comes
+// back as an error, and a fresh instance takes its place.
+function mainCall(request) {
+  try {
+    return page.raylab.call(request).json;
+  } catch (error) {
+    if (!(error instanceof ChapterPanic)) throw error;
+    page.raylab = null;
+    Raylab.instantiate(page.module).then((fresh) => { page.raylab = fresh; });
+    return { error: error.message, panicked: true };
+  }
+}
+
 function setState(state) {
   document.body.dataset.state = state;
 }
@@ -78,7 +92,7 @@ function chapterChanged() {
   const chapter = currentChapter();
   $("scene").value = chapter.scene;
   page.sceneEdited = false;
-  const own = page.raylab.call({ op: "prepare", job: { chapter: chapter.number } }).json;
+  const own = mainCall({ op: "prepare", job: { chapter: chapter.number } });
   if (!own.error) {
     $("width").value = String(Math.min(own.width, 320));
     $("samples").value = String(own.settings.samples);
@@ -141,9 +155,9 @@ function job() {
   };
 }
 
-// The built-in scene's own proportions (its [render] size).
+// The scene's own proportions (its [render] size, as edited).
 function sceneSize() {
-  const text = currentChapter().scene;
+  const text = $("scene").value;
   const width = Number((text.match(/^\s*width\s*=\s*(\d+)/m) || [])[1]) || 4;
   const height = Number((text.match(/^\s*height\s*=\s*(\d+)/m) || [])[1]) || 3;
   return [width, height];
@@ -156,8 +170,13 @@ function scheduleRender(delay = 150) {
 }
 
 function startRender() {
+  if (!page.raylab) {
+    // The main instance is being replaced after a panic.
+    scheduleRender(50);
+    return;
+  }
   const request = job();
-  const prepared = page.raylab.call({ op: "prepare", job: request }).json;
+  const prepared = mainCall({ op: "prepare", job: request });
   if (prepared.error) {
     showSceneError(prepared);
     setState("error");
@@ -268,14 +287,8 @@ function pixelClicked(event) {
 }
 
 function showTrace(x, y) {
-  let answer;
-  try {
-    answer = page.raylab.call({ op: "trace", job: page.render.job, pixel: [x, y] }).json;
-  } catch (error) {
-    $("pixel-value").textContent = error.message;
-    Raylab.instantiate(page.module).then((fresh) => { page.raylab = fresh; });
-    return;
-  }
+  if (!page.raylab) return;
+  const answer = mainCall({ op: "trace", job: page.render.job, pixel: [x, y] });
   if (answer.error) {
     $("pixel-value").textContent = answer.error;
     return;
