@@ -65,6 +65,11 @@ pub enum WebError {
     Render(#[from] crate::render::RenderError),
     #[error("invalid render settings: {0}")]
     Settings(crate::scene::SettingsError),
+    #[error(
+        "pixel {x},{y} cast {rays} rays, more than the {MAX_SHOWN_RAYS} the page draws: \
+         lower the samples or the depth, or run raylab trace"
+    )]
+    TooManyRays { rays: usize, x: u32, y: u32 },
     #[error("pixel {x},{y} is outside the {width}x{height} image")]
     Pixel {
         x: u32,
@@ -190,6 +195,10 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                 width: settings.width,
                 height: settings.height,
             })?;
+            let rays: usize = traced.samples.iter().map(count_rays).sum();
+            if rays > MAX_SHOWN_RAYS || traced.truncated {
+                return Err(WebError::TooManyRays { rays, x, y });
+            }
             let mut json = traced.to_json(job.chapter, None);
             if let Some(samples) = json["samples"].as_array_mut() {
                 for (sample, root) in samples.iter_mut().zip(&traced.samples) {
@@ -202,6 +211,15 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
             })
         }
     }
+}
+
+/// The most rays of one pixel the page is sent: a table of 20,000 rows is
+/// already more than anyone reads, and each ray is about half a kilobyte
+/// of JSON (a glass pixel at depth 16 and 64 samples could cast millions).
+pub const MAX_SHOWN_RAYS: usize = 20_000;
+
+fn count_rays(ray: &crate::ray_tree::TracedRay) -> usize {
+    1 + ray.children.iter().map(count_rays).sum::<usize>()
 }
 
 /// Adds to each ray of the trace's JSON where it runs in the image:
@@ -581,6 +599,18 @@ mod tests {
             .find(|child| child["kind"] == "reflection")
             .expect("the mirror ball reflects");
         assert!(bounce["screen"].is_array());
+    }
+
+    #[test]
+    fn a_pixel_with_too_many_rays_to_draw_is_refused_with_its_count() {
+        let answer = json(call::<Reference>(
+            br#"{"op": "trace", "job": {"chapter": 9, "width": 64, "height": 48, "samples": 4096, "depth": 64}, "pixel": [32, 20]}"#,
+        ));
+        let error = answer["error"].as_str().unwrap_or_default();
+        assert!(
+            error.contains("rays, more than the 20000 the page draws"),
+            "{error}"
+        );
     }
 
     #[test]
