@@ -61,20 +61,26 @@ wasm="$(find "$TARGET_DIR/wasm32-unknown-unknown/release" -maxdepth 1 -name '*.w
 [[ -n "$wasm" ]] || { log "cargo built no .wasm in $TARGET_DIR"; exit 1; }
 log "WebAssembly built in $(( $(date +%s) - start )) s ($WASM_MODE): $(du -k "$wasm" | cut -f1) KB"
 
-# The lessons: rustdoc's pages of raylab's chapters (the crate docs), built
-# where raylab's own builds go unless that folder is not writable (a copy
-# of raylab a class shares).
-DOC_TARGET="${CARGO_TARGET_DIR:-$REPO/target}"
-mkdir -p "$DOC_TARGET" 2>/dev/null || true
-[[ -w "$DOC_TARGET" ]] || DOC_TARGET="$TARGET_DIR/native"
-cargo doc --no-deps --manifest-path "$REPO/Cargo.toml" --target-dir "$DOC_TARGET" -q
+# The lessons: rustdoc's pages of raylab's chapters (the crate docs): the
+# ones RAYLAB_DOCS names if it is given (scripts/test.sh has just built
+# them), else built where raylab's own builds go, unless that folder is not
+# writable (a copy of raylab a class shares).
+if [[ -n "${RAYLAB_DOCS:-}" && -f "$RAYLAB_DOCS/raylab/index.html" ]]; then
+    DOCS="$RAYLAB_DOCS"
+else
+    DOC_TARGET="${CARGO_TARGET_DIR:-$REPO/target}"
+    mkdir -p "$DOC_TARGET" 2>/dev/null || true
+    [[ -w "$DOC_TARGET" ]] || DOC_TARGET="$TARGET_DIR/native"
+    cargo doc --no-deps --manifest-path "$REPO/Cargo.toml" --target-dir "$DOC_TARGET" -q
+    DOCS="$DOC_TARGET/doc"
+fi
 
 staging="$OUT.partial"
 rm -rf "$staging"
 mkdir -p "$staging"
 cp "$REPO"/web/page/* "$staging/"
 cp "$wasm" "$staging/raylab.wasm"
-cp -r "$DOC_TARGET/doc" "$staging/doc"
+cp -r "$DOCS" "$staging/doc"
 rm -rf "$OUT"
 mv "$staging" "$OUT"
 log "the page is in $OUT: serve it (python3 -m http.server -d $OUT 8000) and open http://localhost:8000/"

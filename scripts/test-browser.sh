@@ -19,7 +19,8 @@ node_major="$(node -p 'process.versions.node.split(".")[0]')"
 [[ $node_major -ge 20 ]] || skip "node $node_major is older than playwright-core needs (20)"
 
 status=0
-bash scripts/build-web.sh --out target/web || status=$?
+# The crate docs scripts/test.sh built just before, if they are there.
+RAYLAB_DOCS="$PWD/target/doc" bash scripts/build-web.sh --out target/web || status=$?
 if [[ $status -eq 3 ]]; then
     skip "the page cannot be built here (above)"
 elif [[ $status -ne 0 ]]; then
