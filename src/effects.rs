@@ -163,15 +163,26 @@ impl Effects {
         }
     }
 
-    /// These effects less the ones `off` names. Without `phong`, lighting
-    /// is chapter 4's flat lighting (no specular term); without `lighting`,
-    /// surfaces show their colour, unlit, as in chapter 3 (and cast no
-    /// shadow rays).
+    /// These effects less the ones `off` names, and less those built on
+    /// them. Without `phong`, lighting is chapter 4's flat lighting (no
+    /// specular term); without `lighting`, surfaces show their colour,
+    /// unlit, as in chapter 3 (and cast no shadow rays). Shading is a stack,
+    /// each chapter's on the one before: chapter 6's mirror shades its point
+    /// with chapter 5's Phong terms, chapter 8's glass casts chapter 6's
+    /// reflection rays, chapter 9's media refine chapter 8's glass. So
+    /// leaving out one layer leaves out every layer above it (without
+    /// reflection, chapter 8's stage shades as chapter 5's).
     pub fn without(self, off: crate::scene::SwitchedOff) -> Effects {
         let lit = self.lighting != Lighting::Unlit && !off.contains("lighting");
         let phong = lit && self.lighting == Lighting::Phong && !off.contains("phong");
-        let refraction = self.refraction && !off.contains("refraction");
+        let all_lighting = lit && (self.lighting != Lighting::Phong || phong);
+        let reflection = self.reflection && all_lighting && !off.contains("reflection");
+        let refraction = self.refraction
+            && all_lighting
+            && (reflection || !self.reflection)
+            && !off.contains("refraction");
         let nested_media = self.nested_media && refraction && !off.contains("nested-media");
+        let triangles = self.triangles && !off.contains("triangles");
         Effects {
             planes: self.planes && !off.contains("planes"),
             spheres: self.spheres && !off.contains("spheres"),
@@ -183,7 +194,7 @@ impl Effects {
             },
             shadows: self.shadows && lit,
             specular: self.specular && phong,
-            reflection: self.reflection && !off.contains("reflection"),
+            reflection,
             antialiasing: self.antialiasing && !off.contains("antialiasing"),
             refraction,
             nested_media,
@@ -191,8 +202,8 @@ impl Effects {
             // only a stage with media shades.
             fresnel: self.fresnel && nested_media,
             absorption: self.absorption && nested_media,
-            triangles: self.triangles && !off.contains("triangles"),
-            smooth_shading: self.smooth_shading && !off.contains("smooth-shading"),
+            triangles,
+            smooth_shading: self.smooth_shading && triangles && !off.contains("smooth-shading"),
             bvh: self.bvh && !off.contains("bvh"),
             implicit: self.implicit && !off.contains("implicit"),
         }

@@ -432,8 +432,18 @@ macro_rules! web_exports {
             static HOOK: ::std::sync::Once = ::std::sync::Once::new();
             HOOK.call_once(|| {
                 ::std::panic::set_hook(Box::new(|info| {
+                    let payload = info.payload();
+                    let message = payload
+                        .downcast_ref::<&str>()
+                        .map(|text| text.to_string())
+                        .or_else(|| payload.downcast_ref::<String>().cloned())
+                        .unwrap_or_default();
+                    let location = info
+                        .location()
+                        .map(|at| format!("{}:{}:{}", at.file(), at.line(), at.column()))
+                        .unwrap_or_default();
                     let answer = $crate::web::Answer {
-                        json: $crate::web::panic_json(&info.to_string()),
+                        json: $crate::web::panic_json(&message, &location),
                         pixels: Vec::new(),
                     };
                     raylab_set_answer(answer.into_bytes());
@@ -458,9 +468,19 @@ macro_rules! web_exports {
     };
 }
 
-/// The answer a panic leaves: its message, as an error the page shows.
-pub fn panic_json(message: &str) -> serde_json::Value {
-    serde_json::json!({ "error": format!("the chapter panicked: {message}"), "panicked": true })
+/// The answer a panic with `message` at `location` leaves, as an error the
+/// page shows: a chapter still `todo!()` is "not started", as on the
+/// command line.
+pub fn panic_json(message: &str, location: &str) -> serde_json::Value {
+    let not_started = message
+        .strip_prefix("not yet implemented")
+        .or_else(|| message.strip_prefix("not implemented"))
+        .and_then(crate::workspace::todo_names);
+    let error = match not_started {
+        Some((info, function)) => crate::workspace::not_started_message(info, Some(&function)),
+        None => format!("the chapters panicked at {location}: {message}"),
+    };
+    serde_json::json!({ "error": error, "panicked": true })
 }
 
 #[cfg(test)]
@@ -610,6 +630,26 @@ mod tests {
         assert!(
             error.contains("rays, more than the 20000 the page draws"),
             "{error}"
+        );
+    }
+
+    #[test]
+    fn a_todo_panic_says_which_chapter_is_not_started() {
+        let answer = panic_json(
+            "not yet implemented: chapter 7: pixel_color",
+            "src/x.rs:1:1",
+        );
+        let error = answer["error"].as_str().unwrap_or_default();
+        assert!(
+            error.starts_with(
+                "chapter 7 not started: write pixel_color in src/chapters/ch07_antialiasing.rs"
+            ),
+            "{error}"
+        );
+        let answer = panic_json("index out of bounds", "src/chapters/ch02_sphere.rs:40:9");
+        assert_eq!(
+            answer["error"],
+            "the chapters panicked at src/chapters/ch02_sphere.rs:40:9: index out of bounds"
         );
     }
 

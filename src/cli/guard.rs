@@ -162,17 +162,7 @@ fn explain(record: &Record) -> (i32, String) {
         .strip_prefix("not yet implemented")
         .or_else(|| record.message.strip_prefix("not implemented"));
     if let Some(rest) = not_started {
-        // The skeletons' `todo!("chapter N: name")` names both.
-        let named = rest
-            .trim_start_matches(':')
-            .trim()
-            .strip_prefix("chapter ")
-            .and_then(|rest| rest.split_once(": "))
-            .and_then(|(number, function)| {
-                let info = crate::chapters::chapter(number.parse().ok()?)?;
-                Some((info, function.to_string()))
-            });
-        if let Some((info, function)) = named {
+        if let Some((info, function)) = crate::workspace::todo_names(rest) {
             return (
                 EXIT_FAILED_CHECK,
                 not_started_message(info, Some(&function)),
@@ -219,16 +209,7 @@ fn unwritable_stream(message: &str) -> Option<(&'static str, &str)> {
 }
 
 fn not_started_message(info: &ChapterInfo, function: Option<&str>) -> String {
-    format!(
-        "chapter {} not started: {} in src/chapters/{}.rs\n\
-         (a chapter's stage runs your functions of every chapter up to it)",
-        info.number,
-        function.map_or_else(
-            || "write the function".to_string(),
-            |function| format!("write {function}")
-        ),
-        info.module()
-    )
+    crate::workspace::not_started_message(info, function)
 }
 
 #[cfg(test)]

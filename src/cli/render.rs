@@ -266,12 +266,26 @@ impl SettingsOverrides {
         let effects = Effects::for_chapter(chapter);
         let mut warnings = Vec::new();
         let on = effects.switchable();
-        for name in settings.without.names() {
-            if !on.contains(&name) {
+        let asked = settings.without.names();
+        for name in &asked {
+            if !on.contains(name) {
                 warnings.push(format!(
                     "--without {name} has no effect at chapter {chapter}, whose stage has no {name}"
                 ));
             }
+        }
+        let left = effects.without(settings.without).switchable();
+        let also: Vec<&str> = on
+            .iter()
+            .filter(|name| !asked.contains(name) && !left.contains(name))
+            .copied()
+            .collect();
+        if !also.is_empty() && self.without.is_some() {
+            warnings.push(format!(
+                "--without {} also leaves out {}, built on it at chapter {chapter}",
+                asked.join(","),
+                also.join(", ")
+            ));
         }
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {

@@ -230,6 +230,33 @@ impl Files {
     }
 }
 
+/// The chapter and function a skeleton's `todo!("chapter N: name")` names,
+/// from what its panic message says after "not yet implemented".
+pub fn todo_names(rest: &str) -> Option<(&'static ChapterInfo, String)> {
+    let (number, function) = rest
+        .trim_start_matches(':')
+        .trim()
+        .strip_prefix("chapter ")?
+        .split_once(": ")?;
+    let info = crate::chapters::chapter(number.parse().ok()?)?;
+    Some((info, function.to_string()))
+}
+
+/// What a student is told of a chapter not started: the function to write
+/// (or "the function"), and where.
+pub fn not_started_message(info: &ChapterInfo, function: Option<&str>) -> String {
+    format!(
+        "chapter {} not started: {} in src/chapters/{}.rs\n\
+         (a chapter's stage runs your functions of every chapter up to it)",
+        info.number,
+        function.map_or_else(
+            || "write the function".to_string(),
+            |function| format!("write {function}")
+        ),
+        info.module()
+    )
+}
+
 /// The crate that builds a workspace's chapters for the browser page: a
 /// `cdylib` depending on the workspace's package `package` at `workspace`
 /// and on the raylab at `raylab_dir` (its `student` feature on), exporting

@@ -287,3 +287,43 @@ fn an_unknown_effect_is_refused_with_the_names_that_exist() {
     );
     assert!(scene.is_err_and(|error| error.to_string().contains("`shadow`")));
 }
+
+/// Every effect a stage offers to leave out is left out: the stats no
+/// longer name it, and it casts none of its rays, at every chapter (the
+/// layers built on it go too: chapter 8's glass casts reflection rays, so
+/// without reflection it is gone).
+#[test]
+fn a_switched_off_effect_casts_none_of_its_rays_at_any_chapter() {
+    use raylab::effects::Effects;
+    for chapter in 1..=raylab::chapters::LAST_CHAPTER {
+        let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+        for name in Effects::for_chapter(chapter).switchable() {
+            let settings = RenderSettings {
+                without: raylab::scene::SwitchedOff::parse([name]).expect("a name"),
+                ..small(&scene, 4)
+            };
+            let off = raylab::render(&scene, chapter, &settings, None).expect("renders");
+            let simulated = names(&off);
+            let gone: &[&str] = match name {
+                "lighting" => &["flat-lighting", "phong-diffuse", "shadows"],
+                "phong" => &["phong-diffuse", "phong-specular"],
+                other => &[other][..],
+            };
+            for effect in gone {
+                assert!(
+                    !simulated.contains(effect),
+                    "chapter {chapter} without {name}: {simulated:?}"
+                );
+            }
+            let rays = off.rays;
+            let none = match name {
+                "lighting" => rays.shadow,
+                "reflection" => rays.reflection,
+                "refraction" => rays.refraction,
+                "antialiasing" => rays.primary - u64::from(settings.width * settings.height),
+                _ => 0,
+            };
+            assert_eq!(none, 0, "chapter {chapter} without {name}: {rays:?}");
+        }
+    }
+}
