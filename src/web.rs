@@ -12,7 +12,7 @@
 //!
 //! Requests (`op` names the operation):
 //! - `{"op": "chapters"}`: every chapter's number, title, what it adds and
-//!   its built-in scene's TOML.
+//!   its built-in scene's TOML, and the chapter the page opens at.
 //! - `{"op": "prepare", "job": JOB}`: the job's size, samples and the
 //!   effects its stage simulates, or the scene's error with its line and
 //!   column.
@@ -135,7 +135,12 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
         serde_json::from_slice(request).map_err(|error| WebError::Request(error.to_string()))?;
     match request {
         Request::Chapters => Ok(Answer {
-            json: chapters(),
+            // raylab's own chapters open at chapter 8 (glass, a reflection
+            // and a refraction to click on); a student's at chapter 1.
+            json: serde_json::json!({
+                "chapters": chapters(),
+                "start": if std::any::TypeId::of::<C>() == std::any::TypeId::of::<crate::Reference>() { 8 } else { 1 },
+            }),
             pixels: Vec::new(),
         }),
         Request::Prepare { job } => {
@@ -156,6 +161,11 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                     // stage, before the job's own `without`.
                     "switchable": crate::effects::Effects::for_chapter(job.chapter).switchable(),
                     "without": settings.without.names(),
+                    // Of those, the ones the stage keeps (leaving one out
+                    // leaves out what is built on it).
+                    "on": crate::effects::Effects::for_chapter(job.chapter)
+                        .without(settings.without)
+                        .switchable(),
                     "objects": scene.len(),
                     "lights": scene.lights.len(),
                 }),

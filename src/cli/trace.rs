@@ -42,8 +42,12 @@ fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
         return Err(format!("expected `x,y`, got `{text}`"));
     };
     let number = |part: &str| {
-        part.parse::<u32>()
-            .map_err(|_| format!("`{part}` is not a whole number of pixels"))
+        part.parse::<u32>().map_err(|_| {
+            format!(
+                "`{part}` is not a pixel coordinate (a whole number from 0 to {})",
+                u32::MAX
+            )
+        })
     };
     Ok((number(x)?, number(y)?))
 }
@@ -93,15 +97,17 @@ fn show(v: Vec3) -> String {
 
 fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
     let (x, y) = traced.pixel;
-    let mut out = format!(
-        "chapter {chapter}, pixel {x},{y}: {} camera {}\n",
-        traced.samples.len(),
-        if traced.samples.len() == 1 {
-            "ray"
-        } else {
-            "rays"
-        }
-    );
+    let count = traced.samples.len();
+    let mut out = if count == 1 {
+        format!("chapter {chapter}, pixel {x},{y}: 1 camera ray\n")
+    } else {
+        // Each ray's share is of its sample's colour; the running sum, of
+        // the pixel's.
+        format!(
+            "chapter {chapter}, pixel {x},{y}: {count} camera rays, one a sample, each sample \
+             1/{count} of the pixel\n"
+        )
+    };
     for (index, root) in traced.chosen(sample) {
         out += &format!("sample {index}:\n");
         ray_text(root, 1, &mut out);
@@ -124,7 +130,7 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
     let indent = "  ".repeat(depth);
     let range = format!("{} < t < {}", ray.t_min, ray.t_max);
     let share = match ray.weight {
-        Some(weight) => format!(", {weight} of the pixel"),
+        Some(weight) => format!(", {weight} of its sample"),
         None => String::new(),
     };
     out.push_str(&format!(

@@ -322,7 +322,8 @@ pub fn files(package: &str, raylab_dir: &Path, solutions: bool) -> Result<Files,
             cargo_toml(package, raylab_dir_text),
         ),
         ("Cargo.lock".to_string(), RAYLAB_LOCK.to_string()),
-        (".gitignore".to_string(), "/target\n".to_string()),
+        // `web/` is the page `raylab web` builds: 25 MB, made again at will.
+        (".gitignore".to_string(), "/target\n/web\n".to_string()),
         (
             "README.md".to_string(),
             readme(package, raylab_dir_text, solutions),
@@ -430,6 +431,8 @@ raylab renders and checks your code. {state}
 cargo run --release -- render --chapter 1      # writes chapter-1.png with your code
 cargo run --release -- check --chapter 1       # the verdict: cases, image, robustness
 cargo test                                     # the same checks, one test per chapter
+cargo run --release -- trace --chapter 1 --pixel 320,240   # every ray of one pixel, with your code
+cargo run --release -- web                     # the browser page of your chapters, in web/
 ```
 
 Chapter N's image needs your chapters 1 to N. The binary has every

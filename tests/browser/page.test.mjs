@@ -150,6 +150,20 @@ test("switching an effect off renders what raylab render --without renders", asy
   await page.close();
 });
 
+test("a setting edited in the scene's [render] moves its slider and renders", async () => {
+  const page = await openPage("?chapter=7");
+  await setInput(page, "width", WIDTH);
+  const generation = await page.evaluate(() => window.raylabPage.generation);
+  const text = await page.inputValue("#scene");
+  assert.match(text, /^samples = 4\b/m);
+  await page.fill("#scene", text.replace(/^samples = 4\b/m, "samples = 9"));
+  assert.equal(await waitForRender(page, generation), "done");
+  assert.equal(await page.inputValue("#samples"), "9");
+  const shown = await canvasHash(page);
+  assert.equal(shown.hash, nativeHash(7, shown.width, shown.height, ["--samples", "9"]));
+  await page.close();
+});
+
 test("a broken scene shows its error at the line and column it names", async () => {
   const page = await openPage("?chapter=2");
   const generation = await page.evaluate(() => window.raylabPage.generation);

@@ -4,6 +4,7 @@
 
 const $ = (id) => document.getElementById(id);
 const ROWS_A_TASK = 4;
+const MAX_HEIGHT = 2048;
 const KIND_COLOURS = { camera: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00" };
 
 const page = {
@@ -46,7 +47,8 @@ async function start() {
   const bytes = await (await fetch("raylab.wasm")).arrayBuffer();
   page.module = await WebAssembly.compile(bytes);
   page.raylab = await Raylab.instantiate(page.module);
-  page.chapters = page.raylab.call({ op: "chapters" }).json;
+  const course = page.raylab.call({ op: "chapters" }).json;
+  page.chapters = course.chapters;
   for (const chapter of page.chapters) {
     const option = document.createElement("option");
     option.value = chapter.number;
@@ -57,8 +59,9 @@ async function start() {
   const asked = Number(new URLSearchParams(location.search).get("workers"));
   const cores = Math.max(1, Math.min(asked || navigator.hardwareConcurrency || 2, 16));
   await Promise.all(Array.from({ length: cores }, () => addWorker()));
-  const wanted = Number(new URLSearchParams(location.search).get("chapter")) || 8;
-  $("chapter").value = String(page.chapters.some((c) => c.number === wanted) ? wanted : 8);
+  // raylab's own page opens at chapter 8, a workspace's at chapter 1.
+  const wanted = Number(new URLSearchParams(location.search).get("chapter")) || course.start;
+  $("chapter").value = String(page.chapters.some((c) => c.number === wanted) ? wanted : course.start);
   chapterChanged();
   for (const id of ["width", "samples", "depth", "epsilon", "fixed-epsilon"]) {
     $(id).addEventListener("input", () => { showValues(); scheduleRender(); });
@@ -92,33 +95,54 @@ function chapterChanged() {
   const chapter = currentChapter();
   $("scene").value = chapter.scene;
   page.sceneEdited = false;
-  const own = mainCall({ op: "prepare", job: { chapter: chapter.number } });
-  if (!own.error) {
-    $("width").value = String(Math.min(own.width, 320));
-    $("samples").value = String(own.settings.samples);
-    $("depth").value = String(own.settings.depth);
+  page.own = null;
+  $("switches").querySelectorAll("label").forEach((label) => label.remove());
+  $("lesson").href = `doc/raylab/chapters/${chapter.module}/index.html`;
+  $("lesson").textContent = `lesson ${chapter.number}: ${chapter.title}`;
+  clearTree();
+  scheduleRender(0);
+}
+
+// The scene's own [render] settings, as the editor holds them: each one
+// that changed since they were last read moves its slider or box, so an
+// edit of `samples = 16` in the scene is what the next render uses. (The
+// page's width is at most 320 at first, for speed.)
+function adoptSceneSettings(own) {
+  const last = page.own;
+  const changed = (read) => !last || JSON.stringify(read(own)) !== JSON.stringify(read(last));
+  if (changed((o) => o.width)) $("width").value = String(Math.min(own.width, last ? 800 : 320));
+  if (changed((o) => o.settings.samples)) $("samples").value = String(own.settings.samples);
+  if (changed((o) => o.settings.depth)) $("depth").value = String(own.settings.depth);
+  if (changed((o) => o.settings.epsilon)) {
     $("fixed-epsilon").checked = own.settings.epsilon !== null;
     if (own.settings.epsilon !== null) $("epsilon").value = String(Math.log10(own.settings.epsilon));
-    // One box per effect of the stage that can be left out, ticked: the
-    // image without it is `raylab render --without NAME`.
+  }
+  if (changed((o) => [o.switchable, o.without])) {
+    // One box per effect of the stage that can be left out: the image
+    // without it is `raylab render --without NAME`'s.
     const switches = $("switches");
     switches.querySelectorAll("label").forEach((label) => label.remove());
     for (const name of own.switchable) {
       const label = document.createElement("label");
       const box = document.createElement("input");
       box.type = "checkbox";
-      box.checked = !own.without.includes(name);
+      box.checked = own.on.includes(name);
       box.dataset.effect = name;
       box.addEventListener("input", () => scheduleRender());
       label.append(box, name);
       switches.append(label);
     }
   }
-  $("lesson").href = `doc/raylab/chapters/${chapter.module}/index.html`;
-  $("lesson").textContent = `lesson ${chapter.number}: ${chapter.title}`;
-  clearTree();
+  page.own = own;
   showValues();
-  scheduleRender(0);
+}
+
+// Ticks the boxes of the effects the stage simulates: leaving one out
+// leaves out what is built on it (chapter 8's glass casts reflection rays).
+function showSwitches(prepared) {
+  for (const box of document.querySelectorAll("#switches input")) {
+    box.checked = prepared.on.includes(box.dataset.effect);
+  }
 }
 
 function currentChapter() {
@@ -140,27 +164,20 @@ function epsilon() {
 // The job every worker renders a share of: the chapter, the scene's text
 // (null: the built-in scene, exactly as `raylab render --chapter N`) and
 // the sliders, which mean what raylab render's options mean.
-function job() {
+function job(own) {
   const width = Number($("width").value);
-  const [sceneWidth, sceneHeight] = sceneSize();
+  const [sceneWidth, sceneHeight] = [own.width, own.height];
   return {
     chapter: currentChapter().number,
     scene: page.sceneEdited ? $("scene").value : null,
     width,
-    height: Math.max(1, Math.round((width * sceneHeight) / sceneWidth)),
+    // The scene's proportions, within a height the page can show.
+    height: Math.min(MAX_HEIGHT, Math.max(1, Math.round((width * sceneHeight) / sceneWidth))),
     samples: Number($("samples").value),
     depth: Number($("depth").value),
     epsilon: $("fixed-epsilon").checked ? epsilon() : null,
     without: Array.from(document.querySelectorAll("#switches input:not(:checked)"), (box) => box.dataset.effect),
   };
-}
-
-// The scene's own proportions (its [render] size, as edited).
-function sceneSize() {
-  const text = $("scene").value;
-  const width = Number((text.match(/^\s*width\s*=\s*(\d+)/m) || [])[1]) || 4;
-  const height = Number((text.match(/^\s*height\s*=\s*(\d+)/m) || [])[1]) || 3;
-  return [width, height];
 }
 
 let renderTimer = null;
@@ -175,7 +192,17 @@ function startRender() {
     scheduleRender(50);
     return;
   }
-  const request = job();
+  const chapter = currentChapter().number;
+  const own = mainCall({ op: "prepare", job: { chapter, scene: page.sceneEdited ? $("scene").value : null } });
+  if (own.error) {
+    showSceneError(own);
+    $("switches").querySelectorAll("label").forEach((label) => label.remove());
+    page.own = null;
+    setState("error");
+    return;
+  }
+  adoptSceneSettings(own);
+  const request = job(own);
   const prepared = mainCall({ op: "prepare", job: request });
   if (prepared.error) {
     showSceneError(prepared);
@@ -183,6 +210,7 @@ function startRender() {
     return;
   }
   showSceneError(null);
+  showSwitches(prepared);
   stopWorkers();
   const id = ++page.generation;
   const canvas = $("image");
@@ -262,7 +290,7 @@ function showSceneError(answer) {
   }
   box.hidden = false;
   box.textContent = answer.error;
-  status("the scene has an error");
+  status(answer.panicked ? "the chapters stopped (below)" : "the scene has an error");
   if (answer.line) {
     // Select the line the error names, so the editor shows where it is.
     const lines = $("scene").value.split("\n");
@@ -302,6 +330,7 @@ function clearTree() {
   $("overlay").replaceChildren();
   $("tree").tBodies[0].replaceChildren();
   $("pixel-value").textContent = "";
+  $("tree-command").textContent = "";
   $("tree-title").textContent = "Ray tree";
 }
 
@@ -375,7 +404,9 @@ function listTree(trace) {
   trace.samples.forEach((sample) => list(sample.ray, 0, sample.sample));
   const [x, y] = trace.pixel;
   const [r, g, b] = trace.srgb;
+  const job = page.render.job;
   $("tree-title").textContent = `Ray tree of pixel ${x},${y} (${trace.sample_count} sample${trace.sample_count === 1 ? "" : "s"})`;
+  $("tree-command").textContent = `raylab trace --chapter ${job.chapter} --width ${job.width} --height ${job.height} --samples ${job.samples} --depth ${job.depth}${job.epsilon === null ? "" : ` --epsilon ${job.epsilon}`}${job.without.length ? ` --without ${job.without.join(",")}` : ""} --pixel ${x},${y}${job.scene === null ? "" : " --scene YOUR-SCENE.toml"}`;
   $("pixel-value").innerHTML = `${swatch(trace.color)}pixel ${x},${y}: linear ${triple(trace.color)} → sRGB <span id="pixel-srgb">${r}, ${g}, ${b}</span>, as the render writes it`;
 }
 
