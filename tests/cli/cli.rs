@@ -555,7 +555,10 @@ fn trace_prints_a_pixels_ray_tree_ending_in_its_rendered_value() {
         ),
         (vec!["--pixel", "1"], "expected `x,y`"),
         (vec!["--pixel", "-1,2"], "`-1` is not a pixel coordinate"),
-        (vec!["--pixel", "99999999999,1"], "a whole number from 0 to 4294967295"),
+        (
+            vec!["--pixel", "99999999999,1"],
+            "a whole number from 0 to 4294967295",
+        ),
     ] {
         let out = raylab(
             &[&["trace", "-c", "6"][..], &size[..], &args[..]].concat(),
