@@ -230,6 +230,7 @@ fn render_help_shows_every_default() {
             format!("else {:?}", defaults.terminator).to_lowercase(),
         ),
         ("--epsilon", format!("else {}", defaults.fixed_epsilon)),
+        ("--without", "the scene's `without`, else none".into()),
         ("--threads", "one per core".into()),
         ("--output", "chapter-N.png".into()),
         ("--stats-json", "none written".into()),
