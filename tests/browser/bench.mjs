@@ -4,33 +4,21 @@
 // on a shared machine are noise). Run by scripts/bench-web.sh.
 //   node tests/browser/bench.mjs CHAPTER WIDTH REPEATS
 import { execFileSync } from "node:child_process";
-import { createServer } from "node:http";
-import { mkdtempSync, readFileSync, statSync } from "node:fs";
-import { join, extname, normalize } from "node:path";
+import { mkdtempSync, readFileSync } from "node:fs";
+import { join } from "node:path";
 import { tmpdir } from "node:os";
 import { chromium } from "playwright-core";
+import { serve } from "./serve.mjs";
 
 const [chapter, width, repeats] = process.argv.slice(2).map(Number);
 const PAGE = process.env.RAYLAB_PAGE || "target/web";
 const RAYLAB = process.env.RAYLAB_BIN || "target/release/raylab";
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm" };
 const median = (values) => [...values].sort((a, b) => a - b)[Math.floor(values.length / 2)];
 
-const server = createServer((request, response) => {
-  let file = join(PAGE, normalize(new URL(request.url, "http://x").pathname).replace(/^(\.\.[/\\])+/, ""));
-  try {
-    if (statSync(file).isDirectory()) file = join(file, "index.html");
-    response.writeHead(200, { "content-type": TYPES[extname(file)] || "application/octet-stream" });
-    response.end(readFileSync(file));
-  } catch {
-    response.writeHead(404);
-    response.end();
-  }
-});
-await new Promise((resolve) => server.listen(0, "127.0.0.1", resolve));
+const { server, url } = await serve(PAGE);
 const browser = await chromium.launch({ executablePath: process.env.CHROMIUM || "/usr/bin/chromium", headless: true });
 const page = await browser.newPage();
-await page.goto(`http://127.0.0.1:${server.address().port}/?workers=1&chapter=${chapter}`);
+await page.goto(`${url}?workers=1&chapter=${chapter}`);
 await page.waitForFunction(() => document.body.dataset.state === "done");
 // The page takes its height from the width and the scene's proportions.
 const before = await page.evaluate(() => window.raylabPage.generation);

@@ -9,11 +9,11 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { createServer } from "node:http";
-import { mkdirSync, mkdtempSync, readFileSync, statSync } from "node:fs";
-import { join, extname, normalize } from "node:path";
+import { mkdirSync, mkdtempSync, readFileSync } from "node:fs";
+import { join } from "node:path";
 import { tmpdir } from "node:os";
 import { chromium } from "playwright-core";
+import { serve } from "./serve.mjs";
 
 const PAGE = process.env.RAYLAB_PAGE || "target/web";
 const RAYLAB = process.env.RAYLAB_BIN || "target/debug/raylab";
@@ -21,27 +21,12 @@ const ARTIFACTS = process.env.RAYLAB_ARTIFACTS || "target/browser";
 const WIDTH = 160;
 mkdirSync(ARTIFACTS, { recursive: true });
 
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm", ".png": "image/png", ".svg": "image/svg+xml", ".json": "application/json", ".woff2": "font/woff2" };
 let server;
 let browser;
 let url;
 
 before(async () => {
-  // A static server, as any web server would serve the folder.
-  server = createServer((request, response) => {
-    const path = normalize(decodeURIComponent(new URL(request.url, "http://x").pathname)).replace(/^(\.\.[/\\])+/, "");
-    let file = join(PAGE, path);
-    try {
-      if (statSync(file).isDirectory()) file = join(file, "index.html");
-      response.writeHead(200, { "content-type": TYPES[extname(file)] || "application/octet-stream" });
-      response.end(readFileSync(file));
-    } catch {
-      response.writeHead(404);
-      response.end();
-    }
-  });
-  await new Promise((resolve) => server.listen(0, "127.0.0.1", resolve));
-  url = `http://127.0.0.1:${server.address().port}/`;
+  ({ server, url } = await serve(PAGE));
   browser = await chromium.launch({ executablePath: process.env.CHROMIUM || "/usr/bin/chromium", headless: true });
 });
 
