@@ -201,6 +201,14 @@ pub struct Material {
     /// `exp(-absorption d)`. Zero is clear.
     #[serde(deserialize_with = "number::vec3")]
     pub absorption: Vec3,
+    /// Light the surface gives off, the same on both faces, as radiance
+    /// (chapter 13: an area light). Zero for a surface that only reflects.
+    #[serde(deserialize_with = "number::vec3")]
+    pub emission: Vec3,
+    /// How rough a mirror is (chapter 13): 0 is a perfect mirror, larger
+    /// spreads the reflection into a glossy lobe, 1 the widest.
+    #[serde(deserialize_with = "number::f32")]
+    pub roughness: f32,
 }
 
 /// How a transparent material reflects (chapter 9).
@@ -231,6 +239,8 @@ impl Default for Material {
             checker: None,
             fresnel: FresnelModel::None,
             absorption: Vec3::ZERO,
+            emission: Vec3::ZERO,
+            roughness: 0.0,
         }
     }
 }
@@ -366,11 +376,11 @@ pub struct RenderSettings {
 /// the renderer knows how to draw (a stage without reflection shades as
 /// chapter 5 did; without the tree it tests every object).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct SwitchedOff(u16);
+pub struct SwitchedOff(u32);
 
 impl SwitchedOff {
     /// Every effect that can be switched off, in chapter order.
-    pub const NAMES: [&'static str; 13] = [
+    pub const NAMES: [&'static str; 17] = [
         "planes",
         "spheres",
         "nearest-hit",
@@ -384,6 +394,10 @@ impl SwitchedOff {
         "smooth-shading",
         "bvh",
         "implicit",
+        "path-tracing",
+        "next-event",
+        "mis",
+        "russian-roulette",
     ];
 
     /// The set of the effects named, or the name that is not one.
@@ -679,8 +693,120 @@ struct ObjectSpec {
     triangle: Option<TriangleSpec>,
     mesh: Option<MeshSpec>,
     implicit: Option<SdfSpec>,
+    quad: Option<QuadSpec>,
+    cuboid: Option<CuboidSpec>,
     #[serde(default)]
     material: Material,
+}
+
+/// `quad = { corner = [..], u = [..], v = [..] }`: the parallelogram
+/// `corner + s u + t v` for `s, t` in `[0, 1]`, as two triangles.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct QuadSpec {
+    #[serde(deserialize_with = "number::vec3")]
+    corner: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    u: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    v: Vec3,
+}
+
+/// `cuboid = { min = [..], max = [..], rotate_y_degrees = .., translate = [..] }`:
+/// the box from `min` to `max`, turned about the y axis through the
+/// origin, then moved: twelve triangles.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CuboidSpec {
+    #[serde(deserialize_with = "number::vec3")]
+    min: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    max: Vec3,
+    #[serde(default, deserialize_with = "number::f32")]
+    rotate_y_degrees: f32,
+    #[serde(default, deserialize_with = "number::vec3")]
+    translate: Vec3,
+}
+
+/// The two triangles of the parallelogram `corner`, `corner + u`,
+/// `corner + u + v`, `corner + v`.
+fn quad_triangles(corner: Vec3, u: Vec3, v: Vec3) -> [Shape; 2] {
+    [
+        Triangle::new(corner, corner + u, corner + u + v).into(),
+        Triangle::new(corner, corner + u + v, corner + v).into(),
+    ]
+}
+
+impl QuadSpec {
+    fn triangles(&self, label: &str) -> Result<Vec<Shape>, String> {
+        for (what, value) in [("corner", self.corner), ("u", self.u), ("v", self.v)] {
+            check_point(&format!("{label}: quad.{what}"), value)?;
+        }
+        if self.u.cross(self.v).length_squared() == 0.0 {
+            return Err(format!(
+                "{label}: quad.u = {} and quad.v = {} span no area: give two edges \
+                 that are not parallel",
+                self.u, self.v
+            ));
+        }
+        let far = self.corner + self.u + self.v;
+        check_coordinates(&format!("{label}: quad (far corner)"), far)?;
+        Ok(quad_triangles(self.corner, self.u, self.v).to_vec())
+    }
+}
+
+impl CuboidSpec {
+    fn triangles(&self, label: &str) -> Result<Vec<Shape>, String> {
+        check_point(&format!("{label}: cuboid.min"), self.min)?;
+        check_point(&format!("{label}: cuboid.max"), self.max)?;
+        check_point(&format!("{label}: cuboid.translate"), self.translate)?;
+        if !self.rotate_y_degrees.is_finite() {
+            return Err(format!(
+                "{label}: cuboid.rotate_y_degrees = {}: must be a finite number",
+                self.rotate_y_degrees
+            ));
+        }
+        if !self.min.cmplt(self.max).all() {
+            return Err(format!(
+                "{label}: cuboid.min = {} must be below cuboid.max = {} on every axis",
+                self.min, self.max
+            ));
+        }
+        let (sin, cos) = self.rotate_y_degrees.to_radians().sin_cos();
+        let place = |p: Vec3| {
+            Vec3::new(cos * p.x + sin * p.z, p.y, -sin * p.x + cos * p.z) + self.translate
+        };
+        let size = self.max - self.min;
+        let (x, y, z) = (
+            Vec3::new(size.x, 0.0, 0.0),
+            Vec3::new(0.0, size.y, 0.0),
+            Vec3::new(0.0, 0.0, size.z),
+        );
+        let (low, high) = (self.min, self.max);
+        // Each face with its edges in an order whose cross product points
+        // out of the box.
+        let faces = [
+            (low, z, y),
+            (low, y, x),
+            (low, x, z),
+            (high, -y, -z),
+            (high, -x, -y),
+            (high, -z, -x),
+        ];
+        let mut shapes = Vec::with_capacity(12);
+        for (corner, u, v) in faces {
+            let [a, b, c, d] = [corner, corner + u, corner + u + v, corner + v].map(place);
+            shapes.push(Triangle::new(a, b, c).into());
+            shapes.push(Triangle::new(a, c, d).into());
+        }
+        for shape in &shapes {
+            if let Some(bounds) = Shape::bounds(shape) {
+                check_coordinates(&format!("{label}: cuboid (a corner)"), bounds.max)?;
+                check_coordinates(&format!("{label}: cuboid (a corner)"), bounds.min)?;
+            }
+        }
+        Ok(shapes)
+    }
 }
 
 /// `implicit = { torus = { center = [..], major = .., minor = .. } }`: a
@@ -1299,6 +1425,36 @@ impl SceneFile {
                 None => format!("object {}", index + 1),
             };
             check_material(&label, &object.material)?;
+            let flat = match (&object.quad, &object.cuboid) {
+                (Some(quad), None) => Some(quad.triangles(&label)?),
+                (None, Some(cuboid)) => Some(cuboid.triangles(&label)?),
+                (None, None) => None,
+                (Some(_), Some(_)) => {
+                    return Err(format!(
+                        "{label}: has a `quad` and a `cuboid`; give exactly one shape per object"
+                    ));
+                }
+            };
+            if let Some(triangles) = flat {
+                if object.plane.is_some()
+                    || object.sphere.is_some()
+                    || object.triangle.is_some()
+                    || object.implicit.is_some()
+                    || object.mesh.is_some()
+                {
+                    return Err(format!(
+                        "{label}: has a `quad` or `cuboid` and another shape; give exactly one \
+                         shape per object"
+                    ));
+                }
+                if scene.shapes.len() + triangles.len() > MAX_PRIMITIVES {
+                    return Err(format!(
+                        "{label}: would make more than {MAX_PRIMITIVES} primitives in the scene"
+                    ));
+                }
+                scene.add_object(name, object.material, triangles);
+                continue;
+            }
             if let Some(mesh) = &object.mesh {
                 if object.plane.is_some()
                     || object.sphere.is_some()
@@ -1560,6 +1716,8 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
             material.ior
         ));
     }
+    check_light_color(&field("emission"), material.emission)?;
+    check_coefficient(&field("roughness"), material.roughness, 1.0)?;
     check_finite(&field("absorption"), material.absorption)?;
     if !(material.absorption.min_element() >= 0.0
         && material.absorption.max_element() <= MAX_ABSORPTION)
