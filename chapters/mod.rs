@@ -58,6 +58,10 @@ macro_rules! for_each_chapter {
                 "implicit surfaces: sphere tracing, Newton's method, normals by differences"
                 |e| { e.implicit = true }
                 [sphere_trace, newton_bracketed, implicit_normal, intersect_implicit];
+            13 ch13_path_tracing "13_path_tracing" "Path tracing"
+                "global illumination: area lights, random paths, next-event estimation, MIS, Russian roulette"
+                |e| { e.path_tracing = true; e.next_event = true; e.mis = true; e.roulette = true }
+                [cosine_hemisphere, cosine_pdf, power_heuristic, russian_roulette, next_event, shade_path];
         }
     };
 }

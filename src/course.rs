@@ -13,10 +13,12 @@
 //! reach the scene, and call the other chapters' functions as the running
 //! `Chapters` wrote them.
 
+use crate::bsdf::Lobe;
 use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
     ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh, ch12_implicit,
+    ch13_path_tracing,
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
@@ -338,6 +340,55 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         crate::answer_key::answered_by(Self::COMPARISON, "Chapters::intersect_implicit");
         ch12_implicit::intersect_implicit::<Self>(surface, ray, t_min, t_max)
     }
+
+    /// Chapter 13: a direction about the z axis with density `cos(theta) / pi`,
+    /// for `u, v` uniform in `[0, 1)`.
+    #[inline(always)]
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::cosine_hemisphere");
+        ch13_path_tracing::cosine_hemisphere(u, v)
+    }
+
+    /// Chapter 13: the density of [`Chapters::cosine_hemisphere`]'s direction
+    /// at angle `theta` from the normal.
+    #[inline(always)]
+    fn cosine_pdf(cos_theta: f32) -> f32 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::cosine_pdf");
+        ch13_path_tracing::cosine_pdf(cos_theta)
+    }
+
+    /// Chapter 13: the power heuristic's weight of a sample of density
+    /// `pdf` that another strategy draws with density `other`.
+    #[inline(always)]
+    fn power_heuristic(pdf: f32, other: f32) -> f32 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::power_heuristic");
+        ch13_path_tracing::power_heuristic(pdf, other)
+    }
+
+    /// Chapter 13: whether a path of share `weight` survives Russian
+    /// roulette for `u` uniform in `[0, 1)`, and then by what its weight is
+    /// multiplied.
+    #[inline(always)]
+    fn russian_roulette(weight: f32, u: f32) -> Option<f32> {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::russian_roulette");
+        ch13_path_tracing::russian_roulette(weight, u)
+    }
+
+    /// Chapter 13: the light a point chosen on a light sends to `point`
+    /// and `lobe` scatters toward the eye (next-event estimation).
+    #[inline(always)]
+    fn next_event(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe) -> Vec3 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::next_event");
+        ch13_path_tracing::next_event(tracer, point, lobe)
+    }
+
+    /// Chapter 13: the light leaving `point` toward the eye, by one random
+    /// path.
+    #[inline(always)]
+    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::shade_path");
+        ch13_path_tracing::shade_path(tracer, point, depth, weight)
+    }
 }
 
 /// The chapters `C` with the textbook tests in place of `C`'s where asked:
@@ -423,6 +474,18 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn intersect_implicit(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         C::intersect_implicit(surface, ray, t_min, t_max)
+    }
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        C::cosine_hemisphere(u, v)
+    }
+    fn cosine_pdf(cos_theta: f32) -> f32 {
+        C::cosine_pdf(cos_theta)
+    }
+    fn power_heuristic(pdf: f32, other: f32) -> f32 {
+        C::power_heuristic(pdf, other)
+    }
+    fn russian_roulette(weight: f32, u: f32) -> Option<f32> {
+        C::russian_roulette(weight, u)
     }
     // The functions below take `Self`'s tracer, which `C`'s cannot accept:
     // each runs the reference code with this type, so a student's textbook

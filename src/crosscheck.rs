@@ -705,7 +705,7 @@ pub fn grazes_triangle(triangle: &Triangle, ray: &Ray) -> bool {
 #[derive(Debug, Clone, Default)]
 pub struct Tally {
     /// Rays compared, by kind: primary, shadow, reflection, refraction.
-    pub by_kind: [u64; 4],
+    pub by_kind: [u64; 5],
     pub both_miss: u64,
     /// Same object, `t` within tolerance.
     pub same_hit: u64,
@@ -747,6 +747,7 @@ impl Tally {
             RayKind::Shadow => 1,
             RayKind::Reflection => 2,
             RayKind::Refraction => 3,
+            RayKind::Bounce => 4,
         };
         self.by_kind[kind] += 1;
         match compared.verdict {

@@ -47,6 +47,18 @@ pub struct Effects {
     pub bvh: bool,
     /// Chapter 12: implicit surfaces, marched by sphere tracing.
     pub implicit: bool,
+    /// Chapter 13: every hit scatters one random ray (Monte Carlo
+    /// estimation of the rendering equation) in place of the Whitted mix.
+    pub path_tracing: bool,
+    /// Chapter 13: at each diffuse or glossy point, a shadow ray toward a
+    /// point chosen on a light (next-event estimation).
+    pub next_event: bool,
+    /// Chapter 13: light sampling and BSDF sampling weighed by Veach's
+    /// power heuristic (multiple importance sampling).
+    pub mis: bool,
+    /// Chapter 13: paths ended at random, the survivors' weight divided by
+    /// their chance of surviving (Russian roulette).
+    pub roulette: bool,
 }
 
 /// From how many objects with a box (spheres, triangles) chapter 11 builds
@@ -85,6 +97,10 @@ impl Effects {
         smooth_shading: false,
         bvh: false,
         implicit: false,
+        path_tracing: false,
+        next_event: false,
+        mis: false,
+        roulette: false,
     };
 
     /// Everything chapters `1..=chapter` teach: each chapter of the
@@ -118,6 +134,7 @@ impl Effects {
     pub fn needed_by(self, scene: &Scene, samples: u32) -> Effects {
         let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials().any(test);
         let lit = !scene.lights.is_empty();
+        let emits = any(&|m| m.emission != crate::Vec3::ZERO);
         let refraction = self.refraction && any(&|m| m.transparency > 0.0);
         Effects {
             shadows: self.shadows && lit,
@@ -159,6 +176,11 @@ impl Effects {
                     .shapes
                     .iter()
                     .any(|shape| shape.as_implicit().is_some()),
+            // A point light or a surface that glows is something to aim
+            // shadow rays at; only a glowing surface can also be found by a
+            // scattered ray, so only it has two strategies to weigh.
+            next_event: self.next_event && (lit || emits),
+            mis: self.mis && self.next_event && emits,
             ..self
         }
     }
@@ -183,6 +205,16 @@ impl Effects {
             && !off.contains("refraction");
         let nested_media = self.nested_media && refraction && !off.contains("nested-media");
         let triangles = self.triangles && !off.contains("triangles");
+        // Path tracing lights with the lights, mirrors with chapter 6's
+        // reflection and bends light with chapters 8 and 9's glass: it is
+        // the top of the stack.
+        let path_tracing = self.path_tracing
+            && all_lighting
+            && (reflection || !self.reflection)
+            && (refraction || !self.refraction)
+            && (nested_media || !self.nested_media)
+            && !off.contains("path-tracing");
+        let next_event = path_tracing && self.next_event && !off.contains("next-event");
         Effects {
             planes: self.planes && !off.contains("planes"),
             spheres: self.spheres && !off.contains("spheres"),
@@ -206,6 +238,10 @@ impl Effects {
             smooth_shading: self.smooth_shading && triangles && !off.contains("smooth-shading"),
             bvh: self.bvh && !off.contains("bvh"),
             implicit: self.implicit && !off.contains("implicit"),
+            path_tracing,
+            next_event,
+            mis: next_event && self.mis && !off.contains("mis"),
+            roulette: path_tracing && self.roulette && !off.contains("russian-roulette"),
         }
     }
 
@@ -246,6 +282,10 @@ impl Effects {
         add(self.smooth_shading, "smooth-shading");
         add(self.bvh, "bvh");
         add(self.implicit, "implicit");
+        add(self.path_tracing, "path-tracing");
+        add(self.next_event, "next-event");
+        add(self.mis, "mis");
+        add(self.roulette, "russian-roulette");
         names
     }
 }

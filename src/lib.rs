@@ -40,6 +40,7 @@ extern crate self as raylab;
 pub mod chapters;
 
 pub mod answer_key;
+pub mod bsdf;
 pub mod builtin;
 pub mod bvh;
 pub mod bvh_reports;

@@ -315,6 +315,7 @@ pub fn kind_name(kind: RayKind) -> &'static str {
         RayKind::Shadow => "shadow",
         RayKind::Reflection => "reflection",
         RayKind::Refraction => "refraction",
+        RayKind::Bounce => "bounce",
     }
 }
 

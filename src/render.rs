@@ -45,6 +45,8 @@ pub enum RayKind {
     Shadow,
     Reflection,
     Refraction,
+    /// A ray scattered at random off a diffuse or glossy surface (chapter 13).
+    Bounce,
 }
 
 /// Something that wants to see every ray the tracer casts (for
@@ -75,6 +77,8 @@ pub struct RayCounts {
     pub shadow: u64,
     pub reflection: u64,
     pub refraction: u64,
+    /// Rays scattered at random off diffuse and glossy surfaces (chapter 13).
+    pub bounce: u64,
     /// Shadow rays that hit the primitive they started on, where the exact
     /// segment does not (acne). Only the first blocker in scene order is
     /// examined, so this may undercount.
@@ -84,6 +88,10 @@ pub struct RayCounts {
     pub self_shadowed_pixels: u64,
     /// Samples whose colour was NaN or infinite (written as black).
     pub non_finite_samples: u64,
+    /// Path-traced samples brighter than [`FIREFLY_FACTOR`] times the
+    /// brightest thing a camera ray can see (chapter 13's fireflies): kept
+    /// in the image as they are, counted here.
+    pub bright_samples: u64,
     /// Rays marched against an implicit surface (chapter 12), once per
     /// ray and surface, by the evaluations each march made.
     pub march_histogram: crate::shapes::MarchHistogram,
@@ -95,7 +103,7 @@ pub struct RayCounts {
 
 impl RayCounts {
     pub fn total(&self) -> u64 {
-        self.primary + self.shadow + self.reflection + self.refraction
+        self.primary + self.shadow + self.reflection + self.refraction + self.bounce
     }
 
     /// Rays marched against an implicit surface, once per ray and surface.
@@ -108,6 +116,8 @@ impl RayCounts {
         self.shadow += other.shadow;
         self.reflection += other.reflection;
         self.refraction += other.refraction;
+        self.bounce += other.bounce;
+        self.bright_samples += other.bright_samples;
         self.self_shadow_hits += other.self_shadow_hits;
         self.self_shadowed_pixels += other.self_shadowed_pixels;
         self.non_finite_samples += other.non_finite_samples;
@@ -123,6 +133,7 @@ impl RayCounts {
             RayKind::Shadow => self.shadow += 1,
             RayKind::Reflection => self.reflection += 1,
             RayKind::Refraction => self.refraction += 1,
+            RayKind::Bounce => self.bounce += 1,
         }
     }
 }
@@ -195,6 +206,11 @@ pub struct Stage<'a, C: Chapters = Reference> {
     bvh: Option<Bvh>,
     offset: RayOffset,
     camera: Camera,
+    /// The primitives of `shapes` whose material emits, which next-event
+    /// estimation aims at with the point lights (chapter 13).
+    emitters: Vec<u32>,
+    /// A path-traced sample above this is counted as a firefly.
+    firefly_bound: f32,
     pub effects: Effects,
     pub settings: RenderSettings,
     chapters: PhantomData<C>,
@@ -252,11 +268,26 @@ impl<'a, C: Chapters> Stage<'a, C> {
             let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
             C::build_bvh(&bounds, &BvhOptions::default())
         });
+        let emitters: Vec<u32> = owners
+            .iter()
+            .enumerate()
+            .filter(|(index, owner)| {
+                scene.objects[**owner as usize].material.emission != Vec3::ZERO
+                    && area_of(&shapes[*index]).is_some()
+            })
+            .map(|(index, _)| index as u32)
+            .collect();
+        let brightest = scene
+            .materials()
+            .map(|material| material.emission.max_element())
+            .fold(scene.background.max_element().max(1.0), f32::max);
         Ok(Stage {
             scene,
             shapes,
             owners,
             bvh,
+            emitters,
+            firefly_bound: FIREFLY_FACTOR * brightest,
             offset: settings.offset(),
             camera: Camera::new(&scene.camera, settings.width, settings.height),
             effects,
@@ -320,10 +351,62 @@ impl<'a, C: Chapters> Stage<'a, C> {
             counts: RayCounts::default(),
             recorder,
             media: MediumStack::EMPTY,
+            arrival: Arrival::Camera,
+            random_key: 0,
+            random_index: 0,
+            sample_bound: f32::INFINITY,
             normal_evaluations: std::cell::Cell::new(0),
         }
     }
 }
+
+/// A path-traced sample brighter than this many times the brightest light
+/// or background a camera ray could see is counted as a firefly: no
+/// surface lit by those lights returns that much without an estimate that
+/// divided by a tiny density.
+pub const FIREFLY_FACTOR: f32 = 10.0;
+
+/// How the ray being shaded came to be cast (chapter 13), which decides how
+/// much of the light it finds on an emitter counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Arrival {
+    /// A camera ray.
+    Camera,
+    /// A mirror's or glass's one direction: no light sample could have
+    /// found the same light.
+    Specular,
+    /// Scattered at random from a diffuse or glossy surface with this
+    /// density, per unit solid angle.
+    Scattered { pdf: f32 },
+}
+
+/// A point chosen on a light, as seen from a point being shaded (chapter
+/// 13's next-event estimation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightSample {
+    /// Where a shadow ray aims: the point on the light, moved toward the
+    /// shaded point by [`SHADOW_EPSILON`] of the way, so that the light's
+    /// own surface is not taken for a blocker.
+    pub position: Vec3,
+    /// Unit direction from the shaded point toward the light.
+    pub direction: Vec3,
+    /// The light arriving along `direction`: an emitter's radiance, or a
+    /// point light's intensity over the squared distance.
+    pub light: Vec3,
+    /// The density of having chosen this direction, per unit solid angle
+    /// and with the choice of light in it; for a point light, only the
+    /// chance of choosing it.
+    pub pdf: f32,
+    /// A point light: a direction no scattered ray can find.
+    pub delta: bool,
+}
+
+/// The share of a shadow ray's segment left out at the light's end (pbrt-v4's
+/// `ShadowEpsilon`): enough that the light's own surface, where the segment
+/// ends, is never found as a blocker after rounding, and small enough
+/// (0.09 units over the 900-unit diagonal of the Cornell box) that no real
+/// blocker hides in it.
+pub const SHADOW_EPSILON: f32 = 1e-4;
 
 /// Past this many bounces [`Tracer::trace`] stops whatever the chapters ask,
 /// so that no chapter (a student's without its depth test, say) can recurse
@@ -342,6 +425,15 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     /// The media the ray being traced travels through (chapter 9): empty
     /// (air) for camera rays, set by [`Tracer::trace_in`] for the others.
     media: MediumStack,
+    /// How the ray being traced was cast (chapter 13).
+    arrival: Arrival,
+    /// The current sample's stream of random numbers (chapter 13): a key
+    /// from the seed and the sample's position, and how many were drawn.
+    random_key: u64,
+    random_index: u32,
+    /// Each sample's channels are cut to this (infinite but for the
+    /// check's comparison of path-traced images, [`Tracer::with_sample_bound`]).
+    sample_bound: f32,
     /// Evaluations spent on implicit normals (a cell: hit points are
     /// made through a shared reference).
     normal_evaluations: std::cell::Cell<u64>,
@@ -422,6 +514,133 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             }
             None => point,
         }
+    }
+
+    /// This tracer with every sample's channels cut to at most `bound`:
+    /// what `raylab check` compares path-traced images by (fireflies are
+    /// rare and huge, so two correct images differ most in them), never
+    /// what a render shows.
+    pub fn with_sample_bound(mut self, bound: f32) -> Self {
+        self.sample_bound = bound;
+        self
+    }
+
+    /// The effects this stage simulates (chapter 13 reads its switches).
+    #[inline]
+    pub fn effects(&self) -> Effects {
+        self.stage.effects
+    }
+
+    /// The next number of the current sample's random stream, uniform in
+    /// `[0, 1)` (chapter 13). The stream depends only on the seed and the
+    /// sample's position in the image, so a pixel is the same on any
+    /// number of threads.
+    #[inline]
+    pub fn random(&mut self) -> f32 {
+        self.random_index += 1;
+        let word = mix64(self.random_key ^ u64::from(self.random_index));
+        // The top 24 bits: an f32's precision, never rounded up to 1.
+        (word >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+    }
+
+    /// How the ray being shaded was cast (chapter 13).
+    #[inline]
+    pub fn arrival(&self) -> Arrival {
+        self.arrival
+    }
+
+    /// How many lights next-event estimation chooses among: the point
+    /// lights and every primitive that emits.
+    pub fn light_count(&self) -> usize {
+        self.stage.scene.lights.len() + self.stage.emitters.len()
+    }
+
+    /// A light, and a point on it, chosen at random for the surface point
+    /// `from` (chapter 13): each light with the same chance, a point light
+    /// as it is, a point uniformly over an emitter's area. `None` when the
+    /// scene has no light, or the point chosen is where `from` is.
+    pub fn sample_light(&mut self, from: &HitPoint) -> Option<LightSample> {
+        let count = self.light_count();
+        if count == 0 {
+            return None;
+        }
+        let choice = ((self.random() * count as f32) as usize).min(count - 1);
+        let chosen = 1.0 / count as f32;
+        let (u, v) = (self.random(), self.random());
+        let origin = from.surface.point;
+        let lights = &self.stage.scene.lights;
+        if let Some(light) = lights.get(choice) {
+            let to_light = light.position - origin;
+            let squared = to_light.length_squared();
+            if !(squared > 0.0) {
+                return None;
+            }
+            return Some(LightSample {
+                position: light.position,
+                direction: to_light / squared.sqrt(),
+                light: light.radiance() / squared,
+                pdf: chosen,
+                delta: true,
+            });
+        }
+        let object = self.stage.emitters[choice - lights.len()] as usize;
+        let shape = &self.stage.shapes[object];
+        let (point, normal, area) = point_on(shape, u, v)?;
+        let to_light = point - origin;
+        let squared = to_light.length_squared();
+        let direction = to_light / squared.sqrt();
+        let cosine = normal.dot(direction).abs();
+        if !(squared > 0.0 && cosine > 0.0) {
+            return None;
+        }
+        let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
+        Some(LightSample {
+            position: point - SHADOW_EPSILON * to_light,
+            direction,
+            light: material.emission,
+            pdf: chosen * squared / (cosine * area),
+            delta: false,
+        })
+    }
+
+    /// The density, per unit solid angle, with which [`Tracer::sample_light`]
+    /// would have chosen the direction of `point.ray` toward `point` from
+    /// where that ray started: what multiple importance sampling weighs a
+    /// scattered ray that found an emitter against. 0 where `point` emits
+    /// nothing.
+    pub fn light_pdf(&self, point: &HitPoint) -> f32 {
+        if point.material.emission == Vec3::ZERO {
+            return 0.0;
+        }
+        let shape = &self.stage.shapes[point.object];
+        let Some(area) = area_of(shape) else {
+            return 0.0;
+        };
+        let to_point = point.surface.point - point.ray.origin;
+        let squared = to_point.length_squared();
+        let cosine = point.surface.normal.dot(to_point).abs() / squared.sqrt();
+        if !(cosine > 0.0 && area > 0.0) {
+            return 0.0;
+        }
+        squared / (cosine * area * self.light_count() as f32)
+    }
+
+    /// [`Tracer::trace_in`] for a ray a path scatters (chapter 13): it
+    /// travels inside `media`, and the point it meets knows how it was
+    /// cast (`arrival`).
+    pub fn trace_path(
+        &mut self,
+        media: &MediumStack,
+        kind: RayKind,
+        ray: &Ray,
+        depth: u32,
+        weight: f32,
+        arrival: Arrival,
+    ) -> Traced {
+        let outer = std::mem::replace(&mut self.arrival, arrival);
+        let traced = self.trace_in(media, kind, ray, depth, weight);
+        self.arrival = outer;
+        traced
     }
 
     /// The scene's point lights.
@@ -582,7 +801,9 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         };
         let point = self.hit_point(object, ray, t);
         let effects = self.stage.effects;
-        let color = if effects.nested_media {
+        let color = if effects.path_tracing {
+            C::shade_path(self, &point, depth, weight)
+        } else if effects.nested_media {
             C::shade_dielectric(self, &point, depth, weight)
         } else if effects.refraction {
             C::shade_glass(self, &point, depth, weight)
@@ -614,9 +835,18 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// colour is counted and becomes black.
     pub fn sample(&mut self, x: f32, y: f32) -> Vec3 {
         let ray = self.stage.camera.ray_through(x, y);
+        self.random_key = mix64(
+            self.stage.settings.seed
+                ^ mix64((u64::from(x.to_bits()) << 32) | u64::from(y.to_bits())),
+        );
+        self.random_index = 0;
+        self.arrival = Arrival::Camera;
         let color = self.trace(RayKind::Primary, &ray, 0, 1.0);
         if color.is_finite() {
-            color
+            if self.stage.effects.path_tracing && color.max_element() > self.stage.firefly_bound {
+                self.counts.bright_samples += 1;
+            }
+            color.min(Vec3::splat(self.sample_bound))
         } else {
             self.counts.non_finite_samples += 1;
             Vec3::ZERO
@@ -653,6 +883,55 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         if let Some(recorder) = self.recorder.as_deref_mut() {
             recorder.cast(kind, ray, t_min, t_max);
         }
+    }
+}
+
+/// SplitMix64's finaliser: every output bit depends on every input bit.
+fn mix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The area of `shape`, for the shapes a light can be: `None` for a plane
+/// (no finite area) and an implicit surface (none known in closed form).
+fn area_of(shape: &Shape) -> Option<f32> {
+    match shape {
+        Shape::Triangle(triangle) => {
+            let [a, b, c] = triangle.corners();
+            Some(0.5 * (b - a).cross(c - a).length())
+        }
+        Shape::Sphere(sphere) => Some(4.0 * std::f32::consts::PI * sphere.radius().powi(2)),
+        Shape::Plane(_) | Shape::Implicit(_) => None,
+    }
+}
+
+/// A point uniformly distributed over `shape`'s area for `u, v` uniform in
+/// `[0, 1)`, its unit normal, and the area; `None` for a shape with no
+/// finite area or a degenerate one.
+fn point_on(shape: &Shape, u: f32, v: f32) -> Option<(Vec3, Vec3, f32)> {
+    let area = area_of(shape)?;
+    match shape {
+        Shape::Triangle(triangle) => {
+            let [a, b, c] = triangle.corners();
+            // Folding the square onto the triangle with the square root
+            // keeps the density uniform (pbrt-v4's SampleUniformTriangle
+            // gives the same distribution).
+            let root = u.sqrt();
+            let (first, second) = (1.0 - root, v * root);
+            let point = first * a + second * b + (1.0 - first - second) * c;
+            let normal = (b - a).cross(c - a).normalize_or_zero();
+            (normal != Vec3::ZERO).then_some((point, normal, area))
+        }
+        Shape::Sphere(sphere) => {
+            let z = 1.0 - 2.0 * u;
+            let ring = (1.0 - z * z).max(0.0).sqrt();
+            let (sin, cos) = (2.0 * std::f32::consts::PI * v).sin_cos();
+            let normal = Vec3::new(ring * cos, ring * sin, z);
+            Some((sphere.center() + sphere.radius() * normal, normal, area))
+        }
+        Shape::Plane(_) | Shape::Implicit(_) => None,
     }
 }
 

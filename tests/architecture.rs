@@ -61,9 +61,8 @@ fn module_layer(module: &str) -> Option<Layer> {
     Some(match module {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
         | "bvh" | "cleanup" => Layer::Foundation,
-        "course" | "answer_key" | "render" | "record" | "effects" | "builtin" | "chapters" => {
-            Layer::Engine
-        }
+        "course" | "bsdf" | "answer_key" | "render" | "record" | "effects" | "builtin"
+        | "chapters" => Layer::Engine,
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
         | "embree" | "plots" | "implicit_probe" | "ray_tree" | "web" => Layer::Tool,
         "cli" | "main" => Layer::Cli,

@@ -19,6 +19,9 @@ pub use super::cases::{
 };
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 pub use super::cases::{
+    ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase, inside_sphere,
+};
+pub use super::cases::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
     surface_of,
 };

@@ -287,10 +287,15 @@ fn image_text(image: &ImageCheck) -> String {
     if let Some(noise) = &image.noise {
         let _ = writeln!(
             out,
-            "  image: {} of {} pixels beyond the noise of the converged reference ({} sigma \
+            "  image: {} of {} {} beyond the noise of the converged reference ({} sigma \
              and 2 levels; at most {} allowed{}): {}",
             noise.outside,
             noise.pixels,
+            if noise.block > 1 {
+                format!("blocks of {0} x {0} pixels", noise.block)
+            } else {
+                "pixels".to_string()
+            },
             sampled::SIGMAS,
             noise.allowed,
             noise
@@ -767,8 +772,9 @@ fn check_image<C: Chapters>(
     };
     let linear = panics::guarded(|| {
         // The same loop as render::render_stage, on one thread: each pixel
-        // is computed exactly as `raylab render` does.
-        let mut tracer = stage.tracer(None);
+        // is computed exactly as `raylab render` does (path-traced samples
+        // cut to the screen's white, as the converged image is).
+        let mut tracer = sampled::judging_tracer(&stage);
         let mut linear = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize);
         for y in 0..REFERENCE_HEIGHT {
             for x in 0..REFERENCE_WIDTH {
@@ -783,6 +789,15 @@ fn check_image<C: Chapters>(
         .collect();
     let noise = if sampled::is_sampled(&stage, &settings) {
         match sampled::converged(info, &scene, settings) {
+            Ok(converged) if stage.effects.path_tracing => {
+                let side = sampled::PATH_BLOCK;
+                let blocks = sampled::block_means(&linear, REFERENCE_WIDTH, side);
+                let mut noise = sampled::judge(&blocks, stage.samples(), &converged.blocks(side));
+                noise.block = side;
+                // The first block's top-left pixel.
+                noise.first = noise.first.map(|(x, y)| (x * side, y * side));
+                Some(noise)
+            }
             Ok(converged) => Some(sampled::judge(&linear, stage.samples(), &converged)),
             Err(error) => return Ok(Err(error)),
         }

@@ -443,10 +443,10 @@ mod with_embree {
     }
 
     fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {
-        let [primary, shadow, reflection, refraction] = tally.by_kind;
+        let [primary, shadow, reflection, refraction, bounce] = tally.by_kind;
         println!(
             "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
-             {refraction} refraction)",
+             {refraction} refraction, {bounce} bounce)",
             tally.total()
         );
         let boundary: u64 = tally.boundary.iter().sum();
@@ -507,6 +507,7 @@ mod with_embree {
             RayKind::Shadow => "shadow",
             RayKind::Reflection => "reflection",
             RayKind::Refraction => "refraction",
+            RayKind::Bounce => "bounce",
         };
         let answer = |answer: Option<Answer>| match answer {
             Some(hit) => format!("{:?} t={:e}", stage.name(hit.object).unwrap_or("?"), hit.t),

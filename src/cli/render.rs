@@ -177,7 +177,13 @@ impl SettingsOverrides {
         let effects = Effects::for_chapter(chapter);
         let mut warnings = self.before_their_chapter(chapter, settings);
         warnings.extend(self.ignored_by_settings(chapter, settings));
-        if effects.lighting != Lighting::Unlit && scene.lights.is_empty() {
+        let glows = scene
+            .materials()
+            .any(|material| material.emission != crate::Vec3::ZERO);
+        if effects.lighting != Lighting::Unlit
+            && scene.lights.is_empty()
+            && !(effects.path_tracing && (glows || scene.background != crate::Vec3::ZERO))
+        {
             warnings.push(format!(
                 "the scene has no lights: at chapter {chapter} surfaces are lit by the ambient \
                  light alone, so the image is dark; add a [[lights]] table"
@@ -530,7 +536,7 @@ fn summary_line(
 ) -> String {
     let rays = &rendered.rays;
     format!(
-        "chapter {chapter}: {}x{}, {} spp, {:.3} s, rays: {} primary, {} shadow, {} reflection, {} refraction -> {}",
+        "chapter {chapter}: {}x{}, {} spp, {:.3} s, rays: {} primary, {} shadow, {} reflection, {} refraction{} -> {}",
         rendered.width,
         rendered.height,
         if rendered.effects.antialiasing {
@@ -543,6 +549,11 @@ fn summary_line(
         rays.shadow,
         rays.reflection,
         rays.refraction,
+        if rendered.effects.path_tracing {
+            format!(", {} bounce", rays.bounce)
+        } else {
+            String::new()
+        },
         output.display()
     )
 }
@@ -561,7 +572,24 @@ fn stats_text(rendered: &Rendered) -> String {
         rays.self_shadow_hits,
         rays.self_shadowed_pixels,
         rays.non_finite_samples,
-    ) + &implicit_text(rendered)
+    ) + &path_text(rendered)
+        + &implicit_text(rendered)
+}
+
+/// The bounces of the paths and the fireflies, when the render traced paths.
+fn path_text(rendered: &Rendered) -> String {
+    if !rendered.effects.path_tracing {
+        return String::new();
+    }
+    let rays = &rendered.rays;
+    format!(
+        "  bounce      {}
+fireflies (samples above {} times the brightest light seen): {}
+",
+        rays.bounce,
+        crate::render::FIREFLY_FACTOR,
+        rays.bright_samples
+    )
 }
 
 /// The implicit surfaces' share of the work, when the render marched any.
@@ -637,8 +665,10 @@ pub fn stats_json(
             "shadow": rays.shadow,
             "reflection": rays.reflection,
             "refraction": rays.refraction,
+            "bounce": rays.bounce,
             "total": rays.total(),
         },
+        "bright_samples": rays.bright_samples,
         "self_shadow_hits": rays.self_shadow_hits,
         "self_shadowed_pixels": rays.self_shadowed_pixels,
         "non_finite_samples": rays.non_finite_samples,

@@ -674,6 +674,24 @@ impl Chapters for NothingWritten {
     fn intersect_implicit(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
         todo!()
     }
+    fn cosine_hemisphere(_: f32, _: f32) -> Vec3 {
+        todo!()
+    }
+    fn cosine_pdf(_: f32) -> f32 {
+        todo!()
+    }
+    fn power_heuristic(_: f32, _: f32) -> f32 {
+        todo!()
+    }
+    fn russian_roulette(_: f32, _: f32) -> Option<f32> {
+        todo!()
+    }
+    fn next_event(_: &mut Tracer<Self>, _: &HitPoint, _: &raylab::bsdf::Lobe) -> Vec3 {
+        todo!()
+    }
+    fn shade_path(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+        todo!()
+    }
 }
 
 #[test]

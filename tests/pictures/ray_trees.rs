@@ -11,15 +11,20 @@ fn count(ray: &TracedRay) -> usize {
 
 /// Every bounce carries a share of the pixel no larger than its parent's
 /// (a reflectivity, a transparency, a Fresnel split is at most 1), and
-/// shadow rays none.
-fn shares_shrink(ray: &TracedRay, parent: f32) {
+/// shadow rays none. A path (`paths`, chapter 13 on) may grow a share:
+/// Russian roulette divides a survivor's by its chance of surviving, so
+/// there a share need only be positive and finite.
+fn shares_shrink(ray: &TracedRay, parent: f32, paths: bool) {
     match ray.kind {
         RayKind::Shadow => assert_eq!(ray.weight, None),
         _ => {
             let weight = ray.weight.expect("a traced ray's share");
-            assert!(weight > 0.0 && weight <= parent, "{weight} under {parent}");
+            assert!(
+                weight > 0.0 && weight.is_finite() && (paths || weight <= parent),
+                "{weight} under {parent}"
+            );
             for child in &ray.children {
-                shares_shrink(child, weight);
+                shares_shrink(child, weight, paths);
             }
         }
     }
@@ -71,7 +76,7 @@ fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
                 rays += traced.samples.iter().map(count).sum::<usize>();
                 for root in &traced.samples {
                     assert_eq!(root.weight, Some(1.0));
-                    shares_shrink(root, 1.0);
+                    shares_shrink(root, 1.0, stage.effects.path_tracing);
                 }
                 let sum = last_running_sum(traced.samples.last().expect("a camera ray"));
                 let pixel = traced.color.as_dvec3();

@@ -182,6 +182,10 @@ fn chapter_11_bvh() {
 fn chapter_12_implicit() {
     check_chapter(12);
 }
+#[test]
+fn chapter_13_path_tracing() {
+    check_chapter(13);
+}
 
 /// Chapter 11 adds speed, not pixels: its scene drawn at chapter 10's stage
 /// (every ray tests every object) is the same image, bit for bit. Small, so

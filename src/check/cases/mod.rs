@@ -11,6 +11,7 @@ mod directions;
 mod implicit;
 mod inputs;
 mod intersections;
+mod paths;
 mod sampling;
 mod shading;
 mod smooth;
@@ -24,6 +25,10 @@ pub use implicit::{
 };
 pub use inputs::{num, num64, vec};
 pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
+pub use paths::{
+    ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, FALSE_ALARM, PathFormula, PathFormulaCase,
+    STATISTICAL_CASES, cosine_fit, inside_sphere, mean_and_error, pearson, stream, z_threshold,
+};
 pub use sampling::{PixelColorCase, SampleOffsetsCase};
 pub use shading::{OffsetCase, PhongTermsCase, ShadeCase, ShadowCase};
 pub use smooth::{BarycentricCase, SmoothHitCase, SmoothNormalCase, TerminatorCase};
@@ -153,6 +158,9 @@ pub enum CaseKind {
     March(MarchCase),
     Newton(NewtonCase),
     ImplicitNormal(ImplicitNormalCase),
+    CosineSample(CosineSampleCase),
+    PathFormula(PathFormulaCase),
+    Converges(ConvergesCase),
 }
 
 impl CaseKind {
@@ -185,6 +193,9 @@ impl CaseKind {
             CaseKind::March(case) => case.function(),
             CaseKind::Newton(case) => case.function(),
             CaseKind::ImplicitNormal(case) => case.function(),
+            CaseKind::CosineSample(case) => case.function(),
+            CaseKind::PathFormula(case) => case.function(),
+            CaseKind::Converges(case) => case.function(),
         }
     }
 
@@ -217,6 +228,9 @@ impl CaseKind {
             CaseKind::March(case) => case.inputs(),
             CaseKind::Newton(case) => case.inputs(),
             CaseKind::ImplicitNormal(case) => case.inputs(),
+            CaseKind::CosineSample(case) => case.inputs(),
+            CaseKind::PathFormula(case) => case.inputs(),
+            CaseKind::Converges(case) => case.inputs(),
         }
     }
 
@@ -250,6 +264,9 @@ impl CaseKind {
             CaseKind::March(case) => case.evaluate::<C>(robust),
             CaseKind::Newton(case) => case.evaluate::<C>(robust),
             CaseKind::ImplicitNormal(case) => case.evaluate::<C>(robust),
+            CaseKind::CosineSample(case) => case.evaluate::<C>(robust),
+            CaseKind::PathFormula(case) => case.evaluate::<C>(robust),
+            CaseKind::Converges(case) => case.evaluate::<C>(robust),
         }
     }
 }

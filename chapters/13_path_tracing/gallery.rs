@@ -1,0 +1,185 @@
+//! Chapter 13, path tracing, as `raylab check` judges it: the reference
+//! passes both levels; its bug gallery (a pdf without its cosine, uniform
+//! directions called cosine ones, roulette survivors not divided by their
+//! chance, emission counted twice with light samples, an MIS weight of 1,
+//! a light sample that returns more than arrives) fails chapter 13 on the
+//! case that names the mistake; correct alternatives (the concentric
+//! mapping, the inverse of the cosine law in angles) pass.
+
+use std::f32::consts::PI;
+
+use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
+use raylab::course::{Chapters, HitPoint};
+use raylab::render::{Arrival, Tracer};
+use raylab::{Reference, Vec3};
+
+fn options() -> CheckOptions {
+    CheckOptions {
+        failures_dir: std::env::temp_dir().join("raylab-chapter-13-tests"),
+        write_images: false,
+        forbid_answer_key: false,
+    }
+}
+
+/// Checks chapter 13 with `C` and asserts that it fails on checkpoint
+/// `case`, with nothing earlier to blame.
+fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
+    let verdict = check_chapter::<C>(13, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), Some(case), "{text}");
+    assert_eq!(verdict.needs, None, "{text}");
+    verdict
+}
+
+fn assert_passes<C: Chapters>() {
+    let verdict = check_chapter::<C>(13, &options());
+    assert_eq!(verdict.status, Status::Pass, "{}", verdict.text());
+}
+
+#[test]
+fn the_reference_passes_chapter_13_at_both_levels() {
+    let verdict = check_chapter::<Reference>(13, &options());
+    assert!(verdict.robust(), "{}", verdict.text());
+}
+
+struct PdfWithoutCosine;
+impl Chapters for PdfWithoutCosine {
+    fn cosine_pdf(cos_theta: f32) -> f32 {
+        if cos_theta > 0.0 { 1.0 / PI } else { 0.0 }
+    }
+}
+
+#[test]
+fn a_pdf_without_its_cosine_is_caught() {
+    assert_caught::<PdfWithoutCosine>("cosine-pdf-60");
+}
+
+struct UniformDirections;
+impl Chapters for UniformDirections {
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        let ring = (1.0 - u * u).max(0.0).sqrt();
+        let (sin, cos) = (2.0 * PI * v).sin_cos();
+        Vec3::new(ring * cos, ring * sin, u)
+    }
+}
+
+#[test]
+fn uniform_directions_called_cosine_ones_are_caught() {
+    assert_caught::<UniformDirections>("cosine-directions-spread");
+}
+
+struct RouletteUndivided;
+impl Chapters for RouletteUndivided {
+    fn russian_roulette(weight: f32, u: f32) -> Option<f32> {
+        (u < weight.min(1.0)).then_some(1.0)
+    }
+}
+
+#[test]
+fn roulette_without_dividing_by_the_survival_chance_is_caught() {
+    assert_caught::<RouletteUndivided>("roulette-survives");
+}
+
+/// Roulette whose factor is right on the checkpoints' numbers and wrong
+/// everywhere else: only the furnace can see it.
+struct RouletteHalfDivided;
+impl Chapters for RouletteHalfDivided {
+    fn russian_roulette(weight: f32, u: f32) -> Option<f32> {
+        let survival = weight.min(1.0);
+        if !(weight > 0.0) || u >= survival {
+            return None;
+        }
+        Some(if weight == 0.25 || weight >= 1.0 {
+            1.0 / survival
+        } else {
+            1.0
+        })
+    }
+}
+
+#[test]
+fn roulette_that_only_passes_the_hand_cases_is_caught_by_the_furnace() {
+    assert_caught::<RouletteHalfDivided>("furnace-roulette");
+}
+
+struct EmissionTwice;
+impl Chapters for EmissionTwice {
+    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let twice =
+            matches!(tracer.arrival(), Arrival::Scattered { .. }) && tracer.effects().next_event;
+        let again = if twice {
+            point.material.emission
+        } else {
+            Vec3::ZERO
+        };
+        raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight) + again
+    }
+}
+
+#[test]
+fn emission_counted_twice_with_light_samples_is_caught() {
+    assert_caught::<EmissionTwice>("furnace-next-event");
+}
+
+struct MisWeightOne;
+impl Chapters for MisWeightOne {
+    fn power_heuristic(_pdf: f32, _other: f32) -> f32 {
+        1.0
+    }
+}
+
+#[test]
+fn an_mis_weight_of_one_is_caught() {
+    assert_caught::<MisWeightOne>("mis-equal");
+}
+
+struct LightSampleTooBright;
+impl Chapters for LightSampleTooBright {
+    fn next_event(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &raylab::bsdf::Lobe) -> Vec3 {
+        1.5 * raylab::chapters::ch13_path_tracing::next_event(tracer, point, lobe)
+    }
+}
+
+#[test]
+fn a_light_sample_that_returns_more_than_arrives_is_caught() {
+    assert_caught::<LightSampleTooBright>("furnace-next-event");
+}
+
+/// Shirley and Chiu's concentric mapping of the square onto the disk,
+/// lifted to the hemisphere: another correct cosine sampler.
+struct ConcentricDisk;
+impl Chapters for ConcentricDisk {
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+        let (radius, angle) = if a == 0.0 && b == 0.0 {
+            (0.0, 0.0)
+        } else if a.abs() > b.abs() {
+            (a, PI / 4.0 * (b / a))
+        } else {
+            (b, PI / 2.0 - PI / 4.0 * (a / b))
+        };
+        let (x, y) = (radius * angle.cos(), radius * angle.sin());
+        Vec3::new(x, y, (1.0 - x * x - y * y).max(0.0).sqrt())
+    }
+}
+
+/// The cosine law inverted in angles: `theta = asin(sqrt(u))`.
+struct InverseAngles;
+impl Chapters for InverseAngles {
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        let theta = u.sqrt().asin();
+        let phi = 2.0 * PI * v;
+        Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        )
+    }
+}
+
+#[test]
+fn other_correct_cosine_samplers_pass() {
+    assert_passes::<ConcentricDisk>();
+    assert_passes::<InverseAngles>();
+}

@@ -1,0 +1,219 @@
+//! How a surface scatters light, for chapter 13's paths: the lobes of a
+//! material (Lambert's diffuse reflection, a glossy or perfect mirror,
+//! chapter 9's glass), each with its value `f`, its density and one random
+//! direction drawn from it. The chapter's `shade_path` and `next_event`
+//! use them; the directions of the diffuse lobe come from the chapter's
+//! own `cosine_hemisphere` and `cosine_pdf`.
+
+use std::f32::consts::PI;
+
+use crate::Vec3;
+use crate::course::{Chapters, HitPoint};
+use crate::medium::MediumStack;
+use crate::render::{Arrival, RayKind, Tracer};
+use crate::scene::FresnelModel;
+
+/// One way a surface scatters light, chosen at random among its material's
+/// at each visit: glass with probability `transparency`, a mirror (glossy
+/// when it has a roughness) with `reflectivity`, Lambert's diffuse
+/// reflection otherwise. Choosing a lobe with the probability that is its
+/// share of the material, and then following it alone, estimates the whole
+/// material's scattering without bias.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Lobe {
+    /// Lambert: `albedo / pi` in every direction above the surface.
+    Diffuse { albedo: Vec3 },
+    /// Glossy metal: the normalised Phong lobe about the mirror direction,
+    /// `albedo (n + 2) / (2 pi) cos^n(alpha)` (Lafortune and Willems 1994),
+    /// which never returns more light than arrives.
+    Glossy { albedo: Vec3, exponent: f32 },
+    /// A perfect mirror tinted by `albedo`: one direction.
+    Mirror { albedo: Vec3 },
+    /// Chapter 9's glass: reflected or refracted by Fresnel's odds.
+    Glass,
+}
+
+/// One direction a lobe scattered into, and what it is worth.
+#[derive(Debug, Clone, Copy)]
+pub struct Scattered {
+    pub direction: Vec3,
+    /// `f cos / pdf`: what the light seen along `direction` is multiplied by.
+    pub weight: Vec3,
+    pub kind: RayKind,
+    pub arrival: Arrival,
+    /// The media the scattered ray travels through.
+    pub media: MediumStack,
+}
+
+/// The Phong exponent of a rough mirror: `2 / r^2 - 2`, the match between a
+/// Phong lobe and a Beckmann microfacet lobe of roughness `r` (Walter et
+/// al. 2007, section 5.2), so roughness 1 is the widest lobe (exponent 0).
+pub fn phong_exponent(roughness: f32) -> f32 {
+    (2.0 / (roughness * roughness) - 2.0).max(0.0)
+}
+
+impl Lobe {
+    /// The lobe of `point`'s material for `u` uniform in `[0, 1)`.
+    pub fn choose(point: &HitPoint, u: f32) -> Lobe {
+        let material = point.material;
+        let albedo = point.albedo;
+        if u < material.transparency {
+            Lobe::Glass
+        } else if u < material.transparency + material.reflectivity {
+            if material.roughness > 0.0 {
+                Lobe::Glossy {
+                    albedo,
+                    exponent: phong_exponent(material.roughness),
+                }
+            } else {
+                Lobe::Mirror { albedo }
+            }
+        } else {
+            Lobe::Diffuse { albedo }
+        }
+    }
+
+    /// Whether the lobe spreads light over a range of directions (a light
+    /// sample can then land in it), rather than into one direction.
+    pub fn has_density(&self) -> bool {
+        matches!(self, Lobe::Diffuse { .. } | Lobe::Glossy { .. })
+    }
+
+    /// `f(wo, wi)`: the share of light arriving along `to_light` that
+    /// leaves toward the eye, per unit solid angle and projected area.
+    pub fn value(&self, point: &HitPoint, to_light: Vec3) -> Vec3 {
+        if point.normal.dot(to_light) <= 0.0 {
+            return Vec3::ZERO;
+        }
+        match *self {
+            Lobe::Diffuse { albedo } => albedo / PI,
+            Lobe::Glossy { albedo, exponent } => {
+                let cos_alpha = mirrored(point).dot(to_light).max(0.0);
+                albedo * ((exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(exponent))
+            }
+            Lobe::Mirror { .. } | Lobe::Glass => Vec3::ZERO,
+        }
+    }
+
+    /// The density per unit solid angle with which [`Lobe::scatter`]
+    /// chooses `direction`: 0 for the lobes of one direction.
+    pub fn pdf<C: Chapters>(&self, point: &HitPoint, direction: Vec3) -> f32 {
+        match *self {
+            Lobe::Diffuse { .. } => C::cosine_pdf(point.normal.dot(direction)),
+            Lobe::Glossy { exponent, .. } => {
+                let cos_alpha = mirrored(point).dot(direction).max(0.0);
+                (exponent + 1.0) / (2.0 * PI) * cos_alpha.powf(exponent)
+            }
+            Lobe::Mirror { .. } | Lobe::Glass => 0.0,
+        }
+    }
+
+    /// One direction drawn from the lobe, with its weight `f cos / pdf`;
+    /// `None` when the draw leaves below the surface (the light is
+    /// absorbed).
+    pub fn scatter<C: Chapters>(
+        &self,
+        tracer: &mut Tracer<C>,
+        point: &HitPoint,
+    ) -> Option<Scattered> {
+        let media = *tracer.media();
+        let bounce = |direction: Vec3, weight: Vec3, pdf: f32| Scattered {
+            direction,
+            weight,
+            kind: RayKind::Bounce,
+            arrival: Arrival::Scattered { pdf },
+            media,
+        };
+        match *self {
+            Lobe::Diffuse { albedo } => {
+                let local = C::cosine_hemisphere(tracer.random(), tracer.random());
+                let direction = to_world(point.normal, local);
+                let pdf = C::cosine_pdf(point.normal.dot(direction));
+                if !(pdf > 0.0) {
+                    return None;
+                }
+                let cosine = point.normal.dot(direction);
+                Some(bounce(direction, albedo / PI * (cosine / pdf), pdf))
+            }
+            Lobe::Glossy { exponent, .. } => {
+                // cos(alpha) = u^(1 / (n + 1)) has the density of cos^n.
+                let cos_alpha = tracer.random().powf(1.0 / (exponent + 1.0));
+                let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+                let (sin, cos) = (2.0 * PI * tracer.random()).sin_cos();
+                let local = Vec3::new(sin_alpha * cos, sin_alpha * sin, cos_alpha);
+                let direction = to_world(mirrored(point), local);
+                let cosine = point.normal.dot(direction);
+                let pdf = self.pdf::<C>(point, direction);
+                if cosine <= 0.0 || !(pdf > 0.0) {
+                    return None;
+                }
+                Some(bounce(
+                    direction,
+                    self.value(point, direction) * (cosine / pdf),
+                    pdf,
+                ))
+            }
+            Lobe::Mirror { albedo } => Some(Scattered {
+                direction: mirrored(point),
+                weight: albedo,
+                kind: RayKind::Reflection,
+                arrival: Arrival::Specular,
+                media,
+            }),
+            Lobe::Glass => Some(through_glass::<C>(tracer, point)),
+        }
+    }
+}
+
+/// The mirror direction of the ray arriving at `point`.
+fn mirrored(point: &HitPoint) -> Vec3 {
+    crate::reflect(point.ray.dir.normalize(), point.normal)
+}
+
+/// Chapter 9's boundary as a choice: reflected with probability `R`
+/// (Fresnel's reflectance), refracted otherwise, so each ray carries its
+/// whole weight and the expected light is chapter 9's mix.
+fn through_glass<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> Scattered {
+    let crossing = C::crossing(tracer.media(), point);
+    let incoming = point.ray.dir.normalize();
+    let refracted = C::refract(incoming, point.normal, crossing.n1 / crossing.n2);
+    let cos_i = point.to_eye.dot(point.normal);
+    let reflectance = match (refracted, point.material.fresnel) {
+        (None, _) => 1.0,
+        (Some(_), FresnelModel::Schlick) => C::schlick(cos_i, crossing.n1, crossing.n2),
+        (Some(_), FresnelModel::Exact | FresnelModel::None) => {
+            C::fresnel(cos_i, crossing.n1, crossing.n2)
+        }
+    };
+    match refracted {
+        Some(direction) if tracer.random() >= reflectance => Scattered {
+            direction,
+            weight: point.material.color,
+            kind: RayKind::Refraction,
+            arrival: Arrival::Specular,
+            media: crossing.beyond,
+        },
+        _ => Scattered {
+            direction: C::reflect(incoming, point.normal),
+            weight: Vec3::ONE,
+            kind: RayKind::Reflection,
+            arrival: Arrival::Specular,
+            media: crossing.before,
+        },
+    }
+}
+
+/// `local` (z along `normal`) in world coordinates, by the branchless
+/// orthonormal basis of Duff et al. (JCGT 2017), exact for any unit normal.
+pub fn to_world(normal: Vec3, local: Vec3) -> Vec3 {
+    let sign = 1.0_f32.copysign(normal.z);
+    let a = -1.0 / (sign + normal.z);
+    let b = normal.x * normal.y * a;
+    let tangent = Vec3::new(
+        1.0 + sign * normal.x * normal.x * a,
+        sign * b,
+        -sign * normal.x,
+    );
+    let bitangent = Vec3::new(b, sign + normal.y * normal.y * a, -normal.y);
+    local.x * tangent + local.y * bitangent + local.z * normal
+}

@@ -1,0 +1,337 @@
+//! Cases on chapter 13's Monte Carlo code: the sampled directions against
+//! their density (a chi-square test), the weights and the roulette by hand,
+//! and whole estimators against the value a closed scene must converge to.
+//!
+//! A sampler or an estimator is random, so a correct one can fail a
+//! statistical test by bad luck and a wrong one pass by good luck. Each
+//! test here is run on one fixed stream of numbers, so its verdict is the
+//! same every time, and its threshold makes a false alarm rare: a correct
+//! answer of a student fails it with probability [`FALSE_ALARM`] or less,
+//! whatever its own formula, while every wrong distribution of the bug
+//! gallery misses it by orders of magnitude.
+
+use super::*;
+use crate::scene::SwitchedOff;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// The chance, per statistical case, that a correct answer fails: the
+/// Sidak-corrected share of a 1% budget over [`STATISTICAL_CASES`] tests
+/// (Mitsuba's and pbrt's convention for their sampling tests).
+pub const FALSE_ALARM: f64 = 1e-2 / STATISTICAL_CASES as f64;
+
+/// How many statistical cases chapter 13 asks, for [`FALSE_ALARM`]'s
+/// correction (an upper bound: Sidak's exact correction is a little looser).
+pub const STATISTICAL_CASES: usize = 16;
+
+/// Bins of the direction tests: in `cos(theta)` over `[-1, 1]` (the lower
+/// half must stay empty) and in `phi` over `[0, 2 pi)`.
+const COSINE_BINS: usize = 20;
+const PHI_BINS: usize = 20;
+
+/// Samples of a direction test: enough that a pdf wrong by 5% in a band of
+/// the hemisphere is far beyond the threshold.
+pub const DIRECTION_SAMPLES: u32 = 200_000;
+
+/// A number in `[0, 1)` from a fixed hash of `index` and `dimension`: the
+/// stream every direction test draws from.
+pub fn stream(index: u32, dimension: u32) -> f32 {
+    let mut word = 0x243F_6A88_85A3_08D3_u64 ^ (u64::from(index) << 32 | u64::from(dimension));
+    word = word.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    word = (word ^ (word >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    word = (word ^ (word >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    word ^= word >> 31;
+    (word >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+}
+
+/// The chi-square goodness of fit of `directions` (unit vectors) to the
+/// density `cos(theta) / pi` about +z: Pearson's statistic over bins of
+/// the sphere, the bins expected to hold fewer than 5 pooled into one
+/// (the rule of Cochran, as pbrt-v4's and Mitsuba's tests pool them), and
+/// its p-value. `Err` names a direction that cannot come from the density
+/// at all (below the surface, not unit, NaN).
+pub fn cosine_fit(directions: &[Vec3]) -> Result<(f64, f64), String> {
+    let mut observed = vec![0f64; COSINE_BINS * PHI_BINS];
+    for direction in directions {
+        let length = f64::from(direction.length());
+        if !direction.is_finite() || (length - 1.0).abs() > 1e-4 {
+            return Err(format!(
+                "the direction {} is not unit length",
+                vec(*direction)
+            ));
+        }
+        if direction.z < 0.0 {
+            return Err(format!(
+                "the direction {} is below the surface (z < 0), where the density is 0",
+                vec(*direction)
+            ));
+        }
+        let cosine = (f64::from(direction.z) + 1.0) / 2.0;
+        let phi = f64::from(direction.y)
+            .atan2(f64::from(direction.x))
+            .rem_euclid(std::f64::consts::TAU)
+            / std::f64::consts::TAU;
+        let row = ((cosine * COSINE_BINS as f64) as usize).min(COSINE_BINS - 1);
+        let column = ((phi * PHI_BINS as f64) as usize).min(PHI_BINS - 1);
+        observed[row * PHI_BINS + column] += 1.0;
+    }
+    let total = directions.len() as f64;
+    // The probability of a bin cos in [c0, c1], phi in a 1/PHI_BINS share:
+    // the integral of cos / pi dw = (c1^2 - c0^2) / 2 over the share of 2 pi.
+    let expected: Vec<f64> = (0..COSINE_BINS * PHI_BINS)
+        .map(|bin| {
+            let row = bin / PHI_BINS;
+            let c0 = (2.0 * row as f64 / COSINE_BINS as f64 - 1.0).max(0.0);
+            let c1 = (2.0 * (row + 1) as f64 / COSINE_BINS as f64 - 1.0).max(0.0);
+            total * (c1 * c1 - c0 * c0) / PHI_BINS as f64
+        })
+        .collect();
+    Ok(pearson(&observed, &expected))
+}
+
+/// Pearson's chi-square of `observed` against `expected` counts, sparse
+/// cells pooled, and its p-value. An observation in a cell expected empty
+/// makes the statistic infinite (p = 0).
+pub fn pearson(observed: &[f64], expected: &[f64]) -> (f64, f64) {
+    let (mut statistic, mut cells) = (0.0, 0usize);
+    let (mut pooled_observed, mut pooled_expected) = (0.0, 0.0);
+    for (&got, &want) in observed.iter().zip(expected) {
+        if want == 0.0 {
+            if got > 0.0 {
+                return (f64::INFINITY, 0.0);
+            }
+        } else if want < 5.0 {
+            pooled_observed += got;
+            pooled_expected += want;
+        } else {
+            statistic += (got - want).powi(2) / want;
+            cells += 1;
+        }
+    }
+    if pooled_expected > 0.0 {
+        statistic += (pooled_observed - pooled_expected).powi(2) / pooled_expected;
+        cells += 1;
+    }
+    let freedom = cells.saturating_sub(1).max(1) as f64;
+    let p_value = ChiSquared::new(freedom).map_or(0.0, |law| 1.0 - law.cdf(statistic));
+    (statistic, p_value)
+}
+
+/// `cosine_hemisphere(u, v)` over a fixed stream of `(u, v)`: every
+/// direction unit and above the surface, spread with density `cos / pi`.
+#[derive(Debug, Clone)]
+pub struct CosineSampleCase {
+    pub samples: u32,
+}
+
+impl CosineSampleCase {
+    pub fn function(&self) -> &'static str {
+        "cosine_hemisphere"
+    }
+
+    pub fn inputs(&self) -> String {
+        format!(
+            "cosine_hemisphere(u, v) for {} pairs (u, v) uniform in [0, 1)^2",
+            self.samples
+        )
+    }
+
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let directions: Vec<Vec3> = (0..self.samples)
+            .map(|index| C::cosine_hemisphere(stream(index, 0), stream(index, 1)))
+            .collect();
+        let expected = format!(
+            "directions spread as cos(theta) / pi: a chi-square p-value above {FALSE_ALARM:.0e}"
+        );
+        match cosine_fit(&directions) {
+            Err(why) => verdict(false, expected, why),
+            Ok((statistic, p_value)) => verdict(
+                p_value >= FALSE_ALARM,
+                expected,
+                format!("chi-square {statistic:.1}, p-value {p_value:.2e}"),
+            ),
+        }
+    }
+}
+
+/// A function of chapter 13 of plain numbers: its inputs and the answer.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PathFormula {
+    /// `cosine_pdf(cos_theta)`.
+    CosinePdf { cos_theta: f32, expected: f64 },
+    /// `power_heuristic(pdf, other)`.
+    PowerHeuristic { pdf: f32, other: f32, expected: f64 },
+    /// `russian_roulette(weight, u)`: `None` when the path ends.
+    Roulette {
+        weight: f32,
+        u: f32,
+        expected: Option<f64>,
+    },
+}
+
+/// One call of a [`PathFormula`].
+#[derive(Debug, Clone)]
+pub struct PathFormulaCase {
+    pub formula: PathFormula,
+}
+
+impl PathFormulaCase {
+    pub fn function(&self) -> &'static str {
+        match self.formula {
+            PathFormula::CosinePdf { .. } => "cosine_pdf",
+            PathFormula::PowerHeuristic { .. } => "power_heuristic",
+            PathFormula::Roulette { .. } => "russian_roulette",
+        }
+    }
+
+    pub fn inputs(&self) -> String {
+        match self.formula {
+            PathFormula::CosinePdf { cos_theta, .. } => format!("cosine_pdf({})", num(cos_theta)),
+            PathFormula::PowerHeuristic { pdf, other, .. } => {
+                format!("power_heuristic({}, {})", num(pdf), num(other))
+            }
+            PathFormula::Roulette { weight, u, .. } => {
+                format!("russian_roulette(weight = {}, u = {})", num(weight), num(u))
+            }
+        }
+    }
+
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let number = |got: f32, expected: f64| {
+            verdict(
+                got.is_finite() && close(f64::from(got), expected, CHECKPOINT_TOLERANCE),
+                num64(expected),
+                num(got),
+            )
+        };
+        match self.formula {
+            PathFormula::CosinePdf {
+                cos_theta,
+                expected,
+            } => number(C::cosine_pdf(cos_theta), expected),
+            PathFormula::PowerHeuristic {
+                pdf,
+                other,
+                expected,
+            } => number(C::power_heuristic(pdf, other), expected),
+            PathFormula::Roulette {
+                weight,
+                u,
+                expected,
+            } => {
+                let got = C::russian_roulette(weight, u);
+                let show = |answer: Option<f64>| {
+                    answer.map_or("None (the path ends)".to_string(), |boost| {
+                        format!("Some({})", num64(boost))
+                    })
+                };
+                let pass = match (got, expected) {
+                    (None, None) => true,
+                    (Some(got), Some(want)) => {
+                        got.is_finite() && close(f64::from(got), want, CHECKPOINT_TOLERANCE)
+                    }
+                    _ => false,
+                };
+                verdict(pass, show(expected), show(got.map(f64::from)))
+            }
+        }
+    }
+}
+
+/// A whole estimator on a closed scene whose every pixel converges to
+/// `expected`: `samples` camera samples through the stage of chapter 13
+/// with `without` left out, their mean within [`FALSE_ALARM`] of it by a
+/// z-test on the samples' own spread (the standard error of the mean),
+/// plus `1e-3` of the value for the paths `max_depth` cuts off.
+#[derive(Debug, Clone)]
+pub struct ConvergesCase {
+    pub function: &'static str,
+    pub scene: String,
+    pub without: &'static [&'static str],
+    pub samples: u32,
+    pub expected: f64,
+}
+
+/// The z-score past which a correct mean counts as wrong, two-sided, for
+/// [`FALSE_ALARM`].
+pub fn z_threshold() -> f64 {
+    use statrs::distribution::Normal;
+    Normal::new(0.0, 1.0).map_or(4.0, |law| law.inverse_cdf(1.0 - FALSE_ALARM / 2.0))
+}
+
+/// The mean of `samples` and its standard error.
+pub fn mean_and_error(samples: &[f64]) -> (f64, f64) {
+    let count = samples.len() as f64;
+    let mean = samples.iter().sum::<f64>() / count;
+    let variance = samples.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (count - 1.0).max(1.0);
+    (mean, (variance / count).sqrt())
+}
+
+impl ConvergesCase {
+    pub fn function(&self) -> &'static str {
+        self.function
+    }
+
+    pub fn inputs(&self) -> String {
+        let without = if self.without.is_empty() {
+            String::new()
+        } else {
+            format!(", without {}", self.without.join(", "))
+        };
+        format!("{} camera samples of a closed scene{without}", self.samples)
+    }
+
+    /// The mean of the samples' first channel and its standard error, with
+    /// the chapters `C`.
+    pub fn estimate<C: Chapters>(&self) -> Result<(f64, f64), String> {
+        let mut scene = parse(&self.scene)?;
+        scene.render.without = SwitchedOff::parse(self.without.iter().copied())?;
+        let stage = Stage::<C>::with_chapters(&scene, 13, scene.render)
+            .map_err(|error| error.to_string())?;
+        let mut tracer = stage.tracer(None);
+        let (width, height) = (scene.render.width, scene.render.height);
+        let samples: Vec<f64> = (0..self.samples)
+            .map(|index| {
+                let (x, y) = (index % width, (index / width) % height);
+                let jitter = (stream(index, 2), stream(index, 3));
+                f64::from(tracer.sample(x as f32 + jitter.0, y as f32 + jitter.1).x)
+            })
+            .collect();
+        Ok(mean_and_error(&samples))
+    }
+
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let (mean, error) = match self.estimate::<C>() {
+            Ok(found) => found,
+            Err(why) => return Outcome::Error(why),
+        };
+        let allowed = z_threshold() * error + 1e-3 * self.expected.abs();
+        verdict(
+            mean.is_finite() && (mean - self.expected).abs() <= allowed,
+            format!("{} (within {:.2e})", num64(self.expected), allowed),
+            format!("a mean of {} (standard error {:.2e})", num64(mean), error),
+        )
+    }
+}
+
+/// A closed sphere of radius 1 at the origin, seen from its centre, of
+/// albedo `albedo` (grey) and emission `emission`, with `lights` (TOML).
+pub fn inside_sphere(albedo: f32, emission: f32, lights: &str) -> String {
+    format!(
+        r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 0.0, 0.0]
+look_at = [0.0, 0.0, 1.0]
+fov_degrees = 90.0
+[render]
+width = 8
+height = 8
+samples = 1
+max_depth = 64
+{lights}
+[[objects]]
+sphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }}
+material = {{ color = [{albedo}, {albedo}, {albedo}], emission = [{emission}, {emission}, {emission}] }}
+"#
+    )
+}
