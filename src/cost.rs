@@ -48,10 +48,13 @@ pub enum Knob {
     /// How implicit surfaces' normals are found: analytic, central
     /// differences and the tetrahedron, at several steps (chapter 12).
     Normals,
+    /// Path tracing's samples per pixel, with each of its switches on and
+    /// off: MIS, next-event estimation, Russian roulette (chapter 13).
+    Paths,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 9] = [
+    pub const ALL: [Knob; 10] = [
         Knob::Samples,
         Knob::Depth,
         Knob::Offset,
@@ -61,6 +64,7 @@ impl Knob {
         Knob::Bvh,
         Knob::March,
         Knob::Normals,
+        Knob::Paths,
     ];
 
     /// The chapter that introduces this knob.
@@ -74,6 +78,7 @@ impl Knob {
             Knob::TriangleTest => 10,
             Knob::Bvh => 11,
             Knob::March | Knob::Normals => 12,
+            Knob::Paths => 13,
         }
     }
 
@@ -89,6 +94,7 @@ impl Knob {
             Knob::Bvh => "bvh",
             Knob::March => "march",
             Knob::Normals => "normals",
+            Knob::Paths => "paths",
         }
     }
 
@@ -385,6 +391,7 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
             Knob::Bvh => {}
             Knob::March => jobs.extend(march_jobs(base)),
             Knob::Normals => jobs.extend(normal_jobs(base)),
+            Knob::Paths => jobs.extend(path_jobs(base)),
         }
     }
     jobs
@@ -449,6 +456,48 @@ fn march_jobs(base: RenderSettings) -> Vec<Job> {
         let settings = RenderSettings { newton, ..base };
         let label = if newton { "newton" } else { "no newton" };
         jobs.push(Job::new(Knob::March, label.into(), settings));
+    }
+    jobs
+}
+
+/// Samples per pixel swept by [`Knob::Paths`]: squares (jittered cells),
+/// each four times the last, so each should halve the noise.
+pub const PATH_SAMPLE_COUNTS: [u32; 5] = [1, 4, 16, 64, 256];
+
+/// Samples per pixel of the reference of a path-traced sweep: sixteen
+/// times the most the sweep takes, so the reference's own noise is a
+/// quarter of the best row's.
+pub const PATH_REFERENCE_SAMPLES: u32 = 4096;
+
+/// The switches [`Knob::Paths`] turns off, one at a time, and how each
+/// row names it.
+pub const PATH_SWITCHES: [(&str, &[&str]); 4] = [
+    ("every switch", &[]),
+    ("without mis", &["mis"]),
+    ("without next-event", &["next-event"]),
+    ("without russian-roulette", &["russian-roulette"]),
+];
+
+/// The paths knob's renders: each switch left out in turn, at each count.
+fn path_jobs(base: RenderSettings) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for (name, off) in PATH_SWITCHES {
+        let without = crate::scene::SwitchedOff::parse(off.iter().copied())
+            .unwrap_or_default()
+            .union(base.without);
+        for samples in PATH_SAMPLE_COUNTS {
+            let settings = RenderSettings {
+                samples,
+                sampling: Sampling::Jittered,
+                without,
+                ..base
+            };
+            jobs.push(Job::new(
+                Knob::Paths,
+                format!("{name}, {samples} spp"),
+                settings,
+            ));
+        }
     }
     jobs
 }
@@ -694,6 +743,12 @@ fn sweep_reference_settings(config: &CostConfig) -> RenderSettings {
     let mut settings = reference_settings(&config.base);
     if Effects::for_chapter(config.chapter).fresnel {
         settings.min_contribution = GLASS_REFERENCE_MIN_CONTRIBUTION;
+    }
+    // A path's depth is its own knob (the scene's, 50 in the Cornell box)
+    // and its noise needs many more samples to fall below the rows'.
+    if Effects::for_chapter(config.chapter).path_tracing {
+        settings.samples = PATH_REFERENCE_SAMPLES;
+        settings.max_depth = config.base.max_depth.max(REFERENCE_DEPTH);
     }
     settings
 }
@@ -1087,6 +1142,7 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
         front.sort_by(|a, b| a.seconds.total_cmp(&b.seconds));
         draw_front(&mut chart, &ranges, &front)?;
         draw_knobs(&mut chart, &ranges, &rows)?;
+        draw_root_n(&mut chart, &ranges, &rows)?;
         draw_front_labels(&mut chart, &ranges, &front)?;
         chart
             .configure_series_labels()
@@ -1106,6 +1162,59 @@ fn plot_svg(report: &CostReport) -> Result<String, Box<dyn std::error::Error>> {
         root.present()?;
     }
     Ok(svg)
+}
+
+/// For a path-traced sweep, the error Monte Carlo promises: from the
+/// 1-sample row with every switch, `1 / sqrt(N)` of it at `N` times its
+/// time (time grows with the samples, so that is `1 / sqrt(time)`).
+fn draw_root_n(
+    chart: &mut CostChart,
+    ranges: &PlotRanges,
+    rows: &[&Measurement],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let series: Vec<&&Measurement> = rows
+        .iter()
+        .filter(|row| row.knob == Some(Knob::Paths) && row.settings.without == rows_base(rows))
+        .collect();
+    let (Some(first), Some(last)) = (
+        series
+            .iter()
+            .min_by(|a, b| a.settings.samples.cmp(&b.settings.samples)),
+        series.iter().max_by(|a, b| a.seconds.total_cmp(&b.seconds)),
+    ) else {
+        return Ok(());
+    };
+    let (start, error) = ranges.point(first);
+    let end = last.seconds.max(start);
+    let steps = 16;
+    let line = (0..=steps).map(|step| {
+        let time = start * (end / start).powf(f64::from(step) / f64::from(steps));
+        (time, (error * (start / time).sqrt()).max(ranges.floor))
+    });
+    chart
+        .draw_series(LineSeries::new(
+            line,
+            RGBColor(120, 120, 120).stroke_width(1),
+        ))?
+        .label("1 / sqrt(N) from 1 spp")
+        .legend(|(x, y)| {
+            PathElement::new(
+                vec![(x, y), (x + 16, y)],
+                RGBColor(120, 120, 120).stroke_width(1),
+            )
+        });
+    Ok(())
+}
+
+/// What the paths knob's "every switch" rows leave out: the smallest set
+/// among its rows (the scene's own `without`).
+fn rows_base(rows: &[&Measurement]) -> crate::scene::SwitchedOff {
+    rows.iter()
+        .filter(|row| row.knob == Some(Knob::Paths) && row.label.starts_with(PATH_SWITCHES[0].0))
+        .map(|row| row.settings.without)
+        .next()
+        .unwrap_or_default()
 }
 
 /// The Pareto front (sorted by time), as a line through ringed points.

@@ -189,6 +189,7 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                         "shadow": counts.shadow,
                         "reflection": counts.reflection,
                         "refraction": counts.refraction,
+                        "bounce": counts.bounce,
                         "implicit_evaluations": counts.implicit_evaluations,
                         "non_finite_samples": counts.non_finite_samples,
                     },

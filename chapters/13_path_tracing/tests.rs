@@ -329,5 +329,5 @@ fn the_false_alarm_rate_is_corrected_for_at_least_every_statistical_case() {
             )
         })
         .count();
-    assert!(statistical >= 1 && statistical <= crate::check::cases::STATISTICAL_CASES);
+    assert!((1..=crate::check::cases::STATISTICAL_CASES).contains(&statistical));
 }

@@ -61,6 +61,7 @@ words!(Knob {
     Bvh = "bvh": "Not an image knob (the tree changes no pixel): the BVH report, build and trace time against triangles, split rule, leaf size, and from how many objects a tree pays (chapter 11)",
     March = "march": "The march of implicit surfaces: hit tolerance, step budget, over-relaxation, the Lipschitz factor, Newton (chapter 12)",
     Normals = "normals": "Implicit surfaces' normals: analytic, central differences and the tetrahedron at steps 1e-1 to 1e-7 (chapter 12)",
+    Paths = "paths": "Path tracing: 1 to 256 samples per pixel with every switch, without MIS, without next-event estimation, without Russian roulette (chapter 13)",
 });
 
 #[cfg(test)]

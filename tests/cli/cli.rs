@@ -293,6 +293,39 @@ fn zero_normal_and_bad_ior_are_refused() {
 }
 
 #[test]
+fn broken_lights_quads_and_boxes_are_refused() {
+    let object = |text: &str| format!("{GOOD}\n[[objects]]\nname = \"extra\"\n{text}\n");
+    let flat_quad =
+        object("quad = { corner = [0.0, 0.0, 0.0], u = [1.0, 0.0, 0.0], v = [2.0, 0.0, 0.0] }");
+    assert_refused(
+        Some(&flat_quad),
+        &[],
+        &["object 2 (\"extra\")", "span no area"],
+    );
+    let inside_out = object("cuboid = { min = [1.0, 0.0, 0.0], max = [0.0, 1.0, 1.0] }");
+    assert_refused(Some(&inside_out), &[], &["cuboid.min", "below cuboid.max"]);
+    let two_shapes = object(
+        "quad = { corner = [0.0, 0.0, 0.0], u = [1.0, 0.0, 0.0], v = [0.0, 1.0, 0.0] }\n\
+         sphere = { center = [0.0, 0.0, 0.0], radius = 1.0 }",
+    );
+    assert_refused(Some(&two_shapes), &[], &["exactly one shape per object"]);
+    let glowing = GOOD.replace(
+        "radius = 1.0 }",
+        "radius = 1.0 }\nmaterial = { emission = [1.0, nan, 1.0] }",
+    );
+    assert_refused(Some(&glowing), &[], &["material.emission", "finite"]);
+    let rough = GOOD.replace(
+        "radius = 1.0 }",
+        "radius = 1.0 }\nmaterial = { roughness = 2.0 }",
+    );
+    assert_refused(
+        Some(&rough),
+        &[],
+        &["material.roughness = 2", "between 0 and 1"],
+    );
+}
+
+#[test]
 fn absurd_settings_are_refused() {
     assert_refused(None, &["--width", "0"], &["resolution 0x12"]);
     assert_refused(None, &["--width", "100000"], &["resolution 100000x12"]);
