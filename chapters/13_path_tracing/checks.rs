@@ -220,6 +220,25 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
+/// A floor lit only by a light under it, facing up at the floor's
+/// underside: seen from above, black.
+const LIGHT_UNDER_THE_FLOOR: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 2.0, -2.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+width = 8
+height = 8
+max_depth = 8
+[[objects]]
+plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
+material = { color = [0.8, 0.8, 0.8] }
+[[objects]]
+quad = { corner = [-1.0, -0.5, -1.0], u = [2.0, 0.0, 0.0], v = [0.0, 0.0, 2.0] }
+material = { color = [0.0, 0.0, 0.0], emission = [5.0, 5.0, 5.0] }
+"#;
+
 /// Chapter 13's hard cases (level 2).
 /// A list of cases that reads as data, one entry per case: kept whole,
 /// however long.
@@ -263,6 +282,19 @@ pub fn robustness() -> Vec<Case> {
                 u: 0.0,
                 expected: None,
             },
+        ),
+        Case::new(
+            "light-under-the-floor",
+            HARD_13,
+            "a light under the floor lights its underside only: every light sample from above \
+             is behind the surface, and the floor is black (exactly 0)",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: LIGHT_UNDER_THE_FLOOR.to_string(),
+                without: &[],
+                samples: 4_000,
+                expected: 0.0,
+            }),
         ),
         formula(
             "roulette-nan-weight",

@@ -100,6 +100,11 @@ fn cosine_directions_fit_their_density_and_a_uniform_hemisphere_does_not() {
 
 /// A floor with the material `material` (TOML), seen from above at an angle.
 fn floor_point(material: &str) -> Scene {
+    floor_and(material, "")
+}
+
+/// [`floor_point`] with the objects `more` (TOML) after the floor.
+fn floor_and(material: &str, more: &str) -> Scene {
     Scene::parse(
         &format!(
             r#"
@@ -112,6 +117,7 @@ height = 4
 [[objects]]
 plane = {{ point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }}
 material = {material}
+{more}
 "#
         ),
         "a test",
@@ -119,35 +125,35 @@ material = {material}
     .expect("the floor parses")
 }
 
-/// The chi-square fit of the directions `lobe` scatters at the floor's
-/// point hit from 45 degrees, binned over the sphere of directions about
-/// the normal, against the lobe's own pdf integrated over each bin.
-fn lobe_fit(material: &str) -> f64 {
-    let scene = floor_point(material);
-    let stage = Stage::<Reference>::with_chapters(&scene, 13, scene.render).expect("stage");
-    let mut tracer = stage.tracer(None);
-    let ray = Ray::new(Vec3::new(0.0, 1.0, -1.0), Vec3::new(0.0, -1.0, 1.0));
-    let point = tracer.hit_point(0, &ray, 1.0);
-    let lobe = Lobe::choose(&point, 0.999);
-    let (rows, columns) = (16usize, 16usize);
+/// The chi-square p-value of `samples` draws of a direction (`None`: the
+/// light is absorbed, or nothing is drawn) against the density `pdf`, per
+/// unit solid angle: bins of `cos` (about +y, the floor's normal) and
+/// `phi`, each bin's probability by the midpoint rule on a 24 x 24 grid of
+/// its cell (`dw = d(cos) d(phi)`), and one more cell for `None`, expected
+/// to hold what the density leaves out. So a density off by a constant
+/// factor fails too, as MIS would weigh it wrongly.
+fn direction_fit(
+    samples: u32,
+    mut draw: impl FnMut() -> Option<Vec3>,
+    pdf: impl Fn(Vec3) -> f64,
+) -> f64 {
+    let (rows, columns, fine) = (16usize, 16usize, 24usize);
     let bin_of = |direction: Vec3| {
         let cosine = ((direction.y + 1.0) / 2.0 * rows as f32) as usize;
         let phi = (direction.z.atan2(direction.x).rem_euclid(2.0 * PI) / (2.0 * PI)
             * columns as f32) as usize;
         cosine.min(rows - 1) * columns + phi.min(columns - 1)
     };
-    let samples = 100_000;
-    let mut observed = vec![0f64; rows * columns];
+    let none = rows * columns;
+    let mut observed = vec![0f64; none + 1];
     for _ in 0..samples {
-        if let Some(scattered) = lobe.scatter::<Reference>(&mut tracer, &point) {
-            observed[bin_of(scattered.direction)] += 1.0;
+        match draw() {
+            Some(direction) => observed[bin_of(direction)] += 1.0,
+            None => observed[none] += 1.0,
         }
     }
-    // Each bin's probability by the midpoint rule on a 24 x 24 grid of its
-    // (cos, phi) cell: dw = d(cos) d(phi). Draws below the floor are
-    // absorbed, so they are left out of both counts.
-    let mut expected = vec![0f64; rows * columns];
-    let fine = 24;
+    let mut expected = vec![0f64; none + 1];
+    let cell = 2.0 / (rows * fine) as f64 * std::f64::consts::TAU / (columns * fine) as f64;
     for row in 0..rows * fine {
         let cosine = (row as f64 + 0.5) / (rows * fine) as f64 * 2.0 - 1.0;
         for column in 0..columns * fine {
@@ -158,18 +164,69 @@ fn lobe_fit(material: &str) -> f64 {
                 cosine as f32,
                 (ring * phi.sin()) as f32,
             );
-            if direction.y <= 0.0 {
-                continue;
-            }
-            let cell = 2.0 / (rows * fine) as f64 * std::f64::consts::TAU / (columns * fine) as f64;
-            expected[bin_of(direction)] +=
-                f64::from(lobe.pdf::<Reference>(&point, direction)) * cell;
+            expected[bin_of(direction)] += pdf(direction) * cell * f64::from(samples);
         }
     }
-    let kept: f64 = observed.iter().sum();
-    let mass: f64 = expected.iter().sum();
-    let expected: Vec<f64> = expected.iter().map(|p| p / mass * kept).collect();
+    let drawn: f64 = expected[..none].iter().sum();
+    expected[none] = (f64::from(samples) - drawn).max(0.0);
     pearson(&observed, &expected).1
+}
+
+/// The p-value of the directions `lobe` scatters at the floor's point hit
+/// from 45 degrees against the lobe's own pdf; draws below the floor are
+/// absorbed (the `None` cell).
+fn lobe_fit(material: &str) -> f64 {
+    let scene = floor_point(material);
+    let stage = Stage::<Reference>::with_chapters(&scene, 13, scene.render).expect("stage");
+    let mut tracer = stage.tracer(None);
+    let ray = Ray::new(Vec3::new(0.0, 1.0, -1.0), Vec3::new(0.0, -1.0, 1.0));
+    let point = tracer.hit_point(0, &ray, 1.0);
+    let lobe = Lobe::choose(&point, 0.999);
+    let pdf = |direction: Vec3| {
+        if direction.y > 0.0 {
+            f64::from(lobe.pdf::<Reference>(&point, direction))
+        } else {
+            0.0
+        }
+    };
+    direction_fit(
+        100_000,
+        || {
+            lobe.scatter::<Reference>(&mut tracer, &point)
+                .map(|scattered| scattered.direction)
+        },
+        pdf,
+    )
+}
+
+#[test]
+fn light_samples_are_spread_as_the_light_pdf_says() {
+    // A 2 x 2 light one unit above the floor's point: it fills a large
+    // share of the sky, over many bins.
+    let scene = floor_and(
+        "{ color = [0.5, 0.5, 0.5] }",
+        r#"[[objects]]
+quad = { corner = [-1.0, 1.0, -0.5], u = [2.0, 0.0, 0.0], v = [0.0, 0.0, 2.0] }
+material = { color = [0.0, 0.0, 0.0], emission = [1.0, 1.0, 1.0] }"#,
+    );
+    let stage = Stage::<Reference>::with_chapters(&scene, 13, scene.render).expect("stage");
+    let mut tracer = stage.tracer(None);
+    let ray = Ray::new(Vec3::new(0.0, 1.0, -1.0), Vec3::new(0.0, -1.0, 1.0));
+    let point = tracer.hit_point(0, &ray, 1.0);
+    let probe = stage.tracer(None);
+    let pdf = |direction: Vec3| {
+        let ray = Ray::new(point.surface.point + 1e-4 * Vec3::Y, direction);
+        match stage.nearest_hit(&ray, 0.0, f32::INFINITY) {
+            Some(hit) => f64::from(probe.light_pdf(&probe.hit_point(hit.object, &ray, hit.t))),
+            None => 0.0,
+        }
+    };
+    let p_value = direction_fit(
+        100_000,
+        || tracer.sample_light(&point).map(|light| light.direction),
+        pdf,
+    );
+    assert!(p_value > 1e-3, "p = {p_value}");
 }
 
 #[test]
