@@ -1418,7 +1418,8 @@ mod tests {
         assert_eq!(Knob::of_chapter(9), Knob::ALL[..5].to_vec());
         assert_eq!(Knob::of_chapter(10), Knob::ALL[..6].to_vec());
         assert_eq!(Knob::of_chapter(11), Knob::ALL[..7].to_vec());
-        assert_eq!(Knob::of_chapter(12), Knob::ALL.to_vec());
+        assert_eq!(Knob::of_chapter(12), Knob::ALL[..9].to_vec());
+        assert_eq!(Knob::of_chapter(13), Knob::ALL.to_vec());
     }
 
     #[test]
