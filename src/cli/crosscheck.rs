@@ -444,9 +444,15 @@ mod with_embree {
 
     fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {
         let [primary, shadow, reflection, refraction, bounce] = tally.by_kind;
+        // Bounce rays exist only where the stage traces paths (chapter 13).
+        let bounces = if stage.effects.path_tracing {
+            format!(", {bounce} bounce")
+        } else {
+            String::new()
+        };
         println!(
             "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
-             {refraction} refraction, {bounce} bounce)",
+             {refraction} refraction{bounces})",
             tally.total()
         );
         let boundary: u64 = tally.boundary.iter().sum();
