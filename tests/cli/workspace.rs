@@ -309,6 +309,29 @@ fn chapter_11_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
     );
 }
 
+/// Chapter 13's check builds raylab's own converged image, on a stage with
+/// a tree: none of that is the student's use of an answer, and the answer
+/// key passes both levels.
+#[test]
+fn chapter_13_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
+    let ws = workspaces();
+    let todo = run_student("student-todo", &["check", "--chapter", "13"], &ws.todo);
+    let text = stdout(&todo);
+    assert_eq!(todo.status.code(), Some(1), "{text}{}", stderr(&todo));
+    assert!(
+        text.contains("chapter 13: Path tracing - not started"),
+        "{text}"
+    );
+
+    let key = run_student("student-answer", &["check", "--chapter", "13"], &ws.answer);
+    let text = stdout(&key);
+    assert!(key.status.success(), "{text}{}", stderr(&key));
+    assert!(
+        text.contains("chapter 13: Path tracing - pass (robust)"),
+        "{text}"
+    );
+}
+
 #[test]
 fn the_answer_key_renders_what_raylab_renders_bit_for_bit() {
     let ws = workspaces();
