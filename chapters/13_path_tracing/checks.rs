@@ -184,8 +184,9 @@ pub fn checkpoints() -> Vec<Case> {
         furnace(
             "furnace-next-event",
             "next_event",
-            "the same sphere with a light sample at each point and no MIS: still 2 (the light a \
-             scattered ray finds is not counted again)",
+            "the same sphere with a light sample at each point and no MIS: still 2. A wrong \
+             answer is in next_event (its f cos / pdf) or in shade_path (a light that a \
+             scattered ray finds must not be counted again)",
             0.5,
             1.0,
             &["mis", "russian-roulette"],
@@ -194,7 +195,8 @@ pub fn checkpoints() -> Vec<Case> {
             "furnace-mis",
             "shade_path",
             "a sphere of albedo 0.8 that emits 0.5, with light samples, MIS and roulette: \
-             0.5 / (1 - 0.8) = 2.5",
+             0.5 / (1 - 0.8) = 2.5. A wrong answer is in the MIS weights: next_event's of the \
+             light sample and shade_path's of the light a scattered ray finds must add to 1",
             0.8,
             0.5,
             &[],

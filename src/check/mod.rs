@@ -482,6 +482,9 @@ impl CheckReport {
         let image = match &verdict.image {
             Some(ImageCheck {
                 noise: Some(noise), ..
+            }) if noise.block > 1 => format!("{} blocks beyond noise", noise.outside),
+            Some(ImageCheck {
+                noise: Some(noise), ..
             }) => format!("{} px beyond noise", noise.outside),
             Some(image) if image.metrics.max == 0 => "identical".to_string(),
             Some(image) => format!(

@@ -560,8 +560,23 @@ fn summary_line(
 
 fn stats_text(rendered: &Rendered) -> String {
     let rays = &rendered.rays;
+    let paths = rendered.effects.path_tracing;
+    let bounce = if paths {
+        format!("  bounce      {}\n", rays.bounce)
+    } else {
+        String::new()
+    };
+    let fireflies = if paths {
+        format!(
+            "fireflies (samples above {} times the brightest light seen): {}\n",
+            crate::render::FIREFLY_FACTOR,
+            rays.bright_samples
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "effects simulated: {}\ntime: {:.3} s\nrays cast: {} total\n  primary     {}\n  shadow      {}\n  reflection  {}\n  refraction  {}\nself-shadowing shadow rays: {} (in {} pixels)\nnon-finite samples: {}\n",
+        "effects simulated: {}\ntime: {:.3} s\nrays cast: {} total\n  primary     {}\n  shadow      {}\n  reflection  {}\n  refraction  {}\n{bounce}self-shadowing shadow rays: {} (in {} pixels)\nnon-finite samples: {}\n{fireflies}",
         rendered.effects.names().join(", "),
         rendered.seconds,
         rays.total(),
@@ -572,24 +587,7 @@ fn stats_text(rendered: &Rendered) -> String {
         rays.self_shadow_hits,
         rays.self_shadowed_pixels,
         rays.non_finite_samples,
-    ) + &path_text(rendered)
-        + &implicit_text(rendered)
-}
-
-/// The bounces of the paths and the fireflies, when the render traced paths.
-fn path_text(rendered: &Rendered) -> String {
-    if !rendered.effects.path_tracing {
-        return String::new();
-    }
-    let rays = &rendered.rays;
-    format!(
-        "  bounce      {}
-fireflies (samples above {} times the brightest light seen): {}
-",
-        rays.bounce,
-        crate::render::FIREFLY_FACTOR,
-        rays.bright_samples
-    )
+    ) + &implicit_text(rendered)
 }
 
 /// The implicit surfaces' share of the work, when the render marched any.
