@@ -71,6 +71,7 @@ pub mod record;
 pub mod render;
 pub mod scene;
 pub mod shapes;
+pub mod spectrum;
 pub mod text;
 pub mod web;
 pub mod workspace;

@@ -209,6 +209,33 @@ pub struct Material {
     /// spreads the reflection into a glossy lobe, 1 the widest.
     #[serde(deserialize_with = "number::f32")]
     pub roughness: f32,
+    /// An index of refraction that depends on the wavelength (chapter 14's
+    /// dispersion), by Cauchy's equation; `ior` is then its value at the
+    /// helium d line, what the stages before chapter 14 use.
+    pub cauchy: Option<Cauchy>,
+}
+
+/// Cauchy's equation for the index of refraction of a glass at wavelength
+/// `lambda`: `n = a + b / lambda^2`, with `lambda` in micrometres (the unit
+/// of the coefficients glass tables quote: BK7 is `a = 1.5046`, `b =
+/// 0.00420`).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cauchy {
+    #[serde(deserialize_with = "number::f32")]
+    pub a: f32,
+    /// In square micrometres.
+    #[serde(deserialize_with = "number::f32")]
+    pub b: f32,
+}
+
+impl Cauchy {
+    /// The index at `nanometres`: the scene's constant `ior` for the stages
+    /// before chapter 14 (where a student writes the same formula).
+    pub fn index_at(&self, nanometres: f32) -> f32 {
+        let micrometres = nanometres / 1000.0;
+        self.a + self.b / (micrometres * micrometres)
+    }
 }
 
 /// How a transparent material reflects (chapter 9).
@@ -241,6 +268,7 @@ impl Default for Material {
             absorption: Vec3::ZERO,
             emission: Vec3::ZERO,
             roughness: 0.0,
+            cauchy: None,
         }
     }
 }
@@ -291,6 +319,39 @@ pub struct Light {
 impl Light {
     /// Colour times intensity: what the light adds at full exposure.
     pub fn radiance(&self) -> Vec3 {
+        self.color * self.intensity
+    }
+}
+
+/// A beam of parallel light (chapter 14: sunlight through a window, the
+/// beam a lens focuses): light of irradiance `intensity` (times `color`)
+/// across the disk of `radius` about `position`, all of it travelling
+/// along `direction`. Only the stages that trace paths (chapter 13 on) see
+/// beams: no camera ray or scattered ray can find a light that shines in
+/// one direction only, and light samples or light paths must aim at it.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Beam {
+    #[serde(deserialize_with = "number::vec3")]
+    pub position: Vec3,
+    /// The way the light travels; made unit when the scene is read.
+    #[serde(deserialize_with = "number::vec3")]
+    pub direction: Vec3,
+    #[serde(deserialize_with = "number::f32")]
+    pub radius: f32,
+    #[serde(alias = "colour", default = "white")]
+    #[serde(deserialize_with = "number::vec3")]
+    pub color: Vec3,
+    /// Irradiance: power per unit area across the beam.
+    #[serde(default = "one")]
+    #[serde(deserialize_with = "number::f32")]
+    pub intensity: f32,
+}
+
+impl Beam {
+    /// Colour times intensity: the irradiance the beam brings to a surface
+    /// square to it.
+    pub fn irradiance(&self) -> Vec3 {
         self.color * self.intensity
     }
 }
@@ -681,6 +742,8 @@ struct SceneFile {
     #[serde(default)]
     lights: Vec<Light>,
     #[serde(default)]
+    beams: Vec<Beam>,
+    #[serde(default)]
     objects: Vec<ObjectSpec>,
 }
 
@@ -695,8 +758,60 @@ struct ObjectSpec {
     implicit: Option<SdfSpec>,
     quad: Option<QuadSpec>,
     cuboid: Option<CuboidSpec>,
+    prism: Option<PrismSpec>,
     #[serde(default)]
     material: Material,
+}
+
+/// `prism = { base = [[..], [..], [..]], extrude = [..] }`: the triangle
+/// `base` swept along `extrude` (a glass prism): two triangles at the ends
+/// and three sides of two triangles each, wound so that every normal
+/// points out of the solid.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PrismSpec {
+    base: [[f32; 3]; 3],
+    #[serde(deserialize_with = "number::vec3")]
+    extrude: Vec3,
+}
+
+impl PrismSpec {
+    fn triangles(&self, label: &str) -> Result<Vec<Shape>, String> {
+        let base = self.base.map(Vec3::from_array);
+        for (index, corner) in base.iter().enumerate() {
+            check_point(&format!("{label}: prism.base[{index}]"), *corner)?;
+        }
+        check_point(&format!("{label}: prism.extrude"), self.extrude)?;
+        let [a, b, c] = base;
+        let normal = (b - a).cross(c - a);
+        let height = normal.dot(self.extrude);
+        if !(height.abs() > 0.0) {
+            return Err(format!(
+                "{label}: prism.base spans no area, or prism.extrude = {} lies in its plane: \
+                 the prism has no volume",
+                self.extrude
+            ));
+        }
+        // Wind the base so that its normal points into the solid (toward
+        // the extrusion): the bottom then faces out when turned around.
+        let [a, b, c] = if height > 0.0 { [a, c, b] } else { [a, b, c] };
+        let top = |p: Vec3| p + self.extrude;
+        let mut shapes: Vec<Shape> = vec![
+            Triangle::new(a, b, c).into(),
+            Triangle::new(top(a), top(c), top(b)).into(),
+        ];
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            shapes.push(Triangle::new(p, top(p), top(q)).into());
+            shapes.push(Triangle::new(p, top(q), q).into());
+        }
+        for shape in &shapes {
+            if let Some(bounds) = Shape::bounds(shape) {
+                check_coordinates(&format!("{label}: prism (a corner)"), bounds.max)?;
+                check_coordinates(&format!("{label}: prism (a corner)"), bounds.min)?;
+            }
+        }
+        Ok(shapes)
+    }
 }
 
 /// `quad = { corner = [..], u = [..], v = [..] }`: the parallelogram
@@ -1074,6 +1189,8 @@ pub struct Scene {
     pub background: Vec3,
     pub ambient_light: Vec3,
     pub lights: Vec<Light>,
+    /// Beams of parallel light (chapter 14), `direction` unit.
+    pub beams: Vec<Beam>,
     /// Every primitive the renderer intersects: each plane and sphere, and
     /// each triangle of each mesh.
     pub shapes: Vec<Shape>,
@@ -1392,10 +1509,34 @@ impl SceneFile {
                 ));
             }
         }
-        if self.lights.len() > MAX_LIGHTS {
+        let mut beams = self.beams;
+        for (index, beam) in beams.iter_mut().enumerate() {
+            let name = format!("beam {}", index + 1);
+            check_point(&format!("{name}: position"), beam.position)?;
+            check_light_color(&format!("{name}: color"), beam.color)?;
+            if !(beam.intensity >= 0.0 && beam.intensity <= MAX_LIGHT) {
+                return Err(format!(
+                    "{name}: intensity = {}: must be a number between 0 and {MAX_LIGHT:e}",
+                    beam.intensity
+                ));
+            }
+            beam.direction = crate::unit_vector(beam.direction).ok_or_else(|| {
+                format!(
+                    "{name}: direction = {}: must be a finite direction, not zero",
+                    beam.direction
+                )
+            })?;
+            if !(beam.radius > 0.0 && beam.radius.is_finite()) {
+                return Err(format!(
+                    "{name}: radius = {}: must be a finite number > 0",
+                    beam.radius
+                ));
+            }
+        }
+        if self.lights.len() + beams.len() > MAX_LIGHTS {
             return Err(format!(
-                "{} lights: a scene may have at most {MAX_LIGHTS}",
-                self.lights.len()
+                "{} lights and beams: a scene may have at most {MAX_LIGHTS}",
+                self.lights.len() + beams.len()
             ));
         }
         if self.objects.len() > MAX_OBJECTS {
@@ -1410,12 +1551,13 @@ impl SceneFile {
             background: self.background,
             ambient_light: self.ambient_light,
             lights: self.lights,
+            beams,
             shapes: Vec::new(),
             objects: Vec::new(),
             owners: Vec::new(),
             vertex_normals: Vec::new(),
         };
-        for (index, object) in self.objects.into_iter().enumerate() {
+        for (index, mut object) in self.objects.into_iter().enumerate() {
             let name = object
                 .name
                 .clone()
@@ -1425,13 +1567,24 @@ impl SceneFile {
                 None => format!("object {}", index + 1),
             };
             check_material(&label, &object.material)?;
-            let flat = match (&object.quad, &object.cuboid) {
-                (Some(quad), None) => Some(quad.triangles(&label)?),
-                (None, Some(cuboid)) => Some(cuboid.triangles(&label)?),
-                (None, None) => None,
-                (Some(_), Some(_)) => {
+            if let Some(cauchy) = object.material.cauchy {
+                if object.material.ior != Material::default().ior {
                     return Err(format!(
-                        "{label}: has a `quad` and a `cuboid`; give exactly one shape per object"
+                        "{label}: material has both `ior` and `cauchy`; give one: `cauchy` \
+                         sets the index at every wavelength"
+                    ));
+                }
+                object.material.ior = cauchy.index_at(crate::spectrum::D_LINE_NM);
+            }
+            let flat = match (&object.quad, &object.cuboid, &object.prism) {
+                (Some(quad), None, None) => Some(quad.triangles(&label)?),
+                (None, Some(cuboid), None) => Some(cuboid.triangles(&label)?),
+                (None, None, Some(prism)) => Some(prism.triangles(&label)?),
+                (None, None, None) => None,
+                _ => {
+                    return Err(format!(
+                        "{label}: has more than one of `quad`, `cuboid` and `prism`; give \
+                         exactly one shape per object"
                     ));
                 }
             };
@@ -1443,8 +1596,8 @@ impl SceneFile {
                     || object.mesh.is_some()
                 {
                     return Err(format!(
-                        "{label}: has a `quad` or `cuboid` and another shape; give exactly one \
-                         shape per object"
+                        "{label}: has a `quad`, `cuboid` or `prism` and another shape; give \
+                         exactly one shape per object"
                     ));
                 }
                 if scene.shapes.len() + triangles.len() > MAX_PRIMITIVES {
@@ -1718,6 +1871,9 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
     }
     check_light_color(&field("emission"), material.emission)?;
     check_coefficient(&field("roughness"), material.roughness, 1.0)?;
+    if let Some(cauchy) = material.cauchy {
+        check_cauchy(label, cauchy)?;
+    }
     check_finite(&field("absorption"), material.absorption)?;
     if !(material.absorption.min_element() >= 0.0
         && material.absorption.max_element() <= MAX_ABSORPTION)
@@ -1741,6 +1897,35 @@ fn check_material(label: &str, material: &Material) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Cauchy's coefficients of a real glass: `a` at least 1 (light is
+/// slower in glass than in vacuum) and `b` between 0 (no dispersion) and
+/// [`MAX_CAUCHY_B`].
+fn check_cauchy(label: &str, cauchy: Cauchy) -> Result<(), String> {
+    if !(cauchy.a >= 1.0 && cauchy.a <= MAX_CAUCHY_A) {
+        return Err(format!(
+            "{label}: material.cauchy.a = {}: Cauchy's constant term is an index of \
+             refraction, between 1 and {MAX_CAUCHY_A}",
+            cauchy.a
+        ));
+    }
+    if !(cauchy.b >= 0.0 && cauchy.b <= MAX_CAUCHY_B) {
+        return Err(format!(
+            "{label}: material.cauchy.b = {}: in square micrometres, between 0 (no \
+             dispersion) and {MAX_CAUCHY_B} (glass tables quote 0.0035 to 0.0134)",
+            cauchy.b
+        ));
+    }
+    Ok(())
+}
+
+/// The largest Cauchy `a` a scene may give: diamond's index is 2.42, and no
+/// transparent solid reaches 4 in the visible.
+pub const MAX_CAUCHY_A: f32 = 4.0;
+
+/// The largest Cauchy `b`, in square micrometres: ten times dense flint's
+/// 0.0134, a prism whose spectrum still fits a room.
+pub const MAX_CAUCHY_B: f32 = 0.1;
 
 /// Where inside a pixel the samples go.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
