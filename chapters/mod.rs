@@ -62,6 +62,10 @@ macro_rules! for_each_chapter {
                 "global illumination: area lights, random paths, next-event estimation, MIS, Russian roulette"
                 |e| { e.path_tracing = true; e.next_event = true; e.mis = true; e.roulette = true }
                 [cosine_hemisphere, cosine_pdf, power_heuristic, russian_roulette, next_event, shade_path];
+            14 ch14_caustics "14_caustics" "Caustics and dispersion"
+                "light paths from the lights through glass to the camera: caustics; a wavelength per path: dispersion"
+                |e| { e.light_tracing = true; e.dispersion = true }
+                [splat_weight, connect_to_camera, trace_light_path, cauchy_ior, dispersive_ior];
         }
     };
 }

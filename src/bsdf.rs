@@ -11,7 +11,7 @@ use crate::Vec3;
 use crate::course::{Chapters, HitPoint};
 use crate::medium::MediumStack;
 use crate::render::{Arrival, RayKind, Tracer};
-use crate::scene::FresnelModel;
+use crate::scene::{FresnelModel, Material};
 
 /// One way a surface scatters light, chosen at random among its material's
 /// at each visit: glass with probability `transparency`, a mirror (glossy
@@ -31,6 +31,16 @@ pub enum Lobe {
     Mirror { albedo: Vec3 },
     /// Chapter 9's glass: reflected or refracted by Fresnel's odds.
     Glass,
+}
+
+/// The index of refraction a path sees in a dispersive glass, for its
+/// wavelength, and the colour its light is multiplied by there (chapter
+/// 14's `dispersive_ior`): the colour of the wavelength on the surface
+/// where the path drew it, white on the later ones.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dispersed {
+    pub ior: f32,
+    pub tint: Vec3,
 }
 
 /// One direction a lobe scattered into, and what it is worth.
@@ -172,8 +182,27 @@ fn mirrored(point: &HitPoint) -> Vec3 {
 
 /// Chapter 9's boundary as a choice: reflected with probability `R`
 /// (Fresnel's reflectance), refracted otherwise, so each ray carries its
-/// whole weight and the expected light is chapter 9's mix.
+/// whole weight and the expected light is chapter 9's mix. A dispersive
+/// glass (chapter 14) has the index of the path's wavelength, on both
+/// sides of every crossing: the solids a ray is inside keep the index they
+/// were entered with.
 fn through_glass<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> Scattered {
+    let dispersed = match point.material.cauchy {
+        Some(cauchy) if tracer.effects().dispersion => Some(C::dispersive_ior(tracer, &cauchy)),
+        _ => None,
+    };
+    let material;
+    let point = match dispersed {
+        Some(dispersed) => {
+            material = Material {
+                ior: dispersed.ior,
+                ..*point.material
+            };
+            &point.with_material(&material)
+        }
+        None => point,
+    };
+    let tint = dispersed.map_or(Vec3::ONE, |dispersed| dispersed.tint);
     let crossing = C::crossing(tracer.media(), point);
     let incoming = point.ray.dir.normalize();
     let refracted = C::refract(incoming, point.normal, crossing.n1 / crossing.n2);
@@ -188,14 +217,14 @@ fn through_glass<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> Scatt
     match refracted {
         Some(direction) if tracer.random() >= reflectance => Scattered {
             direction,
-            weight: point.material.color,
+            weight: point.material.color * tint,
             kind: RayKind::Refraction,
             arrival: Arrival::Specular,
             media: crossing.beyond,
         },
         _ => Scattered {
             direction: C::reflect(incoming, point.normal),
-            weight: Vec3::ONE,
+            weight: tint,
             kind: RayKind::Reflection,
             arrival: Arrival::Specular,
             media: crossing.before,

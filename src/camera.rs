@@ -97,6 +97,28 @@ impl Camera {
         (x.is_finite() && y.is_finite()).then_some((x, y))
     }
 
+    /// Where the camera stands: every camera ray starts here.
+    pub fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// The unit viewing direction, square to the image plane.
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+
+    /// The area one pixel covers on the image plane at distance 1 from the
+    /// camera (chapter 14's splats): the plane is `2 |right_edge|` by
+    /// `2 |top_edge|`, cut into `width x height` pixels.
+    pub fn pixel_area(&self) -> f32 {
+        (2.0 * self.right_edge.length() / self.width) * (2.0 * self.top_edge.length() / self.height)
+    }
+
+    /// The size of the image in pixels, `(width, height)`.
+    pub fn size(&self) -> (f32, f32) {
+        (self.width, self.height)
+    }
+
     /// The depth of `point` along the viewing direction.
     pub fn depth(&self, point: Vec3) -> f32 {
         (point - self.origin).dot(self.forward)

@@ -13,16 +13,17 @@
 //! reach the scene, and call the other chapters' functions as the running
 //! `Chapters` wrote them.
 
-use crate::bsdf::Lobe;
+use crate::bsdf::{Dispersed, Lobe};
 use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
     ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh, ch12_implicit,
-    ch13_path_tracing,
+    ch13_path_tracing, ch14_caustics,
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
 use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
+use crate::scene::Cauchy;
 use crate::{Material, Ray, Sampling, Vec3};
 
 /// Which object a ray met, and where along the ray.
@@ -389,6 +390,45 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         crate::answer_key::answered_by(Self::COMPARISON, "Chapters::shade_path");
         ch13_path_tracing::shade_path(tracer, point, depth, weight)
     }
+
+    /// Chapter 14: what a unit of radiance leaving a point toward the
+    /// camera adds to the pixel that sees it, per unit of the point's area.
+    #[inline(always)]
+    fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::splat_weight");
+        ch14_caustics::splat_weight(cos_surface, cos_camera, distance, pixel_area)
+    }
+
+    /// Chapter 14: the light a light path brings to `point`, scattered by
+    /// `lobe` toward the camera, onto the pixel that sees it.
+    #[inline(always)]
+    fn connect_to_camera(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::connect_to_camera");
+        ch14_caustics::connect_to_camera(tracer, point, lobe, power)
+    }
+
+    /// Chapter 14: one path of light from a light through mirrors and
+    /// glass, each diffuse point it lights after them joined to the camera.
+    #[inline(always)]
+    fn trace_light_path(tracer: &mut Tracer<Self>) {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::trace_light_path");
+        ch14_caustics::trace_light_path(tracer)
+    }
+
+    /// Chapter 14: Cauchy's index of refraction at `nanometres`.
+    #[inline(always)]
+    fn cauchy_ior(cauchy: &Cauchy, nanometres: f32) -> f32 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::cauchy_ior");
+        ch14_caustics::cauchy_ior(cauchy, nanometres)
+    }
+
+    /// Chapter 14: the index a path sees in a dispersive glass, for its
+    /// wavelength, and the colour its light takes there.
+    #[inline(always)]
+    fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::dispersive_ior");
+        ch14_caustics::dispersive_ior(tracer, cauchy)
+    }
 }
 
 /// The chapters `C` with the textbook tests in place of `C`'s where asked:
@@ -486,6 +526,12 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn russian_roulette(weight: f32, u: f32) -> Option<f32> {
         C::russian_roulette(weight, u)
+    }
+    fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
+        C::splat_weight(cos_surface, cos_camera, distance, pixel_area)
+    }
+    fn cauchy_ior(cauchy: &Cauchy, nanometres: f32) -> f32 {
+        C::cauchy_ior(cauchy, nanometres)
     }
     // The functions below take `Self`'s tracer, which `C`'s cannot accept:
     // each runs the reference code with this type, so a student's textbook
@@ -677,6 +723,15 @@ impl<'a> HitPoint<'a> {
             -normal
         };
         self
+    }
+
+    /// The point with another `material` (chapter 14: a dispersive glass
+    /// with the index of the path's wavelength).
+    pub fn with_material<'b>(&self, material: &'b Material) -> HitPoint<'b>
+    where
+        'a: 'b,
+    {
+        HitPoint { material, ..*self }
     }
 
     /// Whether a light at `light` can shine on the side of the surface the

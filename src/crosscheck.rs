@@ -704,8 +704,9 @@ pub fn grazes_triangle(triangle: &Triangle, ray: &Ray) -> bool {
 /// The summary of a cross-check.
 #[derive(Debug, Clone, Default)]
 pub struct Tally {
-    /// Rays compared, by kind: primary, shadow, reflection, refraction.
-    pub by_kind: [u64; 5],
+    /// Rays compared, by kind: primary, shadow, reflection, refraction,
+    /// bounce, light, to camera.
+    pub by_kind: [u64; 7],
     pub both_miss: u64,
     /// Same object, `t` within tolerance.
     pub same_hit: u64,
@@ -748,6 +749,8 @@ impl Tally {
             RayKind::Reflection => 2,
             RayKind::Refraction => 3,
             RayKind::Bounce => 4,
+            RayKind::Light => 5,
+            RayKind::ToCamera => 6,
         };
         self.by_kind[kind] += 1;
         match compared.verdict {

@@ -59,6 +59,13 @@ pub struct Effects {
     /// Chapter 13: paths ended at random, the survivors' weight divided by
     /// their chance of surviving (Russian roulette).
     pub roulette: bool,
+    /// Chapter 14: paths traced from the lights through mirrors and glass
+    /// to the diffuse points they light, each joined to the camera: the
+    /// caustics a camera path finds only by chance, or never.
+    pub light_tracing: bool,
+    /// Chapter 14: glass whose index depends on the wavelength (Cauchy), a
+    /// wavelength drawn for each path that meets it.
+    pub dispersion: bool,
 }
 
 /// From how many objects with a box (spheres, triangles) chapter 11 builds
@@ -101,6 +108,8 @@ impl Effects {
         next_event: false,
         mis: false,
         roulette: false,
+        light_tracing: false,
+        dispersion: false,
     };
 
     /// Everything chapters `1..=chapter` teach: each chapter of the
@@ -134,6 +143,8 @@ impl Effects {
     pub fn needed_by(self, scene: &Scene, samples: u32) -> Effects {
         let any = |test: &dyn Fn(&crate::Material) -> bool| scene.materials().any(test);
         let lit = !scene.lights.is_empty();
+        // Beams light only the stages that trace paths (chapter 13 on).
+        let beams = !scene.beams.is_empty();
         let emits = any(&|m| m.emission != crate::Vec3::ZERO);
         let refraction = self.refraction && any(&|m| m.transparency > 0.0);
         Effects {
@@ -179,8 +190,16 @@ impl Effects {
             // A point light or a surface that glows is something to aim
             // shadow rays at; only a glowing surface can also be found by a
             // scattered ray, so only it has two strategies to weigh.
-            next_event: self.next_event && (lit || emits),
+            next_event: self.next_event && (lit || beams || emits),
             mis: self.mis && self.next_event && emits,
+            // Light paths end at the first diffuse point unless a mirror or
+            // glass came before it: with neither, none would reach the
+            // camera. Dispersion needs glass that disperses.
+            light_tracing: self.light_tracing
+                && (lit || beams || emits)
+                && any(&|m| m.transparency > 0.0 || (m.reflectivity > 0.0 && m.roughness == 0.0)),
+            dispersion: self.dispersion
+                && any(&|m| m.transparency > 0.0 && m.cauchy.is_some_and(|c| c.b > 0.0)),
             ..self
         }
     }
@@ -242,6 +261,12 @@ impl Effects {
             next_event,
             mis: next_event && self.mis && !off.contains("mis"),
             roulette: path_tracing && self.roulette && !off.contains("russian-roulette"),
+            light_tracing: path_tracing && self.light_tracing && !off.contains("light-tracing"),
+            // Dispersion bends light through chapter 9's glass.
+            dispersion: path_tracing
+                && nested_media
+                && self.dispersion
+                && !off.contains("dispersion"),
         }
     }
 
@@ -286,6 +311,8 @@ impl Effects {
         add(self.next_event, "next-event");
         add(self.mis, "mis");
         add(self.roulette, "russian-roulette");
+        add(self.light_tracing, "light-tracing");
+        add(self.dispersion, "dispersion");
         names
     }
 }

@@ -316,6 +316,8 @@ pub fn kind_name(kind: RayKind) -> &'static str {
         RayKind::Reflection => "reflection",
         RayKind::Refraction => "refraction",
         RayKind::Bounce => "bounce",
+        RayKind::Light => "light",
+        RayKind::ToCamera => "to camera",
     }
 }
 

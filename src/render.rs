@@ -47,6 +47,11 @@ pub enum RayKind {
     Refraction,
     /// A ray scattered at random off a diffuse or glossy surface (chapter 13).
     Bounce,
+    /// A ray of a path traced from a light (chapter 14).
+    Light,
+    /// A ray from a point a light path lit toward the camera (chapter 14):
+    /// unless something blocks it, the point's light reaches the image.
+    ToCamera,
 }
 
 /// Something that wants to see every ray the tracer casts (for
@@ -79,6 +84,15 @@ pub struct RayCounts {
     pub refraction: u64,
     /// Rays scattered at random off diffuse and glossy surfaces (chapter 13).
     pub bounce: u64,
+    /// Rays of the paths traced from the lights (chapter 14).
+    pub light: u64,
+    /// Rays from the points light paths lit toward the camera (chapter 14).
+    pub to_camera: u64,
+    /// Paths traced from the lights (chapter 14).
+    pub light_paths: u64,
+    /// Of the points light paths joined to the camera, those whose light
+    /// landed on a pixel (chapter 14).
+    pub splats: u64,
     /// Shadow rays that hit the primitive they started on, where the exact
     /// segment does not (acne). Only the first blocker in scene order is
     /// examined, so this may undercount.
@@ -103,7 +117,13 @@ pub struct RayCounts {
 
 impl RayCounts {
     pub fn total(&self) -> u64 {
-        self.primary + self.shadow + self.reflection + self.refraction + self.bounce
+        self.primary
+            + self.shadow
+            + self.reflection
+            + self.refraction
+            + self.bounce
+            + self.light
+            + self.to_camera
     }
 
     /// Rays marched against an implicit surface, once per ray and surface.
@@ -111,12 +131,16 @@ impl RayCounts {
         self.march_histogram.marches()
     }
 
-    fn add(mut self, other: RayCounts) -> RayCounts {
+    pub fn add(mut self, other: RayCounts) -> RayCounts {
         self.primary += other.primary;
         self.shadow += other.shadow;
         self.reflection += other.reflection;
         self.refraction += other.refraction;
         self.bounce += other.bounce;
+        self.light += other.light;
+        self.to_camera += other.to_camera;
+        self.light_paths += other.light_paths;
+        self.splats += other.splats;
         self.bright_samples += other.bright_samples;
         self.self_shadow_hits += other.self_shadow_hits;
         self.self_shadowed_pixels += other.self_shadowed_pixels;
@@ -134,6 +158,8 @@ impl RayCounts {
             RayKind::Reflection => self.reflection += 1,
             RayKind::Refraction => self.refraction += 1,
             RayKind::Bounce => self.bounce += 1,
+            RayKind::Light => self.light += 1,
+            RayKind::ToCamera => self.to_camera += 1,
         }
     }
 }
@@ -211,6 +237,8 @@ pub struct Stage<'a, C: Chapters = Reference> {
     emitters: Vec<u32>,
     /// A path-traced sample above this is counted as a firefly.
     firefly_bound: f32,
+    /// Chapter 14's light paths, traced on first use.
+    light_image: std::sync::OnceLock<LightImage>,
     pub effects: Effects,
     pub settings: RenderSettings,
     chapters: PhantomData<C>,
@@ -288,6 +316,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             bvh,
             emitters,
             firefly_bound: FIREFLY_FACTOR * brightest,
+            light_image: std::sync::OnceLock::new(),
             offset: settings.offset(),
             camera: Camera::new(&scene.camera, settings.width, settings.height),
             effects,
@@ -342,6 +371,56 @@ impl<'a, C: Chapters> Stage<'a, C> {
         &self.camera
     }
 
+    /// What chapter 14's light paths bring to each pixel, traced on first
+    /// use (once per stage, by whichever thread asks first); `None` when the
+    /// stage traces no light paths.
+    pub fn light_image(&self) -> Option<&LightImage> {
+        self.effects
+            .light_tracing
+            .then(|| self.light_image.get_or_init(|| self.trace_light_paths()))
+    }
+
+    /// Traces `light_paths` paths per pixel of the image from the lights,
+    /// by the chapters' `trace_light_path`, and adds up what they splat,
+    /// each path's light divided by the number of paths. Path `i` draws
+    /// from its own random stream and the sums are made in path order, so
+    /// the image is the same on any number of threads.
+    fn trace_light_paths(&self) -> LightImage {
+        let (width, height) = (self.settings.width, self.settings.height);
+        let total = u64::from(width) * u64::from(height) * u64::from(self.settings.light_paths);
+        let chunks = total.div_ceil(LIGHT_CHUNK);
+        let chunk = |number: u64| {
+            let mut tracer = self.tracer(None);
+            for index in number * LIGHT_CHUNK..((number + 1) * LIGHT_CHUNK).min(total) {
+                tracer.light_path(index);
+            }
+            (std::mem::take(&mut tracer.splats), tracer.counts())
+        };
+        let mut sums = vec![glam::DVec3::ZERO; width as usize * height as usize];
+        let mut counts = RayCounts::default();
+        let scale = 1.0 / total as f64;
+        let mut first = 0;
+        while first < chunks {
+            let last = (first + LIGHT_BATCH).min(chunks);
+            // The browser page's workers are threads of their own.
+            #[cfg(not(target_arch = "wasm32"))]
+            let traced: Vec<_> = (first..last).into_par_iter().map(chunk).collect();
+            #[cfg(target_arch = "wasm32")]
+            let traced: Vec<_> = (first..last).map(chunk).collect();
+            for (splats, chunk_counts) in traced {
+                for (index, light) in splats {
+                    sums[index as usize] += light.as_dvec3() * scale;
+                }
+                counts = counts.add(chunk_counts);
+            }
+            first = last;
+        }
+        LightImage {
+            pixels: sums.iter().map(|sum| sum.as_vec3()).collect(),
+            counts,
+        }
+    }
+
     /// A tracer for one thread's share of the work, counting its rays and
     /// showing each to `recorder` if there is one.
     pub fn tracer<'s>(&'s self, recorder: Option<&'s mut dyn RayLog>) -> Tracer<'s, C> {
@@ -352,6 +431,9 @@ impl<'a, C: Chapters> Stage<'a, C> {
             recorder,
             media: MediumStack::EMPTY,
             arrival: Arrival::Camera,
+            first_point_scatters: false,
+            wavelength: None,
+            splats: Vec::new(),
             random_key: 0,
             random_index: 0,
             sample_bound: f32::INFINITY,
@@ -378,6 +460,11 @@ pub enum Arrival {
     /// Scattered at random from a diffuse or glossy surface with this
     /// density, per unit solid angle.
     Scattered { pdf: f32 },
+    /// A mirror's or glass's ray on a path whose point nearest the camera
+    /// is diffuse or glossy, while chapter 14's light paths run: a light
+    /// this ray finds is a caustic seen by the camera, which the light
+    /// paths bring to the image. Counted by both, it would count twice.
+    Caustic,
 }
 
 /// A point chosen on a light, as seen from a point being shaded (chapter
@@ -427,6 +514,16 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     media: MediumStack,
     /// How the ray being traced was cast (chapter 13).
     arrival: Arrival,
+    /// Whether the current camera path scattered at random off its first
+    /// point (chapter 14: its caustics are the light paths').
+    first_point_scatters: bool,
+    /// The wavelength of the current path, in nanometres, once it has met
+    /// a dispersive surface (chapter 14).
+    wavelength: Option<f32>,
+    /// What the current light paths brought to which pixel (chapter 14):
+    /// the pixel's index and the light, before dividing by the number of
+    /// paths.
+    splats: Vec<(u32, Vec3)>,
     /// The current sample's stream of random numbers (chapter 13): a key
     /// from the seed and the sample's position, and how many were drawn.
     random_key: u64,
@@ -549,16 +646,18 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         self.arrival
     }
 
-    /// How many lights next-event estimation chooses among: the point
-    /// lights and every primitive that emits.
+    /// How many lights next-event estimation and chapter 14's light paths
+    /// choose among: the point lights, the beams and every primitive that
+    /// emits.
     pub fn light_count(&self) -> usize {
-        self.stage.scene.lights.len() + self.stage.emitters.len()
+        self.stage.scene.lights.len() + self.stage.scene.beams.len() + self.stage.emitters.len()
     }
 
     /// A light, and a point on it, chosen at random for the surface point
     /// `from` (chapter 13): each light with the same chance, a point light
-    /// as it is, a point uniformly over an emitter's area. `None` when the
-    /// scene has no light, or the point chosen is where `from` is.
+    /// as it is, a beam where its light comes from, a point uniformly over
+    /// an emitter's area. `None` when the scene has no light, the point
+    /// chosen is where `from` is, or a beam chosen does not reach `from`.
     pub fn sample_light(&mut self, from: &HitPoint) -> Option<LightSample> {
         let count = self.light_count();
         if count == 0 {
@@ -583,7 +682,26 @@ impl<'a, C: Chapters> Tracer<'a, C> {
                 delta: true,
             });
         }
-        let object = self.stage.emitters[choice - lights.len()] as usize;
+        let beams = &self.stage.scene.beams;
+        if let Some(beam) = beams.get(choice - lights.len()) {
+            // The beam's light arrives along its direction, from the point
+            // of its disk straight upstream of `origin`.
+            let upstream = (origin - beam.position).dot(beam.direction);
+            let source = origin - upstream * beam.direction;
+            if !(upstream > 0.0)
+                || (source - beam.position).length_squared() > beam.radius * beam.radius
+            {
+                return None;
+            }
+            return Some(LightSample {
+                position: origin - (1.0 - SHADOW_EPSILON) * upstream * beam.direction,
+                direction: -beam.direction,
+                light: beam.irradiance(),
+                pdf: chosen,
+                delta: true,
+            });
+        }
+        let object = self.stage.emitters[choice - lights.len() - beams.len()] as usize;
         let shape = &self.stage.shapes[object];
         let (point, normal, area) = point_on(shape, u, v)?;
         let to_light = point - origin;
@@ -637,10 +755,162 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         weight: f32,
         arrival: Arrival,
     ) -> Traced {
+        let arrival = match (self.arrival, arrival) {
+            // The ray leaves the camera's first point: whether it scattered
+            // there decides who counts the caustics beyond (chapter 14).
+            (Arrival::Camera, _) => {
+                self.first_point_scatters = matches!(arrival, Arrival::Scattered { .. });
+                arrival
+            }
+            (_, Arrival::Specular)
+                if self.first_point_scatters && self.stage.effects.light_tracing =>
+            {
+                Arrival::Caustic
+            }
+            _ => arrival,
+        };
         let outer = std::mem::replace(&mut self.arrival, arrival);
         let traced = self.trace_in(media, kind, ray, depth, weight);
         self.arrival = outer;
         traced
+    }
+
+    /// The camera (chapter 14 joins lit points to it).
+    pub fn camera(&self) -> &Camera {
+        &self.stage.camera
+    }
+
+    /// The wavelength of the current path in nanometres, once it has met a
+    /// dispersive surface (chapter 14).
+    pub fn wavelength(&self) -> Option<f32> {
+        self.wavelength
+    }
+
+    /// Fixes the wavelength of the current path (chapter 14): it keeps it
+    /// until the path ends.
+    pub fn set_wavelength(&mut self, nanometres: f32) {
+        self.wavelength = Some(nanometres);
+    }
+
+    /// A light chosen at random and a ray of light leaving it (chapter
+    /// 14): each light with the same chance; from a point light in a
+    /// direction uniform over the sphere, from a beam at a point uniform
+    /// over its disk along its direction, from an emitter at a point
+    /// uniform over its area, on either face, cosine-distributed about
+    /// that face's normal (chapter 13's `cosine_hemisphere`). `power` is
+    /// the light it carries: what the light gives off divided by the
+    /// density of having chosen this ray, so that the mean over many rays
+    /// is the lights' total power. `None` when the scene has no light.
+    pub fn emit(&mut self) -> Option<Emitted> {
+        use std::f32::consts::PI;
+        let count = self.light_count();
+        if count == 0 {
+            return None;
+        }
+        let choice = ((self.random() * count as f32) as usize).min(count - 1);
+        let count = count as f32;
+        let (u, v) = (self.random(), self.random());
+        let scene = self.stage.scene;
+        if let Some(light) = scene.lights.get(choice) {
+            let z = 1.0 - 2.0 * u;
+            let ring = (1.0 - z * z).max(0.0).sqrt();
+            let (sin, cos) = (2.0 * PI * v).sin_cos();
+            return Some(Emitted {
+                ray: Ray::new(light.position, Vec3::new(ring * cos, ring * sin, z)),
+                power: light.radiance() * (4.0 * PI * count),
+            });
+        }
+        if let Some(beam) = scene.beams.get(choice - scene.lights.len()) {
+            let radius = beam.radius * u.sqrt();
+            let (sin, cos) = (2.0 * PI * v).sin_cos();
+            let across = crate::bsdf::to_world(
+                beam.direction,
+                Vec3::new(radius * cos, radius * sin, 0.0),
+            );
+            return Some(Emitted {
+                ray: Ray::new(beam.position + across, beam.direction),
+                power: beam.irradiance() * (PI * beam.radius * beam.radius * count),
+            });
+        }
+        let object =
+            self.stage.emitters[choice - scene.lights.len() - scene.beams.len()] as usize;
+        let (point, normal, area) = point_on(&self.stage.shapes[object], u, v)?;
+        let face = if self.random() < 0.5 { normal } else { -normal };
+        let local = C::cosine_hemisphere(self.random(), self.random());
+        let direction = crate::bsdf::to_world(face, local);
+        let surface = SurfacePoint {
+            point,
+            normal,
+            error: point.abs() * (crate::shapes::SURFACE_ERROR_EPSILONS * f32::EPSILON),
+        };
+        let material = &scene.objects[self.stage.owners[object] as usize].material;
+        Some(Emitted {
+            ray: Ray::new(self.offset_origin(&surface, direction), direction),
+            // Le cos / (cos / pi * 1 / area * 1 / 2 * 1 / count).
+            power: material.emission * (2.0 * PI * area * count),
+        })
+    }
+
+    /// Traces a ray of a light path travelling inside `media` (chapter
+    /// 14): the point it meets, as a camera path would see it, and how far
+    /// it went. The tracer then knows the media of that ray, for the
+    /// surface's scattering (`Lobe::scatter`).
+    pub fn trace_light(&mut self, media: &MediumStack, ray: &Ray) -> Option<LightHit<'a>> {
+        self.media = *media;
+        let Hit { object, t } = self.find(RayKind::Light, ray)?;
+        Some(LightHit {
+            point: self.hit_point(object, ray, t),
+            distance: t * ray.dir.length(),
+        })
+    }
+
+    /// Whether something lies between `point` and the camera (chapter 14):
+    /// a ray toward the camera from chapter 4's offset origin, stopped
+    /// short of the camera by [`SHADOW_EPSILON`] of the way.
+    pub fn blocked_from_camera(&mut self, point: &HitPoint) -> bool {
+        let to_camera = self.stage.camera.origin() - point.surface.point;
+        let origin = self.offset_origin(&point.surface, to_camera);
+        let ray = Ray::new(origin, self.stage.camera.origin() - origin);
+        self.log(RayKind::ToCamera, &ray, 0.0, 1.0 - SHADOW_EPSILON);
+        let blocker = match &self.stage.bvh {
+            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, &ray, 0.0, 1.0 - SHADOW_EPSILON),
+            None => self.objects.first_hit(&ray, 0.0, 1.0 - SHADOW_EPSILON),
+        };
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.met(blocker);
+        }
+        blocker.is_some()
+    }
+
+    /// Adds `light` to the pixel at image point `(x, y)` (in pixels from
+    /// the top-left corner, as [`Camera::project`] gives it), for chapter
+    /// 14's light paths: the renderer divides it by the number of paths.
+    /// A point outside the image, or light that is not finite, adds
+    /// nothing (the latter counted as a non-finite sample).
+    pub fn splat(&mut self, x: f32, y: f32, light: Vec3) {
+        let (width, height) = (self.stage.settings.width, self.stage.settings.height);
+        if !(x >= 0.0 && y >= 0.0 && x < width as f32 && y < height as f32) {
+            return;
+        }
+        if !light.is_finite() {
+            self.counts.non_finite_samples += 1;
+            return;
+        }
+        let index = (y as u32).min(height - 1) * width + (x as u32).min(width - 1);
+        self.counts.splats += 1;
+        self.splats.push((index, light));
+    }
+
+    /// Traces light path number `index` of the image (chapter 14), with
+    /// its own stream of random numbers, and hands back what it splatted.
+    fn light_path(&mut self, index: u64) {
+        self.random_key = mix64(self.stage.settings.seed ^ mix64(index ^ LIGHT_PATH_STREAM));
+        self.random_index = 0;
+        self.arrival = Arrival::Camera;
+        self.wavelength = None;
+        self.media = MediumStack::EMPTY;
+        self.counts.light_paths += 1;
+        C::trace_light_path(self);
     }
 
     /// The scene's point lights.
@@ -781,21 +1051,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         if depth > DEPTH_LIMIT {
             return (Vec3::ZERO, None);
         }
-        self.log(kind, ray, 0.0, f32::INFINITY);
-        if let Some(recorder) = self.recorder.as_deref_mut() {
-            recorder.weighted(weight);
-        }
-        let hit = if let Some(bvh) = &self.stage.bvh {
-            C::nearest_hit_bvh(bvh, &self.objects, ray, 0.0, f32::INFINITY)
-        } else if self.stage.effects.nearest_hit {
-            C::nearest_hit(&self.objects, ray, 0.0, f32::INFINITY)
-        } else {
-            self.objects.first_hit(ray, 0.0, f32::INFINITY)
-        };
-        if let Some(recorder) = self.recorder.as_deref_mut() {
-            recorder.met(hit);
-        }
-        let Some(Hit { object, t }) = hit else {
+        let Some(Hit { object, t }) = self.find_weighted(kind, ray, Some(weight)) else {
             self.returned(self.stage.scene.background);
             return (self.stage.scene.background, None);
         };
@@ -823,6 +1079,34 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         (color, Some(t))
     }
 
+    /// What `ray`, a ray of `kind`, meets first: through chapter 11's tree,
+    /// chapter 3's nearest hit, or (before chapter 3) the first in list
+    /// order.
+    #[inline]
+    fn find(&mut self, kind: RayKind, ray: &Ray) -> Option<Hit> {
+        self.find_weighted(kind, ray, None)
+    }
+
+    /// [`Tracer::find`], telling the recorder the ray's share of the pixel.
+    #[inline]
+    fn find_weighted(&mut self, kind: RayKind, ray: &Ray, weight: Option<f32>) -> Option<Hit> {
+        self.log(kind, ray, 0.0, f32::INFINITY);
+        if let (Some(recorder), Some(weight)) = (self.recorder.as_deref_mut(), weight) {
+            recorder.weighted(weight);
+        }
+        let hit = if let Some(bvh) = &self.stage.bvh {
+            C::nearest_hit_bvh(bvh, &self.objects, ray, 0.0, f32::INFINITY)
+        } else if self.stage.effects.nearest_hit {
+            C::nearest_hit(&self.objects, ray, 0.0, f32::INFINITY)
+        } else {
+            self.objects.first_hit(ray, 0.0, f32::INFINITY)
+        };
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.met(hit);
+        }
+        hit
+    }
+
     #[inline]
     fn returned(&mut self, color: Vec3) {
         if let Some(recorder) = self.recorder.as_deref_mut() {
@@ -841,6 +1125,8 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         );
         self.random_index = 0;
         self.arrival = Arrival::Camera;
+        self.first_point_scatters = false;
+        self.wavelength = None;
         let color = self.trace(RayKind::Primary, &ray, 0, 1.0);
         if color.is_finite() {
             if self.stage.effects.path_tracing && color.max_element() > self.stage.firefly_bound {
@@ -885,6 +1171,43 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         }
     }
 }
+
+/// Mixed into a light path's number to key its random stream, so that no
+/// light path shares its numbers with a camera sample.
+const LIGHT_PATH_STREAM: u64 = 0x4C49_4748_545F_5041;
+
+/// A ray of light leaving a light (chapter 14), and the power it carries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Emitted {
+    pub ray: Ray,
+    /// The light's power divided by the density of having chosen this
+    /// ray: what the path carries until it meets something.
+    pub power: Vec3,
+}
+
+/// The point a ray of a light path met (chapter 14), and how far it went
+/// in the scene's units (for absorption).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightHit<'a> {
+    pub point: HitPoint<'a>,
+    pub distance: f32,
+}
+
+/// What chapter 14's light paths bring to the image: per pixel, row by row,
+/// linear light to add to the camera's estimate; and the rays they cast.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LightImage {
+    pub pixels: Vec<Vec3>,
+    pub counts: RayCounts,
+}
+
+/// Light paths traced by one tracer before its splats are handed back.
+const LIGHT_CHUNK: u64 = 1024;
+
+/// Chunks traced together (in parallel) before their splats are added to
+/// the image in chunk order: the memory a batch holds stays bounded, and
+/// the sum is the same on any number of threads.
+const LIGHT_BATCH: u64 = 64;
 
 /// SplitMix64's finaliser: every output bit depends on every input bit.
 fn mix64(mut z: u64) -> u64 {
@@ -1036,6 +1359,8 @@ pub fn render_stage<C: Chapters>(
 ) -> Result<Rendered, RenderError> {
     let start = Instant::now();
     let (width, height) = (stage.settings.width, stage.settings.height);
+    // Before the rows, which all read it.
+    let light_counts = stage.light_image().map(|light| light.counts);
     let mut rgb = vec![0u8; width as usize * height as usize * 3];
     let rays = rgb
         .par_chunks_mut(width as usize * 3)
@@ -1047,7 +1372,8 @@ pub fn render_stage<C: Chapters>(
             }
             counts
         })
-        .reduce(RayCounts::default, RayCounts::add);
+        .reduce(RayCounts::default, RayCounts::add)
+        .add(light_counts.unwrap_or_default());
     Ok(Rendered {
         width,
         height,
@@ -1090,7 +1416,11 @@ impl<C: Chapters> RowRenderer for Stage<'_, C> {
         }
         let row_bytes = width as usize * 3;
         let mut rgb = vec![0u8; row_bytes * rows.len()];
-        let mut counts = RayCounts::default();
+        // The light paths' rays are counted once, with the first row.
+        let mut counts = match self.light_image() {
+            Some(light) if rows.start == 0 => light.counts,
+            _ => RayCounts::default(),
+        };
         for (row, y) in rgb.chunks_exact_mut(row_bytes).zip(rows) {
             counts = counts.add(render_row(self, y, row));
         }
@@ -1134,6 +1464,7 @@ pub fn row_renderer<'a, C: Chapters>(
 /// rays it cast.
 fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayCounts {
     let mut tracer = stage.tracer(None);
+    let light = stage.light_image();
     let (evaluations, marches) = (
         crate::shapes::evaluations(),
         crate::shapes::march_histogram(),
@@ -1141,7 +1472,10 @@ fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayC
     let mut self_shadowed_pixels = 0;
     for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
         let self_shadowed_before = tracer.counts.self_shadow_hits;
-        let color = tracer.pixel(x as u32, y);
+        let mut color = tracer.pixel(x as u32, y);
+        if let Some(light) = light {
+            color += light.pixels[(y * stage.settings.width) as usize + x];
+        }
         if tracer.counts.self_shadow_hits > self_shadowed_before {
             self_shadowed_pixels += 1;
         }

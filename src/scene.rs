@@ -430,6 +430,8 @@ pub struct RenderSettings {
     /// Effects of the chapter's stage not to simulate (`without =
     /// ["reflection"]`): what the image is without them.
     pub without: SwitchedOff,
+    /// Chapter 14: paths traced from the lights, per pixel of the image.
+    pub light_paths: u32,
 }
 
 /// The effects a stage can be asked to leave out, each by its name in
@@ -441,7 +443,7 @@ pub struct SwitchedOff(u32);
 
 impl SwitchedOff {
     /// Every effect that can be switched off, in chapter order.
-    pub const NAMES: [&'static str; 17] = [
+    pub const NAMES: [&'static str; 19] = [
         "planes",
         "spheres",
         "nearest-hit",
@@ -459,6 +461,8 @@ impl SwitchedOff {
         "next-event",
         "mis",
         "russian-roulette",
+        "light-tracing",
+        "dispersion",
     ];
 
     /// The set of the effects named, or the name that is not one.
@@ -570,6 +574,7 @@ impl Default for RenderSettings {
             normals: NormalMethod::Analytic,
             normal_step: March::default().normal_step,
             without: SwitchedOff::default(),
+            light_paths: 16,
         }
     }
 }
@@ -592,6 +597,20 @@ pub enum SettingsError {
         width: u32,
         height: u32,
         samples: u32,
+        total: u64,
+    },
+    #[error(
+        "light_paths = {light_paths}: light paths per pixel must be between 1 and {MAX_SAMPLES}"
+    )]
+    LightPaths { light_paths: u32 },
+    #[error(
+        "{width}x{height} at {light_paths} light paths per pixel is {total} paths: at most \
+         {MAX_IMAGE_SAMPLES} per image; lower the resolution or the light paths"
+    )]
+    ImageLightPaths {
+        width: u32,
+        height: u32,
+        light_paths: u32,
         total: u64,
     },
     #[error(
@@ -640,6 +659,7 @@ impl RenderSettings {
             normal_step,
             // Any set of effects may be left out.
             without: _,
+            light_paths,
         } = *self;
         if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(SettingsError::Side { width, height });
@@ -657,6 +677,18 @@ impl RenderSettings {
                 height,
                 samples,
                 total,
+            });
+        }
+        if light_paths == 0 || light_paths > MAX_SAMPLES {
+            return Err(SettingsError::LightPaths { light_paths });
+        }
+        let light_total = u64::from(width) * u64::from(height) * u64::from(light_paths);
+        if light_total > MAX_IMAGE_SAMPLES {
+            return Err(SettingsError::ImageLightPaths {
+                width,
+                height,
+                light_paths,
+                total: light_total,
             });
         }
         if sampling.needs_square_count() {

@@ -118,6 +118,9 @@ pub fn shade_path<C: Chapters>(
                 C::power_heuristic(pdf, tracer.light_pdf(point))
             }
             Arrival::Scattered { .. } => 0.0,
+            // A caustic seen on the camera's first point: chapter 14's
+            // light paths bring it.
+            Arrival::Caustic => 0.0,
         };
         color += counted * emission;
     }

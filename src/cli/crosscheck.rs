@@ -443,13 +443,16 @@ mod with_embree {
     }
 
     fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {
-        let [primary, shadow, reflection, refraction, bounce] = tally.by_kind;
-        // Bounce rays exist only where the stage traces paths (chapter 13).
-        let bounces = if stage.effects.path_tracing {
-            format!(", {bounce} bounce")
-        } else {
-            String::new()
-        };
+        let [primary, shadow, reflection, refraction, bounce, light, to_camera] = tally.by_kind;
+        // Bounce rays exist only where the stage traces paths (chapter 13),
+        // light paths only from chapter 14.
+        let mut bounces = String::new();
+        if stage.effects.path_tracing {
+            bounces += &format!(", {bounce} bounce");
+        }
+        if stage.effects.light_tracing {
+            bounces += &format!(", {light} light, {to_camera} to camera");
+        }
         println!(
             "rays compared: {} ({primary} primary, {shadow} shadow, {reflection} reflection, \
              {refraction} refraction{bounces})",
@@ -514,6 +517,8 @@ mod with_embree {
             RayKind::Reflection => "reflection",
             RayKind::Refraction => "refraction",
             RayKind::Bounce => "bounce",
+            RayKind::Light => "light",
+            RayKind::ToCamera => "to camera",
         };
         let answer = |answer: Option<Answer>| match answer {
             Some(hit) => format!("{:?} t={:e}", stage.name(hit.object).unwrap_or("?"), hit.t),
