@@ -214,10 +214,22 @@ fn through_glass<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> Scatt
             C::fresnel(cos_i, crossing.n1, crossing.n2)
         }
     };
+    // Radiance crossing into a denser medium is squeezed into a narrower
+    // cone: `L / n^2` is what a lossless crossing keeps (the radiance
+    // theorem), so the light a camera path sees through a crossing from
+    // `n1` (its side) into `n2` is `(n1 / n2)^2` of what arrives. A light
+    // path carries power, which a crossing keeps whole (Veach's thesis,
+    // section 5.2; pbrt-v4's `TransportMode`). Through a closed solid the
+    // two crossings cancel, but not for a light inside glass.
+    let squeeze = if tracer.from_light() {
+        1.0
+    } else {
+        (crossing.n1 / crossing.n2).powi(2)
+    };
     match refracted {
         Some(direction) if tracer.random() >= reflectance => Scattered {
             direction,
-            weight: point.material.color * tint,
+            weight: point.material.color * tint * squeeze,
             kind: RayKind::Refraction,
             arrival: Arrival::Specular,
             media: crossing.beyond,

@@ -433,6 +433,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             arrival: Arrival::Camera,
             first_point_scatters: false,
             wavelength: None,
+            from_light: false,
             splats: Vec::new(),
             random_key: 0,
             random_index: 0,
@@ -520,6 +521,9 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     /// The wavelength of the current path, in nanometres, once it has met
     /// a dispersive surface (chapter 14).
     wavelength: Option<f32>,
+    /// Whether the current path started at a light (chapter 14) rather
+    /// than at the camera.
+    from_light: bool,
     /// What the current light paths brought to which pixel (chapter 14):
     /// the pixel's index and the light, before dividing by the number of
     /// paths.
@@ -780,6 +784,12 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         &self.stage.camera
     }
 
+    /// Whether the current path started at a light (chapter 14's light
+    /// paths carry power, not radiance: see `bsdf`'s refraction).
+    pub fn from_light(&self) -> bool {
+        self.from_light
+    }
+
     /// The wavelength of the current path in nanometres, once it has met a
     /// dispersive surface (chapter 14).
     pub fn wavelength(&self) -> Option<f32> {
@@ -908,6 +918,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         self.random_index = 0;
         self.arrival = Arrival::Camera;
         self.wavelength = None;
+        self.from_light = true;
         self.media = MediumStack::EMPTY;
         self.counts.light_paths += 1;
         C::trace_light_path(self);
@@ -1127,6 +1138,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         self.arrival = Arrival::Camera;
         self.first_point_scatters = false;
         self.wavelength = None;
+        self.from_light = false;
         let color = self.trace(RayKind::Primary, &ray, 0, 1.0);
         if color.is_finite() {
             if self.stage.effects.path_tracing && color.max_element() > self.stage.firefly_bound {

@@ -21,6 +21,8 @@ pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, Tree
 pub use super::cases::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase, inside_sphere,
 };
+pub use super::cases::{LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase};
+pub use crate::scene::Cauchy;
 pub use super::cases::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
     surface_of,

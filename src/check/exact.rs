@@ -528,3 +528,106 @@ impl Xorshift {
 
 #[cfg(test)]
 mod tests;
+
+/// Chapter 14: what a unit of radiance leaving a point toward a pinhole
+/// camera adds to its pixel, per unit of the point's area: the solid angle
+/// the area covers, `cos_surface / distance^2`, over the solid angle of the
+/// pixel's square, `pixel_area cos_camera^3` (0 where no pixel sees it).
+pub fn splat_weight(cos_surface: f64, cos_camera: f64, distance: f64, pixel_area: f64) -> f64 {
+    let pixel = pixel_area * cos_camera.powi(3);
+    if !(pixel > 0.0 && distance > 0.0 && cos_surface > 0.0) {
+        return 0.0;
+    }
+    (cos_surface / (distance * distance)) / pixel
+}
+
+/// Chapter 14: Cauchy's index `a + b / lambda^2`, `lambda` in micrometres.
+pub fn cauchy(a: f64, b: f64, nanometres: f64) -> f64 {
+    let micrometres = nanometres * 1e-3;
+    a + b / (micrometres * micrometres)
+}
+
+/// Chapter 14: the smallest deviation, in radians, of a ray through a
+/// prism of apex angle `apex` (radians) and index `n` in air, in closed
+/// form: at the minimum the ray crosses the prism symmetrically, meeting
+/// both faces at `apex / 2` from their normals inside, so Snell's law at
+/// the first face gives `sin((deviation + apex) / 2) = n sin(apex / 2)`.
+pub fn prism_minimum_deviation(n: f64, apex: f64) -> f64 {
+    2.0 * (n * (apex / 2.0).sin()).asin() - apex
+}
+
+/// The unpolarised Fresnel reflectance of a dielectric boundary for light
+/// meeting it at `cos_i` from index `n1` into `n2`: the mean of the s and
+/// p amplitudes squared (Born and Wolf); 1 under total internal
+/// reflection.
+pub fn fresnel(cos_i: f64, n1: f64, n2: f64) -> f64 {
+    let sin_t = n1 / n2 * (1.0 - cos_i * cos_i).max(0.0).sqrt();
+    if sin_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin_t * sin_t).sqrt();
+    let s = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let p = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    (s * s + p * p) / 2.0
+}
+
+/// Chapter 14's lens: a ray parallel to the axis at height `height` through
+/// a glass ball of index `n` and radius `radius` centred on the axis, in
+/// the plane that holds them both: where it crosses the screen square to
+/// the axis at `screen` past the centre (its signed height there), and the
+/// share of its light that came through both surfaces (Fresnel, the ray
+/// refracted twice). Snell's law in closed form: the ray meets the ball at
+/// `sin(i) = height / radius`, bends to `sin(r) = sin(i) / n`, crosses a
+/// chord `2 radius cos(r)` and leaves turned by `2 (i - r)` in all.
+pub fn ball_lens_ray(n: f64, radius: f64, height: f64, screen: f64) -> (f64, f64) {
+    let incidence = (height / radius).asin();
+    let refracted = (incidence.sin() / n).asin();
+    let turn = incidence - refracted;
+    let entry = (height, -(radius * radius - height * height).sqrt());
+    let chord = 2.0 * radius * refracted.cos();
+    let exit = (entry.0 - chord * turn.sin(), entry.1 + chord * turn.cos());
+    let (across, along) = (-(2.0 * turn).sin(), (2.0 * turn).cos());
+    let crossed = exit.0 + (screen - exit.1) / along * across;
+    let through = (1.0 - fresnel(incidence.cos(), 1.0, n))
+        * (1.0 - fresnel(refracted.cos(), n, 1.0));
+    (crossed, through)
+}
+
+/// Chapter 14's lens: the irradiance at distance `rho` from the axis on the
+/// screen at `screen`, as a multiple of the irradiance of the parallel beam
+/// of radius `beam` that enters the ball of [`ball_lens_ray`], counting the
+/// light refracted twice. The ring of heights `h .. h + dh` of the beam
+/// (area `2 pi h dh`) lands on the ring `rho .. rho + drho` of the screen
+/// (area `2 pi rho drho`): the ratio is `through(h) h / (rho |drho / dh|)`,
+/// summed over every height that lands at `rho` (found on a fine grid, then
+/// by bisection).
+pub fn ball_lens_irradiance(n: f64, radius: f64, beam: f64, screen: f64, rho: f64) -> f64 {
+    let landing = |height: f64| ball_lens_ray(n, radius, height, screen).0.abs() - rho;
+    let steps = 4096;
+    let mut total = 0.0;
+    for step in 0..steps {
+        let (mut low, mut high) = (
+            beam * step as f64 / steps as f64,
+            beam * (step + 1) as f64 / steps as f64,
+        );
+        if landing(low).signum() == landing(high).signum() {
+            continue;
+        }
+        for _ in 0..60 {
+            let middle = (low + high) / 2.0;
+            if landing(middle).signum() == landing(low).signum() {
+                low = middle;
+            } else {
+                high = middle;
+            }
+        }
+        let height = (low + high) / 2.0;
+        let delta = 1e-6 * beam;
+        let slope = (ball_lens_ray(n, radius, height + delta, screen).0
+            - ball_lens_ray(n, radius, height - delta, screen).0)
+            / (2.0 * delta);
+        let through = ball_lens_ray(n, radius, height, screen).1;
+        total += through * height / (rho * slope.abs());
+    }
+    total
+}

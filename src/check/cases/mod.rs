@@ -11,6 +11,7 @@ mod directions;
 mod implicit;
 mod inputs;
 mod intersections;
+mod light_paths;
 mod paths;
 mod sampling;
 mod shading;
@@ -25,6 +26,10 @@ pub use implicit::{
 };
 pub use inputs::{num, num64, vec};
 pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
+pub use light_paths::{
+    LENS_ALLOWANCE, LensCase, LightConvergesCase, LightFormula, LightFormulaCase,
+    PRISM_TOLERANCE_DEGREES, PrismCase, linear_image,
+};
 pub use paths::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, FALSE_ALARM, PathFormula, PathFormulaCase,
     STATISTICAL_CASES, cosine_fit, inside_sphere, mean_and_error, pearson, stream, z_threshold,
@@ -161,6 +166,10 @@ pub enum CaseKind {
     CosineSample(CosineSampleCase),
     PathFormula(PathFormulaCase),
     Converges(ConvergesCase),
+    LightFormula(LightFormulaCase),
+    LightConverges(LightConvergesCase),
+    Lens(LensCase),
+    Prism(PrismCase),
 }
 
 impl CaseKind {
@@ -196,6 +205,10 @@ impl CaseKind {
             CaseKind::CosineSample(case) => case.function(),
             CaseKind::PathFormula(case) => case.function(),
             CaseKind::Converges(case) => case.function(),
+            CaseKind::LightFormula(case) => case.function(),
+            CaseKind::LightConverges(case) => case.function(),
+            CaseKind::Lens(case) => case.function(),
+            CaseKind::Prism(case) => case.function(),
         }
     }
 
@@ -231,6 +244,10 @@ impl CaseKind {
             CaseKind::CosineSample(case) => case.inputs(),
             CaseKind::PathFormula(case) => case.inputs(),
             CaseKind::Converges(case) => case.inputs(),
+            CaseKind::LightFormula(case) => case.inputs(),
+            CaseKind::LightConverges(case) => case.inputs(),
+            CaseKind::Lens(case) => case.inputs(),
+            CaseKind::Prism(case) => case.inputs(),
         }
     }
 
@@ -267,6 +284,10 @@ impl CaseKind {
             CaseKind::CosineSample(case) => case.evaluate::<C>(robust),
             CaseKind::PathFormula(case) => case.evaluate::<C>(robust),
             CaseKind::Converges(case) => case.evaluate::<C>(robust),
+            CaseKind::LightFormula(case) => case.evaluate::<C>(robust),
+            CaseKind::LightConverges(case) => case.evaluate::<C>(robust),
+            CaseKind::Lens(case) => case.evaluate::<C>(robust),
+            CaseKind::Prism(case) => case.evaluate::<C>(robust),
         }
     }
 }
