@@ -97,9 +97,11 @@ impl Lobe {
         }
         match *self {
             Lobe::Diffuse { albedo } => albedo / PI,
+            // `libm`'s powers and sines throughout, not the platform's: the
+            // same bits on every machine and in the browser page.
             Lobe::Glossy { albedo, exponent } => {
                 let cos_alpha = mirrored(point).dot(to_light).max(0.0);
-                albedo * ((exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(exponent))
+                albedo * ((exponent + 2.0) / (2.0 * PI) * libm::powf(cos_alpha, exponent))
             }
             Lobe::Mirror { .. } | Lobe::Glass => Vec3::ZERO,
         }
@@ -112,7 +114,7 @@ impl Lobe {
             Lobe::Diffuse { .. } => C::cosine_pdf(point.normal.dot(direction)),
             Lobe::Glossy { exponent, .. } => {
                 let cos_alpha = mirrored(point).dot(direction).max(0.0);
-                (exponent + 1.0) / (2.0 * PI) * cos_alpha.powf(exponent)
+                (exponent + 1.0) / (2.0 * PI) * libm::powf(cos_alpha, exponent)
             }
             Lobe::Mirror { .. } | Lobe::Glass => 0.0,
         }
@@ -147,9 +149,9 @@ impl Lobe {
             }
             Lobe::Glossy { exponent, .. } => {
                 // cos(alpha) = u^(1 / (n + 1)) has the density of cos^n.
-                let cos_alpha = tracer.random().powf(1.0 / (exponent + 1.0));
+                let cos_alpha = libm::powf(tracer.random(), 1.0 / (exponent + 1.0));
                 let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
-                let (sin, cos) = (2.0 * PI * tracer.random()).sin_cos();
+                let (sin, cos) = libm::sincosf(2.0 * PI * tracer.random());
                 let local = Vec3::new(sin_alpha * cos, sin_alpha * sin, cos_alpha);
                 let direction = to_world(mirrored(point), local);
                 let cosine = point.normal.dot(direction);

@@ -821,10 +821,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         let count = count as f32;
         let (u, v) = (self.random(), self.random());
         let scene = self.stage.scene;
+        // `libm`'s sines: the same bits on every machine and in the browser.
         if let Some(light) = scene.lights.get(choice) {
             let z = 1.0 - 2.0 * u;
             let ring = (1.0 - z * z).max(0.0).sqrt();
-            let (sin, cos) = (2.0 * PI * v).sin_cos();
+            let (sin, cos) = libm::sincosf(2.0 * PI * v);
             return Some(Emitted {
                 ray: Ray::new(light.position, Vec3::new(ring * cos, ring * sin, z)),
                 power: light.radiance() * (4.0 * PI * count),
@@ -832,7 +833,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         }
         if let Some(beam) = scene.beams.get(choice - scene.lights.len()) {
             let radius = beam.radius * u.sqrt();
-            let (sin, cos) = (2.0 * PI * v).sin_cos();
+            let (sin, cos) = libm::sincosf(2.0 * PI * v);
             let across = crate::bsdf::to_world(
                 beam.direction,
                 Vec3::new(radius * cos, radius * sin, 0.0),
@@ -1262,7 +1263,7 @@ fn point_on(shape: &Shape, u: f32, v: f32) -> Option<(Vec3, Vec3, f32)> {
         Shape::Sphere(sphere) => {
             let z = 1.0 - 2.0 * u;
             let ring = (1.0 - z * z).max(0.0).sqrt();
-            let (sin, cos) = (2.0 * std::f32::consts::PI * v).sin_cos();
+            let (sin, cos) = libm::sincosf(2.0 * std::f32::consts::PI * v);
             let normal = Vec3::new(ring * cos, ring * sin, z);
             Some((sphere.center() + sphere.radius() * normal, normal, area))
         }

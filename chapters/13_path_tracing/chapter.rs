@@ -15,7 +15,9 @@ pub const ROULETTE_FROM_DEPTH: u32 = 3;
 /// density `cos(theta) / pi` per unit solid angle.
 pub fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
     let radius = u.sqrt();
-    let (sin, cos) = (2.0 * PI * v).sin_cos();
+    // `libm`'s sine and cosine, not the platform's: the same bits on every
+    // machine and in the browser page's WebAssembly.
+    let (sin, cos) = libm::sincosf(2.0 * PI * v);
     let (x, y) = (radius * cos, radius * sin);
     Vec3::new(x, y, (1.0 - u).max(0.0).sqrt())
 }
