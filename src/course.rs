@@ -663,6 +663,10 @@ impl<'a, C: Chapters> Objects<'a, C> {
 pub struct HitPoint<'a> {
     /// The object hit (an index into the tracer's objects).
     pub object: usize,
+    /// The solid the object is part of, for chapter 9's media: the scene's
+    /// object it belongs to, so that every triangle of a glass mesh is one
+    /// solid, entered by one triangle and left by another.
+    pub solid: usize,
     /// The ray that arrived here.
     pub ray: Ray,
     /// Where, exactly, with its error bound and the geometric normal.
@@ -694,6 +698,7 @@ impl<'a> HitPoint<'a> {
         let from_outside = surface.normal.dot(to_eye) >= 0.0;
         HitPoint {
             object,
+            solid: object,
             ray: *ray,
             surface,
             material,
@@ -722,6 +727,13 @@ impl<'a> HitPoint<'a> {
         } else {
             -normal
         };
+        self
+    }
+
+    /// The point as part of the solid `solid` (a triangle of a mesh is part
+    /// of the mesh: see [`HitPoint::solid`]).
+    pub fn with_solid(mut self, solid: usize) -> HitPoint<'a> {
+        self.solid = solid;
         self
     }
 

@@ -30,7 +30,8 @@ use crate::Vec3;
 /// A medium: the solid it fills, its index of refraction and absorption.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Medium {
-    /// The object (an index into the tracer's objects), or [`Medium::OUTSIDE`].
+    /// The solid it fills (a [`crate::HitPoint::solid`]: the scene's
+    /// object, so a whole mesh is one solid), or [`Medium::OUTSIDE`].
     pub object: usize,
     pub ior: f32,
     /// Beer-Lambert absorption per unit length, per channel.

@@ -568,8 +568,9 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     #[inline]
     pub fn hit_point(&self, object: usize, ray: &Ray, t: f32) -> HitPoint<'a> {
         let shape = &self.stage.shapes[object];
-        let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
-        let point = HitPoint::new(object, shape, material, ray, t);
+        let owner = self.stage.owners[object] as usize;
+        let material = &self.stage.scene.objects[owner].material;
+        let point = HitPoint::new(object, shape, material, ray, t).with_solid(owner);
         if self.stage.effects.smooth_shading && shape.is_triangle() {
             self.smoothed(point, shape)
         } else if self.stage.effects.implicit {

@@ -128,18 +128,19 @@ pub fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
 /// whatever is current once the solid is removed. So water inside glass is
 /// crossed with `n1 / n2 = 1.33 / 1.5`, not `1.33 / 1`. A ray leaving a
 /// solid it was never seen entering (a camera under water) was inside it
-/// all along.
+/// all along. The solid is `point.solid`, not `point.object`: a glass mesh
+/// is entered through one triangle and left through another.
 pub fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
     let solid = Medium {
-        object: point.object,
+        object: point.solid,
         ior: point.material.ior,
         absorption: point.material.absorption,
     };
     let entering = point.ray.dir.dot(point.surface.normal) < 0.0;
-    let outside = media.leaving(point.object);
+    let outside = media.leaving(point.solid);
     let (before, beyond) = if entering {
         (outside, outside.entering(solid))
-    } else if media.contains(point.object) {
+    } else if media.contains(point.solid) {
         (*media, outside)
     } else {
         (media.entering(solid), *media)

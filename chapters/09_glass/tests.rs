@@ -50,6 +50,44 @@ fn clear_channels_transmit_everything_even_for_ever() {
     assert_eq!(transmittance(Vec3::splat(3.0), 0.0), Vec3::ONE);
 }
 
+/// A ray through a glass slab made of triangles (a cuboid: twelve of
+/// them) enters through one triangle and leaves through another, and must
+/// leave glass for air there: the solid is the mesh, not the triangle.
+#[test]
+fn a_glass_mesh_is_one_solid_entered_by_one_triangle_and_left_by_another() {
+    use raylab::Reference;
+    let scene = raylab::Scene::parse(
+        r#"
+[camera]
+position = [0.0, 0.0, -5.0]
+look_at = [0.0, 0.0, 0.0]
+[[objects]]
+name = "slab"
+cuboid = { min = [-1.0, -1.0, -0.1], max = [1.0, 1.0, 0.1] }
+material = { transparency = 1.0, ior = 1.5, fresnel = "exact" }
+"#,
+        "a test",
+    )
+    .expect("the scene parses");
+    // Chapter 10 draws the triangles.
+    let stage = raylab::Stage::<Reference>::with_chapters(&scene, 10, scene.render).expect("stage");
+    let mut tracer = stage.tracer(None);
+    let incoming = Ray::new(Vec3::new(0.3, 0.2, -2.0), Vec3::new(0.3, 0.1, 1.0));
+    let hit = stage.nearest_hit(&incoming, 0.0, f32::INFINITY).expect("the slab");
+    let entry = tracer.hit_point(hit.object, &incoming, hit.t);
+    let into = crossing(&MediumStack::EMPTY, &entry);
+    assert_eq!((into.n1, into.n2), (1.0, 1.5));
+    let inside = Ray::new(
+        entry.surface.point + 1e-3 * incoming.dir,
+        raylab::refract(incoming.dir, entry.normal, 1.0 / 1.5).expect("a refraction"),
+    );
+    let hit = stage.nearest_hit(&inside, 0.0, f32::INFINITY).expect("the far face");
+    let exit = tracer.hit_point(hit.object, &inside, hit.t);
+    assert_ne!(exit.object, entry.object, "another triangle");
+    let out = crossing(&into.beyond, &exit);
+    assert_eq!((out.n1, out.n2), (1.5, 1.0));
+}
+
 // The bug gallery and the accepted alternatives of this chapter.
 #[path = "gallery.rs"]
 mod gallery;

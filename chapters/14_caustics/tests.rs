@@ -323,3 +323,4 @@ fn cauchy_gives_bk7_its_catalogue_index() {
     assert!((cauchy_ior(&bk7, 587.56) - 1.5168).abs() < 2e-4);
     assert!(cauchy_ior(&bk7, 450.0) > cauchy_ior(&bk7, 650.0));
 }
+

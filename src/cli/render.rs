@@ -111,10 +111,16 @@ pub struct SettingsOverrides {
     pub epsilon: Option<f32>,
     /// Effects of the chapter's stage to leave out, by name, comma-separated
     /// (planes, spheres, nearest-hit, lighting, phong, reflection, antialiasing,
-    /// refraction, nested-media, triangles, smooth-shading, bvh, implicit):
-    /// the image without them [default: the scene's `without`, else none].
+    /// refraction, nested-media, triangles, smooth-shading, bvh, implicit,
+    /// path-tracing, next-event, mis, russian-roulette, light-tracing,
+    /// dispersion): the image without them [default: the scene's `without`,
+    /// else none].
     #[arg(long, value_name = "EFFECTS", value_delimiter = ',', value_parser = parse_switched_off)]
     pub without: Option<Vec<crate::scene::SwitchedOff>>,
+    /// Paths traced from the lights per pixel, from chapter 14 on (caustics)
+    /// [default: the scene's, else 16].
+    #[arg(long, value_name = "PATHS")]
+    pub light_paths: Option<u32>,
     /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
     #[arg(long, value_parser = crate::cli::parse_threads)]
     pub threads: Option<usize>,
@@ -147,6 +153,7 @@ impl SettingsOverrides {
             fixed_epsilon: self.epsilon.unwrap_or(base.fixed_epsilon),
             triangle_test: self.triangle_test.unwrap_or(base.triangle_test),
             terminator: self.terminator.unwrap_or(base.terminator),
+            light_paths: self.light_paths.unwrap_or(base.light_paths),
             without: self.without.as_ref().map_or(base.without, |sets| {
                 sets.iter()
                     .fold(Default::default(), |all, set| all.union(*set))
@@ -260,6 +267,12 @@ impl SettingsOverrides {
             "--terminator".into(),
             10,
             "smooth-shaded triangles are drawn",
+        );
+        before(
+            self.light_paths.is_some(),
+            "--light-paths".into(),
+            14,
+            "paths are traced from the lights",
         );
         warnings
     }
