@@ -22,8 +22,8 @@ use crate::chapters::{
 };
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
-use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
 use crate::scene::Cauchy;
+use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
 use crate::{Material, Ray, Sampling, Vec3};
 
 /// Which object a ray met, and where along the ray.

@@ -835,17 +835,14 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         if let Some(beam) = scene.beams.get(choice - scene.lights.len()) {
             let radius = beam.radius * u.sqrt();
             let (sin, cos) = libm::sincosf(2.0 * PI * v);
-            let across = crate::bsdf::to_world(
-                beam.direction,
-                Vec3::new(radius * cos, radius * sin, 0.0),
-            );
+            let across =
+                crate::bsdf::to_world(beam.direction, Vec3::new(radius * cos, radius * sin, 0.0));
             return Some(Emitted {
                 ray: Ray::new(beam.position + across, beam.direction),
                 power: beam.irradiance() * (PI * beam.radius * beam.radius * count),
             });
         }
-        let object =
-            self.stage.emitters[choice - scene.lights.len() - scene.beams.len()] as usize;
+        let object = self.stage.emitters[choice - scene.lights.len() - scene.beams.len()] as usize;
         let (point, normal, area) = point_on(&self.stage.shapes[object], u, v)?;
         let face = if self.random() < 0.5 { normal } else { -normal };
         let local = C::cosine_hemisphere(self.random(), self.random());

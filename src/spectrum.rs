@@ -140,7 +140,10 @@ mod tests {
             sum += rgb_weight(wavelength_of(u)).as_dvec3();
         }
         let mean = sum / f64::from(steps);
-        assert!((mean - glam::DVec3::ONE).abs().max_element() < 1e-4, "{mean}");
+        assert!(
+            (mean - glam::DVec3::ONE).abs().max_element() < 1e-4,
+            "{mean}"
+        );
     }
 
     #[test]

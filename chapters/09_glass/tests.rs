@@ -71,9 +71,11 @@ material = { transparency = 1.0, ior = 1.5, fresnel = "exact" }
     .expect("the scene parses");
     // Chapter 10 draws the triangles.
     let stage = raylab::Stage::<Reference>::with_chapters(&scene, 10, scene.render).expect("stage");
-    let mut tracer = stage.tracer(None);
+    let tracer = stage.tracer(None);
     let incoming = Ray::new(Vec3::new(0.3, 0.2, -2.0), Vec3::new(0.3, 0.1, 1.0));
-    let hit = stage.nearest_hit(&incoming, 0.0, f32::INFINITY).expect("the slab");
+    let hit = stage
+        .nearest_hit(&incoming, 0.0, f32::INFINITY)
+        .expect("the slab");
     let entry = tracer.hit_point(hit.object, &incoming, hit.t);
     let into = crossing(&MediumStack::EMPTY, &entry);
     assert_eq!((into.n1, into.n2), (1.0, 1.5));
@@ -81,7 +83,9 @@ material = { transparency = 1.0, ior = 1.5, fresnel = "exact" }
         entry.surface.point + 1e-3 * incoming.dir,
         raylab::refract(incoming.dir, entry.normal, 1.0 / 1.5).expect("a refraction"),
     );
-    let hit = stage.nearest_hit(&inside, 0.0, f32::INFINITY).expect("the far face");
+    let hit = stage
+        .nearest_hit(&inside, 0.0, f32::INFINITY)
+        .expect("the far face");
     let exit = tracer.hit_point(hit.object, &inside, hit.t);
     assert_ne!(exit.object, entry.object, "another triangle");
     let out = crossing(&into.beyond, &exit);

@@ -113,7 +113,11 @@ fn a_point_light_in_glass_lights_the_wall_through_light_paths_alone() {
 
 #[test]
 fn an_area_light_in_glass_gives_the_same_light_with_and_without_light_paths() {
-    assert_converges_to(converges(area_light_in_glass(), &[], 1.0), 1.0, "light paths");
+    assert_converges_to(
+        converges(area_light_in_glass(), &[], 1.0),
+        1.0,
+        "light paths",
+    );
     // Chapter 13's camera paths find the lamp through the glass by chance:
     // the same mean, with far more noise. (It was 2.25 times too bright
     // before refraction scaled radiance by (n1 / n2)^2: the lamp shines
@@ -160,8 +164,8 @@ fn the_lens_brightens_its_caustic_as_geometry_says() {
         disk: 0.02,
         repetitions: 8,
     };
-    let outcome = Case::new("lens", "", "", crate::check::catalog::CaseKind::Lens(lens))
-        .run::<Reference>();
+    let outcome =
+        Case::new("lens", "", "", crate::check::catalog::CaseKind::Lens(lens)).run::<Reference>();
     assert_eq!(outcome, crate::check::cases::Outcome::Pass);
 }
 
@@ -176,9 +180,18 @@ fn the_prism_deviates_least_where_snell_says() {
             apex_degrees: 60.0,
             nanometres,
         };
-        let outcome = Case::new("prism", "", "", crate::check::catalog::CaseKind::Prism(prism))
-            .run::<Reference>();
-        assert_eq!(outcome, crate::check::cases::Outcome::Pass, "{nanometres} nm");
+        let outcome = Case::new(
+            "prism",
+            "",
+            "",
+            crate::check::catalog::CaseKind::Prism(prism),
+        )
+        .run::<Reference>();
+        assert_eq!(
+            outcome,
+            crate::check::cases::Outcome::Pass,
+            "{nanometres} nm"
+        );
     }
 }
 
@@ -274,7 +287,10 @@ fn lens_lit_by_a_lamp(samples: u32) -> crate::Scene {
         .replace("fov_degrees = 3.0", "fov_degrees = 6.0")
         .replace("max_depth = 3", "max_depth = 8")
         .replace("samples = 1", &format!("samples = {samples}"))
-        .replace("light_paths = 64", &format!("light_paths = {}", samples * 16));
+        .replace(
+            "light_paths = 64",
+            &format!("light_paths = {}", samples * 16),
+        );
     crate::Scene::parse(&text, "a test").expect("the scene parses")
 }
 
@@ -324,3 +340,6 @@ fn cauchy_gives_bk7_its_catalogue_index() {
     assert!(cauchy_ior(&bk7, 450.0) > cauchy_ior(&bk7, 650.0));
 }
 
+// The bug gallery of this chapter.
+#[path = "gallery.rs"]
+mod gallery;

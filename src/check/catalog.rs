@@ -21,18 +21,18 @@ pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, Tree
 pub use super::cases::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase, inside_sphere,
 };
-pub use super::cases::{LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase};
-pub use crate::scene::Cauchy;
 pub use super::cases::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
     surface_of,
 };
+pub use super::cases::{LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase};
 #[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};
 #[cfg(feature = "student")]
 pub(crate) use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
 pub use crate::course::PhongTerms;
+pub use crate::scene::Cauchy;
 pub use crate::shapes::{Implicit, LipschitzRule, March, NormalMethod, Sdf};
 pub use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
 

@@ -588,8 +588,8 @@ pub fn ball_lens_ray(n: f64, radius: f64, height: f64, screen: f64) -> (f64, f64
     let exit = (entry.0 - chord * turn.sin(), entry.1 + chord * turn.cos());
     let (across, along) = (-(2.0 * turn).sin(), (2.0 * turn).cos());
     let crossed = exit.0 + (screen - exit.1) / along * across;
-    let through = (1.0 - fresnel(incidence.cos(), 1.0, n))
-        * (1.0 - fresnel(refracted.cos(), n, 1.0));
+    let through =
+        (1.0 - fresnel(incidence.cos(), 1.0, n)) * (1.0 - fresnel(refracted.cos(), n, 1.0));
     (crossed, through)
 }
 

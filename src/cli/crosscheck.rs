@@ -443,7 +443,15 @@ mod with_embree {
     }
 
     fn print_tally<C: Chapters>(tally: &Tally, stage: &Stage<C>) {
-        let [primary, shadow, reflection, refraction, bounce, light, to_camera] = tally.by_kind;
+        let [
+            primary,
+            shadow,
+            reflection,
+            refraction,
+            bounce,
+            light,
+            to_camera,
+        ] = tally.by_kind;
         // Bounce rays exist only where the stage traces paths (chapter 13),
         // light paths only from chapter 14.
         let mut bounces = String::new();

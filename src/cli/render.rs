@@ -566,6 +566,10 @@ fn summary_line(
             format!(", {} bounce", rays.bounce)
         } else {
             String::new()
+        } + &if rendered.effects.light_tracing {
+            format!(", {} light, {} to camera", rays.light, rays.to_camera)
+        } else {
+            String::new()
         },
         output.display()
     )
@@ -574,11 +578,18 @@ fn summary_line(
 fn stats_text(rendered: &Rendered) -> String {
     let rays = &rendered.rays;
     let paths = rendered.effects.path_tracing;
-    let bounce = if paths {
+    let mut bounce = if paths {
         format!("  bounce      {}\n", rays.bounce)
     } else {
         String::new()
     };
+    if rendered.effects.light_tracing {
+        bounce += &format!(
+            "  light       {}\n  to camera   {}\nlight paths: {} traced, {} of their points \
+             joined to the camera landed on a pixel\n",
+            rays.light, rays.to_camera, rays.light_paths, rays.splats
+        );
+    }
     let fireflies = if paths {
         format!(
             "fireflies (samples above {} times the brightest light seen): {}\n",
@@ -677,8 +688,12 @@ pub fn stats_json(
             "reflection": rays.reflection,
             "refraction": rays.refraction,
             "bounce": rays.bounce,
+            "light": rays.light,
+            "to_camera": rays.to_camera,
             "total": rays.total(),
         },
+        "light_paths": rays.light_paths,
+        "splats": rays.splats,
         "bright_samples": rays.bright_samples,
         "self_shadow_hits": rays.self_shadow_hits,
         "self_shadowed_pixels": rays.self_shadowed_pixels,
