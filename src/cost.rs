@@ -51,10 +51,13 @@ pub enum Knob {
     /// Path tracing's samples per pixel, with each of its switches on and
     /// off: MIS, next-event estimation, Russian roulette (chapter 13).
     Paths,
+    /// Paths traced from the lights: camera paths alone against camera and
+    /// light paths together, at each count per pixel (chapter 14).
+    Caustics,
 }
 
 impl Knob {
-    pub const ALL: [Knob; 10] = [
+    pub const ALL: [Knob; 11] = [
         Knob::Samples,
         Knob::Depth,
         Knob::Offset,
@@ -65,6 +68,7 @@ impl Knob {
         Knob::March,
         Knob::Normals,
         Knob::Paths,
+        Knob::Caustics,
     ];
 
     /// The chapter that introduces this knob.
@@ -79,6 +83,7 @@ impl Knob {
             Knob::Bvh => 11,
             Knob::March | Knob::Normals => 12,
             Knob::Paths => 13,
+            Knob::Caustics => 14,
         }
     }
 
@@ -95,6 +100,7 @@ impl Knob {
             Knob::March => "march",
             Knob::Normals => "normals",
             Knob::Paths => "paths",
+            Knob::Caustics => "caustics",
         }
     }
 
@@ -392,6 +398,7 @@ fn jobs(config: &CostConfig) -> Vec<Job> {
             Knob::March => jobs.extend(march_jobs(base)),
             Knob::Normals => jobs.extend(normal_jobs(base)),
             Knob::Paths => jobs.extend(path_jobs(base)),
+            Knob::Caustics => jobs.extend(caustic_jobs(base)),
         }
     }
     jobs
@@ -497,6 +504,38 @@ fn path_jobs(base: RenderSettings) -> Vec<Job> {
                 format!("{name}, {samples} spp"),
                 settings,
             ));
+        }
+    }
+    jobs
+}
+
+/// The caustics knob's renders: at each count of [`PATH_SAMPLE_COUNTS`],
+/// camera paths alone (chapter 13's estimator), then camera paths with as
+/// many light paths per pixel.
+fn caustic_jobs(base: RenderSettings) -> Vec<Job> {
+    let alone = crate::scene::SwitchedOff::parse(["light-tracing"])
+        .unwrap_or_default()
+        .union(base.without);
+    let mut jobs = Vec::new();
+    for (name, without) in [
+        ("camera paths alone", alone),
+        ("with light paths", base.without),
+    ] {
+        for count in PATH_SAMPLE_COUNTS {
+            let settings = RenderSettings {
+                samples: count,
+                sampling: Sampling::Jittered,
+                light_paths: count,
+                without,
+                ..base
+            };
+            let label = if without == alone {
+                format!("{name}, {count} spp")
+            } else {
+                let paths = crate::text::count(u64::from(count), "light path");
+                format!("{name}, {count} spp and {paths}")
+            };
+            jobs.push(Job::new(Knob::Caustics, label, settings));
         }
     }
     jobs
@@ -749,6 +788,7 @@ fn sweep_reference_settings(config: &CostConfig) -> RenderSettings {
     if Effects::for_chapter(config.chapter).path_tracing {
         settings.samples = PATH_REFERENCE_SAMPLES;
         settings.max_depth = config.base.max_depth.max(REFERENCE_DEPTH);
+        settings.light_paths = PATH_REFERENCE_SAMPLES;
     }
     settings
 }
@@ -1246,13 +1286,19 @@ fn draw_knobs(
     rows: &[&Measurement],
 ) -> Result<(), Box<dyn std::error::Error>> {
     use plotters::prelude::*;
-    let colours = [
+    // One colour a knob (a shorter list would leave the last knobs undrawn).
+    let colours: [RGBColor; Knob::ALL.len()] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
         RGBColor(44, 160, 44),
         RGBColor(214, 39, 40),
         RGBColor(148, 103, 189),
         RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+        RGBColor(188, 189, 34),
+        RGBColor(23, 190, 207),
+        RGBColor(0, 0, 128),
     ];
     for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
         let points: Vec<(f64, f64)> = rows
@@ -1419,7 +1465,8 @@ mod tests {
         assert_eq!(Knob::of_chapter(10), Knob::ALL[..6].to_vec());
         assert_eq!(Knob::of_chapter(11), Knob::ALL[..7].to_vec());
         assert_eq!(Knob::of_chapter(12), Knob::ALL[..9].to_vec());
-        assert_eq!(Knob::of_chapter(13), Knob::ALL.to_vec());
+        assert_eq!(Knob::of_chapter(13), Knob::ALL[..10].to_vec());
+        assert_eq!(Knob::of_chapter(14), Knob::ALL.to_vec());
     }
 
     #[test]

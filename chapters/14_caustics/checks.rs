@@ -154,7 +154,7 @@ pub fn checkpoints() -> Vec<Case> {
             DISPERSION_14,
             "a 60-degree prism of SF10 at 650 nm (n = 1.76); turned through every angle of \
              incidence with your refract, the ray deviates least by 2 asin(n sin 30) - 60 = \
-             63.4 degrees",
+             63.3 degrees",
             CaseKind::Prism(PrismCase {
                 cauchy: SF10,
                 apex_degrees: 60.0,

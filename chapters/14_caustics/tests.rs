@@ -319,6 +319,44 @@ impl Chapters for NoSurfaceCosine {
 }
 
 #[test]
+fn a_glass_of_constant_index_gives_the_image_of_its_index_wavelengths_and_all() {
+    let constant = lens_lit_by_a_lamp(16);
+    let mut dispersive = constant.clone();
+    for material in dispersive.materials_mut() {
+        if material.transparency > 0.0 {
+            material.cauchy = Some(Cauchy { a: 1.5, b: 1e-7 });
+        }
+    }
+    let stage =
+        Stage::<Reference>::with_chapters(&dispersive, 14, dispersive.render).expect("stage");
+    assert!(stage.effects.dispersion, "the stage draws wavelengths");
+    // 144 pixels at level 0.01: 7 or more rejections has a chance below
+    // 1e-3 for a correct estimator.
+    let reference = render_statistics::<Reference>(&constant, 14, 32, 1000);
+    let own = render_statistics::<Reference>(&dispersive, 14, 32, 1);
+    let rejected = welch_rejections(&own, &reference, 0.01);
+    assert!(rejected < 7, "{rejected} of 144 pixels differ");
+    let tinted_twice = render_statistics::<TintAtEverySurface>(&dispersive, 14, 32, 1);
+    let rejected = welch_rejections(&tinted_twice, &reference, 0.01);
+    assert!(rejected >= 7, "only {rejected} of 144 pixels differ");
+}
+
+/// A variant that gives the path its wavelength's colour at every
+/// dispersive surface, not the first only: through a ball, the colour
+/// squared, whose mean is not white.
+struct TintAtEverySurface;
+impl Chapters for TintAtEverySurface {
+    fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+        let dispersed = dispersive_ior(tracer, cauchy);
+        let nanometres = tracer.wavelength().unwrap_or(550.0);
+        Dispersed {
+            tint: rgb_weight(nanometres),
+            ..dispersed
+        }
+    }
+}
+
+#[test]
 fn splat_weights_are_the_solid_angle_ratio() {
     // Straight ahead at distance 2, face on, a pixel of 1e-4 at distance 1:
     // the pixel covers 1e-4 sr, a unit area 1 / 4 sr.

@@ -777,11 +777,15 @@ fn check_image<C: Chapters>(
         // The same loop as render::render_stage, on one thread: each pixel
         // is computed exactly as `raylab render` does (path-traced samples
         // cut to the screen's white, as the converged image is).
+        // Chapter 14's light paths first, as raylab render traces them.
+        let light = stage.light_image();
         let mut tracer = sampled::judging_tracer(&stage);
         let mut linear = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize);
         for y in 0..REFERENCE_HEIGHT {
             for x in 0..REFERENCE_WIDTH {
-                linear.push(tracer.pixel(x, y));
+                let index = linear.len();
+                let camera = tracer.pixel(x, y);
+                linear.push(camera + light.map_or(crate::Vec3::ZERO, |light| light.pixels[index]));
             }
         }
         linear

@@ -59,7 +59,16 @@ pub struct Converged {
     pub samples: u32,
     pub mean: Vec<Vec3>,
     pub sigma: Vec<Vec3>,
+    /// Chapter 14: the standard deviation of one light image at the
+    /// settings' light paths per pixel (zero where the stage traces none),
+    /// and how many such images the mean's share of it was averaged over.
+    pub light_sigma: Vec<Vec3>,
+    pub light_images: u32,
 }
+
+/// Chapter 14: light images averaged into the converged reference, each
+/// with its own seed, whose spread is the noise of a student's one.
+pub const LIGHT_REFERENCE_IMAGES: u32 = 16;
 
 /// Whether the stage of `settings` averages samples placed by chapter 7's
 /// `sample_offset` with randomness in them.
@@ -101,24 +110,32 @@ impl Converged {
     /// The means of blocks of `side` x `side` pixels, and the standard
     /// deviation of one sample of such a block (a sample of each pixel,
     /// averaged): `sqrt(sum sigma^2) / side^2`, the pixels being
-    /// independent. Pixels past the last whole block are left out.
+    /// independent (and the same for the light images). Pixels past the
+    /// last whole block are left out.
     pub fn blocks(&self, side: u32) -> Converged {
         let (width, height) = (self.width / side, self.height / side);
-        let mut mean = Vec::with_capacity((width * height) as usize);
-        let mut sigma = Vec::with_capacity((width * height) as usize);
+        let blocks = (width * height) as usize;
+        let (mut mean, mut sigma, mut light_sigma) = (
+            Vec::with_capacity(blocks),
+            Vec::with_capacity(blocks),
+            Vec::with_capacity(blocks),
+        );
         for by in 0..height {
             for bx in 0..width {
-                let (mut sum, mut variance) = (Vec3::ZERO, Vec3::ZERO);
+                let (mut sum, mut variance, mut light_variance) =
+                    (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
                 for y in by * side..(by + 1) * side {
                     for x in bx * side..(bx + 1) * side {
                         let index = (y * self.width + x) as usize;
                         sum += self.mean[index];
                         variance += self.sigma[index] * self.sigma[index];
+                        light_variance += self.light_sigma[index] * self.light_sigma[index];
                     }
                 }
                 let count = (side * side) as f32;
                 mean.push(sum / count);
                 sigma.push(variance.map(f32::sqrt) / count);
+                light_sigma.push(light_variance.map(f32::sqrt) / count);
             }
         }
         Converged {
@@ -127,6 +144,8 @@ impl Converged {
             samples: self.samples,
             mean,
             sigma,
+            light_sigma,
+            light_images: self.light_images,
         }
     }
 }
@@ -176,9 +195,12 @@ pub fn converged(
     } else {
         REFERENCE_SAMPLES
     };
-    let converged = Arc::new(crate::answer_key::raylab_own(|| {
-        measure(&stage, settings.width, settings.height, samples)
-    }));
+    let mut converged =
+        crate::answer_key::raylab_own(|| measure(&stage, settings.width, settings.height, samples));
+    if stage.effects.light_tracing {
+        crate::answer_key::raylab_own(|| add_light_images(&mut converged, scene, info, settings))?;
+    }
+    let converged = Arc::new(converged);
     if let Ok(mut cache) = CACHE.lock() {
         cache.push((info.number, Arc::clone(&converged)));
     }
@@ -221,14 +243,58 @@ fn measure(stage: &Stage<Reference>, width: u32, height: u32, samples: u32) -> C
             })
         })
         .collect();
-    let (mean, sigma) = rows.into_iter().flatten().unzip();
+    let (mean, sigma): (Vec<Vec3>, Vec<Vec3>) = rows.into_iter().flatten().unzip();
     Converged {
         width,
         height,
         samples,
+        light_sigma: vec![Vec3::ZERO; mean.len()],
+        light_images: 1,
         mean,
         sigma,
     }
+}
+
+/// Chapter 14: adds to `converged` the mean of [`LIGHT_REFERENCE_IMAGES`]
+/// light images of raylab's own stage, each with its own seed, and their
+/// spread: a student's light image is one more such image.
+fn add_light_images(
+    converged: &mut Converged,
+    scene: &Scene,
+    info: &ChapterInfo,
+    settings: RenderSettings,
+) -> Result<(), String> {
+    let count = LIGHT_REFERENCE_IMAGES;
+    let pixels = converged.mean.len();
+    let (mut sum, mut squares) = (
+        vec![glam::DVec3::ZERO; pixels],
+        vec![glam::DVec3::ZERO; pixels],
+    );
+    for image in 0..count {
+        let settings = RenderSettings {
+            seed: REFERENCE_SEED + u64::from(image),
+            ..settings
+        };
+        let stage = Stage::<Reference>::with_chapters(scene, info.number, settings)
+            .map_err(|error| error.to_string())?;
+        let Some(light) = stage.light_image() else {
+            return Ok(());
+        };
+        for ((sum, squares), pixel) in sum.iter_mut().zip(&mut squares).zip(&light.pixels) {
+            let pixel = pixel.as_dvec3();
+            *sum += pixel;
+            *squares += pixel * pixel;
+        }
+    }
+    let n = f64::from(count);
+    for (index, (sum, squares)) in sum.iter().zip(&squares).enumerate() {
+        let average = *sum / n;
+        let variance = (*squares / n - average * average).max(glam::DVec3::ZERO) * (n / (n - 1.0));
+        converged.mean[index] += average.as_vec3();
+        converged.light_sigma[index] = variance.map(f64::sqrt).as_vec3();
+    }
+    converged.light_images = count;
+    Ok(())
 }
 
 /// How a student's sampled image compares with the converged reference.
@@ -262,12 +328,16 @@ pub fn allowed_outliers(pixels: usize) -> usize {
 /// each) with `converged`.
 pub fn judge(image: &[Vec3], samples: u32, converged: &Converged) -> NoiseCheck {
     let scale = 1.0 / (samples as f32).sqrt() + 1.0 / (converged.samples as f32).sqrt();
+    // The student's light image is one more of the reference's, whose mean
+    // holds `light_images` of them.
+    let light_scale = 1.0 + 1.0 / (converged.light_images as f32).sqrt();
     let mut outside = 0;
     let mut first = None;
-    for (index, ((got, mean), sigma)) in image
+    for (index, (((got, mean), sigma), light_sigma)) in image
         .iter()
         .zip(&converged.mean)
         .zip(&converged.sigma)
+        .zip(&converged.light_sigma)
         .enumerate()
     {
         let levels = got
@@ -278,7 +348,7 @@ pub fn judge(image: &[Vec3], samples: u32, converged: &Converged) -> NoiseCheck 
             .max()
             .unwrap_or(0);
         let within_noise = ((*got - *mean).abs())
-            .cmple(*sigma * (SIGMAS * scale))
+            .cmple(SIGMAS * (*sigma * scale + *light_sigma * light_scale))
             .all();
         if !(levels <= 2 || within_noise) || !got.is_finite() {
             outside += 1;

@@ -24,7 +24,8 @@ pub struct CostArgs {
     /// the Fresnel model, 10 the triangle test (and counts the rays that
     /// leak through a closed mesh), 11 the BVH report (build and trace
     /// time against triangles, split rule, leaf size, loop or tree), 12
-    /// the march of implicit surfaces and their normals.
+    /// the march of implicit surfaces and their normals, 13 path tracing's
+    /// samples and switches, 14 the light paths.
     #[arg(short, long, value_parser = crate::chapters::parse_chapter)]
     pub chapter: u8,
     /// A TOML scene to sweep instead of the chapter's built-in one.

@@ -62,6 +62,7 @@ words!(Knob {
     March = "march": "The march of implicit surfaces: hit tolerance, step budget, over-relaxation, the Lipschitz factor, Newton (chapter 12)",
     Normals = "normals": "Implicit surfaces' normals: analytic, central differences and the tetrahedron at steps 1e-1 to 1e-7 (chapter 12)",
     Paths = "paths": "Path tracing: 1 to 256 samples per pixel with every switch, without MIS, without next-event estimation, without Russian roulette (chapter 13)",
+    Caustics = "caustics": "Light paths: camera paths alone against camera and light paths together, 1 to 256 of each per pixel (chapter 14)",
 });
 
 #[cfg(test)]

@@ -692,6 +692,21 @@ impl Chapters for NothingWritten {
     fn shade_path(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
         todo!()
     }
+    fn splat_weight(_: f32, _: f32, _: f32, _: f32) -> f32 {
+        todo!()
+    }
+    fn connect_to_camera(_: &mut Tracer<Self>, _: &HitPoint, _: &raylab::bsdf::Lobe, _: Vec3) {
+        todo!()
+    }
+    fn trace_light_path(_: &mut Tracer<Self>) {
+        todo!()
+    }
+    fn cauchy_ior(_: &raylab::scene::Cauchy, _: f32) -> f32 {
+        todo!()
+    }
+    fn dispersive_ior(_: &mut Tracer<Self>, _: &raylab::scene::Cauchy) -> raylab::bsdf::Dispersed {
+        todo!()
+    }
 }
 
 #[test]

@@ -186,6 +186,10 @@ fn chapter_12_implicit() {
 fn chapter_13_path_tracing() {
     check_chapter(13);
 }
+#[test]
+fn chapter_14_caustics() {
+    check_chapter(14);
+}
 
 /// Chapter 11 adds speed, not pixels: its scene drawn at chapter 10's stage
 /// (every ray tests every object) is the same image, bit for bit. Small, so
