@@ -76,6 +76,10 @@ pub struct PixelTrace {
     pub pixel: (u32, u32),
     /// The camera rays of the pixel, one a sample, each the root of its tree.
     pub samples: Vec<TracedRay>,
+    /// What chapter 14's light paths brought to the pixel, in linear
+    /// light: added after the camera rays' running sum, which ends at the
+    /// camera's estimate. `None` where the stage traces no light paths.
+    pub light_paths: Option<Vec3>,
     /// The pixel's colour in linear light, as the chapters computed it.
     pub color: Vec3,
     /// The same as the image stores it: 8-bit sRGB.
@@ -214,10 +218,13 @@ pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Opt
         return None;
     }
     let mut log = TreeLog::default();
+    let light_paths = stage
+        .light_image()
+        .map(|light| light.pixels[(y * stage.settings.width + x) as usize]);
     let color = {
         let mut tracer = stage.tracer(Some(&mut log));
         tracer.pixel(x, y)
-    };
+    } + light_paths.unwrap_or(Vec3::ZERO);
     let truncated = log.truncated;
     let mut samples = log.into_roots();
     let describer = stage.tracer(None);
@@ -232,6 +239,7 @@ pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Opt
     Some(PixelTrace {
         pixel: (x, y),
         samples,
+        light_paths,
         color,
         srgb: color.to_array().map(crate::output::linear_to_srgb8),
         truncated,
@@ -344,6 +352,7 @@ impl PixelTrace {
             "pixel": [x, y],
             "samples": samples,
             "sample_count": self.samples.len(),
+            "light_paths": self.light_paths.map(|light| light.to_array()),
             "color": self.color.to_array(),
             "srgb": self.srgb,
             "truncated": self.truncated,

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::Ray;
 use crate::course::Chapters;
-use crate::render::{CastRay, RayKind, RayLog, Stage};
+use crate::render::{CastRay, LIGHT_CHUNK, RayKind, RayLog, Stage};
 
 /// Why a recording was refused or stopped at its ray budget.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -139,7 +139,7 @@ pub fn record_rays_within<C: Chapters>(
         .collect();
     // Every row has added its count: the total is exact, and so is the
     // comparison with the budget.
-    if exhausted.into_inner() {
+    if exhausted.load(Ordering::Relaxed) {
         let done = pixels_done.into_inner();
         let estimate = u128::from(cast.into_inner()) * u128::from(pixels) / u128::from(done.max(1));
         return Err(TooManyRays::Cast {
@@ -149,10 +149,41 @@ pub fn record_rays_within<C: Chapters>(
             estimate: u64::try_from(estimate).unwrap_or(u64::MAX),
         });
     }
+    // Chapter 14's light paths after the pixels, chunk by chunk in path
+    // order, as the render traces them.
+    let paths = stage.light_path_count();
+    let chunks: Vec<Vec<CastRay>> = (0..paths.div_ceil(LIGHT_CHUNK))
+        .into_par_iter()
+        .map(|chunk| {
+            let mut recorder = BudgetedRecorder {
+                rays: Vec::new(),
+                unflushed: 0,
+                budget,
+                cast: &cast,
+                exhausted: &exhausted,
+            };
+            if !recorder.stopped() {
+                let first = chunk * LIGHT_CHUNK;
+                stage.record_light_paths(first..(first + LIGHT_CHUNK).min(paths), &mut recorder);
+            }
+            recorder.flush();
+            recorder.rays
+        })
+        .collect();
+    if exhausted.into_inner() {
+        // Every pixel was traced: the light paths passed the budget, and
+        // the rays counted so far are a floor of the whole.
+        return Err(TooManyRays::Cast {
+            budget,
+            pixels_done: pixels,
+            pixels,
+            estimate: cast.into_inner(),
+        });
+    }
     // Row by row into one vector, each row freed once copied: the peak is
     // about one copy of the rays, not two.
-    let mut rays = Vec::with_capacity(rows.iter().map(Vec::len).sum());
-    for row in rows {
+    let mut rays = Vec::with_capacity(rows.iter().chain(&chunks).map(Vec::len).sum());
+    for row in rows.into_iter().chain(chunks) {
         rays.extend_from_slice(&row);
     }
     Ok(rays)

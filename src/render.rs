@@ -380,6 +380,27 @@ impl<'a, C: Chapters> Stage<'a, C> {
             .then(|| self.light_image.get_or_init(|| self.trace_light_paths()))
     }
 
+    /// How many light paths the image traces (chapter 14): `light_paths`
+    /// per pixel, none where the stage traces none.
+    pub fn light_path_count(&self) -> u64 {
+        if !self.effects.light_tracing {
+            return 0;
+        }
+        let (width, height) = (self.settings.width, self.settings.height);
+        u64::from(width) * u64::from(height) * u64::from(self.settings.light_paths)
+    }
+
+    /// Traces light paths `paths` of the image, showing each ray to
+    /// `recorder` in the order it is cast (for `raylab crosscheck`); what
+    /// they splat is not kept.
+    pub fn record_light_paths(&self, paths: std::ops::Range<u64>, recorder: &mut dyn RayLog) {
+        let mut tracer = self.tracer(Some(recorder));
+        for index in paths {
+            tracer.light_path(index);
+            tracer.splats.clear();
+        }
+    }
+
     /// Traces `light_paths` paths per pixel of the image from the lights,
     /// by the chapters' `trace_light_path`, and adds up what they splat,
     /// each path's light divided by the number of paths. Path `i` draws
@@ -387,7 +408,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
     /// the image is the same on any number of threads.
     fn trace_light_paths(&self) -> LightImage {
         let (width, height) = (self.settings.width, self.settings.height);
-        let total = u64::from(width) * u64::from(height) * u64::from(self.settings.light_paths);
+        let total = self.light_path_count();
         let chunks = total.div_ceil(LIGHT_CHUNK);
         let chunk = |number: u64| {
             let mut tracer = self.tracer(None);
@@ -1213,7 +1234,7 @@ pub struct LightImage {
 }
 
 /// Light paths traced by one tracer before its splats are handed back.
-const LIGHT_CHUNK: u64 = 1024;
+pub const LIGHT_CHUNK: u64 = 1024;
 
 /// Chunks traced together (in parallel) before their splats are added to
 /// the image in chunk order: the memory a batch holds stays bounded, and

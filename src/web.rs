@@ -190,6 +190,8 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                         "reflection": counts.reflection,
                         "refraction": counts.refraction,
                         "bounce": counts.bounce,
+                        "light": counts.light,
+                        "to_camera": counts.to_camera,
                         "implicit_evaluations": counts.implicit_evaluations,
                         "non_finite_samples": counts.non_finite_samples,
                     },

@@ -320,7 +320,7 @@ pub fn robustness() -> Vec<Case> {
             (f32::NAN, 1.0, 2.0, 1e-4),
         ),
         Case::new(
-            "light-under-the-floor",
+            "lit-under-the-floor",
             HARD_14,
             "a point light under a floor, with a glass ball between: its light paths reach the \
              floor's underside only, and the camera above sees the top: exactly 0 (a point \

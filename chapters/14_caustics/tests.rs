@@ -128,7 +128,7 @@ fn an_area_light_in_glass_gives_the_same_light_with_and_without_light_paths() {
         "camera paths alone",
     );
     // Counted by both, the lamp's light through the glass is counted twice.
-    let (twice, _) = converges_with::<CausticsTwice>(area_light_in_glass(), &[], 1.0);
+    let (twice, _) = converges_with::<gallery::CausticsTwice>(area_light_in_glass(), &[], 1.0);
     assert!(twice.x > 1.5, "{twice}");
 }
 
@@ -243,21 +243,6 @@ fn welch_rejections(test: &[(f64, f64, f64)], reference: &[(f64, f64, f64)], alp
             2.0 * (1.0 - law.cdf(t.abs())) < alpha
         })
         .count()
-}
-
-/// A variant whose camera paths still count the caustics the light paths
-/// bring: each counted twice.
-struct CausticsTwice;
-impl Chapters for CausticsTwice {
-    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let twice = tracer.arrival() == raylab::render::Arrival::Caustic;
-        raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight)
-            + if twice {
-                point.material.emission
-            } else {
-                Vec3::ZERO
-            }
-    }
 }
 
 /// The lens's screen lit through the ball by a lamp, a ball of radius 0.4

@@ -118,6 +118,14 @@ fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
             crate::ray_tree::MAX_TRACED_RAYS
         );
     }
+    if let Some(light) = traced.light_paths {
+        out += &format!(
+            "light paths (chapter 14): the light they splatted on this pixel adds {} to the \
+             camera rays' {}\n",
+            show(light),
+            show(traced.color - light)
+        );
+    }
     let [r, g, b] = traced.srgb;
     out += &format!(
         "pixel {x},{y}: linear {} -> sRGB ({r}, {g}, {b}), as the render writes it\n",

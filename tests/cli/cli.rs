@@ -805,7 +805,10 @@ fn a_scene_with_too_many_lights_is_refused() {
         (
             "inline.toml",
             inline,
-            format!("{} lights: a scene may have at most {most}", most + 1),
+            format!(
+                "{} lights and beams: a scene may have at most {most}",
+                most + 1
+            ),
         ),
     ] {
         std::fs::write(dir.path().join(name), scene).expect("write");

@@ -231,6 +231,7 @@ fn render_help_shows_every_default() {
         ),
         ("--epsilon", format!("else {}", defaults.fixed_epsilon)),
         ("--without", "the scene's `without`, else none".into()),
+        ("--light-paths", format!("else {}", defaults.light_paths)),
         ("--threads", "one per core".into()),
         ("--output", "chapter-N.png".into()),
         ("--stats-json", "none written".into()),

@@ -5,7 +5,7 @@
 const $ = (id) => document.getElementById(id);
 const ROWS_A_TASK = 4;
 const MAX_HEIGHT = 2048;
-const KIND_COLOURS = { camera: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00", bounce: "#c04bd8" };
+const KIND_COLOURS = { camera: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00", bounce: "#c04bd8", light: "#ffffff", "to camera": "#999999" };
 
 const page = {
   module: null,
@@ -230,7 +230,7 @@ function startRender() {
   }
   page.render = {
     id, job: request, prepared, tasks, pending: tasks.length, started: performance.now(),
-    rays: { camera: 0, shadow: 0, reflection: 0, refraction: 0, bounce: 0 }, error: null,
+    rays: { camera: 0, shadow: 0, reflection: 0, refraction: 0, bounce: 0, light: 0, to_camera: 0 }, error: null,
   };
   setState("rendering");
   status("rendering…");
@@ -274,7 +274,8 @@ function rowsDone(message) {
   for (const kind of Object.keys(render.rays)) render.rays[kind] += message.rays[kind];
   render.pending -= 1;
   const rays = render.rays;
-  const bounces = rays.bounce > 0 ? `, ${rays.bounce} bounce` : "";
+  const bounces = (rays.bounce > 0 ? `, ${rays.bounce} bounce` : "")
+    + (rays.light > 0 ? `, ${rays.light} light, ${rays.to_camera} to camera` : "");
   $("rays").textContent = `Rays: ${rays.camera} camera, ${rays.shadow} shadow, ${rays.reflection} reflection, ${rays.refraction} refraction${bounces}`;
   if (render.pending === 0) {
     render.milliseconds = performance.now() - render.started;

@@ -414,6 +414,8 @@ material = {{ color = [0.8, 0.8, 0.8] }}
     }
 
     pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        // The chapter's own formula first, as for the closed scenes.
+        let _ = C::splat_weight(1.0, 1.0, 1.0, 1.0);
         let (with, without) = match (parse(&self.scene(true)), parse(&self.scene(false))) {
             (Ok(with), Ok(without)) => (with, without),
             (Err(why), _) | (_, Err(why)) => return Outcome::Error(why),
