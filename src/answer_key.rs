@@ -118,6 +118,19 @@ pub(crate) fn raylab_own<T>(work: impl FnOnce() -> T) -> T {
     work()
 }
 
+/// Whether this thread is inside [`raylab_own`]: work it hands to other
+/// threads (a stage's light paths, on rayon's) carries that with it
+/// through [`own_if`].
+pub(crate) fn inside_own() -> bool {
+    OWN_USE.with(Cell::get) > 0
+}
+
+/// Runs `work` as raylab's own when `own` (what [`inside_own`] said on the
+/// thread that handed the work over), as it is otherwise.
+pub(crate) fn own_if<T>(own: bool, work: impl FnOnce() -> T) -> T {
+    if own { raylab_own(work) } else { work() }
+}
+
 /// Runs `work` and returns the answers it reported on this thread, in the
 /// order first met (nothing unless sealed).
 pub(crate) fn recording<T>(work: impl FnOnce() -> T) -> (T, Vec<&'static str>) {

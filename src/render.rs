@@ -410,12 +410,17 @@ impl<'a, C: Chapters> Stage<'a, C> {
         let (width, height) = (self.settings.width, self.settings.height);
         let total = self.light_path_count();
         let chunks = total.div_ceil(LIGHT_CHUNK);
+        // raylab's own stage (a check's converged reference) stays its own
+        // on rayon's threads, where no student's code started the work.
+        let own = crate::answer_key::inside_own();
         let chunk = |number: u64| {
-            let mut tracer = self.tracer(None);
-            for index in number * LIGHT_CHUNK..((number + 1) * LIGHT_CHUNK).min(total) {
-                tracer.light_path(index);
-            }
-            (std::mem::take(&mut tracer.splats), tracer.counts())
+            crate::answer_key::own_if(own, || {
+                let mut tracer = self.tracer(None);
+                for index in number * LIGHT_CHUNK..((number + 1) * LIGHT_CHUNK).min(total) {
+                    tracer.light_path(index);
+                }
+                (std::mem::take(&mut tracer.splats), tracer.counts())
+            })
         };
         let mut sums = vec![glam::DVec3::ZERO; width as usize * height as usize];
         let mut counts = RayCounts::default();

@@ -183,3 +183,44 @@ fn other_correct_cosine_samplers_pass() {
     assert_passes::<ConcentricDisk>();
     assert_passes::<InverseAngles>();
 }
+
+/// The samples averaged after they are turned to the screen's sRGB (each
+/// cut to white first, as a display does) and the mean turned back:
+/// Jensen's inequality makes every noisy pixel darker, and a path-traced
+/// pixel is noise.
+struct AveragedAfterToneMapping;
+impl Chapters for AveragedAfterToneMapping {
+    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+        let encode = |linear: f32| {
+            let linear = linear.clamp(0.0, 1.0);
+            if linear <= 0.003_130_8 {
+                12.92 * linear
+            } else {
+                1.055 * linear.powf(1.0 / 2.4) - 0.055
+            }
+        };
+        let decode = |code: f32| {
+            if code <= 0.040_45 {
+                code / 12.92
+            } else {
+                ((code + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let samples = tracer.samples();
+        let mut sum = Vec3::ZERO;
+        for index in 0..samples {
+            let (dx, dy) = tracer.sample_offset(index, (x, y));
+            sum += tracer.sample(x as f32 + dx, y as f32 + dy).map(encode);
+        }
+        (sum / samples as f32).map(decode)
+    }
+}
+
+#[test]
+fn averaging_after_tone_mapping_fails_the_image() {
+    let verdict = check_chapter::<AveragedAfterToneMapping>(13, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), None, "{text}");
+    assert!(verdict.image.is_some_and(|image| !image.passed), "{text}");
+}

@@ -195,6 +195,11 @@ pub fn converged(
     } else {
         REFERENCE_SAMPLES
     };
+    crate::check::verdict_file::step(
+        info.number,
+        "raylab's own stage",
+        &format!("the converged image, {samples} samples per pixel"),
+    );
     let mut converged =
         crate::answer_key::raylab_own(|| measure(&stage, settings.width, settings.height, samples));
     if stage.effects.light_tracing {
@@ -271,6 +276,14 @@ fn add_light_images(
         vec![glam::DVec3::ZERO; pixels],
     );
     for image in 0..count {
+        crate::check::verdict_file::step(
+            info.number,
+            "raylab's own light paths",
+            &format!(
+                "the converged image's light paths, {} of {count}",
+                image + 1
+            ),
+        );
         let settings = RenderSettings {
             seed: REFERENCE_SEED + u64::from(image),
             ..settings

@@ -309,27 +309,33 @@ fn chapter_11_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
     );
 }
 
-/// Chapter 13's check builds raylab's own converged image, on a stage with
-/// a tree: none of that is the student's use of an answer, and the answer
-/// key passes both levels.
+/// Chapters 13 and 14's checks build raylab's own converged image, on a
+/// stage with a tree (and chapter 14's, light images): none of that is the
+/// student's use of an answer, and the answer key passes both levels.
 #[test]
-fn chapter_13_is_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
+fn chapters_13_and_14_are_not_started_in_the_skeleton_and_robust_in_the_answer_key() {
     let ws = workspaces();
-    let todo = run_student("student-todo", &["check", "--chapter", "13"], &ws.todo);
-    let text = stdout(&todo);
-    assert_eq!(todo.status.code(), Some(1), "{text}{}", stderr(&todo));
-    assert!(
-        text.contains("chapter 13: Path tracing - not started"),
-        "{text}"
-    );
+    for (chapter, title) in [("13", "Path tracing"), ("14", "Caustics and dispersion")] {
+        let todo = run_student("student-todo", &["check", "--chapter", chapter], &ws.todo);
+        let text = stdout(&todo);
+        assert_eq!(todo.status.code(), Some(1), "{text}{}", stderr(&todo));
+        assert!(
+            text.contains(&format!("chapter {chapter}: {title} - not started")),
+            "{text}"
+        );
 
-    let key = run_student("student-answer", &["check", "--chapter", "13"], &ws.answer);
-    let text = stdout(&key);
-    assert!(key.status.success(), "{text}{}", stderr(&key));
-    assert!(
-        text.contains("chapter 13: Path tracing - pass (robust)"),
-        "{text}"
-    );
+        let key = run_student(
+            "student-answer",
+            &["check", "--chapter", chapter],
+            &ws.answer,
+        );
+        let text = stdout(&key);
+        assert!(key.status.success(), "{text}{}", stderr(&key));
+        assert!(
+            text.contains(&format!("chapter {chapter}: {title} - pass (robust)")),
+            "{text}"
+        );
+    }
 }
 
 #[test]
