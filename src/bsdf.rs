@@ -226,7 +226,8 @@ fn through_glass<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> Scatt
     let squeeze = if tracer.from_light() {
         1.0
     } else {
-        (crossing.n1 / crossing.n2).powi(2)
+        let ratio = crossing.n1 / crossing.n2;
+        ratio * ratio
     };
     match refracted {
         Some(direction) if tracer.random() >= reflectance => Scattered {

@@ -1262,7 +1262,9 @@ fn area_of(shape: &Shape) -> Option<f32> {
             let [a, b, c] = triangle.corners();
             Some(0.5 * (b - a).cross(c - a).length())
         }
-        Shape::Sphere(sphere) => Some(4.0 * std::f32::consts::PI * sphere.radius().powi(2)),
+        Shape::Sphere(sphere) => {
+            Some(4.0 * std::f32::consts::PI * sphere.radius() * sphere.radius())
+        }
         Shape::Plane(_) | Shape::Implicit(_) => None,
     }
 }

@@ -919,7 +919,9 @@ impl CuboidSpec {
                 self.min, self.max
             ));
         }
-        let (sin, cos) = self.rotate_y_degrees.to_radians().sin_cos();
+        // `libm`'s sine and cosine: the same corners on every machine and
+        // in the browser page's WebAssembly.
+        let (sin, cos) = libm::sincosf(self.rotate_y_degrees.to_radians());
         let place = |p: Vec3| {
             Vec3::new(cos * p.x + sin * p.z, p.y, -sin * p.x + cos * p.z) + self.translate
         };

@@ -3,7 +3,8 @@
 //! directions called cosine ones, roulette survivors not divided by their
 //! chance, emission counted twice with light samples, an MIS weight of 1,
 //! a light sample that returns more than arrives) fails chapter 13 on the
-//! case that names the mistake; correct alternatives (the concentric
+//! case that names the mistake, and samples averaged after tone mapping
+//! fail its image; correct alternatives (the concentric
 //! mapping, the inverse of the cosine law in angles) pass.
 
 use std::f32::consts::PI;
