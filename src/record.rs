@@ -57,7 +57,19 @@ struct BudgetedRecorder<'a> {
     exhausted: &'a AtomicBool,
 }
 
-impl BudgetedRecorder<'_> {
+impl<'a> BudgetedRecorder<'a> {
+    /// A recorder with nothing kept yet, sharing the count `cast` and the
+    /// flag `exhausted` with the others of one recording.
+    fn new(budget: u64, cast: &'a AtomicU64, exhausted: &'a AtomicBool) -> BudgetedRecorder<'a> {
+        BudgetedRecorder {
+            rays: Vec::new(),
+            unflushed: 0,
+            budget,
+            cast,
+            exhausted,
+        }
+    }
+
     fn flush(&mut self) {
         let total = self.cast.fetch_add(self.unflushed, Ordering::Relaxed) + self.unflushed;
         self.unflushed = 0;
@@ -117,13 +129,7 @@ pub fn record_rays_within<C: Chapters>(
     let rows: Vec<Vec<CastRay>> = (0..height)
         .into_par_iter()
         .map(|y| {
-            let mut recorder = BudgetedRecorder {
-                rays: Vec::new(),
-                unflushed: 0,
-                budget,
-                cast: &cast,
-                exhausted: &exhausted,
-            };
+            let mut recorder = BudgetedRecorder::new(budget, &cast, &exhausted);
             for x in 0..width {
                 if recorder.stopped() {
                     break;
@@ -155,13 +161,7 @@ pub fn record_rays_within<C: Chapters>(
     let chunks: Vec<Vec<CastRay>> = (0..paths.div_ceil(LIGHT_CHUNK))
         .into_par_iter()
         .map(|chunk| {
-            let mut recorder = BudgetedRecorder {
-                rays: Vec::new(),
-                unflushed: 0,
-                budget,
-                cast: &cast,
-                exhausted: &exhausted,
-            };
+            let mut recorder = BudgetedRecorder::new(budget, &cast, &exhausted);
             if !recorder.stopped() {
                 let first = chunk * LIGHT_CHUNK;
                 stage.record_light_paths(first..(first + LIGHT_CHUNK).min(paths), &mut recorder);

@@ -131,7 +131,7 @@ impl RayCounts {
         self.march_histogram.marches()
     }
 
-    pub fn add(mut self, other: RayCounts) -> RayCounts {
+    fn add(mut self, other: RayCounts) -> RayCounts {
         self.primary += other.primary;
         self.shadow += other.shadow;
         self.reflection += other.reflection;
@@ -906,15 +906,8 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         let to_camera = self.stage.camera.origin() - point.surface.point;
         let origin = self.offset_origin(&point.surface, to_camera);
         let ray = Ray::new(origin, self.stage.camera.origin() - origin);
-        self.log(RayKind::ToCamera, &ray, 0.0, 1.0 - SHADOW_EPSILON);
-        let blocker = match &self.stage.bvh {
-            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, &ray, 0.0, 1.0 - SHADOW_EPSILON),
-            None => self.objects.first_hit(&ray, 0.0, 1.0 - SHADOW_EPSILON),
-        };
-        if let Some(recorder) = self.recorder.as_deref_mut() {
-            recorder.met(blocker);
-        }
-        blocker.is_some()
+        self.any_blocker(RayKind::ToCamera, &ray, 0.0, 1.0 - SHADOW_EPSILON)
+            .is_some()
     }
 
     /// Adds `light` to the pixel at image point `(x, y)` (in pixels from
@@ -1009,15 +1002,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// counter of `--stats`.
     #[inline]
     pub fn blocked(&mut self, ray: &Ray, t_min: f32, t_max: f32, from: &HitPoint) -> bool {
-        self.log(RayKind::Shadow, ray, t_min, t_max);
-        let blocker = match &self.stage.bvh {
-            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, ray, t_min, t_max),
-            None => self.objects.first_hit(ray, t_min, t_max),
-        };
-        if let Some(recorder) = self.recorder.as_deref_mut() {
-            recorder.met(blocker);
-        }
-        match blocker {
+        match self.any_blocker(RayKind::Shadow, ray, t_min, t_max) {
             Some(blocker) => {
                 // Planes and flat triangles are flat and spheres convex, and
                 // lights outside a sphere seen from inside it are skipped
@@ -1113,6 +1098,21 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         };
         self.returned(color);
         (color, Some(t))
+    }
+
+    /// Any object on `ray`, a ray of `kind`, with `t_min < t < t_max`: the
+    /// first the tree or the list order gives, since any blocker will do.
+    #[inline]
+    fn any_blocker(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        self.log(kind, ray, t_min, t_max);
+        let blocker = match &self.stage.bvh {
+            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, ray, t_min, t_max),
+            None => self.objects.first_hit(ray, t_min, t_max),
+        };
+        if let Some(recorder) = self.recorder.as_deref_mut() {
+            recorder.met(blocker);
+        }
+        blocker
     }
 
     /// What `ray`, a ray of `kind`, meets first: through chapter 11's tree,

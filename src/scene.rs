@@ -836,12 +836,7 @@ impl PrismSpec {
             shapes.push(Triangle::new(p, top(p), top(q)).into());
             shapes.push(Triangle::new(p, top(q), q).into());
         }
-        for shape in &shapes {
-            if let Some(bounds) = Shape::bounds(shape) {
-                check_coordinates(&format!("{label}: prism (a corner)"), bounds.max)?;
-                check_coordinates(&format!("{label}: prism (a corner)"), bounds.min)?;
-            }
-        }
+        check_corners(&format!("{label}: prism (a corner)"), &shapes)?;
         Ok(shapes)
     }
 }
@@ -902,6 +897,16 @@ impl QuadSpec {
     }
 }
 
+/// Every corner of `shapes` within the coordinates a scene may use, named
+/// `what` in the error.
+fn check_corners(what: &str, shapes: &[Shape]) -> Result<(), String> {
+    for bounds in shapes.iter().filter_map(Shape::bounds) {
+        check_coordinates(what, bounds.max)?;
+        check_coordinates(what, bounds.min)?;
+    }
+    Ok(())
+}
+
 impl CuboidSpec {
     fn triangles(&self, label: &str) -> Result<Vec<Shape>, String> {
         check_point(&format!("{label}: cuboid.min"), self.min)?;
@@ -948,12 +953,7 @@ impl CuboidSpec {
             shapes.push(Triangle::new(a, b, c).into());
             shapes.push(Triangle::new(a, c, d).into());
         }
-        for shape in &shapes {
-            if let Some(bounds) = Shape::bounds(shape) {
-                check_coordinates(&format!("{label}: cuboid (a corner)"), bounds.max)?;
-                check_coordinates(&format!("{label}: cuboid (a corner)"), bounds.min)?;
-            }
-        }
+        check_corners(&format!("{label}: cuboid (a corner)"), &shapes)?;
         Ok(shapes)
     }
 }

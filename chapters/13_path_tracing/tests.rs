@@ -6,7 +6,7 @@ use super::*;
 use crate::Scene;
 use crate::bsdf::{phong_exponent, to_world};
 use crate::chapters::Reference;
-use crate::check::cases::{cosine_fit, mean_and_error, pearson, z_threshold};
+use crate::check::cases::{cosine_fit, mean_and_error, pearson, welch_rejections, z_threshold};
 use crate::check::catalog::{ConvergesCase, inside_sphere};
 use crate::render::Stage;
 
@@ -295,25 +295,6 @@ fn pixel_statistics<C: Chapters>(size: u32, samples: u32, seed: u64) -> Vec<(f64
         }
     }
     statistics
-}
-
-/// How many pixels Welch's t-test (Jung, Hanika and Dachsbacher, JCGT
-/// 2020) finds different at level `alpha` between `test` and `reference`.
-fn welch_rejections(test: &[(f64, f64, f64)], reference: &[(f64, f64, f64)], alpha: f64) -> usize {
-    use statrs::distribution::{ContinuousCDF, StudentsT};
-    test.iter()
-        .zip(reference)
-        .filter(|((m1, v1, n1), (m2, v2, n2))| {
-            let spread = v1 + v2;
-            if spread == 0.0 {
-                return (m1 - m2).abs() > 1e-6;
-            }
-            let t = (m1 - m2) / spread.sqrt();
-            let freedom = spread * spread / (v1 * v1 / (n1 - 1.0) + v2 * v2 / (n2 - 1.0));
-            let law = StudentsT::new(0.0, 1.0, freedom.max(1.0)).expect("a t law");
-            2.0 * (1.0 - law.cdf(t.abs())) < alpha
-        })
-        .count()
 }
 
 /// A variant that counts what a light emits again when a scattered ray

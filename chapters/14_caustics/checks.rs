@@ -50,8 +50,9 @@ fn splat(
 }
 
 /// A matte sphere of radius 1 and albedo 0.5 about the origin with `inside`
-/// (TOML) in it, seen from `(0, 0, -0.5)` looking at `(0, 0, looking)`.
-fn closed_sphere(inside: &str, looking: f32, wall: &str) -> String {
+/// (TOML) in it and `wall` added to its material (`", emission = ..."`),
+/// seen from `(0, 0, -0.5)` looking at `(0, 0, looking)`.
+pub fn closed_sphere(inside: &str, looking: f32, wall: &str) -> String {
     format!(
         r#"
 background = [0.0, 0.0, 0.0]
@@ -74,7 +75,8 @@ material = {{ color = [0.5, 0.5, 0.5]{wall} }}
     )
 }
 
-const GLASS_BALL: &str = r#"
+/// A glass ball of radius 0.25 about the origin.
+pub const GLASS_BALL: &str = r#"
 [[objects]]
 name = "glass ball"
 sphere = { center = [0.0, 0.0, 0.0], radius = 0.25 }

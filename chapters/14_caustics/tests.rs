@@ -5,43 +5,13 @@
 
 use super::*;
 use crate::chapters::Reference;
-use crate::check::cases::{LensCase, LightConvergesCase, PrismCase, linear_image, z_threshold};
+use crate::check::cases::{
+    LensCase, LightConvergesCase, PrismCase, linear_image, welch_rejections, z_threshold,
+};
 use crate::check::catalog::Case;
 use crate::render::Stage;
 
-/// A matte sphere of radius 1 and albedo 0.5 about the origin, with
-/// `inside` (TOML) in it, seen from `(0, 0, -0.5)` looking along
-/// `looking` (z of the point looked at).
-pub fn closed_sphere(inside: &str, looking: f32, light_paths: u32) -> String {
-    format!(
-        r#"
-background = [0.0, 0.0, 0.0]
-[camera]
-position = [0.0, 0.0, -0.5]
-look_at = [0.0, 0.0, {looking}]
-fov_degrees = 60.0
-[render]
-width = 8
-height = 8
-samples = 4
-light_paths = {light_paths}
-max_depth = 64
-[[objects]]
-name = "wall"
-sphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }}
-material = {{ color = [0.5, 0.5, 0.5] }}
-{inside}
-"#
-    )
-}
-
-/// A glass ball of radius 0.25 about the origin.
-const GLASS_BALL: &str = r#"
-[[objects]]
-name = "glass ball"
-sphere = { center = [0.0, 0.0, 0.0], radius = 0.25 }
-material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.5, fresnel = "exact" }
-"#;
+use crate::chapters::ch14_caustics::checks::{GLASS_BALL, closed_sphere};
 
 /// pbrt-v4's analytic scene (a point light of intensity pi at the centre
 /// of a sphere of albedo 0.5: radiance 1 everywhere) with the light inside
@@ -52,7 +22,7 @@ fn point_light_in_glass() -> String {
     closed_sphere(
         &format!("[[lights]]\nposition = [0.0, 0.0, 0.0]\nintensity = 3.14159265\n{GLASS_BALL}"),
         -1.0,
-        256,
+        "",
     )
 }
 
@@ -67,7 +37,7 @@ fn area_light_in_glass() -> String {
              material = {{ color = [1.0, 1.0, 1.0], emission = [100.0, 100.0, 100.0] }}\n{GLASS_BALL}"
         ),
         -1.0,
-        256,
+        "",
     )
 }
 
@@ -146,11 +116,7 @@ sphere = { center = [0.0, 0.0, 0.0], radius = 0.25 }
 material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b = 0.05 }, fresnel = "exact" }
 "#,
         1.0,
-        64,
-    )
-    .replace(
-        "material = { color = [0.5, 0.5, 0.5] }",
-        "material = { color = [0.5, 0.5, 0.5], emission = [1.0, 1.0, 1.0] }",
+        ", emission = [1.0, 1.0, 1.0]",
     );
     assert_converges_to(converges(scene, &[], 2.0), 2.0, "dispersive furnace");
 }
@@ -224,25 +190,6 @@ fn render_statistics<C: Chapters>(
             (mean, error * error, count)
         })
         .collect()
-}
-
-/// How many pixels Welch's t-test (Jung, Hanika and Dachsbacher, JCGT
-/// 2020) finds different at level `alpha` between `test` and `reference`.
-fn welch_rejections(test: &[(f64, f64, f64)], reference: &[(f64, f64, f64)], alpha: f64) -> usize {
-    use statrs::distribution::{ContinuousCDF, StudentsT};
-    test.iter()
-        .zip(reference)
-        .filter(|((m1, v1, n1), (m2, v2, n2))| {
-            let spread = v1 + v2;
-            if spread == 0.0 {
-                return (m1 - m2).abs() > 1e-6;
-            }
-            let t = (m1 - m2) / spread.sqrt();
-            let freedom = spread * spread / (v1 * v1 / (n1 - 1.0) + v2 * v2 / (n2 - 1.0));
-            let law = StudentsT::new(0.0, 1.0, freedom.max(1.0)).expect("a t law");
-            2.0 * (1.0 - law.cdf(t.abs())) < alpha
-        })
-        .count()
 }
 
 /// The lens's screen lit through the ball by a lamp, a ball of radius 0.4

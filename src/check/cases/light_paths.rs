@@ -224,14 +224,10 @@ impl LightConvergesCase {
     }
 
     pub fn inputs(&self) -> String {
-        let without = if self.without.is_empty() {
-            String::new()
-        } else {
-            format!(", without {}", self.without.join(", "))
-        };
         format!(
-            "{} renders of a closed scene, each with its own seed{without}",
-            self.repetitions
+            "{} renders of a closed scene, each with its own seed{}",
+            self.repetitions,
+            super::paths::without_text(self.without)
         )
     }
 

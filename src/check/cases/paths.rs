@@ -258,6 +258,42 @@ pub fn z_threshold() -> f64 {
     Normal::new(0.0, 1.0).map_or(4.0, |law| law.inverse_cdf(1.0 - FALSE_ALARM / 2.0))
 }
 
+/// How many of the pixels `test` and `reference` describe (each pixel's
+/// mean, the variance of that mean, and the count it is of) Welch's t-test
+/// finds different at level `alpha` (Jung, Hanika and Dachsbacher, "Detecting
+/// Bias in Monte Carlo Renderers using Welch's t-test", JCGT 2020). Pixels
+/// of no spread on either side differ when their means do.
+pub fn welch_rejections(
+    test: &[(f64, f64, f64)],
+    reference: &[(f64, f64, f64)],
+    alpha: f64,
+) -> usize {
+    use statrs::distribution::StudentsT;
+    test.iter()
+        .zip(reference)
+        .filter(|((m1, v1, n1), (m2, v2, n2))| {
+            let spread = v1 + v2;
+            if spread == 0.0 {
+                return (m1 - m2).abs() > 1e-6;
+            }
+            let t = (m1 - m2) / spread.sqrt();
+            let freedom = spread * spread / (v1 * v1 / (n1 - 1.0) + v2 * v2 / (n2 - 1.0));
+            StudentsT::new(0.0, 1.0, freedom.max(1.0))
+                .is_ok_and(|law| 2.0 * (1.0 - law.cdf(t.abs())) < alpha)
+        })
+        .count()
+}
+
+/// `", without a, b"` for the effects a closed-scene case leaves out, or
+/// nothing.
+pub(super) fn without_text(without: &[&str]) -> String {
+    if without.is_empty() {
+        String::new()
+    } else {
+        format!(", without {}", without.join(", "))
+    }
+}
+
 /// The mean of `samples` and its standard error.
 pub fn mean_and_error(samples: &[f64]) -> (f64, f64) {
     let count = samples.len() as f64;
@@ -272,12 +308,11 @@ impl ConvergesCase {
     }
 
     pub fn inputs(&self) -> String {
-        let without = if self.without.is_empty() {
-            String::new()
-        } else {
-            format!(", without {}", self.without.join(", "))
-        };
-        format!("{} camera samples of a closed scene{without}", self.samples)
+        format!(
+            "{} camera samples of a closed scene{}",
+            self.samples,
+            without_text(self.without)
+        )
     }
 
     /// The mean of the samples' first channel and its standard error, with
