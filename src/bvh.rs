@@ -358,3 +358,42 @@ impl WideBvh {
             + self.unbounded.len() * std::mem::size_of::<u32>()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_lane_folds_keep_the_other_operand_where_one_is_nan() {
+        let a = Vec4::new(1.0, f32::NAN, 3.0, f32::NEG_INFINITY);
+        let b = Vec4::new(2.0, 5.0, f32::NAN, 0.0);
+        let greater = greater_of(a, b).to_array();
+        // 1 > 2 false: 2; NaN > 5 false: 5; 3 > NaN false: NaN; -inf > 0: 0.
+        assert_eq!(&greater[..2], &[2.0, 5.0]);
+        assert!(greater[2].is_nan());
+        assert_eq!(greater[3], 0.0);
+        let lesser = lesser_of(a, b).to_array();
+        assert_eq!(&lesser[..2], &[1.0, 5.0]);
+        assert!(lesser[2].is_nan());
+        assert_eq!(lesser[3], f32::NEG_INFINITY);
+    }
+
+    #[test]
+    fn lanes_hold_what_is_put_in_them() {
+        let mut boxes = Boxes4::EMPTY;
+        let bounds = Aabb::new(Vec3::new(-1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0));
+        boxes.set(2, bounds);
+        assert_eq!(boxes.get(2), bounds);
+        assert_eq!(boxes.get(0), Aabb::EMPTY);
+        let node = WideNode {
+            boxes,
+            ..WideNode::UNUSED
+        };
+        assert_eq!(node.used_lanes().bitmask(), 0b100);
+        let triangle = Triangle::new(Vec3::X, Vec3::Y, Vec3::Z);
+        let mut triangles = Triangles4::NAN;
+        triangles.set(1, &triangle);
+        assert_eq!(triangles.get(1), triangle);
+        assert!(triangles.get(0).a().is_nan());
+    }
+}

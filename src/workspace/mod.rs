@@ -1174,7 +1174,9 @@ mod tests {
             "pub use raylab::chapters::{}::",
             CHAPTERS[10].module()
         )));
-        assert!(bvh_todo.contains("use raylab::bvh::{Aabb, Bvh, BvhNode, BvhOptions, SplitRule};"));
+        assert!(
+            bvh_todo.contains("use raylab::bvh::{\n    Aabb, Boxes4, Bvh, BvhNode, BvhOptions,")
+        );
         let plane = chapter_file(&CHAPTERS[0], "/r", false).expect("cuts");
         assert!(!plane.contains("PARALLEL_TOLERANCE"));
         let plane_answer = chapter_file(&CHAPTERS[0], "/r", true).expect("cuts");
