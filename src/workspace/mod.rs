@@ -1163,9 +1163,10 @@ mod tests {
         let bvh_answer = chapter_file(bvh, "/r", true).expect("cuts");
         for helper in [
             "struct NodeStack",
-            "impl NodeStack",
+            "> NodeStack<T> {",
             "struct Nearest",
             "impl Nearest",
+            "fn leaf4(",
         ] {
             assert!(bvh_answer.contains(helper), "{helper}");
             assert!(!bvh_todo.contains(helper), "{helper}");
