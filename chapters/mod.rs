@@ -53,7 +53,9 @@ macro_rules! for_each_chapter {
                 [intersect_triangle, barycentric, smooth_normal, terminator_point, smooth_hit_point];
             11 ch11_bvh "11_bvh" "Bounding volume hierarchy"
                 "a tree of boxes: hits among thousands of objects in a few dozen tests"
-                |e| { e.bvh = true } [hit_box, build_bvh, nearest_hit_bvh, any_hit_bvh];
+                |e| { e.bvh = true }
+                [hit_box, build_bvh, nearest_hit_bvh, any_hit_bvh, hit_boxes, intersect_triangles,
+                 collapse_bvh, nearest_hit_wide, any_hit_wide];
             12 ch12_implicit "12_implicit" "Surfaces without a formula"
                 "implicit surfaces: sphere tracing, Newton's method, normals by differences"
                 |e| { e.implicit = true }

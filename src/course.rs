@@ -14,7 +14,7 @@
 //! `Chapters` wrote them.
 
 use crate::bsdf::{Dispersed, Lobe};
-use crate::bvh::{Aabb, Bvh, BvhOptions};
+use crate::bvh::{Aabb, Boxes4, Bvh, BvhOptions, Triangles4, WideBvh};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
     ch07_antialiasing, ch08_refraction, ch09_glass, ch10_triangles, ch11_bvh, ch12_implicit,
@@ -24,7 +24,7 @@ use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
 use crate::scene::Cauchy;
 use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
-use crate::{Material, Ray, Sampling, Vec3};
+use crate::{Material, Ray, Sampling, Vec3, Vec4};
 
 /// Which object a ray met, and where along the ray.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -305,6 +305,62 @@ pub trait Chapters: Sized + Send + Sync + 'static {
         ch11_bvh::any_hit_bvh(bvh, objects, ray, t_min, t_max)
     }
 
+    /// Chapter 11: [`Chapters::hit_box`] on four boxes at once: where the
+    /// ray enters each, `NaN` where it misses.
+    #[inline(always)]
+    fn hit_boxes(
+        boxes: &Boxes4,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec4 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::hit_boxes");
+        ch11_bvh::hit_boxes(boxes, origin, inverse_direction, t_min, t_max)
+    }
+
+    /// Chapter 11: [`Chapters::intersect_triangle`] on four triangles at
+    /// once: where the ray meets each, `NaN` where it does not.
+    #[inline(always)]
+    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::intersect_triangles");
+        ch11_bvh::intersect_triangles(triangles, ray, t_min, t_max)
+    }
+
+    /// Chapter 11: the binary tree over `shapes` folded into nodes of up to
+    /// four children, the leaves' triangles four to a [`crate::bvh::Leaf4`].
+    #[inline(always)]
+    fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::collapse_bvh");
+        ch11_bvh::collapse_bvh(bvh, shapes)
+    }
+
+    /// Chapter 11: chapter 3's nearest hit, found through the wide tree.
+    #[inline(always)]
+    fn nearest_hit_wide(
+        wide: &WideBvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::nearest_hit_wide");
+        ch11_bvh::nearest_hit_wide(wide, objects, ray, t_min, t_max)
+    }
+
+    /// Chapter 11: any hit, for shadow rays, found through the wide tree.
+    #[inline(always)]
+    fn any_hit_wide(
+        wide: &WideBvh,
+        objects: &Objects<Self>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<Hit> {
+        crate::answer_key::answered_by(Self::COMPARISON, "Chapters::any_hit_wide");
+        ch11_bvh::any_hit_wide(wide, objects, ray, t_min, t_max)
+    }
+
     /// Chapter 12: the nearest `t` with `t_min < t < t_max` where `ray`
     /// comes within the march's tolerance of `surface` (sphere tracing).
     #[inline(always)]
@@ -497,6 +553,36 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
     }
     fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
         C::build_bvh(bounds, options)
+    }
+    fn hit_boxes(
+        boxes: &Boxes4,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec4 {
+        C::hit_boxes(boxes, origin, inverse_direction, t_min, t_max)
+    }
+    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
+        if TRIANGLE {
+            // The comparison's own test, lane by lane, so that a tree's
+            // leaves show Moller-Trumbore's cracks as chapter 10's loop does.
+            crate::answer_key::answered_by(true, "Textbook::intersect_triangles");
+            Vec4::from_array(std::array::from_fn(|lane| {
+                ch10_triangles::intersect_triangle_moller_trumbore(
+                    &triangles.get(lane),
+                    ray,
+                    t_min,
+                    t_max,
+                )
+                .unwrap_or(f32::NAN)
+            }))
+        } else {
+            C::intersect_triangles(triangles, ray, t_min, t_max)
+        }
+    }
+    fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
+        C::collapse_bvh(bvh, shapes)
     }
     fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         C::sphere_trace(surface, ray, t_min, t_max)

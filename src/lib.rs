@@ -78,6 +78,9 @@ pub mod workspace;
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;
+/// Four `f32` lanes computed together: chapter 11's wide tree tests four
+/// boxes, or four triangles, at once with them.
+pub use glam::Vec4;
 
 pub use chapters::Reference;
 #[cfg(not(feature = "student"))]

@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::bvh::{Bvh, BvhOptions};
+use crate::bvh::{Bvh, BvhOptions, WideBvh};
 use crate::camera::Camera;
 use crate::chapters::LAST_CHAPTER;
 use crate::chapters::Reference;
@@ -230,6 +230,8 @@ pub struct Stage<'a, C: Chapters = Reference> {
     owners: Vec<u32>,
     /// Chapter 11's tree over `shapes`, when the stage uses one.
     bvh: Option<Bvh>,
+    /// The same tree folded into nodes of four children, which the rays walk.
+    wide: Option<WideBvh>,
     offset: RayOffset,
     camera: Camera,
     /// The primitives of `shapes` whose material emits, which next-event
@@ -296,6 +298,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
             C::build_bvh(&bounds, &BvhOptions::default())
         });
+        let wide = bvh.as_ref().map(|bvh| C::collapse_bvh(bvh, &shapes));
         let emitters: Vec<u32> = owners
             .iter()
             .enumerate()
@@ -314,6 +317,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             shapes,
             owners,
             bvh,
+            wide,
             emitters,
             firefly_bound: FIREFLY_FACTOR * brightest,
             light_image: std::sync::OnceLock::new(),
@@ -349,13 +353,19 @@ impl<'a, C: Chapters> Stage<'a, C> {
         self.bvh.as_ref()
     }
 
+    /// Chapter 11's tree folded into nodes of four children, which this
+    /// stage's rays walk, when it uses a tree.
+    pub fn wide_bvh(&self) -> Option<&WideBvh> {
+        self.wide.as_ref()
+    }
+
     /// The nearest hit among [`Stage::shapes`] with `t_min < t < t_max`, as
-    /// this stage finds it: through chapter 11's tree when it has one, else
+    /// this stage finds it: through chapter 11's wide tree when it has one, else
     /// by chapter 3's loop. (The cross-check races this against Embree.)
     pub fn nearest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let objects = self.objects();
-        match &self.bvh {
-            Some(bvh) => C::nearest_hit_bvh(bvh, &objects, ray, t_min, t_max),
+        match &self.wide {
+            Some(wide) => C::nearest_hit_wide(wide, &objects, ray, t_min, t_max),
             None => C::nearest_hit(&objects, ray, t_min, t_max),
         }
     }
@@ -1105,8 +1115,8 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     #[inline]
     fn any_blocker(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         self.log(kind, ray, t_min, t_max);
-        let blocker = match &self.stage.bvh {
-            Some(bvh) => C::any_hit_bvh(bvh, &self.objects, ray, t_min, t_max),
+        let blocker = match &self.stage.wide {
+            Some(wide) => C::any_hit_wide(wide, &self.objects, ray, t_min, t_max),
             None => self.objects.first_hit(ray, t_min, t_max),
         };
         if let Some(recorder) = self.recorder.as_deref_mut() {
@@ -1130,8 +1140,8 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         if let (Some(recorder), Some(weight)) = (self.recorder.as_deref_mut(), weight) {
             recorder.weighted(weight);
         }
-        let hit = if let Some(bvh) = &self.stage.bvh {
-            C::nearest_hit_bvh(bvh, &self.objects, ray, 0.0, f32::INFINITY)
+        let hit = if let Some(wide) = &self.stage.wide {
+            C::nearest_hit_wide(wide, &self.objects, ray, 0.0, f32::INFINITY)
         } else if self.stage.effects.nearest_hit {
             C::nearest_hit(&self.objects, ray, 0.0, f32::INFINITY)
         } else {

@@ -1,6 +1,10 @@
-use raylab::bvh::{Aabb, Bvh, BvhNode, BvhOptions, SplitRule};
+use raylab::bvh::{
+    Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
+    greater_of, lesser_of,
+};
 use raylab::course::{Chapters, Hit, Objects};
-use raylab::{Ray, Vec3};
+use raylab::shapes::Shape;
+use raylab::{Ray, Vec3, Vec4};
 
 /// `γ3 = 3u / (1 - 3u)`, `u = 2^-24`: the relative error bound of a value
 /// that went through three roundings. A slab distance `(plane - origin) *
@@ -377,45 +381,47 @@ pub const TRAVERSAL_STACK: usize = 64;
 /// The nodes waiting to be visited, each with the distance at which the
 /// ray enters its box: a fixed array, and a `Vec` when that is full.
 ///
-/// The array holds node indices as `u32`, as the tree itself numbers them
-/// ([`BvhNode::first`]): 8 bytes an entry rather than 16 for a `usize`,
-/// so each ray clears 512 bytes instead of a kilobyte when its walk begins,
-/// and moves half as much on each push. A render's walks are short, so that
-/// weighs: `raylab race` put ours at 0.50 to 0.58 of Embree's speed on a
-/// render's rays before, 0.60 to 0.68 after (100 k and 1 M triangles).
-struct NodeStack {
-    fixed: [(u32, f32); TRAVERSAL_STACK],
+/// The binary walk's entries are a node index as `u32`, as the tree itself
+/// numbers them ([`BvhNode::first`]), and the entry distance: 8 bytes an
+/// entry rather than 16 for a `usize`, so each ray clears 512 bytes instead
+/// of a kilobyte when its walk begins, and moves half as much on each push.
+/// A render's walks are short, so that weighs: `raylab race` put ours at
+/// 0.50 to 0.58 of Embree's speed on a render's rays before, 0.60 to 0.68
+/// after (100 k and 1 M triangles).
+struct NodeStack<T> {
+    fixed: [T; TRAVERSAL_STACK],
     len: usize,
-    spilled: Vec<(usize, f32)>,
+    spilled: Vec<T>,
 }
 
-impl NodeStack {
-    fn new() -> NodeStack {
+impl<T: Copy + Default> NodeStack<T> {
+    fn new() -> NodeStack<T> {
         NodeStack {
-            fixed: [(0, 0.0); TRAVERSAL_STACK],
+            fixed: [T::default(); TRAVERSAL_STACK],
             len: 0,
             spilled: Vec::new(),
         }
     }
 
-    fn push(&mut self, node: usize, entry: f32) {
+    #[inline(always)]
+    fn push(&mut self, waiting: T) {
         if self.len < TRAVERSAL_STACK {
-            self.fixed[self.len] = (node as u32, entry);
+            self.fixed[self.len] = waiting;
             self.len += 1;
         } else {
-            self.spilled.push((node, entry));
+            self.spilled.push(waiting);
         }
     }
 
     /// The last pushed: entries only spill while the array is full, so the
     /// spilled ones are always the most recent.
-    fn pop(&mut self) -> Option<(usize, f32)> {
+    #[inline(always)]
+    fn pop(&mut self) -> Option<T> {
         if let Some(top) = self.spilled.pop() {
             return Some(top);
         }
         self.len = self.len.checked_sub(1)?;
-        let (node, entry) = self.fixed[self.len];
-        Some((node as usize, entry))
+        Some(self.fixed[self.len])
     }
 }
 
@@ -427,6 +433,7 @@ struct Nearest {
 
 impl Nearest {
     /// The farthest a box may be entered and still hold a better hit.
+    #[inline(always)]
     fn closest(&self) -> f32 {
         self.hit.map_or(self.t_max, |hit| hit.t)
     }
@@ -443,15 +450,27 @@ impl Nearest {
     /// is chapter 3's: same object, same `t`.
     #[inline(always)]
     fn consider<C: Chapters>(&mut self, objects: &Objects<C>, object: u32, ray: &Ray, t_min: f32) {
-        let object = object as usize;
-        let limit = self.hit.map_or(self.t_max, |hit| hit.t.next_up());
-        if let Some(t) = objects.intersect(object, ray, t_min, limit) {
-            let better = self
-                .hit
-                .is_none_or(|best| t < best.t || (t == best.t && object < best.object));
-            if better {
-                self.hit = Some(Hit { object, t });
-            }
+        if let Some(t) = objects.intersect(object as usize, ray, t_min, self.limit()) {
+            self.offer(object as usize, t);
+        }
+    }
+
+    /// How far an object is asked for a hit: up to and including the best
+    /// so far ([`Nearest::consider`]).
+    #[inline(always)]
+    fn limit(&self) -> f32 {
+        self.hit.map_or(self.t_max, |hit| hit.t.next_up())
+    }
+
+    /// Keeps `object`'s hit at `t` if it beats the best so far: nearer, or
+    /// as near and listed first.
+    #[inline(always)]
+    fn offer(&mut self, object: usize, t: f32) {
+        let better = self
+            .hit
+            .is_none_or(|best| t < best.t || (t == best.t && object < best.object));
+        if better {
+            self.hit = Some(Hit { object, t });
         }
     }
 }
@@ -496,12 +515,12 @@ pub fn nearest_hit_bvh<C: Chapters>(
             // Go on into the nearer child at once; the farther one waits.
             match (left_entry, right_entry) {
                 (Some(left_entry), Some(right_entry)) if right_entry < left_entry => {
-                    stack.push(left, left_entry);
+                    stack.push((left as u32, left_entry));
                     visiting = right;
                     continue;
                 }
                 (Some(_), Some(right_entry)) => {
-                    stack.push(right, right_entry);
+                    stack.push((right as u32, right_entry));
                     visiting = left;
                     continue;
                 }
@@ -527,7 +546,7 @@ pub fn nearest_hit_bvh<C: Chapters>(
                 return nearest.hit;
             };
             if entry <= nearest.closest() {
-                visiting = waiting;
+                visiting = waiting as usize;
                 break;
             }
         }
@@ -562,10 +581,10 @@ pub fn any_hit_bvh<C: Chapters>(
     };
     let mut stack = NodeStack::new();
     if !bvh.nodes.is_empty() && enters(0) {
-        stack.push(0, t_min);
+        stack.push(0u32);
     }
-    while let Some((index, _)) = stack.pop() {
-        let node = &bvh.nodes[index];
+    while let Some(index) = stack.pop() {
+        let node = &bvh.nodes[index as usize];
         let Some((left, right)) = node.children() else {
             let leaf = &bvh.primitives[node.primitive_range()];
             if let Some(found) = leaf.iter().find_map(|&object| hit(object)) {
@@ -575,8 +594,367 @@ pub fn any_hit_bvh<C: Chapters>(
         };
         for child in [right, left] {
             if enters(child) {
-                stack.push(child, t_min);
+                stack.push(child as u32);
             }
+        }
+    }
+    None
+}
+
+// ---------------------------------------------------------------------------
+// A wider tree for incoherent rays.
+
+/// [`hit_box`] on four boxes at once: where the ray enters each, `NaN`
+/// where it misses it.
+///
+/// The same operations in the same order, each on four lanes, so each
+/// lane's answer is `hit_box`'s, bit for bit. The direction's sign picks
+/// the near plane of an axis for all four boxes alike; the folds keep the
+/// running entry and exit where a crossing is NaN ([`greater_of`],
+/// [`lesser_of`]); a miss is a NaN entry, which fails every comparison a
+/// walk makes with it.
+#[inline(always)]
+pub fn hit_boxes(
+    boxes: &Boxes4,
+    origin: Vec3,
+    inverse_direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+) -> Vec4 {
+    let mut entry = Vec4::NEG_INFINITY;
+    let mut exit = Vec4::INFINITY;
+    for axis in 0..3 {
+        let (near_planes, far_planes) = if inverse_direction[axis].is_sign_negative() {
+            (boxes.max[axis], boxes.min[axis])
+        } else {
+            (boxes.min[axis], boxes.max[axis])
+        };
+        let origin = Vec4::splat(origin[axis]);
+        let inverse = Vec4::splat(inverse_direction[axis]);
+        let near = (near_planes - origin) * inverse;
+        let far = (far_planes - origin) * inverse;
+        entry = greater_of(near, entry);
+        exit = lesser_of(far, exit);
+    }
+    let slack = |t: Vec4| lesser_of(2.0 * GAMMA_3 * t.abs(), Vec4::splat(f32::MAX));
+    let (entry, exit) = (entry - slack(entry), exit + slack(exit));
+    let entry = greater_of(Vec4::splat(t_min), entry);
+    let exit = lesser_of(Vec4::splat(t_max), exit);
+    Vec4::select(entry.cmple(exit), entry, Vec4::NAN)
+}
+
+/// Chapter 10's watertight test on four triangles at once: where the ray
+/// meets each with `t_min < t < t_max`, `NaN` where it does not.
+///
+/// The ray's half of the test (the axis it moves fastest along, the shear)
+/// is the same for the four; the rest is chapter 10's arithmetic in the
+/// same order on four lanes, so each lane's `t` is
+/// [`Chapters::intersect_triangle`]'s, bit for bit. A lane whose edge
+/// functions include a zero is recomputed in `f64` on its own, as chapter
+/// 10 does: rare, and the other lanes keep their values. Testing four
+/// triangles costs about what one did, and no lane's miss is a branch to
+/// mispredict.
+#[inline(always)]
+pub fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
+    let dir = ray.dir.to_array();
+    let z = ray.dir.abs().max_position();
+    let (mut x, mut y) = ((z + 1) % 3, (z + 2) % 3);
+    if dir[z] < 0.0 {
+        std::mem::swap(&mut x, &mut y);
+    }
+    let shear_x = dir[x] / dir[z];
+    let shear_y = dir[y] / dir[z];
+    let scale_z = 1.0 / dir[z];
+
+    let origin = ray.origin.to_array();
+    let [a, b, c] = triangles
+        .corners
+        .map(|corner| [0, 1, 2].map(|axis| corner[axis] - Vec4::splat(origin[axis])));
+    let sheared = |p: [Vec4; 3]| (p[x] - shear_x * p[z], p[y] - shear_y * p[z]);
+    let (ax, ay) = sheared(a);
+    let (bx, by) = sheared(b);
+    let (cx, cy) = sheared(c);
+
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    let zero = u.cmpeq(Vec4::ZERO) | v.cmpeq(Vec4::ZERO) | w.cmpeq(Vec4::ZERO);
+    if zero.any() {
+        let cross = |px: f32, py: f32, qx: f32, qy: f32| {
+            (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
+        };
+        for lane in (0..WIDTH).filter(|&lane| zero.test(lane)) {
+            u[lane] = cross(cx[lane], cy[lane], bx[lane], by[lane]);
+            v[lane] = cross(ax[lane], ay[lane], cx[lane], cy[lane]);
+            w[lane] = cross(bx[lane], by[lane], ax[lane], ay[lane]);
+        }
+    }
+    let negative = u.cmplt(Vec4::ZERO) | v.cmplt(Vec4::ZERO) | w.cmplt(Vec4::ZERO);
+    let positive = u.cmpgt(Vec4::ZERO) | v.cmpgt(Vec4::ZERO) | w.cmpgt(Vec4::ZERO);
+    let determinant = u + v + w;
+    let (az, bz, cz) = (scale_z * a[z], scale_z * b[z], scale_z * c[z]);
+    let t = (u * az + v * bz + w * cz) / determinant;
+    // A NaN determinant passes `!= 0`, as chapter 10's `!(d != 0)` lets it
+    // through, and makes `t` NaN, which fails the range.
+    let hit = !(negative & positive)
+        & determinant.cmpne(Vec4::ZERO)
+        & t.cmpgt(Vec4::splat(t_min))
+        & t.cmplt(Vec4::splat(t_max));
+    Vec4::select(hit, t, Vec4::NAN)
+}
+
+/// The binary tree `bvh` over `shapes` folded into a tree whose nodes have
+/// up to [`WIDTH`] children, and whose leaves hold their triangles four to
+/// a [`Leaf4`].
+///
+/// Each wide node starts from a binary node's two children and, while it
+/// has room, replaces the inner child with the largest surface (the one a
+/// ray is likeliest to enter) by that child's own two children: about two
+/// binary levels become one. A binary leaf becomes a wide leaf, its objects
+/// in groups of four. Every box is a box of the binary tree, so a ray
+/// meets the same boxes, fewer of them at a time.
+pub fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
+    let mut wide = WideBvh {
+        nodes: Vec::new(),
+        leaves: Vec::new(),
+        unbounded: bvh.unbounded.clone(),
+    };
+    if bvh.nodes.is_empty() {
+        return wide;
+    }
+    wide.nodes.push(WideNode::UNUSED);
+    // Wide nodes still to fill: (index in `wide.nodes`, binary node).
+    let mut to_fill = vec![(0usize, 0usize)];
+    while let Some((slot, binary)) = to_fill.pop() {
+        let mut children = match bvh.nodes[binary].children() {
+            Some((left, right)) => vec![left, right],
+            // A root that is a leaf: a wide root with one lane.
+            None => vec![binary],
+        };
+        while children.len() < WIDTH {
+            let mut largest: Option<(usize, f64)> = None;
+            for (place, &child) in children.iter().enumerate() {
+                let area = half_area(&bvh.nodes[child].bounds);
+                if !bvh.nodes[child].is_leaf() && largest.is_none_or(|(_, most)| area > most) {
+                    largest = Some((place, area));
+                }
+            }
+            let Some((place, _)) = largest else {
+                break;
+            };
+            let Some((left, right)) = bvh.nodes[children[place]].children() else {
+                break;
+            };
+            children[place] = left;
+            children.push(right);
+        }
+        let mut node = WideNode::UNUSED;
+        for (lane, &index) in children.iter().enumerate() {
+            let child = &bvh.nodes[index];
+            node.boxes.set(lane, child.bounds);
+            if child.is_leaf() {
+                node.first[lane] = wide.leaves.len() as u32;
+                for group in bvh.primitives[child.primitive_range()].chunks(WIDTH) {
+                    wide.leaves.push(leaf4(group, shapes));
+                }
+                node.count[lane] = wide.leaves.len() as u32 - node.first[lane];
+            } else {
+                node.first[lane] = wide.nodes.len() as u32;
+                to_fill.push((wide.nodes.len(), index));
+                wide.nodes.push(WideNode::UNUSED);
+            }
+        }
+        wide.nodes[slot] = node;
+    }
+    wide
+}
+
+/// The objects `group` (at most four) as a [`Leaf4`]: each triangle's
+/// corners copied into its lane, any other shape marked to be asked on its
+/// own.
+fn leaf4(group: &[u32], shapes: &[Shape]) -> Leaf4 {
+    let mut leaf = Leaf4 {
+        triangles: Triangles4::NAN,
+        objects: [u32::MAX; WIDTH],
+        one_by_one: 0,
+    };
+    for (lane, &object) in group.iter().enumerate() {
+        leaf.objects[lane] = object;
+        match shapes.get(object as usize).and_then(Shape::as_triangle) {
+            Some(triangle) => leaf.triangles.set(lane, triangle),
+            None => leaf.one_by_one |= 1 << lane,
+        }
+    }
+    leaf
+}
+
+impl Nearest {
+    /// Asks every object of `leaves` and keeps the best hit, as
+    /// [`Nearest::consider`] would one by one: a lane that hits within the
+    /// limit of the best so far is offered, and offers are compared as
+    /// chapter 3 compares hits, so the four answering together changes
+    /// nothing.
+    #[inline(always)]
+    fn consider_leaves<C: Chapters>(
+        &mut self,
+        leaves: &[Leaf4],
+        objects: &Objects<C>,
+        ray: &Ray,
+        t_min: f32,
+    ) {
+        for leaf in leaves {
+            let t = C::intersect_triangles(&leaf.triangles, ray, t_min, self.limit());
+            for lane in lanes_of((!t.is_nan_mask()).bitmask()) {
+                self.offer(leaf.objects[lane] as usize, t[lane]);
+            }
+            for lane in lanes_of(leaf.one_by_one) {
+                self.consider(objects, leaf.objects[lane], ray, t_min);
+            }
+        }
+    }
+}
+
+/// The [`Leaf4`]s of a leaf lane `first`, `count` (in `usize`, where a
+/// sum past `u32::MAX` cannot wrap around).
+fn leaf_range(first: u32, count: u32) -> std::ops::Range<usize> {
+    first as usize..first as usize + count as usize
+}
+
+/// The lanes whose bit is set in `bits`, in order.
+#[inline(always)]
+fn lanes_of(mut bits: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (bits != 0).then(|| {
+            let lane = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            lane
+        })
+    })
+}
+
+/// [`nearest_hit_bvh`] through the wide tree `wide`: chapter 3's answer,
+/// the same object at the same `t`.
+///
+/// At each node the four boxes are tested at once ([`hit_boxes`]). The
+/// walk goes on into the child entered nearest; the others wait on the
+/// stack, farther first so that the nearer come off first, each with its
+/// entry, and are skipped when they come off beyond the best hit found
+/// since. A leaf's triangles are tested four at a time
+/// ([`intersect_triangles`]).
+pub fn nearest_hit_wide<C: Chapters>(
+    wide: &WideBvh,
+    objects: &Objects<C>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let mut nearest = Nearest { hit: None, t_max };
+    for &object in &wide.unbounded {
+        nearest.consider(objects, object, ray, t_min);
+    }
+    if wide.nodes.is_empty() {
+        return nearest.hit;
+    }
+    let inverse = ray.dir.recip();
+    // Waiting children: (first, count) as the node's lane says, and entry.
+    let mut stack = NodeStack::<(u32, u32, f32)>::new();
+    let mut visiting = 0usize;
+    loop {
+        let node = &wide.nodes[visiting];
+        let entries = C::hit_boxes(&node.boxes, ray.origin, inverse, t_min, nearest.closest());
+        let entered = !entries.is_nan_mask() & node.used_lanes();
+        if entered.any() {
+            // The nearest entered lane. The others count as infinitely far,
+            // and must not be taken for it when an entry is infinite too (a
+            // ray of direction zero enters a box ahead of it at infinity).
+            let keyed = Vec4::select(entered, entries, Vec4::INFINITY);
+            let nearest_lane = (keyed.cmpeq(Vec4::splat(keyed.min_element())) & entered)
+                .bitmask()
+                .trailing_zeros() as usize;
+            let mut waiting = [0usize; WIDTH];
+            let mut count = 0;
+            for lane in lanes_of(entered.bitmask() & !(1 << nearest_lane)) {
+                // Sorted in place, farthest first.
+                let mut place = count;
+                while place > 0 && entries[waiting[place - 1]] < entries[lane] {
+                    waiting[place] = waiting[place - 1];
+                    place -= 1;
+                }
+                waiting[place] = lane;
+                count += 1;
+            }
+            for &lane in &waiting[..count] {
+                stack.push((node.first[lane], node.count[lane], entries[lane]));
+            }
+            let (first, count) = (node.first[nearest_lane], node.count[nearest_lane]);
+            if count == 0 {
+                visiting = first as usize;
+                continue;
+            }
+            nearest.consider_leaves(&wide.leaves[leaf_range(first, count)], objects, ray, t_min);
+        }
+        // The next waiting child, unless a hit found since it was pushed is
+        // nearer than its box; leaves are tested as they come off.
+        loop {
+            let Some((first, count, entry)) = stack.pop() else {
+                return nearest.hit;
+            };
+            if !(entry <= nearest.closest()) {
+                continue;
+            }
+            if count == 0 {
+                visiting = first as usize;
+                break;
+            }
+            nearest.consider_leaves(&wide.leaves[leaf_range(first, count)], objects, ray, t_min);
+        }
+    }
+}
+
+/// [`any_hit_bvh`] through the wide tree `wide`: some hit with
+/// `t_min < t < t_max`, the first found, for shadow rays.
+pub fn any_hit_wide<C: Chapters>(
+    wide: &WideBvh,
+    objects: &Objects<C>,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Hit> {
+    let hit = |object: u32| {
+        let object = object as usize;
+        objects
+            .intersect(object, ray, t_min, t_max)
+            .map(|t| Hit { object, t })
+    };
+    if let Some(found) = wide.unbounded.iter().find_map(|&object| hit(object)) {
+        return Some(found);
+    }
+    if wide.nodes.is_empty() {
+        return None;
+    }
+    let inverse = ray.dir.recip();
+    // Waiting children: (first, count) as a node's lane says; the root is
+    // the inner node 0.
+    let mut stack = NodeStack::<(u32, u32)>::new();
+    stack.push((0, 0));
+    while let Some((first, count)) = stack.pop() {
+        if count > 0 {
+            for leaf in &wide.leaves[leaf_range(first, count)] {
+                let t = C::intersect_triangles(&leaf.triangles, ray, t_min, t_max);
+                if let Some(lane) = lanes_of((!t.is_nan_mask()).bitmask()).next() {
+                    let object = leaf.objects[lane] as usize;
+                    return Some(Hit { object, t: t[lane] });
+                }
+                if let Some(found) = lanes_of(leaf.one_by_one).find_map(|l| hit(leaf.objects[l])) {
+                    return Some(found);
+                }
+            }
+            continue;
+        }
+        let node = &wide.nodes[first as usize];
+        let entries = C::hit_boxes(&node.boxes, ray.origin, inverse, t_min, t_max);
+        for lane in lanes_of((!entries.is_nan_mask() & node.used_lanes()).bitmask()) {
+            stack.push((node.first[lane], node.count[lane]));
         }
     }
     None

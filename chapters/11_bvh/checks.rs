@@ -12,6 +12,10 @@ const SAH_11: &str = "Where to cut: the surface-area heuristic";
 const WALK_11: &str = "Walking the tree: the nearest hit";
 const ANY_11: &str = "Any hit, for shadows";
 const PLANES_11: &str = "Why planes stay out";
+const BOXES4_11: &str = "Four boxes at once";
+const TRIANGLES4_11: &str = "Four triangles at once";
+const COLLAPSE_11: &str = "Folding the binary tree";
+const WIDE_WALK_11: &str = "Walking the wide tree";
 
 /// The box of every `hit_box` checkpoint: the cube from -1 to 1.
 const CUBE: (Vec3, Vec3) = (Vec3::splat(-1.0), Vec3::splat(1.0));
@@ -66,6 +70,9 @@ struct BvhHitsQuestion {
     /// `(t_min, t_max)`.
     range: (f32, f32),
     any_hit: bool,
+    /// Through the wide tree (`collapse_bvh`, then `nearest_hit_wide` or
+    /// `any_hit_wide`).
+    wide: bool,
 }
 
 impl From<BvhHitsQuestion> for Case {
@@ -82,9 +89,66 @@ impl From<BvhHitsQuestion> for Case {
                 t_min,
                 t_max,
                 any: question.any_hit,
+                wide: question.wide,
             }),
         )
     }
+}
+
+/// A `hit_boxes` question: four boxes (`(min, max)`, lane by lane), the
+/// ray from `ray.0` along `ray.1`, `range.0 < t < range.1`; expected each
+/// lane's entry `t`, or a miss.
+struct BoxesQuestion {
+    name: &'static str,
+    section: &'static str,
+    says: &'static str,
+    boxes: [(Vec3, Vec3); 4],
+    /// `(origin, dir)`.
+    ray: (Vec3, Vec3),
+    /// `(t_min, t_max)`.
+    range: (f32, f32),
+    expect: [Option<f64>; 4],
+}
+
+impl From<BoxesQuestion> for Case {
+    fn from(question: BoxesQuestion) -> Case {
+        let (origin, dir) = question.ray;
+        let (t_min, t_max) = question.range;
+        Case::new(
+            question.name,
+            question.section,
+            question.says,
+            CaseKind::HitBoxes(HitBoxesCase {
+                boxes: question.boxes,
+                origin,
+                dir,
+                t_min,
+                t_max,
+                expect: question.expect,
+            }),
+        )
+    }
+}
+
+/// The box from `min` to `max`.
+fn cuboid(min: [f32; 3], max: [f32; 3]) -> (Vec3, Vec3) {
+    (Vec3::from(min), Vec3::from(max))
+}
+
+/// No box at all in a lane: `min` above `max` everywhere.
+const EMPTY_LANE: (Vec3, Vec3) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+
+/// A triangle's corners.
+fn corners(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [Vec3; 3] {
+    [Vec3::from(a), Vec3::from(b), Vec3::from(c)]
+}
+
+/// A lane that holds no triangle: NaN corners, which no ray hits.
+const NO_TRIANGLE: [Vec3; 3] = [Vec3::NAN; 3];
+
+fn triangle(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Shape {
+    let [a, b, c] = corners(a, b, c);
+    Triangle::new(a, b, c).into()
 }
 
 fn sphere(center: Vec3, radius: f32) -> Shape {
@@ -298,6 +362,26 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-nearest-in-a-leaf-of-three",
+            section: WALK_11,
+            says: "unit spheres at (0, 0, 10) (object 0), (0, 0, 5) (object 1) and (3, 0, 5) \
+                   (object 2), the default options (a leaf holds up to four objects: these three \
+                   make one); a ray from the origin along +z meets object 0 at t = 9 and object 1 \
+                   at t = 4: expected object 1 at t = 4 \
+                   (a leaf that ends at its first hit says object 0 at t = 9)",
+            shapes: vec![
+                sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                sphere(Vec3::new(3.0, 0.0, 5.0), 1.0),
+            ],
+            options: BvhOptions::default(),
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
         }),
         Case::new(
             "bvh-plane-stays-out",
@@ -323,6 +407,7 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-any-hit-finds-the-blocker",
@@ -335,6 +420,7 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z), from_origin(Vec3::Y)],
             range: (0.0, 10.0),
             any_hit: true,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-nearest-tie-goes-to-the-first-listed",
@@ -351,6 +437,7 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-any-hit-beyond-the-light",
@@ -363,6 +450,7 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z)],
             range: (0.0, 3.5),
             any_hit: true,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-any-hit-only-planes",
@@ -379,6 +467,7 @@ pub fn checkpoints() -> Vec<Case> {
             rays: vec![from_origin(Vec3::Z), from_origin(Vec3::X)],
             range: (0.0, 10.0),
             any_hit: true,
+            wide: false,
         }),
         // The build's own rules, which the walks above cannot see (any
         // valid tree gives their answers). Which child is left is the
@@ -600,6 +689,236 @@ pub fn checkpoints() -> Vec<Case> {
             range: IN_FRONT,
             expect: Some(4.0 / 4096.0),
         }),
+        Case::from(BoxesQuestion {
+            name: "boxes-four-at-once",
+            section: BOXES4_11,
+            says: "a ray from (-5, 0, 0) along (1, 0, 0), 0 < t < 10, and four boxes: lane 0 the \
+                   cube from -1 to 1, entered at x = -1, t = 4; lane 1 from (2, -1, -1) to (3, 1, \
+                   1), entered at t = 7; lane 2 from (-1, 2, -1) to (1, 3, 1), whose y slab the ray \
+                   (y = 0, dir.y = 0) is never inside: a miss; lane 3 from (-6, -1, -1) to (-4, 1, \
+                   1), around the origin: t_min. Expected [4, 7, NaN, 0] \
+                   (a lane left out of the arithmetic answers NaN or garbage)",
+            boxes: [
+                CUBE,
+                cuboid([2.0, -1.0, -1.0], [3.0, 1.0, 1.0]),
+                cuboid([-1.0, 2.0, -1.0], [1.0, 3.0, 1.0]),
+                cuboid([-6.0, -1.0, -1.0], [-4.0, 1.0, 1.0]),
+            ],
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::X),
+            range: (0.0, 10.0),
+            expect: [Some(4.0), Some(7.0), None, Some(0.0)],
+        }),
+        Case::from(BoxesQuestion {
+            name: "boxes-negative-direction-and-t-max",
+            section: BOXES4_11,
+            says: "a ray from (5, 0.5, 0) along (-1, 0, 0), 0 < t < 6.5: lane 0 the cube, whose \
+                   plane x = 1 (max.x) comes first, at t = 4; lane 1 from (-3, -1, -1) to (-2, 1, \
+                   1), entered at t = 7, beyond t_max: a miss; lane 2 from (6, -1, -1) to (7, 1, \
+                   1), behind the ray: a miss; lane 3 the flat box x = 0 from (0, -1, -1) to (0, 1, \
+                   1), entered and left at t = 5. Expected [4, NaN, NaN, 5]",
+            boxes: [
+                CUBE,
+                cuboid([-3.0, -1.0, -1.0], [-2.0, 1.0, 1.0]),
+                cuboid([6.0, -1.0, -1.0], [7.0, 1.0, 1.0]),
+                cuboid([0.0, -1.0, -1.0], [0.0, 1.0, 1.0]),
+            ],
+            ray: (Vec3::new(5.0, 0.5, 0.0), -Vec3::X),
+            range: (0.0, 6.5),
+            expect: [Some(4.0), None, None, Some(5.0)],
+        }),
+        Case::from(BoxesQuestion {
+            name: "boxes-nan-lanes",
+            section: BOXES4_11,
+            says: "a ray from (0, 1, -5) along (0, 0, 1): dir.y = 0, and the origin is on the \
+                   plane y = 1, the cube's max.y (lane 0) and the min.y of the box from (-1, 1, -1) \
+                   to (1, 2, 1) (lane 1): in both, (1 - 1) x inf = NaN must constrain nothing, and \
+                   the z slab gives t = 4. Lane 2, from (-1, 2, -1) to (1, 3, 1), is above the ray: \
+                   a miss; lane 3 holds the empty box (min inf, max -inf): a miss. Expected [4, 4, \
+                   NaN, NaN]",
+            boxes: [
+                CUBE,
+                cuboid([-1.0, 1.0, -1.0], [1.0, 2.0, 1.0]),
+                cuboid([-1.0, 2.0, -1.0], [1.0, 3.0, 1.0]),
+                EMPTY_LANE,
+            ],
+            ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: [Some(4.0), Some(4.0), None, None],
+        }),
+        Case::new(
+            "triangles-four-at-once",
+            TRIANGLES4_11,
+            "a ray from the origin along +z, 0 < t < inf, and four triangles: lane 0 from (-1, -1, \
+             2), (1, -1, 2), (0, 1, 2), met at t = 2; lane 1 the same shape moved to x = 2 to 4, \
+             z = 5, beside the ray: no hit; lane 2 the first moved to z = -3, behind the ray: no \
+             hit; lane 3 tilted, from (-1, -1, 3.5), (1, -1, 4.5), (0, 1, 4), met at t = 4. \
+             Expected, lane by lane, what your intersect_triangle answers for each triangle, bit \
+             for bit: [2, NaN, NaN, 4]",
+            CaseKind::FourTriangles(FourTrianglesCase {
+                triangles: [
+                    corners([-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], [0.0, 1.0, 2.0]),
+                    corners([2.0, -1.0, 5.0], [4.0, -1.0, 5.0], [3.0, 1.0, 5.0]),
+                    corners([-1.0, -1.0, -3.0], [1.0, -1.0, -3.0], [0.0, 1.0, -3.0]),
+                    corners([-1.0, -1.0, 3.5], [1.0, -1.0, 4.5], [0.0, 1.0, 4.0]),
+                ],
+                ray: Ray::new(Vec3::ZERO, Vec3::Z),
+                t_min: 0.0,
+                t_max: INF,
+            }),
+        ),
+        Case::new(
+            "triangles-a-zero-in-two-lanes",
+            TRIANGLES4_11,
+            "a ray from the origin along +z through the edge from (0, -1, 2) to (0, 1, 2) that \
+             lanes 0 and 1 share (triangles (-1, 0, 2), (0, -1, 2), (0, 1, 2) and (0, -1, 2), (1, \
+             0, 2), (0, 1, 2)): an edge function is exactly 0 in each, which chapter 10 \
+             recomputes in f64; lane 2 holds (-1.1, -0.3, 3.7), (0.7, -0.9, 4.1), (0.3, 0.7, 4.9), \
+             whose edge functions are not zero: recomputed in f64 they would round its t one ulp \
+             lower; lane 3 is empty (NaN corners). Expected, lane by lane, your \
+             intersect_triangle's answers bit for bit: 2, 2, about 4.348485, NaN \
+             (recomputing every lane when one has a zero changes lane 2)",
+            CaseKind::FourTriangles(FourTrianglesCase {
+                triangles: [
+                    corners([-1.0, 0.0, 2.0], [0.0, -1.0, 2.0], [0.0, 1.0, 2.0]),
+                    corners([0.0, -1.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]),
+                    corners([-1.1, -0.3, 3.7], [0.7, -0.9, 4.1], [0.3, 0.7, 4.9]),
+                    NO_TRIANGLE,
+                ],
+                ray: Ray::new(Vec3::ZERO, Vec3::Z),
+                t_min: 0.0,
+                t_max: INF,
+            }),
+        ),
+        Case::new(
+            "collapse-triangles-copied-a-sphere-alone",
+            COLLAPSE_11,
+            "three triangles (objects 0, 1 and 3) and a unit sphere (object 2) in one leaf (the \
+             default options keep four objects together): expected the root using one lane, a \
+             leaf of one Leaf4 whose lanes hold the four objects, each triangle's corners copied \
+             into its lane and the sphere's lane marked one_by_one, its corners NaN",
+            CaseKind::Collapse(CollapseCase {
+                shapes: vec![
+                    triangle([0.0, 0.0, 5.0], [1.0, 0.0, 5.0], [0.0, 1.0, 5.0]),
+                    triangle([2.0, 0.0, 5.0], [3.0, 0.0, 6.0], [2.0, 1.0, 5.0]),
+                    sphere(Vec3::new(1.0, 2.0, 6.0), 1.0),
+                    triangle([-1.0, 1.0, 4.0], [0.0, 2.0, 4.0], [-1.0, 2.0, 5.0]),
+                ],
+                options: BvhOptions::default(),
+                expect: WideShape::RootLanes(1),
+            }),
+        ),
+        Case::new(
+            "collapse-four-lanes",
+            COLLAPSE_11,
+            "eight unit spheres at x = 0, 3, ..., 21 (objects 0 to 7), one per leaf, cut at the \
+             middle: the binary root's children hold spheres 0 to 3 and 4 to 7, theirs two spheres \
+             each. The root takes its two children, opens the first of the two largest (equal \
+             areas), then the largest inner child left, spheres 4 to 7: expected the root using \
+             four lanes, each an inner node of two leaves, every sphere once under boxes that hold \
+             it (a fold that opens no child keeps two lanes; one that drops a child loses its \
+             spheres)",
+            CaseKind::Collapse(CollapseCase {
+                shapes: (0..8)
+                    .map(|k| sphere(Vec3::new(3.0 * k as f32, 0.0, 0.0), 1.0))
+                    .collect(),
+                options: ONE_PER_LEAF,
+                expect: WideShape::RootLanes(4),
+            }),
+        ),
+        Case::new(
+            "collapse-planes-stay-out",
+            COLLAPSE_11,
+            "a unit sphere at (0, 0, 10) (object 0), the plane z = 5 (object 1) and a unit sphere \
+             at (0, 0, 3) (object 2), one per leaf: expected unbounded = [1], as the binary tree's, \
+             and the two spheres in the wide tree's leaves",
+            CaseKind::Collapse(CollapseCase {
+                shapes: plane_between(),
+                options: ONE_PER_LEAF,
+                expect: WideShape::RootLanes(2),
+            }),
+        ),
+        Case::from(BvhHitsQuestion {
+            name: "wide-nearest-behind-a-nearer-box",
+            section: WIDE_WALK_11,
+            says: "the spheres of bvh-nearest-behind-a-nearer-box through the wide tree: object 0's \
+                   box is entered first (z = 5), object 1 is hit nearer (t = 6 against 7): expected \
+                   object 1 at t = 6 (a walk that stops at the first leaf with a hit says object 0)",
+            shapes: behind(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-triangle-behind-a-nearer-box",
+            section: WIDE_WALK_11,
+            says: "a ray from the origin along +z; object 0 the triangle (-2, -2, 3), (2, -2, 3), \
+                   (0, 2, 9), whose box starts at z = 3 but which the ray meets at z = 6 (halfway up \
+                   its slope); object 1 the triangle (-1, -1, 5), (1, -1, 5), (0, 1, 5), met at t = \
+                   5; one per leaf: expected object 1 at t = 5",
+            shapes: vec![
+                triangle([-2.0, -2.0, 3.0], [2.0, -2.0, 3.0], [0.0, 2.0, 9.0]),
+                triangle([-1.0, -1.0, 5.0], [1.0, -1.0, 5.0], [0.0, 1.0, 5.0]),
+            ],
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-plane-still-hit",
+            section: WIDE_WALK_11,
+            says: "the objects of bvh-plane-still-hit through the wide tree: expected object 2 at \
+                   t = 2 along +z, then object 1 (the plane) at t = 6.25 along (0.6, 0, 0.8)",
+            shapes: plane_between(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-nearest-tie-goes-to-the-first-listed",
+            section: WIDE_WALK_11,
+            says: "the sphere and plane of bvh-nearest-tie-goes-to-the-first-listed, both met at t = \
+                   4, through the wide tree: expected object 0 at t = 4",
+            shapes: vec![
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            ],
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-any-hit-finds-the-blocker",
+            section: WIDE_WALK_11,
+            says: "the spheres of bvh-any-hit-finds-the-blocker through any_hit_wide: a shadow ray \
+                   along +z with t_max = 10 is blocked by object 1 at t = 4: expected a hit; one \
+                   along +y: expected none",
+            shapes: blockers(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z), from_origin(Vec3::Y)],
+            range: (0.0, 10.0),
+            any_hit: true,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-any-hit-beyond-the-light",
+            section: WIDE_WALK_11,
+            says: "the same spheres, the ray along +z with t_max = 3.5: the blocker at t = 4 is \
+                   beyond the light: expected no hit",
+            shapes: blockers(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: (0.0, 3.5),
+            any_hit: true,
+            wide: true,
+        }),
     ]
 }
 
@@ -644,6 +963,35 @@ impl RandomSpheres {
             .collect();
         (shapes, rays)
     }
+}
+
+/// Raylab's closed model of about `triangles` triangles (a torus around the
+/// y axis, radius about 1.5), and `rays` rays from points 4 from its centre
+/// toward random points of its box, from `seed`: some through the hole,
+/// some beside it, many through shared edges' neighbourhoods.
+fn closed_mesh(triangles: usize, rays: usize, seed: u64) -> (Vec<Shape>, Vec<Ray>) {
+    let shapes = crate::mesh::generate_closed_mesh(triangles)
+        .map(|mesh| crate::bvh_reports::leaks::triangles(&mesh))
+        .unwrap_or_default();
+    let mut numbers = exact::Xorshift::new(seed);
+    let rays = (0..rays)
+        .map(|_| {
+            let eye = Vec3::new(
+                numbers.between(-1.0, 1.0),
+                numbers.between(-1.0, 1.0),
+                numbers.between(-1.0, 1.0),
+            )
+            .normalize_or(Vec3::X)
+                * 4.0;
+            let aim = Vec3::new(
+                numbers.between(-1.5, 1.5),
+                numbers.between(-0.5, 0.5),
+                numbers.between(-1.5, 1.5),
+            );
+            Ray::new(eye, aim - eye)
+        })
+        .collect();
+    (shapes, rays)
 }
 
 /// Chapter 11's hard cases.
@@ -704,6 +1052,10 @@ pub fn robustness() -> Vec<Case> {
         Ray::new(center, Vec3::new(1.0, 0.5, -0.25)),
         Ray::new(center + Vec3::new(0.0, 0.0, 1.0), Vec3::Z),
     ];
+    let (thousand_wide, thousand_wide_rays) = (thousand.clone(), thousand_rays.clone());
+    let (ties_wide, tie_rays_wide) = (ties.clone(), tie_rays.clone());
+    let (concentric_wide, concentric_rays_wide) = (concentric.clone(), concentric_rays.clone());
+    let (mesh, mesh_rays) = closed_mesh(1000, 300, 1111);
     robust(vec![
         Case::from(BvhHitsQuestion {
             name: "bvh-thousand-spheres",
@@ -717,6 +1069,7 @@ pub fn robustness() -> Vec<Case> {
             rays: thousand_rays.clone(),
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-thousand-spheres-any-hit",
@@ -728,6 +1081,7 @@ pub fn robustness() -> Vec<Case> {
             rays: thousand_rays,
             range: IN_FRONT,
             any_hit: true,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-huge-coordinates",
@@ -741,6 +1095,7 @@ pub fn robustness() -> Vec<Case> {
             rays: huge_rays,
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-ties-lower-index-wins",
@@ -756,6 +1111,7 @@ pub fn robustness() -> Vec<Case> {
             rays: tie_rays,
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-coincident-centroids",
@@ -769,6 +1125,7 @@ pub fn robustness() -> Vec<Case> {
             rays: concentric_rays,
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-only-planes",
@@ -783,6 +1140,7 @@ pub fn robustness() -> Vec<Case> {
             rays: vec![Ray::new(Vec3::ZERO, Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-nan-ray",
@@ -803,6 +1161,7 @@ pub fn robustness() -> Vec<Case> {
             rays: vec![Ray::new(Vec3::ZERO, Vec3::NAN)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BoxQuestion {
             name: "box-through-a-corner",
@@ -827,6 +1186,7 @@ pub fn robustness() -> Vec<Case> {
                 max: Vec3::new(0.9, 1.7, 3.1),
                 rays: 20_000,
                 seed: 0x2545_f491_4f6c_dd1d,
+                four_at_once: false,
             }),
         ),
         Case::from(BvhHitsQuestion {
@@ -845,6 +1205,7 @@ pub fn robustness() -> Vec<Case> {
             rays: vec![Ray::new(Vec3::new(-10.0, 0.0, 0.0), Vec3::X)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
         }),
         Case::from(BvhHitsQuestion {
             name: "bvh-tie-far-from-the-origin",
@@ -863,6 +1224,203 @@ pub fn robustness() -> Vec<Case> {
             rays: vec![Ray::new(Vec3::new(0.0, 0.0, -100.0), Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
+            wide: false,
+        }),
+        Case::new(
+            "boxes-rays-along-edges",
+            BOXES4_11,
+            "the rays of box-rays-along-edges through hit_boxes, the box in lane i % 4 for ray i \
+             and the other lanes empty: every lane must enter the box where the exact ray meets \
+             it, as hit_box does",
+            CaseKind::BoxEdges(BoxEdgesCase {
+                min: Vec3::new(-1.3, 0.2, 2.7),
+                max: Vec3::new(0.9, 1.7, 3.1),
+                rays: 20_000,
+                seed: 0x2545_f491_4f6c_dd1d,
+                four_at_once: true,
+            }),
+        ),
+        Case::new(
+            "triangles-closed-mesh-in-fours",
+            TRIANGLES4_11,
+            "raylab's closed model of 200 triangles, four consecutive ones to a call, and a ray \
+             from inside toward each vertex and edge midpoint: where edge functions are zero or \
+             nearly so, every lane must still be your intersect_triangle's answer, bit for bit",
+            CaseKind::MeshInFours(MeshInFoursCase { triangles: 200 }),
+        ),
+        Case::new(
+            "collapse-a-big-leaf-in-fours",
+            COLLAPSE_11,
+            "ten spheres around the same centre (0, 0, 10), radii 0.5 to 2.75: no cut separates \
+             them, so the binary tree is one leaf of ten; expected the root using one lane, its \
+             leaf three Leaf4s holding the ten spheres once each, every lane marked one_by_one",
+            CaseKind::Collapse(CollapseCase {
+                shapes: (0..10)
+                    .map(|index| sphere(center, 0.5 + 0.25 * index as f32))
+                    .collect(),
+                options: default,
+                expect: WideShape::RootLanes(1),
+            }),
+        ),
+        Case::from(BvhHitsQuestion {
+            name: "wide-thousand-spheres",
+            section: WIDE_WALK_11,
+            says: "the 1000 spheres and 200 rays of bvh-thousand-spheres through the wide tree: \
+                   chapter 3's hit on every ray, same object, same t",
+            shapes: thousand_wide.clone(),
+            options: default,
+            rays: thousand_wide_rays.clone(),
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-thousand-spheres-any-hit",
+            section: WIDE_WALK_11,
+            says: "the same through any_hit_wide: a real hit exactly when chapter 3 finds one",
+            shapes: thousand_wide,
+            options: default,
+            rays: thousand_wide_rays,
+            range: IN_FRONT,
+            any_hit: true,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-closed-mesh",
+            section: WIDE_WALK_11,
+            says: "raylab's closed model of 1,008 triangles (the same every run) and 300 rays from \
+                   4 units around it toward its box, the default options: the leaves' triangles \
+                   tested four at a time, and chapter 3's hit on every ray, same object, same t",
+            shapes: mesh.clone(),
+            options: default,
+            rays: mesh_rays.clone(),
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-closed-mesh-any-hit",
+            section: WIDE_WALK_11,
+            says: "the same model and rays through any_hit_wide: a real hit exactly when chapter 3 \
+                   finds one",
+            shapes: mesh,
+            options: default,
+            rays: mesh_rays,
+            range: IN_FRONT,
+            any_hit: true,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-ties-lower-index-wins",
+            section: WIDE_WALK_11,
+            says: "the copies and the plane of bvh-ties-lower-index-wins through the wide tree: \
+                   expected chapter 3's answer (object 1 at t = 4 along +z) on each of 5 rays",
+            shapes: ties_wide,
+            options: ONE_PER_LEAF,
+            rays: tie_rays_wide,
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-triangle-ties-lower-index-wins",
+            section: WIDE_WALK_11,
+            says: "objects 1 to 4 the same triangle (-1, -1, 4), (1, -1, 4), (0, 1, 4), object 0 \
+                   the triangle (5, -1, 4), (7, -1, 4), (6, 1, 4) beside the ray; cut at the middle \
+                   of the centroids (x = 3) with max_leaf 4, objects 1 to 4 make one leaf, one \
+                   Leaf4 whose four lanes answer together, all at t = 4 along +z (in the reference's \
+                   build, object 4 in the first lane). Chapter 3 keeps the first listed: expected \
+                   object 1 at t = 4",
+            shapes: vec![
+                triangle([5.0, -1.0, 4.0], [7.0, -1.0, 4.0], [6.0, 1.0, 4.0]),
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+            ],
+            options: BvhOptions {
+                split: SplitRule::Midpoint,
+                bins: 16,
+                max_leaf: 4,
+            },
+            rays: vec![Ray::new(Vec3::ZERO, Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-coincident-centroids",
+            section: WIDE_WALK_11,
+            says: "the 200 spheres around one centre of bvh-coincident-centroids, one leaf of 50 \
+                   Leaf4s in the wide tree, every lane asked on its own: chapter 3's answer on each \
+                   of its 4 rays",
+            shapes: concentric_wide,
+            options: ONE_PER_LEAF,
+            rays: concentric_rays_wide,
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-nan-ray",
+            section: WIDE_WALK_11,
+            says: "a ray whose direction is NaN through the wide tree of 10 spheres: every box is \
+                   entered (no comparison can reject it), the lanes that hold nothing must not be: \
+                   expected no hit",
+            shapes: RandomSpheres {
+                seed: 11,
+                count: 10,
+                extent: 20.0,
+                radii: (0.1, 0.6),
+                eye: Vec3::ZERO,
+                rays: 0,
+            }
+            .generate()
+            .0,
+            options: default,
+            rays: vec![Ray::new(Vec3::ZERO, Vec3::NAN)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-zero-direction-ray",
+            section: WIDE_WALK_11,
+            says: "a ray of direction (0, 0, 0) from (0, 0, -40) through the wide tree of the 1000 \
+                   spheres: 1 / 0 = inf on every axis, so a box ahead of the origin on some axis and \
+                   around it on the others is entered at t = inf, as hit_box says; the walk must \
+                   still go only where the ray enters, and end: expected chapter 3's answer (no \
+                   hit: a ray that does not move meets nothing)",
+            shapes: RandomSpheres {
+                seed: 11,
+                count: 1000,
+                extent: 20.0,
+                radii: (0.1, 0.6),
+                eye: Vec3::ZERO,
+                rays: 0,
+            }
+            .generate()
+            .0,
+            options: default,
+            rays: vec![Ray::new(Vec3::new(0.0, 0.0, -40.0), Vec3::ZERO)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-deeper-than-the-stack",
+            section: WIDE_WALK_11,
+            says: "the 70 spheres at x = 3^k of bvh-deeper-than-the-stack, a binary tree 69 levels \
+                   deep folded into a wide one about half as deep, each node leaving up to three \
+                   children waiting: expected object 0 at t = 10 along +x from (-10, 0, 0)",
+            shapes: (0..70)
+                .map(|k| sphere(Vec3::new(3.0f32.powi(k), 0.0, 0.0), 1.0))
+                .collect(),
+            options: ONE_PER_LEAF,
+            rays: vec![Ray::new(Vec3::new(-10.0, 0.0, 0.0), Vec3::X)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
         }),
     ])
 }

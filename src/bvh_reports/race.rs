@@ -36,6 +36,7 @@
 use std::time::{Duration, Instant};
 
 use crate::CastRay;
+use crate::Chapters;
 use crate::crosscheck::{Answer, Primitive, rays_per_second};
 use crate::embree::{BuildStats, EmbreeError, EmbreeScene};
 
@@ -62,6 +63,10 @@ pub struct Race {
     /// How many rays each run traced.
     pub rays: usize,
     pub ours: Side,
+    /// A second structure of ours, raced in the same turns on the same rays
+    /// (chapter 11's binary tree, beside its wide one): what one changed
+    /// gains, measured in one run.
+    pub second: Side,
     pub embree: Side,
     /// Embree's build split into filling and BVH build, and its own count
     /// of its memory.
@@ -78,24 +83,29 @@ impl Race {
 /// Races ours against Embree over `rays`, on this thread.
 ///
 /// `build_ours` builds our structure (timed, with the peak memory it
-/// takes) and returns the function that answers one ray with it.
+/// takes) and returns the function that answers one ray with it;
+/// `build_second` likewise another of ours, to compare with it.
 /// `primitives` is the same geometry for Embree
 /// ([`crate::crosscheck::primitives`] makes it from the shapes); Embree
 /// builds on one thread too. Then each side traces every ray `runs` times,
-/// the two sides taking turns so that a busy moment of a shared machine
-/// falls on both; the figure is the median.
-pub fn race<O, F>(
+/// the sides taking turns so that a busy moment of a shared machine falls
+/// on all; the figure is the median.
+pub fn race<O, F, S, G>(
     primitives: &[Primitive],
     rays: &[CastRay],
     build_ours: O,
+    build_second: S,
     runs: usize,
 ) -> Result<Race, EmbreeError>
 where
     O: FnOnce() -> F,
     F: Fn(&CastRay) -> Option<Answer>,
+    S: FnOnce() -> G,
+    G: Fn(&CastRay) -> Option<Answer>,
 {
     let runs = runs.max(1);
     let (ours, ours_build, ours_memory) = measure_build(build_ours);
+    let (second, second_build, second_memory) = measure_build(build_second);
     let (embree, embree_build_wall, embree_memory) =
         measure_build(|| EmbreeScene::with_threads(primitives, Some(1)));
     let embree = embree?;
@@ -108,9 +118,11 @@ where
             })
     };
     let mut ours_runs = Vec::with_capacity(runs);
+    let mut second_runs = Vec::with_capacity(runs);
     let mut embree_runs = Vec::with_capacity(runs);
     for _ in 0..runs {
         ours_runs.push(rays_per_second(rays, &ours));
+        second_runs.push(rays_per_second(rays, &second));
         embree_runs.push(rays_per_second(rays, theirs));
     }
     Ok(Race {
@@ -120,6 +132,12 @@ where
             rays_per_second: median(&ours_runs),
             runs: ours_runs,
             peak_rss_growth: ours_memory,
+        },
+        second: Side {
+            build: second_build,
+            rays_per_second: median(&second_runs),
+            runs: second_runs,
+            peak_rss_growth: second_memory,
         },
         embree: Side {
             build: embree_build_wall,
@@ -206,8 +224,10 @@ pub struct MeshRace {
     pub different_objects: usize,
     /// Chapter 3's loop over every shape, on the first of the same rays.
     pub brute_force: BruteForce,
-    /// The boxes and objects our walk tests per ray (counted in an untimed
-    /// pass); `None` when our side uses no tree.
+    /// The nodes our wide walk opens and the leaf tests it makes per ray
+    /// (counted in an untimed pass); `None` when our side uses no tree.
+    pub wide_walk: Option<super::walk_work::WideWork>,
+    /// The boxes and objects the binary walk tests per ray, likewise.
     pub walk: Option<super::walk_work::WalkWork>,
 }
 
@@ -290,7 +310,8 @@ pub enum RaceError {
     NoModel { model: &'static str },
 }
 
-/// [`race`] of chapter 11's tree (SAH, default options; its build timed)
+/// [`race`] of chapter 11's wide tree (the SAH tree with the default
+/// options, collapsed; its build timed), and its binary tree beside it,
 /// against Embree over [`rays_at_the_model`], on the generated model of
 /// about `triangles` triangles.
 pub fn race_on_generated_mesh(
@@ -298,7 +319,6 @@ pub fn race_on_generated_mesh(
     rays: usize,
     runs: usize,
 ) -> Result<MeshRace, RaceError> {
-    use crate::Chapters;
     use crate::course::Objects;
     let mesh = crate::mesh::generate_closed_mesh(triangles)?;
     let shapes = super::leaks::triangles(&mesh);
@@ -308,39 +328,42 @@ pub fn race_on_generated_mesh(
         .map(|corners| Primitive::Triangle(corners.map(|index| mesh.positions[index as usize])))
         .collect();
     let rays = rays_at_the_model(rays);
+    let bounds: Vec<_> = shapes.iter().map(crate::Shape::bounds).collect();
+    let objects = Objects::<crate::Reference>::new(&shapes);
+    let build = || crate::Reference::build_bvh(&bounds, &crate::bvh::BvhOptions::default());
     let mut tree_bytes = 0;
     let race = race(
         &primitives,
         &rays,
         || {
-            let bounds: Vec<_> = shapes.iter().map(crate::Shape::bounds).collect();
-            let bvh = crate::Reference::build_bvh(&bounds, &crate::bvh::BvhOptions::default());
-            tree_bytes = bvh.memory_bytes();
-            let shapes = &shapes;
+            let wide = crate::Reference::collapse_bvh(&build(), &shapes);
+            tree_bytes = wide.memory_bytes();
             move |cast: &CastRay| {
-                crate::Reference::nearest_hit_bvh(
-                    &bvh,
-                    &Objects::<crate::Reference>::new(shapes),
-                    &cast.ray,
-                    cast.t_min,
-                    cast.t_max,
+                crate::Reference::nearest_hit_wide(
+                    &wide, &objects, &cast.ray, cast.t_min, cast.t_max,
                 )
                 .map(Answer::from)
+            }
+        },
+        || {
+            let bvh = build();
+            move |cast: &CastRay| {
+                crate::Reference::nearest_hit_bvh(&bvh, &objects, &cast.ray, cast.t_min, cast.t_max)
+                    .map(Answer::from)
             }
         },
         runs,
     )?;
     // A second pass, untimed, to count the rays the two sides answer
     // differently.
-    let bounds: Vec<_> = shapes.iter().map(crate::Shape::bounds).collect();
-    let bvh = crate::Reference::build_bvh(&bounds, &crate::bvh::BvhOptions::default());
+    let bvh = build();
+    let wide = crate::Reference::collapse_bvh(&bvh, &shapes);
     let embree = EmbreeScene::with_threads(&primitives, Some(1))?;
-    let objects = Objects::<crate::Reference>::new(&shapes);
     let different_objects = rays
         .iter()
         .filter(|cast| {
-            let ours = crate::Reference::nearest_hit_bvh(
-                &bvh, &objects, &cast.ray, cast.t_min, cast.t_max,
+            let ours = crate::Reference::nearest_hit_wide(
+                &wide, &objects, &cast.ray, cast.t_min, cast.t_max,
             )
             .map(|hit| hit.object);
             let theirs = embree
@@ -355,6 +378,7 @@ pub fn race_on_generated_mesh(
         ours_bytes: shapes.len() * std::mem::size_of::<crate::Shape>() + tree_bytes,
         different_objects,
         brute_force: brute_force(&shapes, &rays, runs),
+        wide_walk: Some(super::walk_work::wide_walk_work(&wide, &shapes, &rays)),
         walk: Some(super::walk_work::walk_work(&bvh, &shapes, &rays)),
     })
 }
@@ -386,10 +410,22 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> Result<MeshRace,
             .nearest_hit(&cast.ray, cast.t_min, cast.t_max)
             .map(Answer::from)
     };
-    let mut race = race(&primitives, &rays, || ours, runs)?;
+    let objects = stage.objects();
+    let binary = |cast: &CastRay| {
+        let hit = match stage.bvh() {
+            Some(bvh) => {
+                crate::Reference::nearest_hit_bvh(bvh, &objects, &cast.ray, cast.t_min, cast.t_max)
+            }
+            None => crate::Reference::nearest_hit(&objects, &cast.ray, cast.t_min, cast.t_max),
+        };
+        hit.map(Answer::from)
+    };
+    let mut race = race(&primitives, &rays, || ours, || binary, runs)?;
     // The stage was built above, to record the rays; its build is that.
     race.ours.build = stage_build;
     race.ours.peak_rss_growth = None;
+    race.second.build = stage_build;
+    race.second.peak_rss_growth = None;
     let embree = EmbreeScene::with_threads(&primitives, Some(1))?;
     let different_objects = rays
         .iter()
@@ -407,9 +443,14 @@ pub fn race_on_rendered_scene(triangles: usize, runs: usize) -> Result<MeshRace,
         triangles,
         race,
         ours_bytes: std::mem::size_of_val(stage.shapes())
-            + stage.bvh().map_or(0, crate::bvh::Bvh::memory_bytes),
+            + stage
+                .wide_bvh()
+                .map_or(0, crate::bvh::WideBvh::memory_bytes),
         different_objects,
         brute_force: brute_force(stage.shapes(), &rays, runs),
+        wide_walk: stage
+            .wide_bvh()
+            .map(|wide| super::walk_work::wide_walk_work(wide, stage.shapes(), &rays)),
         walk: stage
             .bvh()
             .map(|bvh| super::walk_work::walk_work(bvh, stage.shapes(), &rays)),

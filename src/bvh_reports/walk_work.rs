@@ -1,6 +1,7 @@
-//! How much work chapter 11's walk does per ray: the boxes it tests and the
-//! objects it asks, counted by a variant of the reference chapters that
-//! tallies each call and then answers as the reference does.
+//! How much work chapter 11's walks do per ray: the boxes the binary walk
+//! tests and the objects it asks, the nodes the wide walk opens and the
+//! leaf tests it makes, counted by a variant of the reference chapters
+//! that tallies each call and then answers as the reference does.
 //!
 //! Speed figures say how long a walk takes; these say why. Two walks that
 //! test as many boxes and objects but differ in time differ in the price
@@ -9,11 +10,11 @@
 
 use std::cell::Cell;
 
-use crate::bvh::{Aabb, Bvh};
+use crate::bvh::{Aabb, Boxes4, Bvh, Triangles4, WideBvh};
 use crate::course::{Chapters, Objects};
 use crate::render::CastRay;
 use crate::shapes::{Plane, Sphere, Triangle};
-use crate::{Ray, Shape, Vec3};
+use crate::{Ray, Shape, Vec3, Vec4};
 
 /// Box and object tests per ray, averaged over a set of rays.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,6 +23,16 @@ pub struct WalkWork {
     pub boxes_per_ray: f64,
     /// Ray-object tests (planes outside the tree included).
     pub objects_per_ray: f64,
+}
+
+/// The wide walk's work per ray, averaged over a set of rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WideWork {
+    /// Nodes opened: four boxes tested at once (`hit_boxes`).
+    pub nodes_per_ray: f64,
+    /// Leaf tests: four triangles at once (`intersect_triangles`), or one
+    /// object of another kind (planes outside the tree included).
+    pub leaf_tests_per_ray: f64,
 }
 
 thread_local! {
@@ -62,21 +73,72 @@ impl Chapters for Counting {
         tally(&BOX_TESTS);
         crate::Reference::hit_box(bounds, origin, inverse_direction, t_min, t_max)
     }
+
+    fn hit_boxes(
+        boxes: &Boxes4,
+        origin: Vec3,
+        inverse_direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> Vec4 {
+        tally(&BOX_TESTS);
+        crate::Reference::hit_boxes(boxes, origin, inverse_direction, t_min, t_max)
+    }
+
+    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
+        tally(&OBJECT_TESTS);
+        crate::Reference::intersect_triangles(triangles, ray, t_min, t_max)
+    }
 }
 
-/// The work of chapter 11's nearest-hit walk through `bvh` (built over
-/// `shapes`) for each of `rays`, averaged; zero for no rays.
+/// The work of chapter 11's binary nearest-hit walk through `bvh` (built
+/// over `shapes`) for each of `rays`, averaged; zero for no rays.
 pub fn walk_work(bvh: &Bvh, shapes: &[Shape], rays: &[CastRay]) -> WalkWork {
+    let (boxes, objects) = per_ray(
+        rays,
+        |objects, cast| {
+            Counting::nearest_hit_bvh(bvh, objects, &cast.ray, cast.t_min, cast.t_max);
+        },
+        shapes,
+    );
+    WalkWork {
+        boxes_per_ray: boxes,
+        objects_per_ray: objects,
+    }
+}
+
+/// The work of chapter 11's wide nearest-hit walk through `wide` (built
+/// over `shapes`) for each of `rays`, averaged; zero for no rays.
+pub fn wide_walk_work(wide: &WideBvh, shapes: &[Shape], rays: &[CastRay]) -> WideWork {
+    let (nodes, leaf_tests) = per_ray(
+        rays,
+        |objects, cast| {
+            Counting::nearest_hit_wide(wide, objects, &cast.ray, cast.t_min, cast.t_max);
+        },
+        shapes,
+    );
+    WideWork {
+        nodes_per_ray: nodes,
+        leaf_tests_per_ray: leaf_tests,
+    }
+}
+
+/// The box tests and object tests `walk` makes per ray, over `rays`.
+fn per_ray(
+    rays: &[CastRay],
+    walk: impl Fn(&Objects<Counting>, &CastRay),
+    shapes: &[Shape],
+) -> (f64, f64) {
     let objects = Objects::<Counting>::new(shapes);
     let before = (BOX_TESTS.get(), OBJECT_TESTS.get());
     for cast in rays {
-        Counting::nearest_hit_bvh(bvh, &objects, &cast.ray, cast.t_min, cast.t_max);
+        walk(&objects, cast);
     }
     let per_ray = |count: u64| count as f64 / rays.len().max(1) as f64;
-    WalkWork {
-        boxes_per_ray: per_ray(BOX_TESTS.get() - before.0),
-        objects_per_ray: per_ray(OBJECT_TESTS.get() - before.1),
-    }
+    (
+        per_ray(BOX_TESTS.get() - before.0),
+        per_ray(OBJECT_TESTS.get() - before.1),
+    )
 }
 
 #[cfg(test)]
@@ -134,6 +196,20 @@ mod tests {
         let work = walk_work(&bvh, &shapes, &[down_from(0.25, 0.25), down_from(9.0, 9.0)]);
         assert_eq!(work.boxes_per_ray, 2.0);
         assert_eq!(work.objects_per_ray, 0.5);
+    }
+
+    #[test]
+    fn the_wide_walk_opens_one_node_and_tests_the_one_leaf_entered() {
+        let (bvh, shapes) = two_leaves();
+        let wide = crate::Reference::collapse_bvh(&bvh, &shapes);
+        // One node holds both leaves; only the first is entered.
+        let work = wide_walk_work(&wide, &shapes, &[down_from(0.25, 0.25)]);
+        assert_eq!((work.nodes_per_ray, work.leaf_tests_per_ray), (1.0, 1.0));
+        let missed = wide_walk_work(&wide, &shapes, &[down_from(9.0, 9.0)]);
+        assert_eq!(
+            (missed.nodes_per_ray, missed.leaf_tests_per_ray),
+            (1.0, 0.0)
+        );
     }
 
     #[test]

@@ -18,6 +18,7 @@ pub use super::cases::{
     SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
+pub use super::cases::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 pub use super::cases::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase, inside_sphere,
 };
@@ -33,7 +34,7 @@ pub(crate) use super::exact::{self, wide};
 pub use crate::bvh::{BvhOptions, SplitRule};
 pub use crate::course::PhongTerms;
 pub use crate::scene::Cauchy;
-pub use crate::shapes::{Implicit, LipschitzRule, March, NormalMethod, Sdf};
+pub use crate::shapes::{Implicit, LipschitzRule, March, NormalMethod, Sdf, Triangle};
 pub use crate::{Material, Plane, Ray, Sampling, Shape, Sphere};
 
 pub const INF: f32 = f32::INFINITY;

@@ -1,6 +1,6 @@
-//! `raylab race`: chapter 11's tree against Embree, on generated models of
-//! growing size, on the rays of a render and on incoherent rays (the
-//! figures of the README and lesson 11).
+//! `raylab race`: chapter 11's wide tree, and its binary tree beside it,
+//! against Embree, on generated models of growing size, on the rays of a
+//! render and on incoherent rays (the figures of the README and lesson 11).
 
 use anyhow::Result;
 use clap::Args;
@@ -38,10 +38,11 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
     #[cfg(feature = "embree")]
     {
         println!(
-            "chapter 11's tree (SAH, 16 bins, leaves of at most 4) against Embree (robust \
-             scene, default build quality), and chapter 3's loop over every shape (brute \
-             force, on the first of the same rays: as many as {} ray-shape tests allow), \
-             one thread each, median of {}.\n",
+            "chapter 11's tree (SAH, 16 bins, leaves of at most 4) folded into nodes of four \
+             children (ours), the same binary tree unfolded (binary), Embree (robust scene, \
+             default build quality), and chapter 3's loop over every shape (brute force, on the \
+             first of the same rays: as many as {} ray-shape tests allow), one thread each, \
+             median of {}, the sides taking turns.\n",
             crate::bvh_reports::race::BRUTE_FORCE_TESTS,
             crate::text::count(args.runs, "run")
         );
@@ -79,10 +80,12 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
              Embree's is its own count of its peak (its memory monitor). Embree's first \
              build also creates its device. Rays answered differently: the nearest object \
              differs (a ray through a shared edge may rightly go to either triangle; \
-             `raylab crosscheck` tells such boundary cases from disagreements). Boxes and \
-             objects per ray: the slab tests and ray-object tests our walk makes (the root's \
-             box and the floor plane included), counted in an untimed pass: the work, where \
-             rays/s is its price."
+             `raylab crosscheck` tells such boundary cases from disagreements). Work per ray, \
+             counted in an untimed pass (the work, where rays/s is its price): the nodes our \
+             wide walk opens (four boxes tested at once) and its leaf tests (four triangles at \
+             once, or one object of another kind: the floor plane, a sphere); the binary \
+             walk's slab tests (the root's included) and ray-object tests (the floor plane \
+             included)."
         );
         Ok(0)
     }
@@ -100,18 +103,21 @@ pub fn race(args: &RaceArgs) -> Result<i32> {
 fn print_header() {
     println!(
         "| triangles | rays | ours build | Embree build | ours rays/s | Embree rays/s | \
-         ours / Embree | ours memory | Embree memory | rays answered differently | \
-         brute force rays/s | ours / brute force | ours boxes / ray | ours objects / ray |"
+         ours / Embree | binary rays/s | binary / Embree | ours memory | Embree memory | \
+         rays answered differently | brute force rays/s | ours / brute force | \
+         ours nodes / ray | ours leaf tests / ray | binary boxes / ray | binary objects / ray |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
 }
 
 #[cfg(feature = "embree")]
 fn print_row(measured: &crate::bvh_reports::race::MeshRace) {
     let race = &measured.race;
     println!(
-        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.1} MB | {:.1} MB | {} | \
-         {:.0} ({} rays) | {:.0} | {} | {} |",
+        "| {} | {} | {:.1} ms | {:.1} ms | {:.3} M | {:.3} M | {:.2} | {:.3} M | {:.2} | {:.1} MB | \
+         {:.1} MB | {} | {:.0} ({} rays) | {:.0} | {} | {} | {} | {} |",
         measured.triangles,
         race.rays,
         race.ours.build.as_secs_f64() * 1e3,
@@ -119,12 +125,16 @@ fn print_row(measured: &crate::bvh_reports::race::MeshRace) {
         race.ours.rays_per_second / 1e6,
         race.embree.rays_per_second / 1e6,
         race.ratio(),
+        race.second.rays_per_second / 1e6,
+        race.second.rays_per_second / race.embree.rays_per_second,
         measured.ours_bytes as f64 / 1e6,
         race.embree_build.peak_bytes as f64 / 1e6,
         measured.different_objects,
         measured.brute_force.rays_per_second,
         measured.brute_force.rays,
         race.ours.rays_per_second / measured.brute_force.rays_per_second,
+        per_ray(measured.wide_walk.map(|walk| walk.nodes_per_ray)),
+        per_ray(measured.wide_walk.map(|walk| walk.leaf_tests_per_ray)),
         per_ray(measured.walk.map(|walk| walk.boxes_per_ray)),
         per_ray(measured.walk.map(|walk| walk.objects_per_ray)),
     );

@@ -657,6 +657,33 @@ impl Chapters for NothingWritten {
     ) -> Option<raylab::Hit> {
         todo!()
     }
+    fn hit_boxes(_: &raylab::bvh::Boxes4, _: Vec3, _: Vec3, _: f32, _: f32) -> raylab::Vec4 {
+        todo!()
+    }
+    fn intersect_triangles(_: &raylab::bvh::Triangles4, _: &Ray, _: f32, _: f32) -> raylab::Vec4 {
+        todo!()
+    }
+    fn collapse_bvh(_: &raylab::bvh::Bvh, _: &[raylab::Shape]) -> raylab::bvh::WideBvh {
+        todo!()
+    }
+    fn nearest_hit_wide(
+        _: &raylab::bvh::WideBvh,
+        _: &raylab::Objects<Self>,
+        _: &Ray,
+        _: f32,
+        _: f32,
+    ) -> Option<raylab::Hit> {
+        todo!()
+    }
+    fn any_hit_wide(
+        _: &raylab::bvh::WideBvh,
+        _: &raylab::Objects<Self>,
+        _: &Ray,
+        _: f32,
+        _: f32,
+    ) -> Option<raylab::Hit> {
+        todo!()
+    }
     fn sphere_trace(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
         todo!()
     }

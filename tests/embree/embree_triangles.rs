@@ -541,6 +541,7 @@ fn race() {
             &primitives,
             &rays,
             || |cast: &CastRay| watertight(&shapes, cast),
+            || |cast: &CastRay| watertight(&shapes, cast),
             raylab::bvh_reports::race::RACE_RUNS,
         )
         .expect("race");
@@ -601,4 +602,16 @@ fn the_race_on_a_render_s_rays_resizes_the_model_and_both_sides_agree() {
         .expect("the stage of 1,057 objects builds a tree");
     assert!(walk.boxes_per_ray > 1.0, "{walk:?}");
     assert!(walk.objects_per_ray > 0.0, "{walk:?}");
+    // The wide walk opens a node of four boxes where the binary one tests
+    // two, and a leaf test asks up to four triangles: fewer of each.
+    let wide = measured.wide_walk.expect("and folds it");
+    assert!(wide.nodes_per_ray >= 1.0, "{wide:?}");
+    assert!(wide.nodes_per_ray < walk.boxes_per_ray, "{wide:?} {walk:?}");
+    assert!(wide.leaf_tests_per_ray > 0.0, "{wide:?}");
+    assert!(
+        wide.leaf_tests_per_ray < walk.objects_per_ray,
+        "{wide:?} {walk:?}"
+    );
+    let binary = measured.race.second.rays_per_second;
+    assert!(binary.is_finite() && binary > 0.0, "{binary}");
 }

@@ -82,12 +82,19 @@ pub struct BoxEdgesCase {
     pub max: Vec3,
     pub rays: u32,
     pub seed: u64,
+    /// Asks `hit_boxes`, the box in a lane that changes from ray to ray,
+    /// rather than `hit_box`.
+    pub four_at_once: bool,
 }
 
 impl BoxEdgesCase {
     /// The course function this case calls.
     pub fn function(&self) -> &'static str {
-        "hit_box"
+        if self.four_at_once {
+            "hit_boxes"
+        } else {
+            "hit_box"
+        }
     }
 
     /// The inputs, as the call would receive them.
@@ -97,12 +104,19 @@ impl BoxEdgesCase {
             max,
             rays,
             seed,
+            four_at_once,
         } = self;
         format!(
-            "hit_box(box {} to {}, ...) on {rays} rays aimed at its edges (seed {seed}), \
+            "{}(box {} to {}{}, ...) on {rays} rays aimed at its edges (seed {seed}), \
              t_min = 0, t_max = inf",
+            self.function(),
             vec(*min),
-            vec(*max)
+            vec(*max),
+            if *four_at_once {
+                " in lane i % 4 for ray i, the other lanes empty"
+            } else {
+                ""
+            }
         )
     }
 
@@ -114,8 +128,9 @@ impl BoxEdgesCase {
             max,
             rays,
             seed,
+            four_at_once,
         } = self;
-        box_edges::<C>(&Aabb::new(*min, *max), *rays, *seed)
+        box_edges::<C>(&Aabb::new(*min, *max), *rays, *seed, *four_at_once)
     }
 }
 
@@ -176,7 +191,9 @@ impl BvhBuildCase {
 }
 
 /// `build_bvh` over the boxes of `shapes`, then for each of `rays`
-/// `nearest_hit_bvh` (or `any_hit_bvh` when `any`) through that tree.
+/// `nearest_hit_bvh` (or `any_hit_bvh` when `any`) through that tree;
+/// when `wide`, the tree folded by `collapse_bvh` and walked by
+/// `nearest_hit_wide` (or `any_hit_wide`).
 /// Expected: chapter 3's nearest hit over the same objects, the same
 /// object at the same `t`, bit for bit; for any-hit, a hit exactly
 /// when there is one, and a real one (the object's own test gives
@@ -189,15 +206,17 @@ pub struct BvhHitsCase {
     pub t_min: f32,
     pub t_max: f32,
     pub any: bool,
+    pub wide: bool,
 }
 
 impl BvhHitsCase {
     /// The course function this case calls.
     pub fn function(&self) -> &'static str {
-        if self.any {
-            "any_hit_bvh"
-        } else {
-            "nearest_hit_bvh"
+        match (self.wide, self.any) {
+            (false, false) => "nearest_hit_bvh",
+            (false, true) => "any_hit_bvh",
+            (true, false) => "nearest_hit_wide",
+            (true, true) => "any_hit_wide",
         }
     }
 
@@ -211,11 +230,19 @@ impl BvhHitsCase {
             t_max,
             ..
         } = self;
-        format!(
-            "{}(build_bvh(the boxes of [{}], {}), the objects, {}, {})",
-            self.function(),
+        let tree = format!(
+            "build_bvh(the boxes of [{}], {})",
             shapes_text(shapes),
-            options_text(options),
+            options_text(options)
+        );
+        format!(
+            "{}({}, the objects, {}, {})",
+            self.function(),
+            if self.wide {
+                format!("collapse_bvh({tree}, the shapes)")
+            } else {
+                tree
+            },
             if rays.len() == 1 {
                 ray_text(&rays[0])
             } else {
@@ -239,9 +266,27 @@ impl BvhHitsCase {
             t_min,
             t_max,
             any,
+            wide,
         } = self;
+        let (t_min, t_max, any) = (*t_min, *t_max, *any);
         let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
         let bvh = C::build_bvh(&bounds, options);
-        bvh_hits::<C>(shapes, &bvh, rays, *t_min, *t_max, *any)
+        if *wide {
+            let wide = C::collapse_bvh(&bvh, shapes);
+            return bvh_hits::<C>(shapes, rays, t_min, t_max, any, |objects, ray| {
+                if any {
+                    C::any_hit_wide(&wide, objects, ray, t_min, t_max)
+                } else {
+                    C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
+                }
+            });
+        }
+        bvh_hits::<C>(shapes, rays, t_min, t_max, any, |objects, ray| {
+            if any {
+                C::any_hit_bvh(&bvh, objects, ray, t_min, t_max)
+            } else {
+                C::nearest_hit_bvh(&bvh, objects, ray, t_min, t_max)
+            }
+        })
     }
 }

@@ -17,6 +17,7 @@ mod sampling;
 mod shading;
 mod smooth;
 mod tree;
+mod wide;
 
 pub use boxes::{BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase};
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
@@ -38,6 +39,7 @@ pub use paths::{
 pub use sampling::{PixelColorCase, SampleOffsetsCase};
 pub use shading::{OffsetCase, PhongTermsCase, ShadeCase, ShadowCase};
 pub use smooth::{BarycentricCase, SmoothHitCase, SmoothNormalCase, TerminatorCase};
+pub use wide::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 
 use glam::{DVec3, Vec3};
 
@@ -161,6 +163,10 @@ pub enum CaseKind {
     BoxEdges(BoxEdgesCase),
     BvhBuild(BvhBuildCase),
     BvhHits(BvhHitsCase),
+    HitBoxes(HitBoxesCase),
+    FourTriangles(FourTrianglesCase),
+    MeshInFours(MeshInFoursCase),
+    Collapse(CollapseCase),
     March(MarchCase),
     Newton(NewtonCase),
     ImplicitNormal(ImplicitNormalCase),
@@ -200,6 +206,10 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.function(),
             CaseKind::BvhBuild(case) => case.function(),
             CaseKind::BvhHits(case) => case.function(),
+            CaseKind::HitBoxes(case) => case.function(),
+            CaseKind::FourTriangles(case) => case.function(),
+            CaseKind::MeshInFours(case) => case.function(),
+            CaseKind::Collapse(case) => case.function(),
             CaseKind::March(case) => case.function(),
             CaseKind::Newton(case) => case.function(),
             CaseKind::ImplicitNormal(case) => case.function(),
@@ -239,6 +249,10 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.inputs(),
             CaseKind::BvhBuild(case) => case.inputs(),
             CaseKind::BvhHits(case) => case.inputs(),
+            CaseKind::HitBoxes(case) => case.inputs(),
+            CaseKind::FourTriangles(case) => case.inputs(),
+            CaseKind::MeshInFours(case) => case.inputs(),
+            CaseKind::Collapse(case) => case.inputs(),
             CaseKind::March(case) => case.inputs(),
             CaseKind::Newton(case) => case.inputs(),
             CaseKind::ImplicitNormal(case) => case.inputs(),
@@ -279,6 +293,10 @@ impl CaseKind {
             CaseKind::BoxEdges(case) => case.evaluate::<C>(robust),
             CaseKind::BvhBuild(case) => case.evaluate::<C>(robust),
             CaseKind::BvhHits(case) => case.evaluate::<C>(robust),
+            CaseKind::HitBoxes(case) => case.evaluate::<C>(robust),
+            CaseKind::FourTriangles(case) => case.evaluate::<C>(robust),
+            CaseKind::MeshInFours(case) => case.evaluate::<C>(robust),
+            CaseKind::Collapse(case) => case.evaluate::<C>(robust),
             CaseKind::March(case) => case.evaluate::<C>(robust),
             CaseKind::Newton(case) => case.evaluate::<C>(robust),
             CaseKind::ImplicitNormal(case) => case.evaluate::<C>(robust),

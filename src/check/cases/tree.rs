@@ -3,9 +3,16 @@
 
 use super::*;
 
-/// `hit_box` on rays aimed at the edges of `bounds`: `Fail` on the first
-/// ray the exact slab test says meets the box and `hit_box` refuses.
-pub(super) fn box_edges<C: Chapters>(bounds: &Aabb, rays: u32, seed: u64) -> Outcome {
+/// `hit_box` on rays aimed at the edges of `bounds` (`hit_boxes` when
+/// `four_at_once`, the box in lane `i % 4` for ray `i`, the other lanes
+/// empty): `Fail` on the first ray the exact slab test says meets the box
+/// and the chapters refuse.
+pub(super) fn box_edges<C: Chapters>(
+    bounds: &Aabb,
+    rays: u32,
+    seed: u64,
+    four_at_once: bool,
+) -> Outcome {
     let mut numbers = exact::Xorshift::new(seed);
     for index in 0..rays {
         // A point on one of the twelve edges: one axis free, the other two
@@ -33,7 +40,15 @@ pub(super) fn box_edges<C: Chapters>(bounds: &Aabb, rays: u32, seed: u64) -> Out
         if !(exit >= entry.max(0.0)) {
             continue;
         }
-        if C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_none() {
+        let enters = if four_at_once {
+            let lane = index as usize % crate::bvh::WIDTH;
+            let mut boxes = crate::bvh::Boxes4::EMPTY;
+            boxes.set(lane, *bounds);
+            !C::hit_boxes(&boxes, origin, dir.recip(), 0.0, f32::INFINITY)[lane].is_nan()
+        } else {
+            C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_some()
+        };
+        if !enters {
             return Outcome::Fail {
                 expected: format!(
                     "a hit: the exact ray meets the box from t = {} to t = {}",
@@ -301,16 +316,17 @@ fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
     None
 }
 
-/// Runs each ray through `bvh` and compares with chapter 3's loop over the
-/// same objects (the chapters `C`'s own object tests, so that only the
-/// tree is judged, bit for bit).
+/// Runs each ray through a tree over `shapes` (`walk`: the chapters `C`'s
+/// nearest-hit walk, or any-hit walk when `any`) and compares with chapter
+/// 3's loop over the same objects (the chapters `C`'s own object tests, so
+/// that only the tree is judged, bit for bit).
 pub(super) fn bvh_hits<C: Chapters>(
     shapes: &[Shape],
-    bvh: &Bvh,
     rays: &[Ray],
     t_min: f32,
     t_max: f32,
     any: bool,
+    walk: impl Fn(&Objects<C>, &Ray) -> Option<Hit>,
 ) -> Outcome {
     let objects = Objects::<C>::new(shapes);
     let show = |hit: Option<Hit>| match hit {
@@ -328,7 +344,7 @@ pub(super) fn bvh_hits<C: Chapters>(
         let loop_answer =
             crate::answer_key::raylab_own(|| objects.nearest_hit_by_loop(ray, t_min, t_max));
         if !any {
-            let got = C::nearest_hit_bvh(bvh, &objects, ray, t_min, t_max);
+            let got = walk(&objects, ray);
             if got != loop_answer {
                 return Outcome::Fail {
                     expected: format!("{} (chapter 3's loop)", show(loop_answer)),
@@ -337,7 +353,7 @@ pub(super) fn bvh_hits<C: Chapters>(
             }
             continue;
         }
-        let got = C::any_hit_bvh(bvh, &objects, ray, t_min, t_max);
+        let got = walk(&objects, ray);
         let real = got.is_some_and(|hit| {
             hit.object < objects.len()
                 && objects.intersect(hit.object, ray, t_min, t_max) == Some(hit.t)

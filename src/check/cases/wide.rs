@@ -1,0 +1,449 @@
+//! The wide tree's cases: four boxes and four triangles at once, the
+//! binary tree folded into nodes of four, and (in `boxes`) the walks.
+
+use super::*;
+use crate::bvh::{Boxes4, Leaf4, Triangles4, WIDTH, WideBvh};
+
+/// `hit_boxes` on four boxes (`boxes[lane]` as `(min, max)`) and one ray:
+/// expected, lane by lane, the entry `t` (exact), or a miss (`NaN`).
+#[derive(Debug, Clone)]
+pub struct HitBoxesCase {
+    pub boxes: [(Vec3, Vec3); WIDTH],
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_min: f32,
+    pub t_max: f32,
+    pub expect: [Option<f64>; WIDTH],
+}
+
+impl HitBoxesCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "hit_boxes"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        let boxes: Vec<String> = self
+            .boxes
+            .iter()
+            .map(|(min, max)| box_text(*min, *max))
+            .collect();
+        format!(
+            "hit_boxes(lanes [{}], origin {}, inverse_direction 1 / {}, {})",
+            boxes.join(", "),
+            vec(self.origin),
+            vec(self.dir),
+            range(self.t_min, self.t_max)
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same tolerance at
+    /// both levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let mut boxes = Boxes4::EMPTY;
+        for (lane, &(min, max)) in self.boxes.iter().enumerate() {
+            boxes.set(lane, Aabb::new(min, max));
+        }
+        let got = C::hit_boxes(
+            &boxes,
+            self.origin,
+            self.dir.recip(),
+            self.t_min,
+            self.t_max,
+        );
+        let pass = (0..WIDTH).all(|lane| match self.expect[lane] {
+            None => got[lane].is_nan(),
+            Some(want) => {
+                got[lane].is_finite() && close(f64::from(got[lane]), want, CHECKPOINT_TOLERANCE)
+            }
+        });
+        let expected: Vec<String> = self
+            .expect
+            .iter()
+            .map(|entry| entry.map_or_else(|| "NaN (misses)".into(), num64))
+            .collect();
+        let got: Vec<String> = got.to_array().iter().map(|&t| num(t)).collect();
+        verdict(
+            pass,
+            format!("[{}]", expected.join(", ")),
+            format!("[{}]", got.join(", ")),
+        )
+    }
+}
+
+/// The box from `min` to `max` as a student writes it; "empty" for
+/// [`Aabb::EMPTY`].
+fn box_text(min: Vec3, max: Vec3) -> String {
+    if Aabb::new(min, max) == Aabb::EMPTY {
+        "the empty box".into()
+    } else {
+        format!("{} to {}", vec(min), vec(max))
+    }
+}
+
+/// `intersect_triangles` on four triangles (corners `NaN` for a lane that
+/// holds none) and one ray: expected, lane by lane, what the chapters'
+/// own `intersect_triangle` answers for that triangle, bit for bit (`NaN`
+/// where it finds no hit), since a wide walk must find the hit chapter 3
+/// finds with it.
+#[derive(Debug, Clone)]
+pub struct FourTrianglesCase {
+    pub triangles: [[Vec3; 3]; WIDTH],
+    pub ray: Ray,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl FourTrianglesCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "intersect_triangles"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        let lanes: Vec<String> = self.triangles.iter().map(|c| corners_text(*c)).collect();
+        format!(
+            "intersect_triangles(lanes [{}], {}, {})",
+            lanes.join(", "),
+            ray_text(&self.ray),
+            range(self.t_min, self.t_max)
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same rule at both
+    /// levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let mut triangles = Triangles4::NAN;
+        for (lane, &[a, b, c]) in self.triangles.iter().enumerate() {
+            triangles.set(lane, &Triangle::new(a, b, c));
+        }
+        match lanes_problem::<C>(&triangles, &self.ray, self.t_min, self.t_max) {
+            None => Outcome::Pass,
+            Some((expected, got)) => Outcome::Fail { expected, got },
+        }
+    }
+}
+
+/// Where `intersect_triangles` on `triangles` differs from the chapters'
+/// own `intersect_triangle` on each lane's triangle: (expected, got).
+fn lanes_problem<C: Chapters>(
+    triangles: &Triangles4,
+    ray: &Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(String, String)> {
+    let got = C::intersect_triangles(triangles, ray, t_min, t_max);
+    let one_by_one: [Option<f32>; WIDTH] = std::array::from_fn(|lane| {
+        crate::answer_key::raylab_own(|| {
+            C::intersect_triangle(&triangles.get(lane), ray, t_min, t_max)
+        })
+    });
+    let same = |lane: usize| match one_by_one[lane] {
+        None => got[lane].is_nan(),
+        Some(t) => got[lane].to_bits() == t.to_bits(),
+    };
+    if (0..WIDTH).all(same) {
+        return None;
+    }
+    let expected: Vec<String> = one_by_one
+        .iter()
+        .map(|t| t.map_or_else(|| "NaN (no hit)".into(), num))
+        .collect();
+    let got: Vec<String> = got.to_array().iter().map(|&t| num(t)).collect();
+    Some((
+        format!(
+            "[{}] (your intersect_triangle on each lane's triangle, bit for bit)",
+            expected.join(", ")
+        ),
+        format!("[{}]", got.join(", ")),
+    ))
+}
+
+/// `intersect_triangles` on raylab's closed model of `triangles`
+/// triangles, four consecutive ones to a call, for a ray from inside the
+/// model toward each vertex and edge midpoint: every lane must answer as
+/// the chapters' `intersect_triangle` does, there where edge functions are
+/// zero or nearly so.
+#[derive(Debug, Clone)]
+pub struct MeshInFoursCase {
+    pub triangles: usize,
+}
+
+impl MeshInFoursCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "intersect_triangles"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        format!(
+            "intersect_triangles(four consecutive triangles of raylab's closed model of {} \
+             triangles at a time, a ray from inside toward each vertex and edge midpoint, \
+             t_min = 0, t_max = inf)",
+            self.triangles
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same rule at both
+    /// levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let mesh = match crate::mesh::generate_closed_mesh(self.triangles) {
+            Ok(mesh) => mesh,
+            Err(error) => return Outcome::Error(error.to_string()),
+        };
+        let groups: Vec<Triangles4> = mesh
+            .triangles
+            .chunks(WIDTH)
+            .map(|group| {
+                let mut triangles = Triangles4::NAN;
+                for (lane, corners) in group.iter().enumerate() {
+                    let [a, b, c] = corners.map(|index| mesh.positions[index as usize]);
+                    triangles.set(lane, &Triangle::new(a, b, c));
+                }
+                triangles
+            })
+            .collect();
+        for target in crate::bvh_reports::leaks::leak_targets(&mesh) {
+            let origin = crate::bvh_reports::leaks::core_point(target);
+            let ray = Ray::new(origin, target - origin);
+            for (group, triangles) in groups.iter().enumerate() {
+                if let Some((expected, got)) =
+                    lanes_problem::<C>(triangles, &ray, 0.0, f32::INFINITY)
+                {
+                    return Outcome::Fail {
+                        expected,
+                        got: format!(
+                            "{got} for triangles {} to {} and the {}",
+                            WIDTH * group,
+                            WIDTH * group + WIDTH - 1,
+                            ray_text(&ray)
+                        ),
+                    };
+                }
+            }
+        }
+        Outcome::Pass
+    }
+}
+
+/// What a `Collapse` case asks of the wide tree's shape, beyond its being
+/// a valid tree over the same objects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WideShape {
+    /// Any valid wide tree.
+    Any,
+    /// The root uses this many lanes.
+    RootLanes(usize),
+}
+
+/// `build_bvh` over the boxes of `shapes`, then `collapse_bvh`: every boxed
+/// object once in a leaf's lanes, each lane's box holding what is under
+/// it, the triangles' corners copied into their lanes and every other
+/// shape marked to be asked on its own; `unbounded` as the binary tree's;
+/// no more nodes than the binary tree has inner nodes.
+#[derive(Debug, Clone)]
+pub struct CollapseCase {
+    pub shapes: Vec<Shape>,
+    pub options: BvhOptions,
+    pub expect: WideShape,
+}
+
+impl CollapseCase {
+    /// The course function this case calls.
+    pub fn function(&self) -> &'static str {
+        "collapse_bvh"
+    }
+
+    /// The inputs, as the call would receive them.
+    pub fn inputs(&self) -> String {
+        format!(
+            "collapse_bvh(build_bvh(the boxes of [{}], {}), the shapes)",
+            shapes_text(&self.shapes),
+            options_text(&self.options)
+        )
+    }
+
+    /// Asks the question of the chapters `C`, with the same rule at both
+    /// levels.
+    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+        let bounds: Vec<Option<Aabb>> = self.shapes.iter().map(Shape::bounds).collect();
+        let bvh = C::build_bvh(&bounds, &self.options);
+        let wide = C::collapse_bvh(&bvh, &self.shapes);
+        if let Some(problem) = wide_problem(&wide, &bvh, &self.shapes) {
+            return Outcome::Fail {
+                expected: "every boxed object once in a leaf's lanes, under boxes that hold \
+                           it; triangles copied into their lanes, other shapes marked \
+                           one_by_one; unbounded as the binary tree's"
+                    .into(),
+                got: problem,
+            };
+        }
+        match self.expect {
+            WideShape::Any => Outcome::Pass,
+            WideShape::RootLanes(lanes) => {
+                let used = wide
+                    .nodes
+                    .first()
+                    .map_or(0, |root| root.used_lanes().bitmask().count_ones() as usize);
+                verdict(
+                    used == lanes,
+                    format!("the root using {lanes} lanes"),
+                    format!("the root using {used}"),
+                )
+            }
+        }
+    }
+}
+
+/// What is wrong with `wide` as the collapse of `bvh` over `shapes`, if
+/// anything. Walks from the root with a visited mark per node, so that a
+/// cycle or an index out of range is reported, not followed.
+fn wide_problem(wide: &WideBvh, bvh: &Bvh, shapes: &[Shape]) -> Option<String> {
+    let mut unbounded = wide.unbounded.clone();
+    let mut expected = bvh.unbounded.clone();
+    unbounded.sort_unstable();
+    expected.sort_unstable();
+    if unbounded != expected {
+        return Some(format!(
+            "unbounded {:?}, where the binary tree's is {:?}",
+            wide.unbounded, bvh.unbounded
+        ));
+    }
+    let inner = bvh.nodes.iter().filter(|node| !node.is_leaf()).count();
+    if wide.nodes.len() > inner.max(1) {
+        return Some(format!(
+            "{} wide nodes, more than the binary tree's {} inner nodes",
+            wide.nodes.len(),
+            inner
+        ));
+    }
+    if wide.nodes.is_empty() {
+        return (!bvh.nodes.is_empty()).then(|| "no nodes, but the binary tree has some".into());
+    }
+    let holds = |outer: &Aabb, inner: &Aabb| {
+        outer.min.cmple(inner.min).all() && inner.max.cmple(outer.max).all()
+    };
+    let mut placed = vec![0usize; shapes.len()];
+    let mut visited = vec![false; wide.nodes.len()];
+    let mut to_visit = vec![0usize];
+    while let Some(index) = to_visit.pop() {
+        if std::mem::replace(&mut visited[index], true) {
+            return Some(format!("node {index} is reached twice: not a tree"));
+        }
+        let node = &wide.nodes[index];
+        for lane in (0..WIDTH).filter(|&lane| node.used_lanes().test(lane)) {
+            let (first, count) = (node.first[lane] as usize, node.count[lane] as usize);
+            let lane_box = node.boxes.get(lane);
+            if count == 0 {
+                let Some(child) = wide.nodes.get(first) else {
+                    return Some(format!(
+                        "node {index}, lane {lane}: child node {first}, but there are {} nodes",
+                        wide.nodes.len()
+                    ));
+                };
+                for child_lane in (0..WIDTH).filter(|&l| child.used_lanes().test(l)) {
+                    if !holds(&lane_box, &child.boxes.get(child_lane)) {
+                        return Some(format!(
+                            "node {index}, lane {lane}: its box does not hold node {first}'s \
+                             lane {child_lane}"
+                        ));
+                    }
+                }
+                to_visit.push(first);
+                continue;
+            }
+            let Some(leaves) = wide.leaves.get(first..first + count) else {
+                return Some(format!(
+                    "node {index}, lane {lane}: leaves {first} to {}, but there are {}",
+                    first + count - 1,
+                    wide.leaves.len()
+                ));
+            };
+            for leaf in leaves {
+                if let Some(problem) = leaf_problem(leaf, &lane_box, shapes, &mut placed) {
+                    return Some(format!("node {index}, lane {lane}: {problem}"));
+                }
+            }
+        }
+    }
+    let boxed = |object: usize| !bvh.unbounded.contains(&(object as u32));
+    (0..shapes.len())
+        .find(|&object| placed[object] != usize::from(boxed(object)))
+        .map(|object| {
+            format!(
+                "object {object} is in {} leaf lanes reached from the root{}",
+                placed[object],
+                if boxed(object) {
+                    ""
+                } else {
+                    ", but it has no box"
+                }
+            )
+        })
+}
+
+/// What is wrong with one [`Leaf4`] under a lane whose box is `lane_box`;
+/// counts each object it holds in `placed`.
+fn leaf_problem(
+    leaf: &Leaf4,
+    lane_box: &Aabb,
+    shapes: &[Shape],
+    placed: &mut [usize],
+) -> Option<String> {
+    for lane in 0..WIDTH {
+        let object = leaf.objects[lane];
+        let asked_alone = leaf.one_by_one & (1 << lane) != 0;
+        let corners = leaf.triangles.corners.map(|c| c.map(|axis| axis[lane]));
+        if object == u32::MAX {
+            if asked_alone || corners.iter().flatten().any(|x| !x.is_nan()) {
+                return Some(format!(
+                    "lane {lane} holds no object, yet is marked one_by_one or has corners"
+                ));
+            }
+            continue;
+        }
+        let Some(shape) = shapes.get(object as usize) else {
+            return Some(format!(
+                "object {object}, but there are {} objects",
+                shapes.len()
+            ));
+        };
+        placed[object as usize] += 1;
+        if let Some(bounds) = shape.bounds()
+            && !(lane_box.min.cmple(bounds.min).all() && bounds.max.cmple(lane_box.max).all())
+        {
+            return Some(format!(
+                "object {object}'s box is not inside the lane's box"
+            ));
+        }
+        match shape.as_triangle() {
+            Some(triangle) => {
+                let copied = corners
+                    .iter()
+                    .zip(triangle.corners())
+                    .all(|(got, want)| got.iter().zip(want.to_array()).all(|(g, w)| g == &w));
+                if asked_alone || !copied {
+                    return Some(format!(
+                        "object {object}, a triangle, not copied into lane {lane}'s corners \
+                         (or marked one_by_one)"
+                    ));
+                }
+            }
+            None if !asked_alone => {
+                return Some(format!(
+                    "object {object} is not a triangle, but lane {lane} is not marked one_by_one"
+                ));
+            }
+            None if corners.iter().flatten().any(|x| !x.is_nan()) => {
+                return Some(format!(
+                    "object {object} is not a triangle, but lane {lane}'s corners are not NaN"
+                ));
+            }
+            None => {}
+        }
+    }
+    None
+}
