@@ -4,8 +4,9 @@
 //! chance, emission counted twice with light samples, an MIS weight of 1,
 //! a light sample that returns more than arrives) fails chapter 13 on the
 //! case that names the mistake, and samples averaged after tone mapping
-//! fail its image; correct alternatives (the concentric
-//! mapping, the inverse of the cosine law in angles) pass.
+//! fail its image; correct alternatives (the concentric mapping, the
+//! inverse of the cosine law in angles, Malley's with `1 - u`, the two
+//! numbers swapped) pass.
 
 use std::f32::consts::PI;
 
@@ -179,10 +180,32 @@ impl Chapters for InverseAngles {
     }
 }
 
+/// Malley's method with the other half of the square: the radius from
+/// `1 - u`, the height from `u` (the same distribution, the directions of
+/// other draws).
+struct MalleyFlipped;
+impl Chapters for MalleyFlipped {
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        let radius = (1.0 - u).max(0.0).sqrt();
+        let phi = 2.0 * PI * v;
+        Vec3::new(radius * phi.cos(), radius * phi.sin(), u.sqrt())
+    }
+}
+
+/// raylab's sampler with its two numbers swapped.
+struct Swapped;
+impl Chapters for Swapped {
+    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 {
+        Reference::cosine_hemisphere(v, u)
+    }
+}
+
 #[test]
 fn other_correct_cosine_samplers_pass() {
     assert_passes::<ConcentricDisk>();
     assert_passes::<InverseAngles>();
+    assert_passes::<MalleyFlipped>();
+    assert_passes::<Swapped>();
 }
 
 /// The samples averaged after they are turned to the screen's sRGB (each

@@ -5,9 +5,10 @@
 //! first diffuse point or joins every diffuse point to the camera even
 //! when no glass came first, a camera path that counts the caustics light
 //! paths bring, an index in nanometres, a light joined to the camera from
-//! the side it does not see.
+//! the side it does not see; a wavelength drawn without its colour fails
+//! the image.
 
-use raylab::bsdf::Lobe;
+use raylab::bsdf::{Dispersed, Lobe};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
 use raylab::course::{Chapters, HitPoint};
 use raylab::render::{Arrival, Tracer};
@@ -207,4 +208,26 @@ fn a_point_joined_to_the_camera_from_its_unlit_side_is_caught() {
     let robustness = verdict.robustness.as_ref().expect("level 2 ran");
     let first = robustness.first_failure.as_ref().map(|f| f.name);
     assert_eq!(first, Some("lit-under-the-floor"), "{text}");
+}
+
+/// The wavelength drawn, but its colour forgotten: every path through the
+/// prism carries white, and the spectrum on the wall is a white smear.
+/// The furnace cannot see it (white stays white); the image can.
+struct TintForgotten;
+impl Chapters for TintForgotten {
+    fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+        Dispersed {
+            tint: Vec3::ONE,
+            ..raylab::chapters::ch14_caustics::dispersive_ior(tracer, cauchy)
+        }
+    }
+}
+
+#[test]
+fn a_wavelength_without_its_colour_fails_the_image() {
+    let verdict = check_chapter::<TintForgotten>(14, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), None, "{text}");
+    assert!(verdict.image.is_some_and(|image| !image.passed), "{text}");
 }

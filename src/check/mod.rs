@@ -801,6 +801,8 @@ fn check_image<C: Chapters>(
                 let blocks = sampled::block_means(&linear, REFERENCE_WIDTH, side);
                 let mut noise = sampled::judge(&blocks, stage.samples(), &converged.blocks(side));
                 noise.block = side;
+                noise.allowed =
+                    sampled::allowed_block_outliers(blocks.len(), stage.effects.light_tracing);
                 // The first block's top-left pixel.
                 noise.first = noise.first.map(|(x, y)| (x * side, y * side));
                 Some(noise)
