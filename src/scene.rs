@@ -188,7 +188,9 @@ pub struct Material {
     #[serde(deserialize_with = "number::f32")]
     pub transparency: f32,
     /// Index of refraction of the solid (glass is about 1.5, water 1.33).
-    #[serde(deserialize_with = "number::f32")]
+    /// A scene file that leaves it out reads NaN here, until its object is
+    /// built: then 1.5, or `cauchy`'s index, which must not meet a given one.
+    #[serde(default = "ior_not_given", deserialize_with = "number::f32")]
     pub ior: f32,
     /// An optional second colour laid out in squares.
     pub checker: Option<Checker>,
@@ -250,6 +252,12 @@ pub enum FresnelModel {
     Schlick,
     /// The exact unpolarised Fresnel reflectance of a dielectric.
     Exact,
+}
+
+/// `Material::ior` as serde reads a scene file without it: no index is
+/// NaN, which the file cannot give (`number::f32` refuses it).
+fn ior_not_given() -> f32 {
+    f32::NAN
 }
 
 impl Default for Material {
@@ -1600,9 +1608,13 @@ impl SceneFile {
                 Some(given) => format!("object {} (\"{given}\")", index + 1),
                 None => format!("object {}", index + 1),
             };
+            let ior_given = !object.material.ior.is_nan();
+            if !ior_given {
+                object.material.ior = Material::default().ior;
+            }
             check_material(&label, &object.material)?;
             if let Some(cauchy) = object.material.cauchy {
-                if object.material.ior != Material::default().ior {
+                if ior_given {
                     return Err(format!(
                         "{label}: material has both `ior` and `cauchy`; give one: `cauchy` \
                          sets the index at every wavelength"

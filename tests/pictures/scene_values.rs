@@ -299,3 +299,29 @@ fn implicit_trees_are_refused_with_the_node_and_the_field_named() {
     let rendered = raylab::render(&plain, 12, &settings, None).expect("renders");
     assert!(!rendered.effects.implicit && rendered.rays.implicit_evaluations == 0);
 }
+
+/// `cauchy` sets the index at every wavelength, so a given `ior` beside it
+/// is refused whatever its value, the default's 1.5 included; without
+/// `cauchy`, a missing `ior` is 1.5 and a given one is kept.
+#[test]
+fn an_ior_beside_cauchy_is_refused_even_at_the_default() {
+    let glass = |material: &str| {
+        format!(
+            "{}\n[[objects]]\nname = \"glass\"\nsphere = {{ center = [0.0, 1.0, 0.0], radius = 0.5 }}\n\
+             material = {{ transparency = 1.0{material} }}\n",
+            scene(CAMERA, LIGHT)
+        )
+    };
+    let cauchy = ", cauchy = { a = 1.6, b = 0.05 }";
+    for ior in ["1.5", "1.6"] {
+        let message = refused(&glass(&format!(", ior = {ior}{cauchy}")));
+        assert_names(&message, &["\"glass\"", "both `ior` and `cauchy`"]);
+    }
+    let index = |material: &str| {
+        let scene = Scene::parse(&glass(material), "test scene").expect("valid scene");
+        scene.objects[1].material.ior
+    };
+    assert_eq!(index(""), 1.5);
+    assert_eq!(index(", ior = 1.33"), 1.33);
+    assert!((index(cauchy) - (1.6 + 0.05 / (0.587_56 * 0.587_56))).abs() < 1e-5);
+}
