@@ -306,6 +306,13 @@ impl SettingsOverrides {
                 also.join(", ")
             ));
         }
+        if self.light_paths.is_some() && effects.light_tracing && !left.contains(&"light-tracing") {
+            warnings.push(
+                "--light-paths has no effect with --without light-tracing: no paths are \
+                 traced from the lights"
+                    .into(),
+            );
+        }
         if effects.antialiasing && settings.samples == 1 {
             if self.sampling.is_some() {
                 warnings.push(

@@ -115,6 +115,19 @@ fn options_the_chapter_does_not_use_draw_a_warning() {
             &["--chapter", "7", "--samples", "1", "--sampling", "grid"],
             "warning: --sampling has no effect with 1 sample per pixel",
         ),
+        (
+            &[
+                "--chapter",
+                "14",
+                "--samples",
+                "1",
+                "--without",
+                "light-tracing",
+                "--light-paths",
+                "4",
+            ],
+            "warning: --light-paths has no effect with --without light-tracing",
+        ),
     ];
     for (args, expected) in cases {
         let (status, message, _) = render(args, None);
