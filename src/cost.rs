@@ -969,10 +969,22 @@ impl CostReport {
             } else {
                 ""
             };
+            let stage = Effects::for_chapter(self.chapter);
+            // Paths never skip a ray by its share: roulette ends them.
+            let cut_off = if stage.path_tracing {
+                String::new()
+            } else {
+                format!(", min_contribution {}", reference.min_contribution)
+            };
+            let light_paths = if stage.light_tracing {
+                format!(", {} light paths per pixel", reference.light_paths)
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 text,
-                "Reference: {samples}, depth {}, min_contribution {}, scaled offset, stable sphere formula{fresnel} (1 run).",
-                reference.max_depth, reference.min_contribution
+                "Reference: {samples}{light_paths}, depth {}{cut_off}, scaled offset, stable sphere formula{fresnel} (1 run).",
+                reference.max_depth
             );
         }
         text.push('\n');
@@ -1003,7 +1015,7 @@ impl CostReport {
         let mut text = String::from(
             "chapter,scene,knob,setting,samples,sampling,max_depth,min_contribution,ray_offset,fixed_epsilon,sphere_formula,\
              runs,seconds_median,rays_total,rays_primary,rays_shadow,rays_reflection,rays_refraction,\
-             rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n",
+             rays_bounce,rays_light,rays_to_camera,rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n",
         );
         for row in &self.rows {
             let s = &row.settings;
@@ -1014,7 +1026,7 @@ impl CostReport {
             };
             let _ = writeln!(
                 text,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{:.6},{},{:.6},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{},{},{},{:.6},{},{:.6},{},{}",
                 self.chapter,
                 csv_field(scene),
                 row.knob_name(),
@@ -1033,6 +1045,9 @@ impl CostReport {
                 row.rays.shadow,
                 row.rays.reflection,
                 row.rays.refraction,
+                row.rays.bounce,
+                row.rays.light,
+                row.rays.to_camera,
                 row.error.rmse,
                 if row.error.psnr_db.is_finite() {
                     format!("{:.3}", row.error.psnr_db)
@@ -1362,6 +1377,54 @@ fn draw_front_labels(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_csv_counts_every_kind_of_ray_and_the_kinds_add_up_to_the_total() {
+        let rays = crate::RayCounts {
+            primary: 1,
+            shadow: 20,
+            reflection: 300,
+            refraction: 4_000,
+            bounce: 50_000,
+            light: 600_000,
+            to_camera: 7_000_000,
+            ..Default::default()
+        };
+        let report = CostReport {
+            chapter: 14,
+            scene_name: "box".into(),
+            width: 2,
+            height: 2,
+            repeats: 1,
+            rows: vec![Measurement {
+                knob: None,
+                label: "reference".into(),
+                settings: RenderSettings::default(),
+                far_sphere: false,
+                seconds: 1.0,
+                runs: 1,
+                rays,
+                error: ImageError::default(),
+                pareto: false,
+            }],
+        };
+        let csv = report.csv();
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+        let row: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+        assert_eq!(header.len(), row.len());
+        let column = |name: &str| -> u64 {
+            let index = header.iter().position(|column| *column == name);
+            index.and_then(|index| row[index].parse().ok()).unwrap_or(0)
+        };
+        let kinds: u64 = header
+            .iter()
+            .filter(|name| name.starts_with("rays_") && **name != "rays_total")
+            .map(|name| column(name))
+            .sum();
+        assert_eq!(column("rays_total"), rays.total());
+        assert_eq!(kinds, rays.total(), "{csv}");
+    }
 
     #[test]
     fn identical_images_have_no_error() {
