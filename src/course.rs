@@ -770,6 +770,19 @@ pub struct HitPoint<'a> {
 }
 
 impl<'a> HitPoint<'a> {
+    /// The light the point's material gives off toward the eye: its
+    /// emission seen from the front, or from either side when it is two
+    /// sided; nothing from behind a one-sided emitter.
+    #[inline]
+    pub fn emitted(&self) -> Vec3 {
+        let seen_from_front = self.surface.normal.dot(self.to_eye) > 0.0;
+        if self.material.two_sided || seen_from_front {
+            self.material.emission
+        } else {
+            Vec3::ZERO
+        }
+    }
+
     /// The point where `ray` met `shape` (object number `object`) at `t`.
     #[inline]
     pub fn new(

@@ -748,11 +748,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         let to_light = point - origin;
         let squared = to_light.length_squared();
         let direction = to_light / squared.sqrt();
-        let cosine = normal.dot(direction).abs();
+        let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
+        let cosine = facing_cosine(material, normal, direction);
         if !(squared > 0.0 && cosine > 0.0) {
             return None;
         }
-        let material = &self.stage.scene.objects[self.stage.owners[object] as usize].material;
         Some(LightSample {
             position: point - SHADOW_EPSILON * to_light,
             direction,
@@ -768,7 +768,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
     /// scattered ray that found an emitter against. 0 where `point` emits
     /// nothing.
     pub fn light_pdf(&self, point: &HitPoint) -> f32 {
-        if point.material.emission == Vec3::ZERO {
+        if point.emitted() == Vec3::ZERO {
             return 0.0;
         }
         let shape = &self.stage.shapes[point.object];
@@ -777,7 +777,11 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         };
         let to_point = point.surface.point - point.ray.origin;
         let squared = to_point.length_squared();
-        let cosine = point.surface.normal.dot(to_point).abs() / squared.sqrt();
+        let cosine = facing_cosine(
+            point.material,
+            point.surface.normal,
+            to_point / squared.sqrt(),
+        );
         if !(cosine > 0.0 && area > 0.0) {
             return 0.0;
         }
@@ -880,7 +884,13 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         }
         let object = self.stage.emitters[choice - scene.lights.len() - scene.beams.len()] as usize;
         let (point, normal, area) = point_on(&self.stage.shapes[object], u, v)?;
-        let face = if self.random() < 0.5 { normal } else { -normal };
+        let material = &scene.objects[self.stage.owners[object] as usize].material;
+        // A two-sided emitter sends half its paths from each face.
+        let (face, faces) = match material.two_sided {
+            true if self.random() < 0.5 => (-normal, 2.0),
+            true => (normal, 2.0),
+            false => (normal, 1.0),
+        };
         let local = C::cosine_hemisphere(self.random(), self.random());
         let direction = crate::bsdf::to_world(face, local);
         let surface = SurfacePoint {
@@ -888,11 +898,10 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             normal,
             error: point.abs() * (crate::shapes::SURFACE_ERROR_EPSILONS * f32::EPSILON),
         };
-        let material = &scene.objects[self.stage.owners[object] as usize].material;
         Some(Emitted {
             ray: Ray::new(self.offset_origin(&surface, direction), direction),
-            // Le cos / (cos / pi * 1 / area * 1 / 2 * 1 / count).
-            power: material.emission * (2.0 * PI * area * count),
+            // Le cos / (cos / pi * 1 / area * 1 / faces * 1 / count).
+            power: material.emission * (faces * PI * area * count),
         })
     }
 
@@ -1262,6 +1271,18 @@ fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+/// The cosine between an emitter's normal and the direction toward it,
+/// `direction`, from a point it lights: positive when the point is in
+/// front of it; for a two-sided emitter, on either side.
+fn facing_cosine(material: &crate::Material, normal: Vec3, direction: Vec3) -> f32 {
+    let cosine = -normal.dot(direction);
+    if material.two_sided {
+        cosine.abs()
+    } else {
+        cosine
+    }
 }
 
 /// The area of `shape`, for the shapes a light can be: `None` for a plane

@@ -203,10 +203,16 @@ pub struct Material {
     /// `exp(-absorption d)`. Zero is clear.
     #[serde(deserialize_with = "number::vec3")]
     pub absorption: Vec3,
-    /// Light the surface gives off, the same on both faces, as radiance
-    /// (chapter 13: an area light). Zero for a surface that only reflects.
+    /// Light the surface gives off as radiance (chapter 13: an area
+    /// light), from its front: the side its normal faces (outward for a
+    /// sphere, `u x v` for a quad, by the winding for a triangle). Zero for
+    /// a surface that only reflects.
     #[serde(deserialize_with = "number::vec3")]
     pub emission: Vec3,
+    /// Whether `emission` leaves both faces (pbrt-v4's `twosided`): a lamp
+    /// in a ceiling shines down only, the inside of a glowing sphere needs
+    /// both.
+    pub two_sided: bool,
     /// How rough a mirror is (chapter 13): 0 is a perfect mirror, larger
     /// spreads the reflection into a glossy lobe, 1 the widest.
     #[serde(deserialize_with = "number::f32")]
@@ -275,6 +281,7 @@ impl Default for Material {
             fresnel: FresnelModel::None,
             absorption: Vec3::ZERO,
             emission: Vec3::ZERO,
+            two_sided: false,
             roughness: 0.0,
             cauchy: None,
         }

@@ -109,7 +109,7 @@ pub fn shade_path<C: Chapters>(
 ) -> Vec3 {
     let effects = tracer.effects();
     let mut color = Vec3::ZERO;
-    let emission = point.material.emission;
+    let emission = point.emitted();
     if emission != Vec3::ZERO {
         // With next-event estimation, a light found by a scattered ray was
         // also found by the light sample at the point before: count it once.
@@ -142,7 +142,7 @@ pub fn shade_path<C: Chapters>(
     if !(share > 0.0) {
         return color;
     }
-    if effects.roulette && depth + 1 >= ROULETTE_FROM_DEPTH {
+    if effects.roulette && depth + 1 >= ROULETTE_FROM_DEPTH && lobe.has_density() {
         match C::russian_roulette(share, tracer.random()) {
             Some(boost) => {
                 throughput *= boost;

@@ -222,8 +222,8 @@ pub fn checkpoints() -> Vec<Case> {
     ]
 }
 
-/// A floor lit only by a light under it, facing up at the floor's
-/// underside: seen from above, black.
+/// A floor lit only by a light under it, shining from both faces up at
+/// the floor's underside: seen from above, black.
 const LIGHT_UNDER_THE_FLOOR: &str = r#"
 background = [0.0, 0.0, 0.0]
 [camera]
@@ -238,7 +238,7 @@ plane = { point = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0] }
 material = { color = [0.8, 0.8, 0.8] }
 [[objects]]
 quad = { corner = [-1.0, -0.5, -1.0], u = [2.0, 0.0, 0.0], v = [0.0, 0.0, 2.0] }
-material = { color = [0.0, 0.0, 0.0], emission = [5.0, 5.0, 5.0] }
+material = { color = [0.0, 0.0, 0.0], emission = [5.0, 5.0, 5.0], two_sided = true }
 "#;
 
 /// Chapter 13's hard cases (level 2).

@@ -110,11 +110,7 @@ impl Chapters for EmissionTwice {
     fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         let twice =
             matches!(tracer.arrival(), Arrival::Scattered { .. }) && tracer.effects().next_event;
-        let again = if twice {
-            point.material.emission
-        } else {
-            Vec3::ZERO
-        };
+        let again = if twice { point.emitted() } else { Vec3::ZERO };
         raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight) + again
     }
 }

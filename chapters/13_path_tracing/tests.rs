@@ -230,6 +230,77 @@ material = { color = [0.0, 0.0, 0.0], emission = [1.0, 1.0, 1.0] }"#,
 }
 
 #[test]
+fn a_lamp_shines_from_its_front_only_unless_it_is_two_sided() {
+    // A 2 x 2 lamp one unit above the floor, whose normal `u x v` faces
+    // down at it, then up, away from it.
+    let down = "corner = [-1.0, 1.0, -1.0], u = [2.0, 0.0, 0.0], v = [0.0, 0.0, 2.0]";
+    let up = "corner = [-1.0, 1.0, -1.0], u = [0.0, 0.0, 2.0], v = [2.0, 0.0, 0.0]";
+    for (quad, two_sided, lit) in [(down, false, true), (up, false, false), (up, true, true)] {
+        let scene = floor_and(
+            "{ color = [0.5, 0.5, 0.5] }",
+            &format!(
+                "[[objects]]\nquad = {{ {quad} }}\n\
+                 material = {{ color = [0.0, 0.0, 0.0], emission = [1.0, 1.0, 1.0], two_sided = {two_sided} }}"
+            ),
+        );
+        let stage = Stage::<Reference>::with_chapters(&scene, 13, scene.render).expect("stage");
+        let mut tracer = stage.tracer(None);
+        let floor = tracer.hit_point(0, &Ray::new(Vec3::Y * 0.5, -Vec3::Y), 0.5);
+        let samples = (0..64)
+            .filter(|_| tracer.sample_light(&floor).is_some())
+            .count();
+        // Seen from the floor: the lamp's light is there or not, and the
+        // density MIS weighs with follows it.
+        let from_floor = Ray::new(Vec3::new(0.1, 0.0, 0.2), Vec3::Y);
+        let lamp = stage
+            .nearest_hit(&from_floor, 1e-3, f32::INFINITY)
+            .map(|hit| tracer.hit_point(hit.object, &from_floor, hit.t))
+            .expect("the ray up meets the lamp");
+        let label = format!("{quad}, two_sided {two_sided}");
+        assert_eq!(
+            samples == 64,
+            lit,
+            "light samples: {samples} of 64, {label}"
+        );
+        assert_eq!(lamp.emitted() == Vec3::ONE, lit, "{label}");
+        assert_eq!(tracer.light_pdf(&lamp) > 0.0, lit, "{label}");
+        assert!(
+            lit || (samples == 0 && lamp.emitted() == Vec3::ZERO),
+            "{label}"
+        );
+    }
+}
+
+#[test]
+fn roulette_never_ends_a_path_where_it_crosses_glass() {
+    // A path that carries almost nothing, deep, at a glass ball: the
+    // crossing's weight holds (n1 / n2)^2, a change of units, and roulette
+    // there would end nearly every path into glass. It plays only where a
+    // path scatters at random, so each visit casts its specular ray.
+    let scene = floor_and(
+        "{ color = [0.5, 0.5, 0.5] }",
+        "[[objects]]\nsphere = { center = [0.0, 1.0, 0.0], radius = 0.5 }\n\
+         material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.5, fresnel = \"exact\" }",
+    );
+    let stage = Stage::<Reference>::with_chapters(&scene, 13, scene.render).expect("stage");
+    assert!(stage.effects.roulette);
+    let mut tracer = stage.tracer(None);
+    let ray = Ray::new(Vec3::new(0.0, 3.0, 0.0), -Vec3::Y);
+    let glass = tracer.hit_point(1, &ray, 1.5);
+    let visits = 200;
+    for _ in 0..visits {
+        shade_path::<Reference>(&mut tracer, &glass, ROULETTE_FROM_DEPTH, 1e-6);
+    }
+    let counts = tracer.counts();
+    assert!(
+        counts.reflection + counts.refraction >= visits,
+        "{} reflection and {} refraction rays from {visits} visits",
+        counts.reflection,
+        counts.refraction
+    );
+}
+
+#[test]
 fn the_glossy_and_diffuse_lobes_scatter_as_their_pdfs_say() {
     for material in [
         "{ color = [0.8, 0.8, 0.8] }",
@@ -304,12 +375,7 @@ impl Chapters for EmissionTwice {
     fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         let twice =
             matches!(tracer.arrival(), Arrival::Scattered { .. }) && tracer.effects().next_event;
-        shade_path(tracer, point, depth, weight)
-            + if twice {
-                point.material.emission
-            } else {
-                Vec3::ZERO
-            }
+        shade_path(tracer, point, depth, weight) + if twice { point.emitted() } else { Vec3::ZERO }
     }
 }
 

@@ -243,7 +243,7 @@ sphere = { center = [0.0, 0.0, 0.0], radius = 0.25 }
 material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b = 0.05 }, fresnel = "exact" }
 "#,
                 1.0,
-                ", emission = [1.0, 1.0, 1.0]",
+                ", emission = [1.0, 1.0, 1.0], two_sided = true",
             ),
             2.0,
         ),

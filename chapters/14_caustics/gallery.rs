@@ -159,11 +159,7 @@ impl Chapters for CausticsTwice {
     fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         let twice = tracer.arrival() == Arrival::Caustic;
         raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight)
-            + if twice {
-                point.material.emission
-            } else {
-                Vec3::ZERO
-            }
+            + if twice { point.emitted() } else { Vec3::ZERO }
     }
 }
 

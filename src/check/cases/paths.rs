@@ -358,7 +358,8 @@ impl ConvergesCase {
 }
 
 /// A closed sphere of radius 1 at the origin, seen from its centre, of
-/// albedo `albedo` (grey) and emission `emission`, with `lights` (TOML).
+/// albedo `albedo` (grey) and emission `emission` (on both faces: the
+/// camera sees the inside), with `lights` (TOML).
 pub fn inside_sphere(albedo: f32, emission: f32, lights: &str) -> String {
     format!(
         r#"
@@ -375,7 +376,7 @@ max_depth = 64
 {lights}
 [[objects]]
 sphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }}
-material = {{ color = [{albedo}, {albedo}, {albedo}], emission = [{emission}, {emission}, {emission}] }}
+material = {{ color = [{albedo}, {albedo}, {albedo}], emission = [{emission}, {emission}, {emission}], two_sided = true }}
 "#
     )
 }
