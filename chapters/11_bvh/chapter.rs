@@ -1,6 +1,6 @@
 use raylab::bvh::{
     Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
-    greater_of, lesser_of,
+    greater_of, lesser_of, prefetch,
 };
 use raylab::course::{Chapters, Hit, Objects};
 use raylab::shapes::Shape;
@@ -832,6 +832,17 @@ fn lanes_of(mut bits: u32) -> impl Iterator<Item = usize> {
     })
 }
 
+/// Starts loading the child a node's lane points to (`first`, `count`):
+/// the inner node, or the first of its leaves.
+#[inline(always)]
+fn prefetch_child(wide: &WideBvh, first: u32, count: u32) {
+    if count == 0 {
+        prefetch(wide.nodes.as_ptr().wrapping_add(first as usize));
+    } else {
+        prefetch(wide.leaves.as_ptr().wrapping_add(first as usize));
+    }
+}
+
 /// [`nearest_hit_bvh`] through the wide tree `wide`: chapter 3's answer,
 /// the same object at the same `t`.
 ///
@@ -871,6 +882,9 @@ pub fn nearest_hit_wide<C: Chapters>(
             let nearest_lane = (keyed.cmpeq(Vec4::splat(keyed.min_element())) & entered)
                 .bitmask()
                 .trailing_zeros() as usize;
+            for lane in lanes_of(entered.bitmask()) {
+                prefetch_child(wide, node.first[lane], node.count[lane]);
+            }
             let mut waiting = [0usize; WIDTH];
             let mut count = 0;
             for lane in lanes_of(entered.bitmask() & !(1 << nearest_lane)) {
