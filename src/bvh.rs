@@ -283,6 +283,42 @@ pub fn prefetch<T>(item: *const T) {
     let _ = item;
 }
 
+/// An empty `Vec` with room for `capacity` items, whose memory Linux is
+/// asked to map in huge pages (2 MB on x86-64) rather than 4 KB ones.
+///
+/// The processor translates each address through a small cache of page
+/// mappings (the TLB): about two thousand entries, 8 MB of 4 KB pages. A
+/// walk through a tree of a hundred megabytes jumps to a new page at
+/// nearly every node, and each miss in that cache costs a walk of the page
+/// tables, on top of the wait for the node itself. In 2 MB pages the same
+/// entries map 4 GB. The advice is given before anything is written, so
+/// the pages are huge from their first use; it is only advice, and where
+/// it is refused (or on other systems) the `Vec` is an ordinary one.
+pub fn vec_on_huge_pages<T>(capacity: usize) -> Vec<T> {
+    let items = Vec::with_capacity(capacity);
+    #[cfg(target_os = "linux")]
+    {
+        const PAGE: usize = 4096;
+        let start = items.as_ptr() as usize;
+        let end = start + capacity * std::mem::size_of::<T>();
+        // `madvise` takes whole pages: those inside the allocation.
+        let first_page = start.next_multiple_of(PAGE);
+        if end > first_page {
+            // SAFETY: the range lies inside the `Vec`'s own allocation, and
+            // this advice changes how its pages are mapped, not their
+            // contents (there are none yet).
+            unsafe {
+                libc::madvise(
+                    first_page as *mut libc::c_void,
+                    end - first_page,
+                    libc::MADV_HUGEPAGE,
+                );
+            }
+        }
+    }
+    items
+}
+
 /// The bytes the processor loads from memory at once.
 pub const CACHE_LINE: usize = 64;
 

@@ -1,6 +1,6 @@
 use raylab::bvh::{
     Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
-    greater_of, lesser_of, prefetch,
+    greater_of, lesser_of, prefetch, vec_on_huge_pages,
 };
 use raylab::course::{Chapters, Hit, Objects};
 use raylab::shapes::Shape;
@@ -714,9 +714,19 @@ pub fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max:
 /// in groups of four. Every box is a box of the binary tree, so a ray
 /// meets the same boxes, fewer of them at a time.
 pub fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
+    // Room for the most the fold can make: a wide node per binary inner
+    // node, a `Leaf4` per four objects of a binary leaf. On huge pages: an
+    // incoherent ray's walk jumps across the whole tree ([`vec_on_huge_pages`]).
+    let inner_nodes = bvh.nodes.iter().filter(|node| !node.is_leaf()).count();
+    let leaf_groups = bvh
+        .nodes
+        .iter()
+        .filter(|node| node.is_leaf())
+        .map(|node| node.primitive_range().len().div_ceil(WIDTH))
+        .sum();
     let mut wide = WideBvh {
-        nodes: Vec::new(),
-        leaves: Vec::new(),
+        nodes: vec_on_huge_pages(inner_nodes.max(1)),
+        leaves: vec_on_huge_pages(leaf_groups),
         unbounded: bvh.unbounded.clone(),
     };
     if bvh.nodes.is_empty() {
