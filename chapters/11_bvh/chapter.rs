@@ -856,7 +856,8 @@ fn prefetch_child(wide: &WideBvh, first: u32, count: u32) {
 /// [`nearest_hit_bvh`] through the wide tree `wide`: chapter 3's answer,
 /// the same object at the same `t`.
 ///
-/// At each node the four boxes are tested at once ([`hit_boxes`]). The
+/// At each node the four boxes are tested at once ([`hit_boxes`]), while
+/// the children are already being loaded ([`prefetch`]). The
 /// walk goes on into the child entered nearest; the others wait on the
 /// stack, farther first so that the nearer come off first, each with its
 /// entry, and are skipped when they come off beyond the best hit found
@@ -882,6 +883,13 @@ pub fn nearest_hit_wide<C: Chapters>(
     let mut visiting = 0usize;
     loop {
         let node = &wide.nodes[visiting];
+        // Every child's load starts before the box test, not after it: the
+        // next node opened is one of them, and which one is only known
+        // once the boxes are tested, a wait the load can overlap. Loading
+        // the children the ray misses too costs bandwidth, not waiting.
+        for lane in lanes_of(node.used_lanes().bitmask()) {
+            prefetch_child(wide, node.first[lane], node.count[lane]);
+        }
         let entries = C::hit_boxes(&node.boxes, ray.origin, inverse, t_min, nearest.closest());
         let entered = !entries.is_nan_mask() & node.used_lanes();
         if entered.any() {
@@ -892,9 +900,6 @@ pub fn nearest_hit_wide<C: Chapters>(
             let nearest_lane = (keyed.cmpeq(Vec4::splat(keyed.min_element())) & entered)
                 .bitmask()
                 .trailing_zeros() as usize;
-            for lane in lanes_of(entered.bitmask()) {
-                prefetch_child(wide, node.first[lane], node.count[lane]);
-            }
             let mut waiting = [0usize; WIDTH];
             let mut count = 0;
             for lane in lanes_of(entered.bitmask() & !(1 << nearest_lane)) {
