@@ -1,6 +1,6 @@
 use raylab::bvh::{
     Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
-    greater_of, lesser_of,
+    greater_of, lesser_of, prefetch, vec_on_huge_pages,
 };
 use raylab::course::{Chapters, Hit, Objects};
 use raylab::shapes::Shape;
@@ -714,9 +714,19 @@ pub fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max:
 /// in groups of four. Every box is a box of the binary tree, so a ray
 /// meets the same boxes, fewer of them at a time.
 pub fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
+    // Room for the most the fold can make: a wide node per binary inner
+    // node, a `Leaf4` per four objects of a binary leaf. On huge pages: an
+    // incoherent ray's walk jumps across the whole tree ([`vec_on_huge_pages`]).
+    let inner_nodes = bvh.nodes.iter().filter(|node| !node.is_leaf()).count();
+    let leaf_groups = bvh
+        .nodes
+        .iter()
+        .filter(|node| node.is_leaf())
+        .map(|node| node.primitive_range().len().div_ceil(WIDTH))
+        .sum();
     let mut wide = WideBvh {
-        nodes: Vec::new(),
-        leaves: Vec::new(),
+        nodes: vec_on_huge_pages(inner_nodes.max(1)),
+        leaves: vec_on_huge_pages(leaf_groups),
         unbounded: bvh.unbounded.clone(),
     };
     if bvh.nodes.is_empty() {
@@ -832,10 +842,22 @@ fn lanes_of(mut bits: u32) -> impl Iterator<Item = usize> {
     })
 }
 
+/// Starts loading the child a node's lane points to (`first`, `count`):
+/// the inner node, or the first of its leaves.
+#[inline(always)]
+fn prefetch_child(wide: &WideBvh, first: u32, count: u32) {
+    if count == 0 {
+        prefetch(wide.nodes.as_ptr().wrapping_add(first as usize));
+    } else {
+        prefetch(wide.leaves.as_ptr().wrapping_add(first as usize));
+    }
+}
+
 /// [`nearest_hit_bvh`] through the wide tree `wide`: chapter 3's answer,
 /// the same object at the same `t`.
 ///
-/// At each node the four boxes are tested at once ([`hit_boxes`]). The
+/// At each node the four boxes are tested at once ([`hit_boxes`]), while
+/// the children are already being loaded ([`prefetch`]). The
 /// walk goes on into the child entered nearest; the others wait on the
 /// stack, farther first so that the nearer come off first, each with its
 /// entry, and are skipped when they come off beyond the best hit found
@@ -861,6 +883,13 @@ pub fn nearest_hit_wide<C: Chapters>(
     let mut visiting = 0usize;
     loop {
         let node = &wide.nodes[visiting];
+        // Every child's load starts before the box test, not after it: the
+        // next node opened is one of them, and which one is only known
+        // once the boxes are tested, a wait the load can overlap. Loading
+        // the children the ray misses too costs bandwidth, not waiting.
+        for lane in lanes_of(node.used_lanes().bitmask()) {
+            prefetch_child(wide, node.first[lane], node.count[lane]);
+        }
         let entries = C::hit_boxes(&node.boxes, ray.origin, inverse, t_min, nearest.closest());
         let entered = !entries.is_nan_mask() & node.used_lanes();
         if entered.any() {
