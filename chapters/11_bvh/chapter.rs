@@ -667,9 +667,21 @@ pub fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max:
     let scale_z = 1.0 / dir[z];
 
     let origin = ray.origin.to_array();
-    let [a, b, c] = triangles
-        .corners
-        .map(|corner| [0, 1, 2].map(|axis| corner[axis] - Vec4::splat(origin[axis])));
+    // Written out rather than with `array::map`, which the compiler left
+    // as a call that copies the corners through memory (a sixth of a
+    // path-traced render's time, by perf).
+    let relative = |corner: &[Vec4; 3]| {
+        [
+            corner[0] - Vec4::splat(origin[0]),
+            corner[1] - Vec4::splat(origin[1]),
+            corner[2] - Vec4::splat(origin[2]),
+        ]
+    };
+    let [a, b, c] = [
+        relative(&triangles.corners[0]),
+        relative(&triangles.corners[1]),
+        relative(&triangles.corners[2]),
+    ];
     let sheared = |p: [Vec4; 3]| (p[x] - shear_x * p[z], p[y] - shear_y * p[z]);
     let (ax, ay) = sheared(a);
     let (bx, by) = sheared(b);
