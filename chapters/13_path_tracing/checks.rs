@@ -176,7 +176,8 @@ pub fn checkpoints() -> Vec<Case> {
             "furnace-roulette",
             "russian_roulette",
             "the same sphere with Russian roulette: still 2 (the survivors carry the light of \
-             the paths ended)",
+             the paths ended). A wrong answer is in russian_roulette or in shade_path (a \
+             survivor's weight multiplied by the 1 / q it returns)",
             0.5,
             1.0,
             &["next-event"],
@@ -200,6 +201,20 @@ pub fn checkpoints() -> Vec<Case> {
             0.8,
             0.5,
             &[],
+        ),
+        Case::new(
+            "furnace-one-sided",
+            FURNACE_13,
+            "a sphere of albedo 0.5 that glows from its outside only, seen from inside: every \
+             point shows its back, which gives nothing: radiance 0. Count a point's emission as \
+             point.emitted() does, not point.material.emission",
+            CaseKind::Converges(ConvergesCase {
+                function: "shade_path",
+                scene: inside_sphere_glowing_outward(0.5, 1.0),
+                without: &[],
+                samples: 2_000,
+                expected: 0.0,
+            }),
         ),
         Case::new(
             "point-light-in-sphere",

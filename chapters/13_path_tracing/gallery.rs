@@ -1,7 +1,8 @@
 //! Chapter 13, path tracing, as `raylab check` judges it: the reference
 //! passes both levels; its bug gallery (a pdf without its cosine, uniform
 //! directions called cosine ones, roulette survivors not divided by their
-//! chance, emission counted twice with light samples, an MIS weight of 1,
+//! chance, emission counted twice with light samples or from behind a
+//! one-sided light, an MIS weight of 1,
 //! a light sample that returns more than arrives) fails chapter 13 on the
 //! case that names the mistake, and samples averaged after tone mapping
 //! fail its image; correct alternatives (the concentric mapping, the
@@ -118,6 +119,22 @@ impl Chapters for EmissionTwice {
 #[test]
 fn emission_counted_twice_with_light_samples_is_caught() {
     assert_caught::<EmissionTwice>("furnace-next-event");
+}
+
+/// A variant that counts a light's emission seen from behind as well
+/// (`point.material.emission` where `point.emitted()` belongs): a
+/// one-sided lamp's back glows.
+struct EmissionFromBehind;
+impl Chapters for EmissionFromBehind {
+    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let behind = point.material.emission - point.emitted();
+        raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight) + behind
+    }
+}
+
+#[test]
+fn emission_seen_from_behind_a_one_sided_light_is_caught() {
+    assert_caught::<EmissionFromBehind>("furnace-one-sided");
 }
 
 struct MisWeightOne;

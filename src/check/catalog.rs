@@ -20,7 +20,8 @@ pub use super::cases::{
 pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 pub use super::cases::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 pub use super::cases::{
-    ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase, inside_sphere,
+    ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase,
+    inside_sphere, inside_sphere_glowing_outward,
 };
 pub use super::cases::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,

@@ -33,8 +33,8 @@ pub use light_paths::{
 };
 pub use paths::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, FALSE_ALARM, PathFormula, PathFormulaCase,
-    STATISTICAL_CASES, cosine_fit, inside_sphere, mean_and_error, pearson, stream,
-    welch_rejections, z_threshold,
+    STATISTICAL_CASES, cosine_fit, inside_sphere, inside_sphere_glowing_outward, mean_and_error,
+    pearson, stream, welch_rejections, z_threshold,
 };
 pub use sampling::{PixelColorCase, SampleOffsetsCase};
 pub use shading::{OffsetCase, PhongTermsCase, ShadeCase, ShadowCase};

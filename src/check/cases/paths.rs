@@ -361,6 +361,16 @@ impl ConvergesCase {
 /// albedo `albedo` (grey) and emission `emission` (on both faces: the
 /// camera sees the inside), with `lights` (TOML).
 pub fn inside_sphere(albedo: f32, emission: f32, lights: &str) -> String {
+    closed_sphere(albedo, emission, true, lights)
+}
+
+/// [`inside_sphere`] glowing from its outside only: seen from the centre,
+/// its emission is behind every point, and the radiance is 0.
+pub fn inside_sphere_glowing_outward(albedo: f32, emission: f32) -> String {
+    closed_sphere(albedo, emission, false, "")
+}
+
+fn closed_sphere(albedo: f32, emission: f32, two_sided: bool, lights: &str) -> String {
     format!(
         r#"
 background = [0.0, 0.0, 0.0]
@@ -376,7 +386,7 @@ max_depth = 64
 {lights}
 [[objects]]
 sphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }}
-material = {{ color = [{albedo}, {albedo}, {albedo}], emission = [{emission}, {emission}, {emission}], two_sided = true }}
+material = {{ color = [{albedo}, {albedo}, {albedo}], emission = [{emission}, {emission}, {emission}], two_sided = {two_sided} }}
 "#
     )
 }
