@@ -9,7 +9,14 @@
 //!    "OUT_DIR"), "/lessons/NN_name.md"))]`). An image that cannot be read is
 //!    left as it was, with a warning; tests/pictures/lesson_images.rs fails on it.
 //!
-//! 2. Without the `embree` feature, nothing else (the default build needs
+//! 2. The source's fingerprint, `RAYLAB_SOURCE`: a hash of every file
+//!    under `src/` and `chapters/` and of `Cargo.lock`. The judge (raylab's
+//!    own binary) and a student's binary speak one protocol only when both
+//!    were built from the same source (src/check/protocol.rs), so that a
+//!    workspace built against another raylab gets a clear message, never a
+//!    wrong verdict.
+//!
+//! 3. Without the `embree` feature, nothing else (the default build needs
 //!    neither Embree nor libclang). With the feature, it tells the linker
 //!    where `libembree4` is, because `embree4-sys` only says `-lembree4`
 //!    and reads no variable:
@@ -30,6 +37,7 @@ use std::path::{Path, PathBuf};
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     inline_lesson_images();
+    source_fingerprint();
     if env::var_os("CARGO_FEATURE_EMBREE").is_none() {
         return;
     }
@@ -85,6 +93,51 @@ fn main() {
             "cargo:warning=feature `embree`: no libembree4 found; run scripts/setup-embree.sh \
              (or set RAYLAB_EMBREE_DIR), see docs/embree.md"
         );
+    }
+}
+
+/// Hashes the files the judge and a student's binary must share (see the
+/// top of this file) into `RAYLAB_SOURCE`: FNV-1a, 64 bits, over each
+/// file's path relative to the crate and its bytes, in path order.
+fn source_fingerprint() {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
+    let mut files = vec![manifest.join("Cargo.lock")];
+    for folder in ["src", "chapters"] {
+        println!("cargo:rerun-if-changed={}", manifest.join(folder).display());
+        collect_files(&manifest.join(folder), &mut files);
+    }
+    files.sort();
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut feed = |bytes: &[u8]| {
+        for &byte in bytes {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for file in &files {
+        let relative = file.strip_prefix(&manifest).unwrap_or(file);
+        feed(relative.to_string_lossy().as_bytes());
+        feed(&[0]);
+        feed(&std::fs::read(file).unwrap_or_default());
+        feed(&[0]);
+    }
+    println!("cargo:rustc-env=RAYLAB_SOURCE={hash:016x}");
+}
+
+/// Every file under `folder`, recursively (links are not followed).
+fn collect_files(folder: &Path, files: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(folder) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if kind.is_dir() {
+            collect_files(&entry.path(), files);
+        } else if kind.is_file() {
+            files.push(entry.path());
+        }
     }
 }
 

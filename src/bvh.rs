@@ -8,7 +8,7 @@ use crate::shapes::Triangle;
 use crate::{Vec3, Vec4};
 
 /// An axis-aligned box: every point `p` with `min <= p <= max`, axis by axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Aabb {
     pub min: Vec3,
     pub max: Vec3,
@@ -68,7 +68,7 @@ impl Aabb {
 /// `count > 0` marks a leaf: its objects are
 /// `Bvh::primitives[first..first + count]`. No node is both, and a leaf is
 /// never empty.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BvhNode {
     /// Holds every object below this node.
     pub bounds: Aabb,
@@ -103,7 +103,7 @@ impl BvhNode {
 /// or in `unbounded` (no box could hold it: planes, and anything whose box
 /// is not finite). Indices are `u32` to halve the tree's memory: a scene of
 /// more than four billion objects would not fit in memory anyway.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Bvh {
     pub nodes: Vec<BvhNode>,
     /// Object indices, grouped so that each leaf's objects are contiguous.
@@ -155,7 +155,7 @@ impl Bvh {
 
 /// How [`Chapters::build_bvh`](crate::Chapters::build_bvh) chooses where to
 /// cut a node in two.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum SplitRule {
     /// The surface-area heuristic, evaluated at the bin boundaries.
     #[default]
@@ -165,7 +165,7 @@ pub enum SplitRule {
 }
 
 /// The knobs of the build.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct BvhOptions {
     pub split: SplitRule,
     /// How many bins the centroids are sorted into along the split axis
@@ -197,7 +197,7 @@ pub const WIDTH: usize = 4;
 /// one coordinate of all four, and its arithmetic works on the four at
 /// once (one SSE instruction each on x86-64): a ray is tested against four
 /// boxes for about the price of one.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Boxes4 {
     pub min: [Vec4; 3],
     pub max: [Vec4; 3],
@@ -330,7 +330,7 @@ pub const CACHE_LINE: usize = 64;
 ///
 /// 96 bytes of boxes and 32 of indices: aligned to 64, a node is exactly
 /// two cache lines.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(64))]
 pub struct WideNode {
     pub boxes: Boxes4,
@@ -355,7 +355,7 @@ impl WideNode {
 
 /// Four triangles side by side: `corners[k][axis]` holds coordinate `axis`
 /// of corner `k` (`a`, `b`, `c`) of the four, lane by lane.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Triangles4 {
     pub corners: [[Vec4; 3]; 3],
 }
@@ -393,7 +393,7 @@ impl Triangles4 {
 /// to be tested together; the lanes set in `one_by_one` (bit `lane`) hold
 /// objects of other kinds, asked by their own test. Those lanes' corners,
 /// and the unused lanes' (object `u32::MAX`), are NaN.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Leaf4 {
     pub triangles: Triangles4,
     pub objects: [u32; WIDTH],
@@ -403,7 +403,7 @@ pub struct Leaf4 {
 /// A bounding volume hierarchy whose nodes have up to [`WIDTH`] children,
 /// each leaf's objects in [`Leaf4`]s. The root is `nodes[0]`; `nodes` is
 /// empty when no object has a box. `unbounded` is as in [`Bvh`].
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct WideBvh {
     pub nodes: Vec<WideNode>,
     pub leaves: Vec<Leaf4>,

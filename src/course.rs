@@ -36,7 +36,7 @@ pub struct Hit {
 }
 
 /// The diffuse and specular light at one point (ambient counts as diffuse).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct PhongTerms {
     pub diffuse: Vec3,
     pub specular: Vec3,

@@ -7,7 +7,7 @@ use glam::Vec3;
 /// `dir` need not be unit length: every distance `t` in raylab is measured in
 /// units of `dir`, so `ray.at(t)` is the point whatever the length. Only the
 /// places that need an angle (shading) normalise.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Ray {
     pub origin: Vec3,
     pub dir: Vec3,

@@ -24,7 +24,7 @@ pub const MAX_DEPTH: usize = 16;
 pub const MAX_NODES: usize = 256;
 
 /// A node of a surface's tree.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Sdf {
     /// Every point at `radius` from `center`.
     Sphere { center: Vec3, radius: f32 },
@@ -110,6 +110,83 @@ pub enum ImplicitError {
 }
 
 impl Sdf {
+    /// The same shape scaled by `factor` about the origin: every length
+    /// of the tree (centres, sizes, radii, offsets, the blend and the
+    /// bumps' amplitude) times `factor`, the bumps' frequency divided by
+    /// it. With a power of two, every operation of [`Sdf::distance`]
+    /// scales exactly, so the function at `factor p` is exactly `factor`
+    /// times the original's at `p`: the same surface, to the last bit,
+    /// at another size (the checker's fresh inputs use this).
+    pub fn scaled(&self, factor: f32) -> Sdf {
+        let boxed = |shape: &Sdf| Box::new(shape.scaled(factor));
+        match self {
+            Sdf::Sphere { center, radius } => Sdf::Sphere {
+                center: *center * factor,
+                radius: radius * factor,
+            },
+            Sdf::Box { center, half_size } => Sdf::Box {
+                center: *center * factor,
+                half_size: *half_size * factor,
+            },
+            Sdf::RoundBox {
+                center,
+                half_size,
+                radius,
+            } => Sdf::RoundBox {
+                center: *center * factor,
+                half_size: *half_size * factor,
+                radius: radius * factor,
+            },
+            Sdf::Torus {
+                center,
+                major,
+                minor,
+            } => Sdf::Torus {
+                center: *center * factor,
+                major: major * factor,
+                minor: minor * factor,
+            },
+            Sdf::Capsule { a, b, radius } => Sdf::Capsule {
+                a: *a * factor,
+                b: *b * factor,
+                radius: radius * factor,
+            },
+            Sdf::Plane { point, normal } => Sdf::Plane {
+                point: *point * factor,
+                normal: *normal,
+            },
+            Sdf::Union(shapes) => Sdf::Union(shapes.iter().map(|s| s.scaled(factor)).collect()),
+            Sdf::Intersection(shapes) => {
+                Sdf::Intersection(shapes.iter().map(|s| s.scaled(factor)).collect())
+            }
+            Sdf::Difference(kept, removed) => Sdf::Difference(boxed(kept), boxed(removed)),
+            Sdf::SmoothUnion {
+                shapes: (first, second),
+                blend,
+            } => Sdf::SmoothUnion {
+                shapes: (boxed(first), boxed(second)),
+                blend: blend * factor,
+            },
+            Sdf::Translate { offset, shape } => Sdf::Translate {
+                offset: *offset * factor,
+                shape: boxed(shape),
+            },
+            Sdf::Rotate { rotation, shape } => Sdf::Rotate {
+                rotation: *rotation,
+                shape: boxed(shape),
+            },
+            Sdf::Displace {
+                amplitude,
+                frequency,
+                shape,
+            } => Sdf::Displace {
+                amplitude: amplitude * factor,
+                frequency: frequency / factor,
+                shape: boxed(shape),
+            },
+        }
+    }
+
     /// The tree's function at `point`.
     pub fn distance(&self, point: Vec3) -> f32 {
         match self {
@@ -509,7 +586,7 @@ impl Sdf {
 
 /// How a ray marches against an implicit surface: the knobs of chapter
 /// 12, set from the render settings ([`crate::scene::RenderSettings`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct March {
     /// A point counts as on the surface when its function is below this
     /// fraction of its distance along the ray (a cone of that half angle:
@@ -548,7 +625,7 @@ impl Default for March {
 }
 
 /// Which constant a march divides its steps by.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum LipschitzRule {
     /// The tree's own bound ([`Sdf::lipschitz`]): no step crosses the surface.
@@ -559,7 +636,7 @@ pub enum LipschitzRule {
 }
 
 /// How an implicit surface's normal is found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum NormalMethod {
     /// The gradient from the tree's formulas ([`Sdf::gradient`]).
@@ -574,13 +651,38 @@ pub enum NormalMethod {
 /// An implicit surface as a scene holds it: its tree (shared, since every
 /// stage copies the scene's shapes), the facts a march needs about it, and
 /// the march's settings.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(into = "WireImplicit", try_from = "WireImplicit")]
 pub struct Implicit {
     tree: std::sync::Arc<Sdf>,
     lipschitz: f32,
     bounds: Option<Aabb>,
     exactness: Exactness,
     march: March,
+}
+
+/// An [`Implicit`] as it is written down: its tree and its march's
+/// settings (the rest is worked out from the tree again when it is read).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct WireImplicit {
+    tree: Sdf,
+    march: March,
+}
+
+impl From<Implicit> for WireImplicit {
+    fn from(surface: Implicit) -> WireImplicit {
+        WireImplicit {
+            tree: (*surface.tree).clone(),
+            march: surface.march,
+        }
+    }
+}
+
+impl TryFrom<WireImplicit> for Implicit {
+    type Error = ImplicitError;
+    fn try_from(wire: WireImplicit) -> Result<Implicit, ImplicitError> {
+        Implicit::new(wire.tree).map(|surface| surface.with_march(wire.march))
+    }
 }
 
 impl Implicit {

@@ -29,7 +29,7 @@ pub use triangle::Triangle;
 use crate::{Ray, Vec3, unit_vector};
 
 /// A primitive the tracer can intersect.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Shape {
     Plane(Plane),
     Sphere(Sphere),
@@ -47,7 +47,7 @@ pub enum Shape {
 pub const SURFACE_ERROR_EPSILONS: f32 = 4.0;
 
 /// A point on a surface, known well enough to start a new ray from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SurfacePoint {
     /// The hit point, projected back onto the surface.
     pub point: Vec3,

@@ -5,7 +5,7 @@ use crate::{Vec3, unit_vector};
 
 /// An infinite plane through `point` with unit normal `normal`. Two-sided: a
 /// ray hits it from either side.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Plane {
     point: Vec3,
     normal: Vec3,

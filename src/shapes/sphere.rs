@@ -4,7 +4,7 @@
 use crate::Vec3;
 
 /// A sphere: every point at distance `radius` from `center`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sphere {
     center: Vec3,
     radius: f32,

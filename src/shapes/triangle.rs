@@ -12,7 +12,7 @@ use crate::{Vec3, unit_vector};
 /// are kept ([`Triangle::normals`]): an index into the scene's table rather
 /// than three more vectors here, so that the data a ray test reads stays
 /// small (a million triangles are 40 MB, not 76).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Triangle {
     corners: [Vec3; 3],
     normals: u32,
