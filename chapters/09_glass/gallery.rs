@@ -726,6 +726,7 @@ fn caught_by_check<C: Chapters>(case: &str) {
         failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),
         write_images: false,
         forbid_answer_key: false,
+        fresh: None,
     };
     let verdict = raylab::check::check_chapter::<C>(9, &options);
     let text = verdict.text();

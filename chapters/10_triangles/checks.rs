@@ -810,7 +810,10 @@ pub fn robustness() -> Vec<Case> {
              from its core circle, each at a vertex or the midpoint of an edge, where two or \
              more triangles meet and rounding decides which one claims the ray: from inside a \
              closed mesh every ray hits a triangle",
-            CaseKind::ClosedMesh(ClosedMeshCase { triangles: 1008 }),
+            CaseKind::ClosedMesh(ClosedMeshCase {
+                triangles: 1008,
+                motion: None,
+            }),
         ),
         Case::from(TrianglesQuestion {
             name: "triangle-closed-mesh-edge",

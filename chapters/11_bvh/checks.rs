@@ -1246,7 +1246,10 @@ pub fn robustness() -> Vec<Case> {
             "raylab's closed model of 200 triangles, four consecutive ones to a call, and a ray \
              from inside toward each vertex and edge midpoint: where edge functions are zero or \
              nearly so, every lane must still be your intersect_triangle's answer, bit for bit",
-            CaseKind::MeshInFours(MeshInFoursCase { triangles: 200 }),
+            CaseKind::MeshInFours(MeshInFoursCase {
+                triangles: 200,
+                motion: None,
+            }),
         ),
         Case::new(
             "collapse-a-big-leaf-in-fours",

@@ -21,6 +21,7 @@ fn options() -> CheckOptions {
         failures_dir: std::env::temp_dir().join("raylab-chapter-11-tests"),
         write_images: false,
         forbid_answer_key: false,
+        fresh: None,
     }
 }
 

@@ -45,6 +45,7 @@ fn furnace(
             without,
             samples: 20_000,
             expected: f64::from(emission) / (1.0 - f64::from(albedo)),
+            seed: 0,
         }),
     )
 }
@@ -90,6 +91,7 @@ pub fn checkpoints() -> Vec<Case> {
              spread as cos(theta) / pi: a chi-square test on 20 x 20 bins of cos(theta) and phi",
             CaseKind::CosineSample(CosineSampleCase {
                 samples: DIRECTION_SAMPLES,
+                seed: 0,
             }),
         ),
         formula(
@@ -214,6 +216,7 @@ pub fn checkpoints() -> Vec<Case> {
                 without: &[],
                 samples: 2_000,
                 expected: 0.0,
+                seed: 0,
             }),
         ),
         Case::new(
@@ -232,6 +235,7 @@ pub fn checkpoints() -> Vec<Case> {
                 without: &[],
                 samples: 20_000,
                 expected: 1.0,
+                seed: 0,
             }),
         ),
     ]
@@ -311,6 +315,7 @@ pub fn robustness() -> Vec<Case> {
                 without: &[],
                 samples: 4_000,
                 expected: 0.0,
+                seed: 0,
             }),
         ),
         formula(

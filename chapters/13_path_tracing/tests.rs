@@ -19,6 +19,7 @@ fn furnace(albedo: f32, emission: f32, without: &'static [&'static str]) -> (f64
         without,
         samples: 40_000,
         expected: 0.0,
+        seed: 0,
     }
     .estimate::<Reference>()
     .expect("the furnace renders")
@@ -62,6 +63,7 @@ fn pbrts_analytic_scene_gives_radiance_one_and_no_light_without_light_samples() 
         without,
         samples: 40_000,
         expected: 1.0,
+        seed: 0,
     };
     let (mean, error) = case(&[]).estimate::<Reference>().expect("renders");
     assert!(

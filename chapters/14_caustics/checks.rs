@@ -101,6 +101,7 @@ fn converges(
             without: &[],
             repetitions: 24,
             expected: [expected; 3],
+            first_seed: 1,
         }),
     )
 }
@@ -260,6 +261,7 @@ material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b 
                 screen: 1.2,
                 disk: 0.02,
                 repetitions: 8,
+                first_seed: 1,
             }),
         ),
     ]
@@ -333,6 +335,7 @@ pub fn robustness() -> Vec<Case> {
                 without: &[],
                 repetitions: 4,
                 expected: [0.0; 3],
+                first_seed: 1,
             }),
         ),
     ])

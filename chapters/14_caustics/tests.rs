@@ -56,6 +56,7 @@ fn converges_with<C: Chapters>(
         without,
         repetitions: 24,
         expected: [expected; 3],
+        first_seed: 1,
     }
     .estimate::<C>()
     .expect("the scene renders")
@@ -129,6 +130,7 @@ fn the_lens_brightens_its_caustic_as_geometry_says() {
         screen: 1.2,
         disk: 0.02,
         repetitions: 8,
+        first_seed: 1,
     };
     let outcome =
         Case::new("lens", "", "", crate::check::catalog::CaseKind::Lens(lens)).run::<Reference>();
@@ -202,6 +204,7 @@ fn lens_lit_by_a_lamp(samples: u32) -> crate::Scene {
         screen: 1.2,
         disk: 0.02,
         repetitions: 1,
+        first_seed: 1,
     };
     let text = lens.scene(true);
     let (start, end) = (

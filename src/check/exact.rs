@@ -571,6 +571,78 @@ pub fn fresnel(cos_i: f64, n1: f64, n2: f64) -> f64 {
     (s * s + p * p) / 2.0
 }
 
+/// Chapter 13's density of a cosine-weighted direction at angle `theta`
+/// from the normal: `cos(theta) / pi` above the surface, 0 below.
+pub fn cosine_pdf(cos_theta: f64) -> f64 {
+    cos_theta.max(0.0) / std::f64::consts::PI
+}
+
+/// Veach's power heuristic (beta = 2), `a^2 / (a^2 + b^2)`: 0 where
+/// neither strategy can draw the direction. In `f64`, no square of an
+/// `f32` density overflows.
+pub fn power_heuristic(pdf: f64, other: f64) -> f64 {
+    if !(pdf.max(other) > 0.0) {
+        return 0.0;
+    }
+    pdf * pdf / (pdf * pdf + other * other)
+}
+
+/// Russian roulette: a path of share `weight` goes on when `u <
+/// min(1, weight)`, carrying `1 / min(1, weight)` more.
+pub fn russian_roulette(weight: f64, u: f64) -> Option<f64> {
+    if !(weight > 0.0) {
+        return None;
+    }
+    let survival = weight.min(1.0);
+    (u < survival).then(|| 1.0 / survival)
+}
+
+/// Chapter 5's Phong terms of one light, `(diffuse, specular)`: `albedo
+/// k_d (n.l) light` and `k_s max(r.v, 0)^shininess light`, `r` the light's
+/// mirror direction `2 (n.l) n - l`; nothing from a light behind (`n.l <=
+/// 0`). `[n, l, v]`: the normal and the directions to the light and to
+/// the eye, unit vectors.
+pub fn phong_terms(
+    k_d: f64,
+    k_s: f64,
+    shininess: u32,
+    albedo: DVec3,
+    [n, l, v]: [DVec3; 3],
+    light: DVec3,
+) -> (DVec3, DVec3) {
+    let cos_incidence = n.dot(l);
+    if cos_incidence <= 0.0 {
+        return (DVec3::ZERO, DVec3::ZERO);
+    }
+    let mirrored = 2.0 * cos_incidence * n - l;
+    let highlight = mirrored.dot(v).max(0.0).powi(shininess as i32);
+    (
+        albedo * k_d * cos_incidence * light,
+        k_s * highlight * light,
+    )
+}
+
+/// Schlick's approximation of [`fresnel`], `R0 + (1 - R0) (1 - c)^5`,
+/// with `c` the cosine on the less dense side: the transmitted ray's when
+/// light leaves the denser medium (1 past the critical angle), and no
+/// reflection where the two indices are equal.
+pub fn schlick(cos_i: f64, n1: f64, n2: f64) -> f64 {
+    if n1 == n2 {
+        return 0.0;
+    }
+    let c = if n1 < n2 {
+        cos_i
+    } else {
+        let sin2_t = (n1 / n2).powi(2) * (1.0 - cos_i * cos_i).max(0.0);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        (1.0 - sin2_t).sqrt()
+    };
+    let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
+    r0 + (1.0 - r0) * (1.0 - c).powi(5)
+}
+
 /// Chapter 14's lens: a ray parallel to the axis at height `height` through
 /// a glass ball of index `n` and radius `radius` centred on the axis, in
 /// the plane that holds them both: where it crosses the screen square to

@@ -28,27 +28,52 @@
 //! Chapter N builds on chapters 1 to N-1: when one of them does not pass,
 //! the verdict says so.
 
+// The judge's cases with their expectations, the f64 oracle, the judge
+// itself: out of a student workspace's reach, as the reference chapters
+// are, so that no chapter can read an expected value (a workspace's build
+// names only `assert_chapter`).
+#[cfg(not(feature = "student"))]
 pub mod cases;
+#[cfg(feature = "student")]
+pub(crate) mod cases;
+#[cfg(not(feature = "student"))]
 pub mod catalog;
-// The f64 oracle answers every question a chapter asks: out of a student
-// workspace's reach, as the reference chapters are.
+#[cfg(feature = "student")]
+pub(crate) mod catalog;
 #[cfg(not(feature = "student"))]
 pub mod exact;
 #[cfg(feature = "student")]
 pub(crate) mod exact;
+#[cfg(not(feature = "student"))]
+pub mod judge;
+#[cfg(feature = "student")]
+pub(crate) mod judge;
 mod panics;
+#[cfg(not(feature = "student"))]
+pub mod protocol;
+#[cfg(feature = "student")]
+pub(crate) mod protocol;
+#[cfg(not(feature = "student"))]
 pub mod sampled;
-pub mod verdict_file;
+#[cfg(feature = "student")]
+pub(crate) mod sampled;
+#[cfg(not(feature = "student"))]
+pub mod serve;
+#[cfg(feature = "student")]
+pub(crate) mod serve;
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 pub use cases::{Case, CaseKind, Level, Outcome, TreeShape};
+pub use judge::{REQUIRE_ROBUST_VAR, assert_chapter};
+#[cfg(not(feature = "student"))]
+pub use judge::{check_all, check_chapter};
+#[cfg(feature = "student")]
+pub(crate) use judge::{check_all, check_chapter};
 pub use panics::Panic;
 
-use crate::Chapters;
-use crate::chapters::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
-use crate::diff::{Criteria, Image, Metrics, compare};
+use crate::diff::{Criteria, Metrics};
 
 /// What a whole check came to: the command line turns it into an exit status.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,6 +99,10 @@ pub struct CheckOptions {
     /// [`crate::answer_key`]): set for a student's chapters, not for the
     /// variants of the reference that raylab's tests check.
     pub forbid_answer_key: bool,
+    /// Fresh inputs drawn from this seed for every parametrised case and
+    /// for each chapter's camera (`grade --code --fresh SEED`); `None`:
+    /// the lessons' own inputs.
+    pub fresh: Option<u64>,
 }
 
 impl Default for CheckOptions {
@@ -82,8 +111,19 @@ impl Default for CheckOptions {
             failures_dir: PathBuf::from("check-failures"),
             write_images: true,
             forbid_answer_key: false,
+            fresh: None,
         }
     }
+}
+
+/// Why the judge stopped asking before the end.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Stopped {
+    /// The time limit passed.
+    TimedOut,
+    /// The binary does not answer raylab's questions (or another
+    /// version's), as the message says.
+    Refused(String),
 }
 
 /// A chapter's verdict.
@@ -129,6 +169,8 @@ pub struct CaseFailure {
     /// The lesson file and section that teach it.
     pub lesson: String,
     pub section: &'static str,
+    /// Whether its inputs were drawn afresh (`grade --code --fresh`).
+    pub drawn: bool,
 }
 
 /// How the chapter's image compared with the reference.
@@ -175,7 +217,7 @@ pub struct ChapterVerdict {
     pub lesson: String,
     /// raylab's own answers that ran while the chapter was checked (see
     /// [`crate::answer_key`]), when the check forbids them: the chapter fails.
-    pub answers_used: Vec<&'static str>,
+    pub answers_used: Vec<String>,
 }
 
 impl ChapterVerdict {
@@ -392,7 +434,15 @@ fn failure_text(failure: &CaseFailure) -> String {
             failure.number, failure.of, failure.function, failure.name
         );
     }
-    let _ = writeln!(out, "    {}", failure.says);
+    if failure.drawn {
+        let _ = writeln!(
+            out,
+            "    (with fresh inputs, in the call below; the lesson's case: {})",
+            failure.says
+        );
+    } else {
+        let _ = writeln!(out, "    {}", failure.says);
+    }
     let _ = writeln!(out, "    call:     {}", failure.inputs);
     match &failure.outcome {
         Outcome::Fail { expected, got } => {
@@ -419,7 +469,20 @@ fn failure_text(failure: &CaseFailure) -> String {
             );
         }
         Outcome::Error(error) => {
-            let _ = writeln!(out, "    the check could not run: {error}");
+            let _ = writeln!(
+                out,
+                "    the check could not run: {}",
+                crate::text::terminal_safe(error)
+            );
+        }
+        Outcome::Ended(how) => {
+            let _ = writeln!(
+                out,
+                "    got:      no answer: the process {} while working it out \
+                 (std::process::exit, abort or a stack overflow in a chapter's function \
+                 end the process; each function must return its answer)",
+                crate::text::terminal_safe(how)
+            );
         }
         Outcome::Pass => {}
     }
@@ -435,16 +498,19 @@ fn failure_text(failure: &CaseFailure) -> String {
 #[derive(Debug, Clone, PartialEq)]
 pub struct CheckReport {
     pub verdicts: Vec<ChapterVerdict>,
+    /// Why the judge stopped asking before the end, if it did.
+    pub stopped: Option<Stopped>,
 }
 
 impl CheckReport {
     /// Whether every checked chapter passes, one fails (or is not
     /// started), or the check could not run.
     pub fn overall(&self) -> Overall {
-        if self
-            .verdicts
-            .iter()
-            .any(|v| v.status == Status::Error || !v.errors.is_empty())
+        if self.stopped.is_some()
+            || self
+                .verdicts
+                .iter()
+                .any(|v| v.status == Status::Error || !v.errors.is_empty())
         {
             Overall::Error
         } else if self.verdicts.iter().all(ChapterVerdict::passes) {
@@ -504,7 +570,7 @@ impl CheckReport {
         )
     }
 
-    /// Every verdict, then the table.
+    /// Every verdict, then the table, then why the check stopped.
     pub fn text(&self) -> String {
         let mut out = String::new();
         for verdict in &self.verdicts {
@@ -512,584 +578,24 @@ impl CheckReport {
             out.push('\n');
         }
         out.push_str(&self.summary_table());
+        match &self.stopped {
+            Some(Stopped::TimedOut) => {
+                out.push_str("(no verdict: the time limit passed before the check ended)\n");
+            }
+            Some(Stopped::Refused(why)) => {
+                let _ = writeln!(out, "(no verdict: {})", crate::text::terminal_safe(why));
+            }
+            None => {}
+        }
         out
-    }
-}
-
-/// Which chapter's file a panic happened in.
-fn owner(panic: &Panic) -> Option<u8> {
-    let file = panic.file.as_deref()?;
-    CHAPTERS
-        .iter()
-        .find(|info| file.contains(&info.module()) || file.contains(&format!("{}/", info.folder)))
-        .map(|info| info.number)
-}
-
-/// Runs `cases` with `C`: how many pass, and the first that does not.
-fn run_cases<C: Chapters>(info: &ChapterInfo, cases: &[Case]) -> (usize, Vec<(usize, Outcome)>) {
-    let mut passed = 0;
-    let mut failures = Vec::new();
-    for (index, case) in cases.iter().enumerate() {
-        verdict_file::step(info.number, case.function(), case.name);
-        match case.run::<C>() {
-            Outcome::Pass => passed += 1,
-            outcome => failures.push((index, outcome)),
-        }
-    }
-    (passed, failures)
-}
-
-fn case_failure(info: &ChapterInfo, cases: &[Case], index: usize, outcome: Outcome) -> CaseFailure {
-    let case = &cases[index];
-    CaseFailure {
-        name: case.name,
-        function: case.function(),
-        level: case.level,
-        number: index + 1,
-        of: cases.len(),
-        says: case.says.clone(),
-        inputs: case.inputs(),
-        outcome,
-        lesson: lesson(info),
-        section: case.section,
-    }
-}
-
-/// The chapter's lesson where this raylab's checkout has it (a student
-/// runs the check in their own workspace, where a path relative to raylab
-/// would name nothing).
-fn lesson(info: &ChapterInfo) -> String {
-    let checkout = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let path = checkout.join(info.lesson_path());
-    if path.is_file() {
-        path.display().to_string()
-    } else {
-        info.lesson_path()
-    }
-}
-
-/// Chapter `info`'s own verdict (not yet looking at earlier chapters).
-/// `full`: also the image and the robustness cases. With
-/// [`CheckOptions::forbid_answer_key`], a chapter whose code ran raylab's
-/// own answers fails, whatever its cases said.
-fn own_verdict<C: Chapters>(
-    info: &ChapterInfo,
-    options: &CheckOptions,
-    full: bool,
-) -> ChapterVerdict {
-    let (mut verdict, mut answers) =
-        crate::answer_key::recording(|| cases_image_robustness::<C>(info, options, full));
-    verdict_file::finished(info.number);
-    if !options.forbid_answer_key {
-        return verdict;
-    }
-    if C::COMPARISON {
-        answers.insert(0, "a comparison wrapper of raylab's (Textbook)");
-    }
-    if !answers.is_empty() && verdict.status != Status::Error {
-        verdict.status = Status::Fail;
-        verdict.answers_used = answers;
-    }
-    verdict
-}
-
-/// [`own_verdict`] but for the answer key.
-fn cases_image_robustness<C: Chapters>(
-    info: &ChapterInfo,
-    options: &CheckOptions,
-    full: bool,
-) -> ChapterVerdict {
-    let chapter = info.number;
-    let cases = catalog::checkpoints(info.number);
-    let (passed, failures) = run_cases::<C>(info, &cases);
-    let mut verdict = ChapterVerdict {
-        chapter,
-        title: info.title,
-        status: Status::Pass,
-        cases_passed: passed,
-        cases_total: cases.len(),
-        first_failure: None,
-        not_written: Vec::new(),
-        image: None,
-        robustness: None,
-        needs: None,
-        errors: Vec::new(),
-        lesson: lesson(info),
-        answers_used: Vec::new(),
-    };
-    let own_todo = |outcome: &Outcome| match outcome {
-        Outcome::Todo(panic) => owner(panic).is_none_or(|o| o >= chapter),
-        _ => false,
-    };
-    for (index, outcome) in &failures {
-        if own_todo(outcome) {
-            let function = cases[*index].function();
-            if !verdict.not_written.contains(&function) {
-                verdict.not_written.push(function);
-            }
-        }
-    }
-    if !cases.is_empty()
-        && failures.len() == cases.len()
-        && failures.iter().all(|(_, o)| own_todo(o))
-    {
-        verdict.status = Status::NotStarted;
-        verdict.not_written = info.functions.to_vec();
-        return verdict;
-    }
-    if let Some((index, outcome)) = failures.into_iter().next() {
-        verdict.status = match &outcome {
-            Outcome::Error(error) => {
-                verdict.errors.push(error.clone());
-                Status::Error
-            }
-            Outcome::Todo(panic) => match owner(panic) {
-                Some(earlier) if earlier < chapter => Status::Blocked { by: earlier },
-                _ => Status::Fail,
-            },
-            _ => Status::Fail,
-        };
-        verdict.first_failure = Some(case_failure(info, &cases, index, outcome));
-        return verdict;
-    }
-    if !full {
-        return verdict;
-    }
-    judge_image::<C>(info, options, cases.len(), &mut verdict);
-    if verdict.status == Status::Pass {
-        verdict.robustness = Some(run_robustness::<C>(info));
-    }
-    verdict
-}
-
-/// Renders and compares the chapter's image into `verdict`, once its
-/// `cases` checkpoints pass.
-fn judge_image<C: Chapters>(
-    info: &ChapterInfo,
-    options: &CheckOptions,
-    cases: usize,
-    verdict: &mut ChapterVerdict,
-) {
-    verdict_file::step(info.number, "the whole stage", "the chapter's image");
-    match check_image::<C>(info, options) {
-        Ok(Ok(image)) => {
-            if !image.passed {
-                verdict.status = Status::Fail;
-            }
-            verdict.image = Some(image);
-        }
-        Ok(Err(error)) => {
-            verdict.status = Status::Error;
-            verdict.errors.push(error);
-        }
-        Err(panic) => {
-            let (status, failure) = image_panic(info, cases, panic);
-            verdict.status = status;
-            verdict.errors.clear();
-            verdict.first_failure = Some(failure);
-        }
-    }
-    // A write error of the failure images is reported; the verdict stands.
-    if let Some(image) = &verdict.image
-        && !image.passed
-        && options.write_images
-        && image.written.is_empty()
-    {
-        verdict
-            .errors
-            .push("the failure images could not be written".into());
-    }
-}
-
-/// The chapter's hard cases, run once its checkpoints and image pass.
-fn run_robustness<C: Chapters>(info: &ChapterInfo) -> Robustness {
-    let hard = catalog::robustness(info.number);
-    let (passed, failures) = run_cases::<C>(info, &hard);
-    Robustness {
-        passed,
-        total: hard.len(),
-        first_failure: failures
-            .into_iter()
-            .next()
-            .map(|(index, outcome)| case_failure(info, &hard, index, outcome)),
-    }
-}
-
-/// The status and the failure of a chapter whose `cases` checkpoints
-/// passed but whose image rendering panicked.
-fn image_panic(info: &ChapterInfo, cases: usize, panic: Panic) -> (Status, CaseFailure) {
-    let chapter = info.number;
-    // The chapter's own cases passed, so a todo!() met while
-    // rendering is in an earlier chapter: by its file when the
-    // panic says, else (0) the first earlier chapter not passing.
-    let status = match owner(&panic) {
-        Some(earlier) if panic.is_todo() && earlier < chapter => Status::Blocked { by: earlier },
-        None if panic.is_todo() => Status::Blocked { by: 0 },
-        _ => Status::Fail,
-    };
-    let failure = CaseFailure {
-        name: "image",
-        function: "(the whole stage)",
-        level: Level::Checkpoint,
-        number: cases + 1,
-        of: cases + 1,
-        says: format!(
-            "rendering the chapter's built-in scene at {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}"
-        ),
-        inputs: format!("raylab render --chapter {chapter}"),
-        outcome: if panic.is_todo() {
-            Outcome::Todo(panic)
-        } else {
-            Outcome::Panicked(panic)
-        },
-        lesson: lesson(info),
-        section: "What the picture shows",
-    };
-    (status, failure)
-}
-
-/// Renders the chapter's scene with `C` (on this thread, so that a panic
-/// is caught here), compares it with the shipped reference, and writes the
-/// failure images. `Err` is a panic in the code under check; `Ok(Err)` a
-/// problem of the check itself.
-fn check_image<C: Chapters>(
-    info: &ChapterInfo,
-    options: &CheckOptions,
-) -> Result<Result<ImageCheck, String>, Panic> {
-    let reference = match Image::decode_png(info.reference_png) {
-        Ok(image) => image,
-        Err(error) => return Ok(Err(format!("the shipped reference image: {error:#}"))),
-    };
-    let scene = match crate::builtin::scene(info.number) {
-        Ok(scene) => scene,
-        Err(error) => return Ok(Err(error.to_string())),
-    };
-    let settings = crate::RenderSettings {
-        width: REFERENCE_WIDTH,
-        height: REFERENCE_HEIGHT,
-        ..scene.render
-    };
-    let stage = match crate::Stage::<C>::with_chapters(&scene, info.number, settings) {
-        Ok(stage) => stage,
-        Err(error) => return Ok(Err(error.to_string())),
-    };
-    let linear = panics::guarded(|| {
-        // The same loop as render::render_stage, on one thread: each pixel
-        // is computed exactly as `raylab render` does (path-traced samples
-        // cut to the screen's white, as the converged image is).
-        // Chapter 14's light paths first, as raylab render traces them.
-        let light = stage.light_image();
-        let mut tracer = sampled::judging_tracer(&stage);
-        let mut linear = Vec::with_capacity((REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize);
-        for y in 0..REFERENCE_HEIGHT {
-            for x in 0..REFERENCE_WIDTH {
-                let index = linear.len();
-                let camera = tracer.pixel(x, y);
-                linear.push(camera + light.map_or(crate::Vec3::ZERO, |light| light.pixels[index]));
-            }
-        }
-        linear
-    })?;
-    let rgb = linear
-        .iter()
-        .flat_map(|color| color.to_array().map(crate::output::linear_to_srgb8))
-        .collect();
-    let noise = if sampled::is_sampled(&stage, &settings) {
-        match sampled::converged(info, &scene, settings) {
-            Ok(converged) if stage.effects.path_tracing => {
-                let side = sampled::PATH_BLOCK;
-                let blocks = sampled::block_means(&linear, REFERENCE_WIDTH, side);
-                let mut noise = sampled::judge(&blocks, stage.samples(), &converged.blocks(side));
-                noise.block = side;
-                noise.allowed =
-                    sampled::allowed_block_outliers(blocks.len(), stage.effects.light_tracing);
-                // The first block's top-left pixel.
-                noise.first = noise.first.map(|(x, y)| (x * side, y * side));
-                Some(noise)
-            }
-            Ok(converged) => Some(sampled::judge(&linear, stage.samples(), &converged)),
-            Err(error) => return Ok(Err(error)),
-        }
-    } else {
-        None
-    };
-    let student = Image {
-        width: REFERENCE_WIDTH,
-        height: REFERENCE_HEIGHT,
-        rgb,
-    };
-    let comparison = match compare(
-        &student,
-        &reference,
-        Criteria::default(),
-        ("your image", "the reference"),
-    ) {
-        Ok(comparison) => comparison,
-        Err(error) => return Ok(Err(format!("{error:#}"))),
-    };
-    let passed = match &noise {
-        Some(noise) => noise.passes(),
-        None => comparison.passes(),
-    };
-    let mut written = Vec::new();
-    if !passed && options.write_images {
-        match write_failure_images(info.number, &options.failures_dir, &student, &comparison) {
-            Ok(paths) => written = paths,
-            Err(error) => return Ok(Err(error)),
-        }
-    } else if passed && options.write_images {
-        // The images of an earlier failure would now mislead: the chapter
-        // draws right. Only raylab's own two names are removed, and only
-        // files raylab wrote (a student's own chapter-3.png stays).
-        for name in failure_image_names(info.number) {
-            let path = options.failures_dir.join(name);
-            if crate::output::is_raylab_png(&path) {
-                let _ = std::fs::remove_file(path);
-            }
-        }
-    }
-    Ok(Ok(ImageCheck {
-        metrics: comparison.metrics,
-        noise,
-        passed,
-        written,
-    }))
-}
-
-/// The names of the student's image and its heatmap in the failures folder.
-fn failure_image_names(chapter: u8) -> [String; 2] {
-    [
-        format!("chapter-{chapter}.png"),
-        format!("chapter-{chapter}-heatmap.png"),
-    ]
-}
-
-fn write_failure_images(
-    chapter: u8,
-    folder: &Path,
-    student: &Image,
-    comparison: &crate::diff::Comparison,
-) -> Result<Vec<PathBuf>, String> {
-    let heatmap = comparison
-        .heatmap(student)
-        .map_err(|error| format!("{error:#}"))?;
-    std::fs::create_dir_all(folder).map_err(|error| {
-        format!(
-            "cannot create the folder {}: {error}",
-            crate::text::terminal_safe(&folder.display().to_string())
-        )
-    })?;
-    let [image_name, heatmap_name] = failure_image_names(chapter);
-    let image_path = folder.join(image_name);
-    let heatmap_path = folder.join(heatmap_name);
-    // Never over a file raylab did not write, nor a read-only one.
-    let outputs = [
-        ("--failures-dir", image_path.as_path()),
-        ("--failures-dir", heatmap_path.as_path()),
-    ];
-    crate::output::check_outputs(&[], &outputs, false).map_err(|error| format!("{error:#}"))?;
-    for (_, path) in outputs {
-        if std::fs::symlink_metadata(path).is_ok() && !crate::output::is_raylab_png(path) {
-            return Err(format!(
-                "{} was not written by raylab, so it is kept: move it, or give --failures-dir \
-                 another folder",
-                crate::text::terminal_safe(&path.display().to_string())
-            ));
-        }
-    }
-    student
-        .write_png(&image_path)
-        .and_then(|()| heatmap.write_png(&heatmap_path))
-        .map_err(|error| format!("{error:#}"))?;
-    Ok(vec![image_path, heatmap_path])
-}
-
-/// Marks `verdict` with the first of `earlier` that does not pass.
-fn apply_prerequisites(verdict: &mut ChapterVerdict, earlier: &[(u8, Status)]) {
-    if verdict.status == (Status::Blocked { by: 0 })
-        && !earlier.iter().any(|(_, status)| *status != Status::Pass)
-    {
-        // A todo!() nowhere to be found among the earlier chapters: this
-        // chapter's own, in a function its cases do not reach.
-        verdict.status = Status::Fail;
-    }
-    if let Some(&(chapter, status)) = earlier.iter().find(|(_, status)| *status != Status::Pass) {
-        verdict.needs = Some((chapter, status));
-        if matches!(verdict.status, Status::Pass | Status::Blocked { by: 0 }) {
-            verdict.status = Status::Blocked { by: chapter };
-        }
-    }
-}
-
-/// The verdict on chapter `chapter` of the chapters `C`: its cases, its
-/// image, its robustness, and whether the chapters before it pass their
-/// cases. An unknown chapter is an error verdict.
-pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
-    let Some(info) = crate::chapters::chapter(chapter) else {
-        return unknown_chapter(chapter);
-    };
-    crate::answer_key::take_reported();
-    let mut verdict = own_verdict::<C>(info, options, true);
-    // Before the prerequisites: an answer of an earlier chapter's, run on a
-    // thread of the student's, makes that chapter fail and this one wait.
-    let mut all: Vec<ChapterVerdict> = CHAPTERS
-        .iter()
-        .filter(|other| other.number < chapter)
-        .map(|other| own_verdict::<C>(other, options, false))
-        .collect();
-    all.push(verdict);
-    fail_for_escaped_answers(&mut all, options);
-    verdict = all.pop().unwrap_or_else(|| unknown_chapter(chapter));
-    let earlier: Vec<(u8, Status)> = all.iter().map(|v| (v.chapter, v.status)).collect();
-    apply_prerequisites(&mut verdict, &earlier);
-    verdict
-}
-
-/// Fails the verdicts whose checks ran raylab's answers on threads the
-/// code under check started, out of reach of [`own_verdict`]'s recording
-/// (which sees its own thread's): each answer fails the chapter it belongs
-/// to where that chapter is among `verdicts`, or else every verdict, since
-/// any of their checks may have run it.
-fn fail_for_escaped_answers(verdicts: &mut [ChapterVerdict], options: &CheckOptions) {
-    let escaped = crate::answer_key::take_reported();
-    if !options.forbid_answer_key || escaped.is_empty() {
-        return;
-    }
-    for answer in escaped {
-        let owner = answer_chapter(answer);
-        let owned = verdicts
-            .iter()
-            .any(|verdict| Some(verdict.chapter) == owner);
-        for verdict in verdicts.iter_mut() {
-            if (!owned || Some(verdict.chapter) == owner) && verdict.status != Status::Error {
-                verdict.status = Status::Fail;
-                if !verdict.answers_used.contains(&answer) {
-                    verdict.answers_used.push(answer);
-                }
-            }
-        }
-    }
-}
-
-/// The chapter whose lesson an answer of raylab's (as
-/// [`crate::answer_key::answered`] names it) answers, where one does.
-fn answer_chapter(answer: &str) -> Option<u8> {
-    if let Some(function) = answer.strip_prefix("Chapters::") {
-        return CHAPTERS
-            .iter()
-            .find(|info| info.functions.contains(&function))
-            .map(|info| info.number);
-    }
-    match answer {
-        "Plane::intersect" => Some(1),
-        "Sphere::intersect"
-        | "Sphere::roots"
-        | "Sphere::intersect_textbook"
-        | "Textbook::intersect_sphere" => Some(2),
-        "Objects::nearest_hit_by_loop" | "raylab::nearest_hit" | "raylab::first_hit" => Some(3),
-        "Textbook::intersect_triangle" => Some(10),
-        _ => None,
-    }
-}
-
-fn unknown_chapter(chapter: u8) -> ChapterVerdict {
-    ChapterVerdict {
-        chapter,
-        title: "",
-        status: Status::Error,
-        cases_passed: 0,
-        cases_total: 0,
-        first_failure: None,
-        not_written: Vec::new(),
-        image: None,
-        robustness: None,
-        needs: None,
-        errors: vec![format!(
-            "there is no chapter {chapter}; chapters are 1 to {}",
-            crate::chapters::LAST_CHAPTER
-        )],
-        lesson: String::new(),
-        answers_used: Vec::new(),
-    }
-}
-
-/// Checks chapter `chapters` (with what it builds on), or every chapter.
-/// Chapters are checked in parallel, one thread each: each checks its own
-/// panics, so no panic of student code ever reaches the screen.
-pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> CheckReport {
-    crate::answer_key::take_reported();
-    if let Some(chapter) = chapters {
-        return CheckReport {
-            verdicts: vec![check_chapter::<C>(chapter, options)],
-        };
-    }
-    let mut verdicts: Vec<ChapterVerdict> = std::thread::scope(|scope| {
-        let handles: Vec<_> = CHAPTERS
-            .iter()
-            .map(|info| scope.spawn(move || own_verdict::<C>(info, options, true)))
-            .collect();
-        handles
-            .into_iter()
-            .zip(CHAPTERS)
-            .map(|(handle, info)| {
-                // Student panics are caught inside; a panic here would be
-                // raylab's own bug, reported as an error, not a crash.
-                handle.join().unwrap_or_else(|_| {
-                    let mut verdict = unknown_chapter(info.number);
-                    verdict.errors = vec!["the check itself panicked".into()];
-                    verdict.title = info.title;
-                    verdict
-                })
-            })
-            .collect()
-    });
-    // Before the prerequisites, so that the chapters after one that ran
-    // raylab's answer on a thread of its own wait for it, as for any fail.
-    fail_for_escaped_answers(&mut verdicts, options);
-    let statuses: Vec<(u8, Status)> = verdicts.iter().map(|v| (v.chapter, v.status)).collect();
-    for verdict in &mut verdicts {
-        let earlier: Vec<(u8, Status)> = statuses
-            .iter()
-            .copied()
-            .filter(|(chapter, _)| *chapter < verdict.chapter)
-            .collect();
-        apply_prerequisites(verdict, &earlier);
-    }
-    CheckReport { verdicts }
-}
-
-/// Set to `1`, [`assert_chapter`] also demands the robustness level: what
-/// `scripts/mutation-score.sh` sets, so that a mutant only the hard cases
-/// notice counts as caught.
-pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
-
-/// Panics with the verdict's text unless chapter `chapter` (and every
-/// chapter it builds on) passes: a student workspace's `cargo test` has one
-/// test per chapter that calls this. Robustness is reported apart, as by
-/// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
-pub fn assert_chapter<C: Chapters>(chapter: u8) {
-    // A student's tests, like their binary, may not lean on raylab's answers
-    // (nor, in a student's build, run raylab's own chapters as theirs).
-    let student = cfg!(feature = "student")
-        || std::any::TypeId::of::<C>() != std::any::TypeId::of::<crate::Reference>();
-    if student {
-        crate::answer_key::seal();
-        crate::answer_key::set_strict(true);
-    }
-    let options = CheckOptions {
-        forbid_answer_key: student,
-        ..CheckOptions::default()
-    };
-    let verdict = check_chapter::<C>(chapter, &options);
-    let require_robust = std::env::var_os(REQUIRE_ROBUST_VAR).is_some_and(|v| v == "1");
-    if !verdict.passes() || (require_robust && !verdict.robust()) {
-        panic!("\n{}", verdict.text());
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::chapters::CHAPTERS;
+    use judge::case_failure;
 
     #[test]
     fn the_reference_passes_every_checkpoint_and_hard_case() {

@@ -34,8 +34,13 @@ thread_local! {
     static CAPTURE: RefCell<Option<Option<Panic>>> = const { RefCell::new(None) };
 }
 
+/// The last panic of a thread outside [`guarded`] (a worker of rayon's,
+/// whose panic rayon hands to the thread that started the loop): what a
+/// guarded call reports when the panic it caught came from such a thread.
+static FOREIGN: Mutex<Option<Panic>> = Mutex::new(None);
+
 /// A panic caught in code under check.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Panic {
     pub message: String,
     /// `file:line`, when the panic said where it happened.
@@ -59,30 +64,38 @@ fn lock() -> std::sync::MutexGuard<'static, Installed> {
         .unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
+/// The panic `info` describes.
+fn panic_of(info: &PanicHookInfo<'_>) -> Panic {
+    let payload = info.payload();
+    let message = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "panic with a non-text payload".to_string());
+    Panic {
+        message,
+        location: info
+            .location()
+            .map(|l| format!("{}:{}", l.file(), l.line())),
+        file: info.location().map(|l| l.file().to_string()),
+    }
+}
+
 fn quiet_hook(info: &PanicHookInfo<'_>) {
     let captured = CAPTURE.with(|capture| {
         let mut capture = capture.borrow_mut();
         match capture.as_mut() {
             Some(slot) => {
-                let payload = info.payload();
-                let message = payload
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| payload.downcast_ref::<String>().cloned())
-                    .unwrap_or_else(|| "panic with a non-text payload".to_string());
-                *slot = Some(Panic {
-                    message,
-                    location: info
-                        .location()
-                        .map(|l| format!("{}:{}", l.file(), l.line())),
-                    file: info.location().map(|l| l.file().to_string()),
-                });
+                *slot = Some(panic_of(info));
                 true
             }
             None => false,
         }
     });
     if !captured {
+        if let Ok(mut foreign) = FOREIGN.lock() {
+            *foreign = Some(panic_of(info));
+        }
         // Another thread's panic: it deserves the usual report.
         if let Some(previous) = lock().previous.as_ref() {
             previous(info);
@@ -119,11 +132,13 @@ pub fn guarded<R>(f: impl FnOnce() -> R) -> Result<R, Panic> {
         }
     }
     result.map_err(|_| {
-        caught.unwrap_or_else(|| Panic {
-            message: "panicked".into(),
-            location: None,
-            file: None,
-        })
+        caught
+            .or_else(|| FOREIGN.lock().ok().and_then(|mut foreign| foreign.take()))
+            .unwrap_or_else(|| Panic {
+                message: "panicked".into(),
+                location: None,
+                file: None,
+            })
     })
 }
 

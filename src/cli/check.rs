@@ -1,12 +1,14 @@
-//! `raylab check`: the verdict on your chapters (see [`crate::check`]).
+//! `raylab check`: the verdict on your chapters (see [`crate::check`]),
+//! and `serve`, how a student's binary answers the judge.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::Args;
 
-use crate::check::verdict_file::{Record, SentReport, SentVerdict, VerdictWriter};
-use crate::check::{CheckOptions, Overall, check_all};
+use crate::check::judge::{Asker, Remote, Spawn, Which};
+use crate::check::{CheckOptions, CheckReport, Overall, check_all};
 
 /// Check your chapters: checkpoint cases, the image, and robustness.
 ///
@@ -20,8 +22,9 @@ use crate::check::{CheckOptions, Overall, check_all};
 ///
 /// A chapter whose functions are still todo!() is "not started". Chapter N
 /// builds on chapters 1 to N-1, and says so when one of them fails. Your
-/// chapters run in a child process, so that code which ends the process
-/// (std::process::exit) or prints a table of its own cannot pass.
+/// chapters answer in child processes and this one judges: what your code
+/// prints, writes or exits with is never a verdict, and a function that
+/// ends the process (std::process::exit) fails the case it was answering.
 ///
 /// Exit status: 0 every checked chapter passes, 1 one fails or is not
 /// started, 2 the check could not run (e.g. unwritable --failures-dir).
@@ -34,113 +37,73 @@ pub struct CheckArgs {
     /// Where your image and the heatmap go when a chapter's image fails.
     #[arg(long, value_name = "DIR", default_value = "check-failures")]
     pub failures_dir: PathBuf,
-    /// Run the chapters here and write the verdict to FILE, printing
-    /// nothing: what `check` and `raylab grade --code` start in a child.
-    #[arg(long, value_name = "FILE", hide = true)]
-    pub verdict_file: Option<PathBuf>,
+    /// Ask the checkpoints with inputs drawn anew from SEED (as `raylab
+    /// grade --code --fresh` does), and each chapter's image from a camera
+    /// moved a little: code that works for the lesson's numbers only
+    /// fails.
+    #[arg(long, value_name = "SEED")]
+    pub fresh: Option<u64>,
 }
 
 /// Runs the checks with the chapters `C` and prints the verdicts and the
 /// summary table; returns the exit status. raylab's own chapters are
-/// checked here; a student's run in a child that writes a verdict file.
+/// asked in this process; a student's answer in children of this binary
+/// started as `serve`, and this process judges.
 pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
+    let student = crate::answer_key::sealed();
     let options = CheckOptions {
         failures_dir: args.failures_dir.clone(),
-        forbid_answer_key: crate::answer_key::sealed(),
+        forbid_answer_key: student,
+        fresh: args.fresh,
         ..CheckOptions::default()
     };
-    // No comparison is asked for in a check: raylab's comparison wrappers
-    // are answers like the others there.
-    crate::answer_key::set_strict(true);
-    if let Some(path) = &args.verdict_file {
-        return check_into::<C>(args.chapter, &options, path);
-    }
-    if !crate::answer_key::sealed() {
-        let report = check_all::<C>(args.chapter, &options);
-        print!("{}", report.text());
-        return Ok(exit_status(report.overall()));
-    }
-    let path = std::env::temp_dir().join(format!(
-        "raylab-check-{}-{}.jsonl",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|elapsed| elapsed.as_nanos())
-            .unwrap_or_default()
-    ));
-    // Removed on Ctrl-C too (crate::cleanup), not only once the check ends.
-    let registered = crate::cleanup::register(&path);
-    let result = check_in_child(args, &path);
-    let _ = std::fs::remove_file(&path);
-    drop(registered);
-    let (report, ended) = result?;
-    print!("{}", report.text(&ended));
-    Ok(exit_status(report.overall()))
+    let report = if student {
+        let binary =
+            std::env::current_exe().context("cannot find this program to run the check")?;
+        let spawn: Arc<Spawn> = Arc::new(move || {
+            let mut command = std::process::Command::new(&binary);
+            command.arg("serve");
+            Ok((command, Box::new(()) as Box<dyn std::any::Any + Send>))
+        });
+        let notice: Arc<crate::check::judge::StallNotice> = Arc::new(
+            |step: &crate::check::judge::Step, waited: std::time::Duration| {
+                eprintln!(
+                    "still running after {} s without an answer: {step}. A loop that never ends? \
+                 Ctrl-C stops the check.",
+                    waited.as_secs()
+                );
+            },
+        );
+        let make = || {
+            Box::new(
+                Remote::new(Arc::clone(&spawn))
+                    .inheriting_stderr()
+                    .with_stall_notice(stall_notice(), Arc::clone(&notice)),
+            ) as Box<dyn Asker + Send>
+        };
+        crate::check::judge::judge(&make, Which::one_or_all(args.chapter), &options)
+    } else {
+        // No comparison is asked for in a check: raylab's comparison
+        // wrappers are answers like the others there.
+        crate::answer_key::set_strict(true);
+        check_all::<C>(args.chapter, &options)
+    };
+    print!("{}", report.text());
+    Ok(exit_status(&report))
 }
 
-fn exit_status(overall: Overall) -> i32 {
-    match overall {
+fn exit_status(report: &CheckReport) -> i32 {
+    match report.overall() {
         Overall::Pass => 0,
         Overall::Fail => super::EXIT_FAILED_CHECK,
         Overall::Error => super::EXIT_ERROR,
     }
 }
 
-/// The worker: checks and writes every verdict, then the closing record.
-fn check_into<C: crate::Chapters>(
-    chapter: Option<u8>,
-    options: &CheckOptions,
-    path: &Path,
-) -> Result<i32> {
-    let writer = crate::check::verdict_file::install(VerdictWriter::create(path)?)
-        .map_err(|_| anyhow::anyhow!("a verdict file is already open"))?;
-    let report = check_all::<C>(chapter, options);
-    for verdict in &report.verdicts {
-        writer.write(&Record::Verdict(SentVerdict::of(verdict)))?;
-    }
-    writer.write(&Record::End)?;
-    Ok(exit_status(report.overall()))
-}
-
-/// Runs this same binary as the worker and reads what it wrote, with how
-/// its process ended.
-fn check_in_child(args: &CheckArgs, path: &Path) -> Result<(SentReport, String)> {
-    let binary = std::env::current_exe().context("cannot find this program to run the check")?;
-    let mut command = std::process::Command::new(binary);
-    command
-        .arg("check")
-        .arg("--failures-dir")
-        .arg(&args.failures_dir)
-        .arg("--verdict-file")
-        .arg(path);
-    if let Some(chapter) = args.chapter {
-        command.arg("--chapter").arg(chapter.to_string());
-    }
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::process::CommandExt;
-        // SAFETY: prctl is async-signal-safe and is all that runs between
-        // fork and exec. The worker dies with this process: a check killed
-        // alone (SIGTERM, SIGKILL) leaves no chapter looping on.
-        unsafe {
-            command.pre_exec(|| {
-                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
-                Ok(())
-            });
-        }
-    }
-    let mut child = command
-        .spawn()
-        .context("cannot start the check of your chapters")?;
-    let status = wait_with_stall_notice(&mut child, path)?;
-    let report = SentReport::read(path).unwrap_or_default();
-    Ok((report, crate::check::verdict_file::process_end(status)))
-}
-
-/// How long the check may go without starting a new step before the
-/// student is told where it is: every case takes well under a second, a
-/// chapter's image a few seconds. `RAYLAB_STALL_NOTICE_SECONDS` sets it
-/// (the tests make it short).
+/// How long a step may go without an answer before the student is told
+/// where the check is: every case takes well under a second, a chapter's
+/// image a few seconds. `RAYLAB_STALL_NOTICE_SECONDS` sets it (the tests
+/// make it short).
 fn stall_notice() -> std::time::Duration {
     let seconds = std::env::var("RAYLAB_STALL_NOTICE_SECONDS")
         .ok()
@@ -149,36 +112,70 @@ fn stall_notice() -> std::time::Duration {
     std::time::Duration::from_secs(seconds)
 }
 
-/// Waits for the check's child to end. A check that starts no new step for
-/// [`stall_notice`] is usually a loop that never ends in a chapter: the
-/// student is told once, on stderr, which step each running chapter is in,
-/// and the check goes on (Ctrl-C ends it).
-fn wait_with_stall_notice(
-    child: &mut std::process::Child,
-    path: &Path,
-) -> Result<std::process::ExitStatus> {
-    let mut size = 0;
-    let mut since = std::time::Instant::now();
-    let mut told = false;
-    let notice = stall_notice();
-    loop {
-        if let Some(status) = child.try_wait().context("waiting for the check")? {
-            return Ok(status);
+/// Answers the judge's questions on this process's standard input and
+/// output with the chapters `C` (see [`crate::check::serve`]); what the
+/// chapters print goes to standard error.
+pub fn serve<C: crate::Chapters>() -> Result<i32> {
+    let (questions, answers) = private_pipes().context("cannot take the judge's pipes")?;
+    // No comparison is asked for: raylab's comparison wrappers are answers
+    // like the others.
+    crate::answer_key::set_strict(true);
+    crate::check::serve::serve::<C>(
+        std::io::BufReader::new(questions),
+        std::io::BufWriter::new(answers),
+    )
+    .context("the judge's pipe")?;
+    Ok(0)
+}
+
+/// The judge's two pipes, moved off standard input and output before any
+/// chapter runs: standard output then goes to standard error and
+/// standard input reads nothing, so that nothing a chapter prints or
+/// reads touches them. The new descriptors close on `exec`, so no process
+/// a chapter starts inherits them.
+#[cfg(unix)]
+fn private_pipes() -> std::io::Result<(std::fs::File, std::fs::File)> {
+    use std::os::fd::FromRawFd;
+    let moved = |fd: libc::c_int| {
+        // SAFETY: plain system calls on this process's own descriptors.
+        let copy = unsafe { libc::fcntl(fd, libc::F_DUPFD_CLOEXEC, 3) };
+        if copy < 0 {
+            Err(std::io::Error::last_os_error())
+        } else {
+            Ok(copy)
         }
-        std::thread::sleep(std::time::Duration::from_millis(200));
-        let now = std::fs::metadata(path).map(|meta| meta.len()).unwrap_or(0);
-        if now != size {
-            (size, since, told) = (now, std::time::Instant::now(), false);
-        } else if !told && since.elapsed() >= notice {
-            told = true;
-            let steps = SentReport::read(path).unwrap_or_default().running_text();
-            if !steps.is_empty() {
-                eprintln!(
-                    "still running after {} s without a new step: {steps}. A loop that \
-                     never ends? Ctrl-C stops the check.",
-                    notice.as_secs()
-                );
-            }
+    };
+    let questions = moved(0)?;
+    let answers = moved(1)?;
+    // Not dumpable: no process of the same user may attach to this one
+    // (ptrace) or read its memory, where the pipes are.
+    #[cfg(target_os = "linux")]
+    // SAFETY: a plain system call on this process.
+    unsafe {
+        libc::prctl(libc::PR_SET_DUMPABLE, 0);
+    }
+    let null = std::fs::File::open("/dev/null")?;
+    // SAFETY: dup2 onto 0 and 1, which this process owns; `null` stays
+    // open until both are made.
+    unsafe {
+        use std::os::fd::AsRawFd;
+        if libc::dup2(null.as_raw_fd(), 0) < 0 || libc::dup2(2, 1) < 0 {
+            return Err(std::io::Error::last_os_error());
         }
     }
+    // SAFETY: both descriptors were just made by fcntl, and nothing else
+    // owns them.
+    Ok(unsafe {
+        (
+            std::fs::File::from_raw_fd(questions),
+            std::fs::File::from_raw_fd(answers),
+        )
+    })
+}
+
+#[cfg(not(unix))]
+fn private_pipes() -> std::io::Result<(std::fs::File, std::fs::File)> {
+    Err(std::io::Error::other(
+        "answering the judge needs a Unix system",
+    ))
 }

@@ -44,14 +44,17 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// --help` for the metrics and the threshold.
 ///
 /// With --code, each folder of DIR is a student workspace (made by `raylab
-/// new`): `cargo run --release --offline -- check` runs in it, one student
-/// at a time, within --timeout seconds (then every process of the run is
-/// killed), inside a bubblewrap sandbox: the file system read-only but the
-/// workspace, no network, its own pid namespace, and limits on memory, CPU
-/// time and file size. Without bubblewrap (`bwrap`), --code refuses to run
-/// unless --no-sandbox is given. Each student is reported as pass, fail,
-/// not started, timed out, build error or error, with the check's summary
-/// table. See docs/instructors.md.
+/// new`): raylab builds it (`cargo build --release --offline`), one student
+/// at a time, then judges its chapters itself, the student's binary only
+/// answering raylab's questions; the build and the answers run within
+/// --timeout seconds (then every process of the run is killed), inside a
+/// bubblewrap sandbox: the file system read-only but the workspace for the
+/// build, nothing writable and no /proc for the answers, no network, its
+/// own pid namespace, and limits on memory, CPU time and file size.
+/// Without bubblewrap (`bwrap`), --code refuses to run unless --no-sandbox
+/// is given. --fresh SEED draws every parametrised case's inputs anew. Each
+/// student is reported as pass, fail, not started, timed out, build error
+/// or error, with the check's summary table. See docs/instructors.md.
 ///
 /// Exit status: 0 when every chapter (of every student) is present and
 /// passes; 1 when any fails, is missing, unreadable or refused; 2 on an
@@ -86,6 +89,22 @@ pub struct GradeArgs {
     /// with your own rights (only for code you trust, or inside a VM).
     #[arg(long, requires = "code")]
     pub no_sandbox: bool,
+    /// With --code, draw every parametrised case's inputs (rays, spheres,
+    /// triangles, seeds) and each chapter's camera anew from SEED, within
+    /// each case's stated ranges, so that no answers prepared in advance
+    /// pass; the hard cases keep theirs. Give the same SEED to every job of
+    /// a class and to --merge.
+    #[arg(long, value_name = "SEED", requires = "code")]
+    pub fresh: Option<u64>,
+    /// With --code, the cargo profile each workspace is built with:
+    /// `release`, or `dev`, which builds in about half the time and
+    /// answers a few times slower (the verdicts are the same).
+    #[arg(long, value_name = "PROFILE", default_value = "release", value_parser = parse_profile, requires = "code")]
+    pub build_profile: crate::grade::code::BuildProfile,
+    /// With --code, check chapters 1 to N only (those assigned so far);
+    /// every chapter by default.
+    #[arg(long, value_name = "N", requires = "code", value_parser = crate::chapters::parse_chapter)]
+    pub chapter: Option<u8>,
     /// Grade only this student of the class DIR (the name of their folder),
     /// into the result file --result: one job of a class graded on several
     /// machines (see --merge).
@@ -119,6 +138,14 @@ pub struct GradeArgs {
     pub merge: Option<PathBuf>,
     #[command(flatten)]
     pub criteria: CriteriaArgs,
+}
+
+fn parse_profile(text: &str) -> Result<crate::grade::code::BuildProfile, String> {
+    match text {
+        "release" => Ok(crate::grade::code::BuildProfile::Release),
+        "dev" => Ok(crate::grade::code::BuildProfile::Dev),
+        _ => Err("the build profile must be release or dev".into()),
+    }
 }
 
 fn parse_timeout(text: &str) -> Result<u64, String> {
@@ -261,15 +288,21 @@ fn grade_class(
                 read_results(results)?,
                 args.code,
                 args.criteria.criteria(),
+                (args.fresh, args.chapter),
                 skip,
                 &mut buffered,
             )?
         } else if args.code {
             crate::grade::class::grade_class_code(
                 &args.folder,
-                Duration::from_secs(args.timeout),
-                sandbox.as_ref(),
-                &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
+                &crate::grade::code::CodeJob {
+                    timeout: Duration::from_secs(args.timeout),
+                    sandbox: sandbox.as_ref(),
+                    fresh: args.fresh,
+                    chapter: args.chapter,
+                    profile: args.build_profile,
+                    scenes: &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
+                },
                 skip,
                 &mut |student| {
                     eprintln!(
@@ -346,11 +379,14 @@ fn grade_one_of_class(
             )?)
         };
         scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
-        crate::grade::class::Job::Code {
+        crate::grade::class::Job::Code(crate::grade::code::CodeJob {
             timeout: Duration::from_secs(args.timeout),
             sandbox: sandbox.as_ref(),
+            fresh: args.fresh,
+            chapter: args.chapter,
+            profile: args.build_profile,
             scenes: &scenes,
-        }
+        })
     } else {
         crate::grade::class::Job::Renders(&mut references)
     };

@@ -60,6 +60,10 @@ pub enum Command {
     /// Race chapter 11's tree against Embree on generated models of 1,000
     /// to 1,000,000 triangles (needs the `embree` feature).
     Race(race::RaceArgs),
+    /// Answer the judge's questions on standard input and output: how
+    /// `check` and `raylab grade --code` ask a student's chapters.
+    #[command(hide = true)]
+    Serve,
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -130,7 +134,11 @@ fn is_reference<C: crate::Chapters>() -> bool {
 fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
     let judges_chapters = matches!(
         command,
-        Command::Check(_) | Command::Render(_) | Command::Trace(_) | Command::Web(_)
+        Command::Check(_)
+            | Command::Serve
+            | Command::Render(_)
+            | Command::Trace(_)
+            | Command::Web(_)
     );
     if cfg!(feature = "student") && is_reference::<C>() {
         return Some(
@@ -221,6 +229,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::Mesh(args) => mesh::mesh(&args),
         Command::Race(args) => race::race(&args),
         Command::Web(args) => web::web::<C>(&args),
+        Command::Serve => check::serve::<C>(),
     };
     match result {
         Ok(status) => status,

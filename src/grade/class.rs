@@ -5,9 +5,8 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
-use super::code::{CodeRun, CodeStatus, last_lines, run_check};
+use super::code::{CodeJob, CodeRun, CodeStatus, last_lines, run_check};
 use super::{
     Grade, GradeError, Graded, Ignored, References, STYLE, chapter_of, folder_error, grade_with,
     html_escape, markdown_escape,
@@ -151,16 +150,14 @@ pub fn grade_class<R: Chapters>(
 /// (runs can be long: the first build of a workspace compiles raylab).
 pub fn grade_class_code(
     folder: &Path,
-    timeout: Duration,
-    sandbox: Option<&super::sandbox::Sandbox>,
-    scenes: &[super::hidden::HiddenScene],
+    job: &CodeJob,
     skip: &[&Path],
     progress: &mut dyn FnMut(&str),
     sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
     let (mut students, ignored) = students_in(folder, skip)?;
     for student in &mut students {
-        run_code_of(student, timeout, sandbox, scenes, progress)?;
+        run_code_of(student, job, progress)?;
         write_section(sections, student)?;
     }
     let similar = similar_code(&students)?;
@@ -191,9 +188,7 @@ fn grade_renders_of<R: Chapters>(
 /// already.
 fn run_code_of(
     student: &mut Student,
-    timeout: Duration,
-    sandbox: Option<&super::sandbox::Sandbox>,
-    scenes: &[super::hidden::HiddenScene],
+    job: &CodeJob,
     progress: &mut dyn FnMut(&str),
 ) -> Result<(), GradeError> {
     if !matches!(&student.outcome, Outcome::Refused(why) if why.is_empty()) {
@@ -205,22 +200,8 @@ fn run_code_of(
         Outcome::Refused("not a workspace: no Cargo.toml (make one with raylab new)".into())
     } else {
         progress(&student.name);
-        match run_check(&student.folder, timeout, sandbox) {
-            Ok(mut run) => {
-                // Hidden scenes only for a binary that built and ran.
-                if !scenes.is_empty()
-                    && !matches!(run.status, CodeStatus::BuildError | CodeStatus::TimedOut)
-                {
-                    run.scenes = super::hidden::grade_scenes(
-                        &student.folder,
-                        scenes,
-                        timeout,
-                        sandbox,
-                        Criteria::default(),
-                    )?;
-                }
-                Outcome::Code(Box::new(run))
-            }
+        match run_check(&student.folder, job) {
+            Ok(run) => Outcome::Code(Box::new(run)),
             Err(error) => Outcome::Refused(format!("{error:#}")),
         }
     };
@@ -238,6 +219,12 @@ pub struct StudentResult {
     pub raylab_grade_result: u32,
     pub code: bool,
     pub criteria: Criteria,
+    /// The seed of `--fresh`, when the code was checked with fresh inputs.
+    #[serde(default)]
+    pub fresh: Option<u64>,
+    /// The last chapter checked (`--chapter`), when not every one was.
+    #[serde(default)]
+    pub chapter: Option<u8>,
     pub student: Student,
     pub section: String,
 }
@@ -249,11 +236,7 @@ pub const RESULT_VERSION: u32 = 1;
 /// their workspace's check.
 pub enum Job<'a, R: Chapters> {
     Renders(&'a mut References<R>),
-    Code {
-        timeout: Duration,
-        sandbox: Option<&'a super::sandbox::Sandbox>,
-        scenes: &'a [super::hidden::HiddenScene],
-    },
+    Code(CodeJob<'a>),
 }
 
 /// Grades the student of the class in `folder` whose folder is `name`
@@ -274,14 +257,14 @@ pub fn grade_student<R: Chapters>(
             name: shown,
             folder: folder.to_path_buf(),
         })?;
-    let code = matches!(job, Job::Code { .. });
+    let code = matches!(job, Job::Code(_));
+    let (fresh, chapter) = match &job {
+        Job::Code(job) => (job.fresh, job.chapter),
+        Job::Renders(_) => (None, None),
+    };
     match job {
         Job::Renders(references) => grade_renders_of(&mut student, references, criteria),
-        Job::Code {
-            timeout,
-            sandbox,
-            scenes,
-        } => run_code_of(&mut student, timeout, sandbox, scenes, &mut |_| {})?,
+        Job::Code(job) => run_code_of(&mut student, &job, &mut |_| {})?,
     }
     let mut section = String::new();
     student_section_html(&mut section, &student)?;
@@ -292,6 +275,8 @@ pub fn grade_student<R: Chapters>(
         raylab_grade_result: RESULT_VERSION,
         code,
         criteria: if code { Criteria::default() } else { criteria },
+        fresh,
+        chapter,
         student,
         section,
     })
@@ -301,13 +286,15 @@ pub fn grade_student<R: Chapters>(
 /// folder, in the order of their names, each with their result (a student
 /// with none is refused: "no result"), and their sections written to
 /// `sections`. Results of students not in the folder, twice the same
-/// student, or graded another way (`--code` or not, other criteria) are
-/// errors: a class is merged from one grading.
+/// student, or graded another way (`--code` or not, other criteria, other
+/// `--fresh` or `--chapter`, given as `code_job`) are errors: a class is
+/// merged from one grading.
 pub fn merge(
     folder: &Path,
     results: Vec<StudentResult>,
     code: bool,
     criteria: Criteria,
+    code_job: (Option<u64>, Option<u8>),
     skip: &[&Path],
     sections: &mut dyn std::io::Write,
 ) -> Result<Class, GradeError> {
@@ -319,6 +306,7 @@ pub fn merge(
         if result.raylab_grade_result != RESULT_VERSION
             || result.code != code
             || result.criteria != criteria
+            || (result.fresh, result.chapter) != code_job
         {
             return Err(GradeError::MergeMismatch { name });
         }

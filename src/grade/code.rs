@@ -1,44 +1,45 @@
-//! Running a student workspace's `check` (`raylab grade --code`).
+//! Running a student workspace's chapters for `raylab grade --code`.
 //!
 //! A workspace made by `raylab new` is a Cargo project whose binary is the
-//! student's raylab: `cargo run --release --offline -- check --verdict-file
-//! F` builds it and runs every chapter's checks, writing each verdict to F
-//! (see [`crate::check::verdict_file`]). [`run_check`] runs that command
-//! with a time limit and sorts the outcome into a [`CodeStatus`] from the
-//! file alone: the student's code runs in that process and could exit 0 or
-//! print a passing table, but a file without its closing record is no
-//! verdict.
+//! student's raylab. [`run_check`] builds it (`cargo build --release
+//! --offline`, or `--profile dev`), then judges it: the grader's own raylab holds the cases
+//! and the expected answers, and starts the student's binary as `serve`
+//! to answer them (see [`crate::check::judge`]), one process per chapter.
+//! Nothing that binary prints, writes or exits with can change a verdict:
+//! the grader reads only its answers, and a case it did not answer fails.
 //!
-//! The student's code runs inside a [`Sandbox`] unless the grader asks for
-//! none (`--no-sandbox`): then with the grader's rights, see
+//! The build and the answers run inside a [`Sandbox`] unless the grader
+//! asks for none (`--no-sandbox`): then with the grader's rights, see
 //! docs/instructors.md.
 
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::sandbox::Sandbox;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use crate::check::Overall;
-use crate::check::verdict_file::{SentReport, process_end};
+use crate::check::judge::{Asker, Remote, Spawn};
+use crate::check::{CheckOptions, CheckReport, Overall, Stopped};
 
 /// The outcome of one workspace's `check`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CodeStatus {
-    /// `check` exited 0: every chapter passes.
+    /// Every chapter passes.
     Pass,
-    /// `check` exited 1 and a chapter fails.
+    /// A chapter fails.
     Fail,
-    /// `check` exited 1 and no chapter fails: some are still `todo!()`.
+    /// No chapter fails: some are still `todo!()`.
     NotStarted,
     /// Still running when the time limit came; every process it started
     /// was killed.
     TimedOut,
     /// Cargo could not compile the workspace.
     BuildError,
-    /// Anything else: `check` exited 2, crashed, or was killed by a signal.
+    /// Anything else: the binary does not answer raylab's questions (or
+    /// another version's), or the check itself could not run.
     Error,
 }
 
@@ -60,56 +61,140 @@ impl CodeStatus {
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CodeRun {
     pub status: CodeStatus,
-    /// The exit status, when the process exited by itself.
+    /// The exit status of the build, when it exited by itself.
     pub exit_code: Option<i32>,
-    /// The end of what it wrote (at most [`KEPT_OUTPUT`] bytes of each).
+    /// The verdicts as the judge wrote them (never the student's output).
     pub stdout: String,
+    /// The end of what the build and the student's binary wrote on
+    /// standard error (at most [`KEPT_OUTPUT`] bytes of each), for the
+    /// instructor to read: none of it counts.
     pub stderr: String,
     /// The time limit, for the report of a run that hit it.
     pub timeout: Duration,
-    /// How many chapters pass, by the verdict file (0 without one).
+    /// How many chapters pass.
     pub chapters_passed: usize,
     /// The instructor's hidden scenes (`--scene`), rendered by the
     /// student's chapters and compared with raylab's.
     #[serde(default)]
     pub scenes: Vec<super::hidden::SceneOutcome>,
+    /// The seed of the fresh inputs the check drew (`--fresh`).
+    #[serde(default)]
+    pub fresh: Option<u64>,
 }
 
-/// How much of each output stream is kept: the end, where the summary table
-/// and the compiler's errors are. A student's code can print without end;
-/// the grader's memory must not grow with it.
+/// How much of each output stream is kept: the end, where the compiler's
+/// errors are. A student's code can print without end; the grader's
+/// memory must not grow with it.
 pub const KEPT_OUTPUT: usize = 64 * 1024;
 
 /// The longest time limit `--timeout` accepts: a day.
 pub const MAX_TIMEOUT_SECONDS: u64 = 24 * 60 * 60;
 
-/// After the process ends (or is killed), how long to wait for the rest of
+/// After the build ends (or is killed), how long to wait for the rest of
 /// its output. A process that left the group (`setsid`) and kept the pipe
 /// open would otherwise block the grading of the whole class.
 const OUTPUT_GRACE: Duration = Duration::from_secs(5);
 
-/// Runs `cargo run --release --offline -- check` in `workspace` (the cargo
-/// of `$CARGO` if set, else `cargo` from the PATH), killing it and all it
-/// started when `timeout` passes. An error only when the command cannot be
-/// started at all.
-pub fn run_check(
-    workspace: &Path,
-    timeout: Duration,
-    sandbox: Option<&Sandbox>,
-) -> Result<CodeRun, super::GradeError> {
+/// The cargo profile a workspace is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BuildProfile {
+    #[default]
+    Release,
+    Dev,
+}
+
+impl BuildProfile {
+    /// Its name as cargo's `--profile` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BuildProfile::Release => "release",
+            BuildProfile::Dev => "dev",
+        }
+    }
+}
+
+/// How a class's code is graded: the time limit of each student's build
+/// and check, the sandbox, fresh inputs, and the hidden scenes.
+#[derive(Clone, Copy)]
+pub struct CodeJob<'a> {
+    pub timeout: Duration,
+    pub sandbox: Option<&'a Sandbox>,
+    /// Draw each parametrised case's inputs anew from this seed
+    /// (`--fresh`).
+    pub fresh: Option<u64>,
+    /// Check chapters 1 to this one only (`--chapter`); every chapter by
+    /// default.
+    pub chapter: Option<u8>,
+    /// The cargo profile each workspace is built with: `release`, or
+    /// `dev` (a build in about half the time, answers a few times slower).
+    pub profile: BuildProfile,
+    pub scenes: &'a [super::hidden::HiddenScene],
+}
+
+/// Builds the workspace and judges its chapters, then renders the hidden
+/// scenes with them, all within `job.timeout` (the cargo of `$CARGO` if
+/// set, else `cargo` from the PATH). An error only when the build cannot
+/// be started at all.
+pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::GradeError> {
     let outside = code_from_outside(workspace);
-    // A fresh folder of its own for the verdict file: the one folder
-    // outside the workspace the sandbox lets the run write.
-    let folder = tempfile::Builder::new()
-        .prefix("raylab-grade-")
-        .tempdir()
-        .map_err(|error| super::GradeError::Run {
-            cargo: "a temporary folder".into(),
-            workspace: workspace.to_path_buf(),
-            error,
-        })?;
-    let verdict_path = folder.path().join("verdict.jsonl");
-    let mut run = run_check_into(workspace, timeout, &verdict_path, sandbox)?;
+    let deadline = Instant::now() + job.timeout;
+    let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
+    let built = build(workspace, job)?;
+    let mut run = CodeRun {
+        status: CodeStatus::BuildError,
+        exit_code: built.exit.and_then(|status| status.code()),
+        stdout: String::new(),
+        stderr: built.stderr.clone(),
+        timeout: job.timeout,
+        chapters_passed: 0,
+        scenes: Vec::new(),
+        fresh: job.fresh,
+    };
+    if built.timed_out {
+        run.status = CodeStatus::TimedOut;
+        run.exit_code = None;
+    } else if let Some(binary) = built
+        .binary
+        .filter(|_| built.exit.is_some_and(|s| s.success()))
+    {
+        let spawn = serve_spawn(workspace, &binary, job.sandbox);
+        let students_stderr = Arc::new(std::sync::Mutex::new(Vec::new()));
+        let remote = || {
+            Remote::new(Arc::clone(&spawn))
+                .with_deadline(Some(deadline))
+                .with_stderr_buffer(Arc::clone(&students_stderr))
+        };
+        let make = || Box::new(remote()) as Box<dyn Asker + Send>;
+        let options = CheckOptions {
+            write_images: false,
+            forbid_answer_key: true,
+            fresh: job.fresh,
+            ..CheckOptions::default()
+        };
+        let which = job.chapter.map_or(
+            crate::check::judge::Which::All,
+            crate::check::judge::Which::UpTo,
+        );
+        let report = crate::check::judge::judge(&make, which, &options);
+        run.status = classify(&report);
+        run.chapters_passed = report.verdicts.iter().filter(|v| v.passes()).count();
+        run.stdout = report.text();
+        // Hidden scenes only for a binary that answered.
+        if !job.scenes.is_empty() && !matches!(run.status, CodeStatus::TimedOut | CodeStatus::Error)
+        {
+            run.scenes = super::hidden::grade_scenes(job.scenes, &mut remote());
+        }
+        let students = remote().stderr();
+        if !students.trim().is_empty() {
+            run.stderr = format!(
+                "{}\nwhat the student's binary wrote (none of it counts):\n{students}",
+                run.stderr
+            );
+        }
+    } else if built.exit.is_some_and(|status| status.success()) {
+        run.status = CodeStatus::Error;
+        run.stdout = "no verdict: the build made no binary to ask".into();
+    }
     // Run all the same (inside the sandbox), so that the report shows what
     // the code did; but no verdict of such code counts.
     if let Some(outside) = outside {
@@ -126,58 +211,93 @@ pub fn run_check(
     Ok(run)
 }
 
-fn run_check_into(
-    workspace: &Path,
-    timeout: Duration,
-    verdict_path: &Path,
-    sandbox: Option<&Sandbox>,
-) -> Result<CodeRun, super::GradeError> {
-    let args: Vec<std::ffi::OsString> =
-        ["check".into(), "--verdict-file".into(), verdict_path.into()].to_vec();
-    let Ran {
+/// How the student's binary is started as `serve`: in `sandbox`'s view for
+/// answering (nothing writable, no `/proc`), or plainly.
+fn serve_spawn(workspace: &Path, binary: &Path, sandbox: Option<&Sandbox>) -> Arc<Spawn> {
+    let (workspace, binary) = (workspace.to_path_buf(), binary.to_path_buf());
+    let sandbox = sandbox.cloned();
+    Arc::new(move || {
+        let (mut command, keep): (Command, Box<dyn std::any::Any + Send>) = match &sandbox {
+            Some(sandbox) => {
+                let sandboxed = sandbox.serve_command(&workspace, &binary);
+                (sandboxed.command, Box::new(sandboxed.cap))
+            }
+            None => {
+                let mut command = Command::new(&binary);
+                command.arg("serve");
+                (command, Box::new(()))
+            }
+        };
+        command.current_dir(&workspace);
+        Ok((command, keep))
+    })
+}
+
+/// What a build gave.
+struct Built {
+    exit: Option<ExitStatus>,
+    timed_out: bool,
+    stderr: String,
+    /// The workspace's binary, as cargo names it.
+    binary: Option<PathBuf>,
+}
+
+/// `cargo build --profile P --offline` in `workspace` (inside the sandbox
+/// if the job has one), killed with all it started past the job's time
+/// limit.
+fn build(workspace: &Path, job: &CodeJob) -> Result<Built, super::GradeError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    // A fresh folder of its own for temporary files: the one folder
+    // outside the workspace the sandbox lets the build write.
+    let folder = tempfile::Builder::new()
+        .prefix("raylab-grade-")
+        .tempdir()
+        .map_err(|error| super::GradeError::Run {
+            cargo: "a temporary folder".into(),
+            workspace: workspace.to_path_buf(),
+            error,
+        })?;
+    let args: Vec<std::ffi::OsString> = [
+        "build",
+        "--profile",
+        job.profile.name(),
+        "--offline",
+        "--message-format=json-render-diagnostics",
+    ]
+    .into_iter()
+    .map(Into::into)
+    .collect();
+    let (mut command, _cap) =
+        cargo_command(&cargo, workspace, &args, Some(folder.path()), job.sandbox);
+    let mut child = command.spawn().map_err(|error| super::GradeError::Run {
+        cargo: cargo.clone().into(),
+        workspace: workspace.to_path_buf(),
+        error,
+    })?;
+    let receiver = read_outputs(&mut child);
+    let (exit, timed_out) = wait_within(&mut child, job.timeout);
+    // Whatever the build left behind in its group goes too.
+    kill_group(&mut child);
+    let [stdout, stderr] = received_outputs(&receiver);
+    Ok(Built {
         exit,
         timed_out,
-        mut stdout,
         stderr,
-    } = run_binary(workspace, &args, verdict_path.parent(), timeout, sandbox)?;
-    let exit_code = exit.and_then(|status| status.code());
-    let report = SentReport::read(verdict_path).ok();
-    let status = if timed_out {
-        CodeStatus::TimedOut
-    } else {
-        match &report {
-            Some(report) if report.complete => classify(report),
-            // Cargo failed before it ran the binary (it prints `Running`
-            // as it starts it): a compiler error, or a dependency it
-            // cannot find.
-            _ if stderr.contains("could not compile") || !stderr.contains("Running `") => {
-                CodeStatus::BuildError
-            }
-            _ => CodeStatus::Error,
-        }
-    };
-    // What the report shows is the verdict file's, never the student's
-    // output (which their code may have written to look like a verdict).
-    if let Some(report) = &report {
-        let ended = exit.map(process_end).unwrap_or_else(|| "was killed".into());
-        stdout = report.text(&ended);
-    } else if status != CodeStatus::BuildError {
-        stdout = "no verdict: the check ended before it began (the binary does not run \
-                  raylab's check?)"
-            .to_string();
-    }
-    let chapters_passed = report.as_ref().map_or(0, |report| {
-        report.verdicts.iter().filter(|v| v.passes).count()
-    });
-    Ok(CodeRun {
-        status,
-        exit_code: if timed_out { None } else { exit_code },
-        stdout,
-        stderr,
-        timeout,
-        chapters_passed,
-        scenes: Vec::new(),
+        binary: built_binary(&stdout, workspace),
     })
+}
+
+/// The binary of the workspace's package in cargo's JSON messages: the
+/// last compiler artifact with an executable, inside the workspace's
+/// `target/`.
+fn built_binary(messages: &str, workspace: &Path) -> Option<PathBuf> {
+    messages
+        .lines()
+        .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
+        .filter(|message| message["reason"] == "compiler-artifact")
+        .filter_map(|message| message["executable"].as_str().map(PathBuf::from))
+        .filter(|binary| binary.starts_with(workspace.join("target")) && binary.is_file())
+        .last()
 }
 
 /// The crates a workspace may depend on: those `raylab new` writes.
@@ -271,6 +391,13 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
                         shown()
                     ));
                 }
+                if let Some((line, what)) = unsafe_code(&text) {
+                    return Some(format!(
+                        "{}:{line} uses {what}, which the course never needs and which could \
+                         reach the pipes the grader reads the answers from",
+                        shown()
+                    ));
+                }
             }
         }
     }
@@ -306,6 +433,39 @@ fn foreign_dependency(manifest: &toml::Table) -> Option<String> {
                 )
             })
     })
+}
+
+/// The line and the form of the first piece of unsafe code in Rust source
+/// `text`, read as tokens: the `unsafe` keyword, or what runs code or
+/// names a symbol without it in older editions (`#[no_mangle]`,
+/// `#[export_name]`, `#[link_section]`, `global_asm!`).
+fn unsafe_code(text: &str) -> Option<(usize, &'static str)> {
+    use proc_macro2::{TokenStream, TokenTree};
+    fn walk(stream: TokenStream) -> Option<(usize, &'static str)> {
+        for token in stream {
+            match token {
+                TokenTree::Ident(ident) => {
+                    let what = match ident.to_string().as_str() {
+                        "unsafe" => "unsafe code",
+                        "no_mangle" => "#[no_mangle]",
+                        "export_name" => "#[export_name]",
+                        "link_section" => "#[link_section]",
+                        "global_asm" => "global_asm!",
+                        _ => continue,
+                    };
+                    return Some((ident.span().start().line, what));
+                }
+                TokenTree::Group(group) => {
+                    if let Some(found) = walk(group.stream()) {
+                        return Some(found);
+                    }
+                }
+                _ => {}
+            }
+        }
+        None
+    }
+    walk(text.parse().ok()?)
 }
 
 /// The line and the form of the first `#[path = ...]` attribute or
@@ -351,70 +511,24 @@ fn outside_reference(text: &str) -> Option<(usize, &'static str)> {
     walk(text.parse().ok()?, false)
 }
 
-/// How a run of a workspace's binary ended.
-pub(super) struct Ran {
-    pub exit: Option<ExitStatus>,
-    pub timed_out: bool,
-    /// The end of each output (at most [`KEPT_OUTPUT`] bytes).
-    pub stdout: String,
-    pub stderr: String,
-}
-
-/// `cargo run --release --offline -- ARGS` in `workspace` (inside
-/// `sandbox` if given, where `writable` is the one folder outside the
-/// workspace it may write), killed with all it started when `timeout`
-/// passes. An error only when the command cannot be started at all.
-pub(super) fn run_binary(
-    workspace: &Path,
-    args: &[std::ffi::OsString],
-    writable: Option<&Path>,
-    timeout: Duration,
-    sandbox: Option<&Sandbox>,
-) -> Result<Ran, super::GradeError> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
-    let (mut command, _cap) = cargo_command(&cargo, workspace, args, writable, sandbox);
-    let mut child = command.spawn().map_err(|error| super::GradeError::Run {
-        cargo: cargo.clone().into(),
-        workspace: workspace.to_path_buf(),
-        error,
-    })?;
-    let receiver = read_outputs(&mut child);
-    let (exit, timed_out) = wait_within(&mut child, timeout);
-    // Whatever the run left behind in its group (a background process of
-    // the student's) goes too.
-    kill_group(&mut child);
-    let [stdout, stderr] = received_outputs(&receiver);
-    Ok(Ran {
-        exit,
-        timed_out,
-        stdout,
-        stderr,
-    })
-}
-
-/// `cargo run --release --offline -- ARGS`, in `workspace` (inside
-/// `sandbox` if given), with its output piped.
+/// `cargo ARGS` in `workspace` (inside `sandbox` if given, where
+/// `writable` is the one folder outside the workspace it may write), with
+/// its output piped.
 fn cargo_command(
     cargo: &std::ffi::OsStr,
     workspace: &Path,
-    binary_args: &[std::ffi::OsString],
+    args: &[std::ffi::OsString],
     writable: Option<&Path>,
     sandbox: Option<&Sandbox>,
 ) -> (Command, Option<super::sandbox::ProcessCap>) {
-    let args: Vec<std::ffi::OsString> = ["run", "--release", "--offline", "--"]
-        .into_iter()
-        .map(Into::into)
-        .chain(binary_args.iter().cloned())
-        .collect();
     let (mut command, cap) = match sandbox {
         Some(sandbox) => {
-            let sandboxed = sandbox.command(workspace, writable, cargo.into(), &args);
+            let sandboxed = sandbox.command(workspace, writable, cargo.into(), args);
             (sandboxed.command, sandboxed.cap)
         }
         None => {
             let mut command = Command::new(cargo);
-            command.args(&args);
+            command.args(args);
             (command, None)
         }
     };
@@ -429,9 +543,8 @@ fn cargo_command(
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    // Its own process group, so that on a timeout the compiler, the
-    // student's binary and whatever that started die together: killing
-    // cargo alone would leave the student's binary running.
+    // Its own process group, so that on a timeout the compiler and all it
+    // started die together.
     #[cfg(unix)]
     {
         use std::os::unix::process::CommandExt;
@@ -498,16 +611,25 @@ fn received_outputs(receiver: &mpsc::Receiver<(usize, String)>) -> [String; 2] {
     outputs
 }
 
-/// Sorts a finished run by its verdicts: any failing chapter (or an error
-/// of the check) fails it; otherwise a chapter not started, or waiting for
-/// one, makes it "not started"; a correct but not yet robust chapter passes.
-pub fn classify(report: &SentReport) -> CodeStatus {
-    match report.overall() {
-        Overall::Pass => CodeStatus::Pass,
-        Overall::Error => CodeStatus::Error,
-        Overall::Fail => {
-            let failing = report.verdicts.iter().any(|v| !v.passes && !v.not_started);
-            if failing || report.verdicts.is_empty() || !report.complete {
+/// Sorts a judged run by its verdicts: a run the judge stopped is timed
+/// out or an error; any failing chapter (or an error of the check) fails
+/// it; otherwise a chapter not started, or waiting for one, makes it "not
+/// started"; a correct but not yet robust chapter passes.
+pub fn classify(report: &CheckReport) -> CodeStatus {
+    match (&report.stopped, report.overall()) {
+        (Some(Stopped::TimedOut), _) => CodeStatus::TimedOut,
+        (Some(Stopped::Refused(_)), _) => CodeStatus::Error,
+        (None, Overall::Pass) => CodeStatus::Pass,
+        (None, Overall::Error) => CodeStatus::Error,
+        (None, Overall::Fail) => {
+            let failing = report.verdicts.iter().any(|v| {
+                !v.passes()
+                    && !matches!(
+                        v.status,
+                        crate::check::Status::NotStarted | crate::check::Status::Blocked { .. }
+                    )
+            });
+            if failing || report.verdicts.is_empty() {
                 CodeStatus::Fail
             } else {
                 CodeStatus::NotStarted
@@ -549,21 +671,8 @@ fn read_tail(mut reader: Box<dyn Read + Send>) -> String {
 }
 
 /// Kills the child's whole process group (the child is its leader).
-fn kill_group(child: &mut std::process::Child) {
-    #[cfg(unix)]
-    {
-        if let Ok(group) = libc::pid_t::try_from(child.id()) {
-            // SAFETY: killpg with a group this process created; an already
-            // empty group only makes it return ESRCH.
-            unsafe {
-                libc::killpg(group, libc::SIGKILL);
-            }
-        }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = child.kill();
-    }
+fn kill_group(child: &mut Child) {
+    crate::check::judge::kill_group(child);
 }
 
 /// The last `lines` lines of `text`, trimmed: a run's summary for the
@@ -576,7 +685,6 @@ pub fn last_lines(text: &str, lines: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::verdict_file::SentVerdict;
 
     #[test]
     fn code_from_other_files_is_found_as_tokens() {
@@ -596,6 +704,22 @@ mod tests {
         assert_eq!(
             found("mod m { fn g() { include!(concat!(env!(\"OUT_DIR\"), \"/k.rs\")); } }"),
             Some((1, "an include! macro"))
+        );
+        assert_eq!(
+            unsafe_code("fn f() {\n    let x = unsafe { std::mem::zeroed::<u8>() };\n}"),
+            Some((2, "unsafe code"))
+        );
+        assert_eq!(
+            unsafe_code("#[unsafe(link_section = \".init_array\")]\nstatic S: u8 = 0;"),
+            Some((1, "unsafe code"))
+        );
+        assert_eq!(
+            unsafe_code("#[no_mangle]\npub fn g() {}"),
+            Some((1, "#[no_mangle]"))
+        );
+        assert_eq!(
+            unsafe_code("// unsafe\nfn h() -> &'static str { \"unsafe\" }"),
+            None
         );
         // Mentions in comments and strings, a variable named path, a
         // macro's brackets: none of them.
@@ -714,39 +838,38 @@ mod tests {
 
     #[test]
     fn runs_are_sorted_by_their_verdicts() {
-        let verdict = |chapter, status: &str, passes, not_started| SentVerdict {
-            chapter,
-            status: status.into(),
-            passes,
-            robust: passes,
-            not_started,
-            error: false,
-            text: String::new(),
-            row: String::new(),
+        use crate::check::{ChapterVerdict, Status};
+        let verdict = |chapter, status| ChapterVerdict {
+            status,
+            errors: Vec::new(),
+            ..crate::check::judge::unknown_chapter(chapter)
         };
-        let report = |verdicts, complete| SentReport {
-            verdicts,
-            running: Vec::new(),
-            complete,
-        };
-        let pass = verdict(1, "pass", true, false);
-        let fail = verdict(2, "FAIL", false, false);
-        let todo = verdict(3, "not started", false, true);
+        let report = |verdicts, stopped| CheckReport { verdicts, stopped };
+        let pass = verdict(1, Status::Pass);
+        let fail = verdict(2, Status::Fail);
+        let todo = verdict(3, Status::NotStarted);
         assert_eq!(
-            classify(&report(vec![pass.clone()], true)),
+            classify(&report(vec![pass.clone()], None)),
             CodeStatus::Pass
         );
         assert_eq!(
-            classify(&report(vec![pass.clone(), fail, todo.clone()], true)),
+            classify(&report(vec![pass.clone(), fail, todo.clone()], None)),
             CodeStatus::Fail
         );
         assert_eq!(
-            classify(&report(vec![pass.clone(), todo], true)),
+            classify(&report(vec![pass.clone(), todo], None)),
             CodeStatus::NotStarted
         );
-        // A run that stopped before its closing record passes nothing.
-        assert_eq!(classify(&report(vec![pass], false)), CodeStatus::Fail);
-        assert_eq!(classify(&report(Vec::new(), true)), CodeStatus::Fail);
+        // A run the judge stopped passes nothing.
+        assert_eq!(
+            classify(&report(vec![pass.clone()], Some(Stopped::TimedOut))),
+            CodeStatus::TimedOut
+        );
+        assert_eq!(
+            classify(&report(vec![pass], Some(Stopped::Refused("no".into())))),
+            CodeStatus::Error
+        );
+        assert_eq!(classify(&report(Vec::new(), None)), CodeStatus::Fail);
     }
 
     #[test]

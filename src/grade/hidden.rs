@@ -2,16 +2,14 @@
 //! each student's chapters render scenes the student never saw, and each
 //! image is compared with raylab's reference chapters on the same scene.
 //! A copied reference image proves nothing here: the scene is new, and
-//! the image comes from a render the grader runs (in the sandbox) with the
-//! student's binary, whose answer key is sealed (a chapter that calls
-//! raylab's own code writes no image).
+//! the image comes from the student's binary, asked by the grader to
+//! render it (in the sandbox), whose answer key is sealed.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 use super::GradeError;
-use super::code::{Ran, run_binary};
-use super::sandbox::Sandbox;
+use crate::check::judge::{Asker, Ended, Step};
+use crate::check::protocol::{Answered, Reply, Request};
 use crate::diff::{Criteria, Image, Metrics, compare};
 
 /// A hidden scene, loaded and checked, with its reference image.
@@ -84,87 +82,80 @@ pub fn load(paths: &[PathBuf], chapter: u8) -> Result<Vec<HiddenScene>, GradeErr
     Ok(scenes)
 }
 
-/// Renders each of `scenes` with the workspace's binary (`render --scene
-/// S --chapter N -o OUT`, inside `sandbox`, each within `timeout`) and
-/// compares the image with the scene's reference.
-pub fn grade_scenes(
-    workspace: &Path,
-    scenes: &[HiddenScene],
-    timeout: Duration,
-    sandbox: Option<&Sandbox>,
-    criteria: Criteria,
-) -> Result<Vec<SceneOutcome>, GradeError> {
-    let mut outcomes = Vec::new();
-    for scene in scenes {
-        let folder = tempfile::Builder::new()
-            .prefix("raylab-hidden-")
-            .tempdir()
-            .map_err(|error| GradeError::Run {
-                cargo: "a temporary folder".into(),
-                workspace: workspace.to_path_buf(),
-                error,
-            })?;
-        let scene_path = folder.path().join("scene.toml");
-        let image_path = folder.path().join("render.png");
-        std::fs::write(&scene_path, &scene.text).map_err(GradeError::Staging)?;
-        let args = [
-            "render".into(),
-            "--scene".into(),
-            scene_path.clone().into_os_string(),
-            "--chapter".into(),
-            scene.chapter.to_string().into(),
-            "-o".into(),
-            image_path.clone().into_os_string(),
-        ];
-        let Ran {
-            exit,
-            timed_out,
-            stderr,
-            ..
-        } = run_binary(workspace, &args, Some(folder.path()), timeout, sandbox)?;
-        let failed = |detail: String| SceneOutcome {
-            name: scene.name.clone(),
-            passed: false,
-            metrics: None,
-            detail,
-        };
-        if timed_out {
-            outcomes.push(failed(format!("timed out after {} s", timeout.as_secs())));
-            continue;
-        }
-        if !exit.is_some_and(|status| status.success()) {
-            outcomes.push(failed(format!(
-                "the render failed: {}",
-                super::code::last_lines(&stderr, 5)
-            )));
-            continue;
-        }
-        let image = crate::input::read_bounded(
-            &image_path,
-            crate::input::MAX_PNG_FILE_BYTES,
-            "PNG",
-            crate::input::Links::Refuse,
-        )
-        .map_err(GradeError::from)
-        .and_then(|bytes| Image::decode_png(&bytes).map_err(GradeError::from));
-        let outcome = match image {
-            Ok(image) => {
-                match compare(&image, &scene.reference, criteria, ("student", "reference")) {
-                    Ok(comparison) => SceneOutcome {
-                        name: scene.name.clone(),
-                        passed: comparison.passes(),
-                        metrics: Some(comparison.metrics),
-                        detail: format!(
-                            "compared with raylab's reference chapters on the scene at chapter {}",
-                            scene.chapter
-                        ),
-                    },
-                    Err(error) => failed(format!("{error:#}")),
+/// Renders each of `scenes` with the student's chapters, asked through
+/// `asker` (the workspace's binary answering as `serve`), and compares the
+/// image with the scene's reference.
+pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneOutcome> {
+    scenes
+        .iter()
+        .map(|scene| {
+            let failed = |detail: String| SceneOutcome {
+                name: scene.name.clone(),
+                passed: false,
+                metrics: None,
+                detail,
+            };
+            let step = Step {
+                chapter: scene.chapter,
+                function: "render".into(),
+                case: format!("the hidden scene {}", scene.name),
+            };
+            let request = Request::Render {
+                scene: scene.text.clone(),
+                chapter: scene.chapter,
+            };
+            let image = match asker.ask(&request, &step) {
+                Ok(Reply::Answer {
+                    answer: Answered::Rgb { width, height, rgb },
+                    used,
+                    escaped,
+                }) => {
+                    let ran: Vec<String> = used.into_iter().chain(escaped).collect();
+                    if !ran.is_empty() {
+                        return failed(format!(
+                            "the render ran raylab's own answers instead of the student's: {}",
+                            crate::text::terminal_safe(&ran.join(", "))
+                        ));
+                    }
+                    Image { width, height, rgb }
                 }
+                Ok(Reply::Answer {
+                    answer: Answered::Panicked(panic),
+                    ..
+                }) => {
+                    return failed(format!(
+                        "the render failed: a panic: {}",
+                        crate::text::terminal_safe(&panic.message)
+                    ));
+                }
+                Ok(Reply::Answer {
+                    answer: Answered::Error(error),
+                    ..
+                }) => return failed(format!("the render failed: {error}")),
+                Ok(_) => return failed("the render failed: no image came back".into()),
+                Err(Ended::TimedOut) => return failed("timed out".into()),
+                Err(Ended::Died(how)) => {
+                    return failed(format!("the render failed: the process {how}"));
+                }
+                Err(Ended::Refused(why)) => return failed(format!("the render failed: {why}")),
+            };
+            match compare(
+                &image,
+                &scene.reference,
+                Criteria::default(),
+                ("student", "reference"),
+            ) {
+                Ok(comparison) => SceneOutcome {
+                    name: scene.name.clone(),
+                    passed: comparison.passes(),
+                    metrics: Some(comparison.metrics),
+                    detail: format!(
+                        "compared with raylab's reference chapters on the scene at chapter {}",
+                        scene.chapter
+                    ),
+                },
+                Err(error) => failed(format!("{error:#}")),
             }
-            Err(error) => failed(format!("no image: {error:#}")),
-        };
-        outcomes.push(outcome);
-    }
-    Ok(outcomes)
+        })
+        .collect()
 }

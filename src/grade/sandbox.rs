@@ -124,6 +124,37 @@ impl Sandbox {
             command.arg("--bind").arg(folder).arg(folder);
             command.env("TMPDIR", folder);
         }
+        self.finish(command, workspace, program, args)
+    }
+
+    /// `binary serve` inside a sandbox where nothing can be written and
+    /// no process is visible: `/proc` is an empty folder (no
+    /// `/proc/self/fd` to reach the judge's pipes by, no `/proc/self/mem`
+    /// to read them from), every capability is dropped, and the run is
+    /// capped and limited as [`Sandbox::command`]'s.
+    pub fn serve_command(&self, workspace: &Path, binary: &Path) -> Sandboxed {
+        let mut command = Command::new(&self.bwrap);
+        command.args([
+            "--ro-bind",
+            "/",
+            "/",
+            "--dev",
+            "/dev",
+            "--tmpfs",
+            "/proc",
+            "--cap-drop",
+            "ALL",
+        ]);
+        self.finish(command, workspace, binary.into(), &["serve".into()])
+    }
+
+    fn finish(
+        &self,
+        mut command: Command,
+        workspace: &Path,
+        program: OsString,
+        args: &[OsString],
+    ) -> Sandboxed {
         command.args(["--unshare-all", "--die-with-parent", "--new-session"]);
         command.arg("--chdir").arg(workspace);
         command.arg("--").arg(program).args(args);

@@ -932,20 +932,23 @@ fn verdict_writer(verdicts: &[(u8, &str, bool, bool)], complete: bool, printed: 
     )
 }
 
-/// `raylab grade --code CLASS/` runs each workspace's `check`, sorting the
-/// outcomes by the verdict file alone (never by the exit status or a table
-/// the student's binary prints), and kills a run past its time limit, with
-/// everything it started.
+/// `raylab grade --code CLASS/` judges each workspace itself: a binary that
+/// does not answer raylab's questions gets no verdict, whatever it writes
+/// (a forged verdict file of the old protocol, with its closing record),
+/// prints (a passing table) or exits with (0); the build and the answers
+/// are killed past the time limit, with everything they started.
 #[cfg(unix)]
 #[test]
-fn code_mode_runs_each_workspace_check_with_a_time_limit() {
+fn code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit() {
     let dir = tempfile::tempdir().expect("temp dir");
     let class = dir.path().join("class");
     let table = |rows: &str, code: i32| {
         format!(
-            "fn main() {{\n    println!(\"chapter  status       cases   robustness   image\\n{rows}\");\n    std::process::exit({code});\n}}\n"
+            "fn main() {{\n    println!(\"chapter  status       cases   robustness   image\\n{rows}\");\n    eprintln!(\"the student's own words\");\n    std::process::exit({code});\n}}\n"
         )
     };
+    // The verdict file of the old protocol, forged: every chapter a pass,
+    // and the closing record.
     fake_workspace(
         &class,
         "ada",
@@ -955,33 +958,8 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
             "",
         ),
     );
-    fake_workspace(
-        &class,
-        "ben",
-        &verdict_writer(
-            &[(1, "pass", true, false), (2, "FAIL", false, false)],
-            true,
-            "",
-        ),
-    );
-    // Correct but not robust, then not started.
-    fake_workspace(
-        &class,
-        "cy",
-        &verdict_writer(
-            &[(1, "pass", true, false), (2, "not started", false, true)],
-            true,
-            "",
-        ),
-    );
-    // A passing table printed and exit 0, but no verdict: not a pass. Nor
-    // is a verdict file cut short (the process ended inside a chapter).
+    // A passing table printed and exit 0.
     fake_workspace(&class, "hal", &table("1 pass\\n2 pass", 0));
-    fake_workspace(
-        &class,
-        "ivy",
-        &verdict_writer(&[(1, "pass", true, false)], false, "1 pass"),
-    );
     fake_workspace(&class, "dee", "fn main() { this is not Rust }\n");
     fake_workspace(&class, "eli", &table("error: cannot read the scene", 2));
     // A child in a session of its own (out of the process group), then a
@@ -989,7 +967,7 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     let sleeper = fake_workspace(
         &class,
         "fay",
-        "fn main() {\n    std::process::Command::new(\"setsid\").args([\"sleep\", \"3617\"]).spawn().unwrap();\n    std::fs::write(\"started\", \"\").unwrap();\n    std::thread::sleep(std::time::Duration::from_secs(3600));\n}\n",
+        "fn main() {\n    std::process::Command::new(\"setsid\").args([\"sleep\", \"3617\"]).spawn().unwrap();\n    eprintln!(\"started\");\n    std::thread::sleep(std::time::Duration::from_secs(3600));\n}\n",
     );
     std::fs::create_dir(class.join("gus")).expect("mkdir");
     // Built beforehand, so that the time limit falls while the binary runs
@@ -1005,7 +983,9 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     assert!(built.success());
 
     let mut args = vec!["grade", "--code", "class", "--timeout", "5"];
-    let unsandboxed = sandbox_or_skip("code_mode_runs_each_workspace_check_with_a_time_limit");
+    let unsandboxed = sandbox_or_skip(
+        "code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit",
+    );
     let sandboxed = unsandboxed.is_empty();
     args.extend(unsandboxed);
     let mut command = common::command(&args, dir.path());
@@ -1014,43 +994,34 @@ fn code_mode_runs_each_workspace_check_with_a_time_limit() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let md = stdout(&out);
     for (student, verdict) in [
-        ("ada", "pass"),
-        ("ben", "fail"),
-        // One chapter passing: in progress, not "not started".
-        ("cy", "in progress: 1 of {LAST} pass, the rest not started"),
+        ("ada", "error"),
         ("hal", "error"),
-        ("ivy", "error"),
         ("dee", "build error"),
         ("eli", "error"),
         ("fay", "timed out"),
         ("gus", "refused: not a workspace: no Cargo.toml"),
     ] {
-        let verdict = verdict.replace("{LAST}", &LAST.to_string());
         let row = format!("| {student} | {verdict}");
         assert!(md.contains(&row), "{row:?} not in:\n{md}");
     }
     let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
-    assert!(csv.contains("ada,all,pass,"), "{csv}");
-    assert!(csv.contains("ben,all,fail,"), "{csv}");
-    assert!(
-        csv.contains("2        FAIL"),
-        "the verdict's table is kept: {csv}"
-    );
-    assert!(csv.contains("cy,all,not started,"), "{csv}");
+    for student in ["ada", "hal", "eli"] {
+        assert!(csv.contains(&format!("{student},all,error,")), "{csv}");
+    }
+    assert!(csv.contains("does not answer raylab's questions"), "{csv}");
     assert!(csv.contains("dee,all,build error,"), "{csv}");
     assert!(csv.contains("fay,all,timed out,"), "{csv}");
-    assert!(csv.contains("hal,all,error,"), "{csv}");
-    assert!(csv.contains("no verdict"), "{csv}");
-    assert!(csv.contains("the check did not finish"), "{csv}");
+    // What the students' binaries printed is shown, as theirs, and
+    // counted for nothing: no row passes.
+    assert!(csv.contains("the student's own words"), "{csv}");
+    assert!(!csv.contains(",all,pass,"), "{csv}");
     let html = std::fs::read_to_string(class.join("report.html")).expect("report");
-    assert!(html.contains("1        pass\n2        FAIL"), "{html}");
     assert!(html.contains("timed out after 5 s"), "{html}");
 
     // What the student's binary started died with the run, even a child
     // that left the process group: the sandbox's pid namespace ends whole.
     // Unsandboxed, only the process group is killed, and a child in a
     // session of its own lives on (killed here, so that it does not).
-    assert!(sleeper.join("started").exists(), "the sleeper never ran");
     if sandboxed {
         assert_eq!(
             running("sleep\x003617"),
@@ -1110,10 +1081,11 @@ fn running(marker: &str) -> usize {
 }
 
 /// A hostile workspace under `grade --code`: its build script and its
-/// binary write outside the workspace, connect to a port on the grader's
-/// machine, start a `setsid` child and allocate 50 GB. Nothing is written
-/// outside, no connection arrives, nothing is left running, and the
-/// student is marked (an error: the allocation aborts the check).
+/// binary write outside the workspace (the binary inside it too), connect
+/// to a port on the grader's machine, start a `setsid` child and allocate
+/// 50 GB. Nothing is written outside (nor, by the binary, inside), no
+/// connection arrives, nothing is left running, and the student is marked
+/// (an error: the allocation aborts the binary before it answers).
 #[cfg(target_os = "linux")]
 #[test]
 fn a_hostile_workspace_is_contained_by_the_sandbox() {
@@ -1130,9 +1102,10 @@ fn a_hostile_workspace_is_contained_by_the_sandbox() {
         "mallory",
         &format!(
             "fn main() {{\n    let _ = std::fs::write({main:?}, \"x\");\n    \
+             let _ = std::fs::write(\"in-the-workspace\", \"x\");\n    \
              let _ = std::net::TcpStream::connect((\"127.0.0.1\", {port}));\n    \
              let _ = std::process::Command::new(\"setsid\").args([\"sleep\", \"3619\"]).spawn();\n    \
-             std::fs::write(\"reached\", \"\").unwrap();\n    \
+             eprintln!(\"reached the allocation\");\n    \
              let hoard = vec![1u8; 50 << 30];\n    println!(\"{{}}\", hoard[12345]);\n}}\n",
             main = written("from-main"),
         ),
@@ -1156,9 +1129,11 @@ fn a_hostile_workspace_is_contained_by_the_sandbox() {
     let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
     assert!(csv.contains("mallory,all,error,"), "{csv}");
     assert!(
-        mallory.join("reached").exists(),
+        csv.contains("reached the allocation"),
         "the binary never ran: {csv}"
     );
+    // Answering, the binary may write nothing, its workspace included.
+    assert!(!mallory.join("in-the-workspace").exists());
     let escaped: Vec<_> = std::fs::read_dir(&outside)
         .expect("read")
         .flatten()
@@ -1267,74 +1242,132 @@ fn code_mode_reports_copied_chapters() {
     );
 }
 
-/// `grade --code --scene` has each workspace's binary render the
-/// instructor's scene (`render --scene S --chapter N -o OUT`, in the
-/// sandbox) and compares the image with raylab's reference chapters on that
-/// scene: the right image passes; raylab's shipped reference of a built-in
-/// scene (what a copier has) fails; a binary that cannot render fails with
-/// its reason.
+/// The workspaces tests/cli/workspace.rs builds (into this test's target
+/// folder, in the dev profile), each given a `target/` of hard links to
+/// that folder's `debug/`, so that `grade --code --build-profile dev`
+/// finds them built, from their own folder as the grader builds them:
+/// the judging is tested without a build per student.
+fn built_class() -> &'static Path {
+    static CLASS: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    CLASS.get_or_init(|| {
+        let ws = crate::workspace::workspaces();
+        for student in ["student-answer", "student-todo", "student-cheat"] {
+            let target = ws.root.join(student).join("target");
+            if target.exists() {
+                continue;
+            }
+            std::fs::create_dir_all(&target).expect("mkdir");
+            let linked = std::process::Command::new("cp")
+                .arg("-al")
+                .arg(ws.target.join("debug"))
+                .arg(target.join("debug"))
+                .status()
+                .expect("cp -al");
+            assert!(linked.success(), "cp -al into {}", target.display());
+        }
+        ws.root.clone()
+    })
+}
+
+/// `raylab grade --code --student NAME` of the built class (see
+/// [`built_class`]) with `extra` arguments: the student's result.
+fn grade_built(student: &str, extra: &[&str]) -> (serde_json::Value, String) {
+    let class = built_class();
+    let results = tempfile::tempdir().expect("temp dir");
+    let result = results.path().join("result.json");
+    let mut args = vec![
+        "grade",
+        class.to_str().expect("UTF-8 path"),
+        "--code",
+        "--build-profile",
+        "dev",
+        "--student",
+        student,
+        "--result",
+        result.to_str().expect("UTF-8 path"),
+    ];
+    args.extend(extra);
+    args.extend(sandbox_or_skip("the_grader_judges_real_workspaces_itself"));
+    let out = raylab(&args, class);
+    let text = std::fs::read_to_string(&result)
+        .unwrap_or_else(|error| panic!("no result ({error}): {}", stderr(&out)));
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    (value, format!("{}{}", stdout(&out), stderr(&out)))
+}
+
+/// The status of a graded student's code run, and the verdicts' text.
+fn code_status(result: &serde_json::Value) -> (String, String) {
+    let run = &result["student"]["outcome"]["Code"];
+    (
+        run["status"].as_str().unwrap_or_default().to_string(),
+        run["stdout"].as_str().unwrap_or_default().to_string(),
+    )
+}
+
+/// `grade --code` of real workspaces: the grader judges, their binaries
+/// answer. The answer key passes (and renders a hidden scene as raylab's
+/// reference does), the skeleton is not started, chapters that run
+/// raylab's own answers fail, and a chapter answering from a table
+/// prepared in advance passes the lesson's inputs but not `--fresh` ones.
 #[cfg(unix)]
 #[test]
-fn hidden_scenes_are_rendered_by_each_student_and_compared() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let class = dir.path().join("class");
+fn the_grader_judges_real_workspaces_itself() {
+    let (answer, text) = grade_built("student-answer", &["--chapter", "3"]);
+    let (status, verdicts) = code_status(&answer);
+    assert_eq!(status, "Pass", "{verdicts}\n{text}");
+    assert!(verdicts.contains("chapter 3: Nearest hit"), "{verdicts}");
+
+    let (todo, text) = grade_built("student-todo", &["--chapter", "2"]);
+    let (status, verdicts) = code_status(&todo);
+    assert_eq!(status, "NotStarted", "{verdicts}\n{text}");
+
+    let (cheat, text) = grade_built("student-cheat", &["--chapter", "3"]);
+    let (status, verdicts) = code_status(&cheat);
+    assert_eq!(status, "Fail", "{verdicts}\n{text}");
+    assert!(
+        verdicts.contains("runs raylab's own answer instead of yours: Sphere::intersect"),
+        "{verdicts}"
+    );
+
+    // The table of every call the check makes, in the cheat's own folder,
+    // where its binary answers from it.
+    let table = built_class().join("student-cheat/answers.table");
+    std::fs::write(&table, crate::workspace::harvested_table()).expect("write the table");
+    let (plain, _) = grade_built("student-cheat", &["--chapter", "1"]);
+    let (fresh, _) = grade_built("student-cheat", &["--chapter", "1", "--fresh", "7"]);
+    std::fs::remove_file(&table).expect("remove the table");
+    let (status, verdicts) = code_status(&plain);
+    assert_eq!(status, "Pass", "{verdicts}");
+    let (status, verdicts) = code_status(&fresh);
+    assert_eq!(status, "Fail", "{verdicts}");
+    assert_eq!(fresh["fresh"], 7, "{fresh}");
+    let (honest, _) = grade_built("student-answer", &["--chapter", "1", "--fresh", "7"]);
+    assert_eq!(code_status(&honest).0, "Pass", "{}", code_status(&honest).1);
+
+    // A hidden scene: the answer key renders it as raylab's reference
+    // does; the cheat's chapter 2 runs raylab's own answer, which no
+    // render may use.
     let scene_text = "background = [0.2, 0.3, 0.4]\n[camera]\nposition = [0, 1, -4]\n\
         look_at = [0, 0.5, 0]\n[render]\nwidth = 40\nheight = 30\n[[lights]]\n\
         position = [2, 5, -3]\n[[objects]]\nsphere = { center = [0.3, 0.6, 0], radius = 0.6 }\n\
         [[objects]]\nplane = { point = [0, 0, 0], normal = [0, 1, 0] }\n";
-    let scene_file = dir.path().join("private.toml");
-    std::fs::write(&scene_file, scene_text).expect("write");
-    let scene = raylab::Scene::parse(scene_text, "the hidden scene").expect("parses");
-    let right = raylab::render(&scene, 6, &scene.render, None).expect("renders");
-    // A binary that answers `render ... -o OUT` with a file it was given.
-    let copy_to_output = |source: &str| {
-        format!(
-            "fn main() {{\n    let args: Vec<String> = std::env::args().collect();\n    \
-             if let Some(at) = args.iter().position(|a| a == \"--verdict-file\") {{\n        \
-             std::fs::write(&args[at + 1], \"{{\\\"verdict\\\":{{\\\"chapter\\\":1,\\\"status\\\":\\\"pass\\\",\\\"passes\\\":true,\\\"robust\\\":true,\\\"not_started\\\":false,\\\"error\\\":false,\\\"text\\\":\\\"\\\",\\\"row\\\":\\\"1 pass\\\\n\\\"}}}}\\n\\\"end\\\"\\n\").unwrap();\n        return;\n    }}\n    \
-             let out = args.iter().position(|a| a == \"-o\").unwrap();\n    \
-             std::fs::copy({source:?}, &args[out + 1]).unwrap();\n}}\n"
-        )
-    };
-    let good = fake_workspace(&class, "good", &copy_to_output("good.png"));
-    save(&good.join("good.png"), &right);
-    let copier = fake_workspace(&class, "copier", &copy_to_output("copied.png"));
-    std::fs::copy(snapshots().join("chapter-6.png"), copier.join("copied.png")).expect("copy");
-    fake_workspace(
-        &class,
-        "broken",
-        &copy_to_output("missing.png").replace(
-            "std::fs::copy",
-            "std::process::exit(3); #[allow(unreachable_code)] std::fs::copy",
-        ),
-    );
-    let mut args = vec![
-        "grade",
-        "--code",
-        "class",
-        "--scene",
-        "private.toml",
-        "--scene-chapter",
-        "6",
-    ];
-    args.extend(sandbox_or_skip(
-        "hidden_scenes_are_rendered_by_each_student_and_compared",
-    ));
-    let out = raylab(&args, dir.path());
-    let csv = std::fs::read_to_string(class.join("grades.csv")).unwrap_or_default();
-    assert_eq!(out.status.code(), Some(1), "{}\n{csv}", stderr(&out));
-    assert!(csv.contains("good,scene:private.toml,pass,0,"), "{csv}");
-    assert!(csv.contains("copier,scene:private.toml,fail,"), "{csv}");
-    assert!(csv.contains("broken,scene:private.toml,fail,"), "{csv}");
-    assert!(csv.contains("the render failed"), "{csv}");
-    let md = stdout(&out);
+    let scenes = tempfile::tempdir().expect("temp dir");
+    let scene = scenes.path().join("private.toml");
+    std::fs::write(&scene, scene_text).expect("write");
+    let scene = scene.to_str().expect("UTF-8 path");
+    let hidden = ["--chapter", "1", "--scene", scene, "--scene-chapter", "6"];
+    let (answer, _) = grade_built("student-answer", &hidden);
+    let scenes = &answer["student"]["outcome"]["Code"]["scenes"];
+    assert_eq!(scenes[0]["passed"], true, "{scenes}");
+    let (cheat, _) = grade_built("student-cheat", &hidden);
+    let scenes = &cheat["student"]["outcome"]["Code"]["scenes"];
+    assert_eq!(scenes[0]["passed"], false, "{scenes}");
     assert!(
-        md.contains("| good | pass; hidden scenes: 1 of 1 pass |"),
-        "{md}"
-    );
-    assert!(
-        md.contains("| copier | pass; hidden scenes: 0 of 1 pass |"),
-        "{md}"
+        scenes[0]["detail"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("raylab's own answers"),
+        "{scenes}"
     );
 }
 

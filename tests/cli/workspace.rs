@@ -17,12 +17,12 @@ use std::sync::OnceLock;
 use common::{raylab, stderr, stdout};
 use raylab::chapters::CHAPTERS;
 
-struct Workspaces {
-    root: PathBuf,
-    todo: PathBuf,
-    answer: PathBuf,
+pub(crate) struct Workspaces {
+    pub(crate) root: PathBuf,
+    pub(crate) todo: PathBuf,
+    pub(crate) answer: PathBuf,
     /// The target folder the workspaces were built into.
-    target: PathBuf,
+    pub(crate) target: PathBuf,
 }
 
 /// This test's target folder: the raylab binary is `<target>/<profile>/raylab`.
@@ -35,7 +35,7 @@ fn target_dir() -> PathBuf {
         .to_path_buf()
 }
 
-fn workspaces() -> &'static Workspaces {
+pub(crate) fn workspaces() -> &'static Workspaces {
     static BUILT: OnceLock<Workspaces> = OnceLock::new();
     BUILT.get_or_init(|| {
         let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("workspace-test");
@@ -62,6 +62,7 @@ fn workspaces() -> &'static Workspaces {
             assert!(text.contains(honest), "{honest} not in {text}");
             text = text.replace(honest, cheating);
         }
+        text.push_str(TABLE_LOOKUP);
         std::fs::write(&glue, text).expect("write the glue");
         // raylab's own chapters run by the workspace's own main, from
         // outside the workspace.
@@ -111,7 +112,10 @@ const CHEATS: &[(&str, &str)] = &[
          loop {\n                std::thread::sleep(std::time::Duration::from_secs(1));\n            }\n        }\n        \
          if std::env::var_os(\"CHEAT_EXIT\").is_some() {\n            \
          println!(\"chapter  status       cases   robustness     image\\n1        pass\");\n            \
-         std::process::exit(0);\n        }\n        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
+         std::process::exit(0);\n        }\n        \
+         if let Some(answer) = table_answer(plane, ray, t_min, t_max) {\n            \
+         return answer;\n        }\n        \
+         ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
     ),
     (
         "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
@@ -135,6 +139,50 @@ const CHEATS: &[(&str, &str)] = &[
         "        <Textbook<crate::Mine, false, true> as Chapters>::intersect_triangle(triangle, ray, t_min, t_max)",
     ),
 ];
+
+/// The cheating workspace's table of answers: where a file `answers.table`
+/// is in the folder it runs in, chapter 1 answers from it, every call it
+/// does not list with no hit. Each line is a call's inputs (the plane's
+/// point and normal, the ray's origin and direction, `t_min`, `t_max`, as
+/// the bits of each `f32` in hex) and its answer (`none`, or the bits of
+/// `t`).
+const TABLE_LOOKUP: &str = r#"
+fn table_answer(
+    plane: &raylab::Plane,
+    ray: &raylab::Ray,
+    t_min: f32,
+    t_max: f32,
+) -> Option<Option<f32>> {
+    use std::collections::HashMap;
+    static TABLE: std::sync::OnceLock<Option<HashMap<Vec<u32>, Option<f32>>>> =
+        std::sync::OnceLock::new();
+    let table = TABLE.get_or_init(|| {
+        let text = std::fs::read_to_string("answers.table").ok()?;
+        let mut table = HashMap::new();
+        for line in text.lines() {
+            let mut words = line.split(' ');
+            let key: Vec<u32> = words
+                .by_ref()
+                .take(14)
+                .map(|word| u32::from_str_radix(word, 16).unwrap_or(0))
+                .collect();
+            let answer = match words.next() {
+                Some("none") | None => None,
+                Some(bits) => Some(f32::from_bits(u32::from_str_radix(bits, 16).unwrap_or(0))),
+            };
+            table.insert(key, answer);
+        }
+        Some(table)
+    });
+    let table = table.as_ref()?;
+    let mut key = Vec::new();
+    for v in [plane.point(), plane.normal(), ray.origin, ray.dir] {
+        key.extend(v.to_array().map(f32::to_bits));
+    }
+    key.extend([t_min.to_bits(), t_max.to_bits()]);
+    Some(table.get(&key).copied().flatten())
+}
+"#;
 
 /// Runs a workspace's binary (named after its package) in `dir`, with no
 /// RUST_BACKTRACE so that what a student sees by default is tested.
@@ -210,7 +258,10 @@ fn the_workspace_has_a_file_per_chapter_and_a_todo_per_function() {
         assert!(!answer.contains("todo!("), "{file}");
         assert!(todo.contains(&info.lesson_path()), "{file}");
         assert!(
-            checks.contains(&format!("assert_chapter::<Mine>({})", info.number)),
+            checks.contains(&format!(
+                "assert_chapter(env!(\"CARGO_BIN_EXE_student-todo\"), {})",
+                info.number
+            )),
             "{checks}"
         );
     }
@@ -538,21 +589,18 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     let out = command.output().expect("run the cheat");
     let text = stdout(&out);
     assert_eq!(out.status.code(), Some(1), "{text}");
+    // The table the chapter printed is no verdict: the judge's says the
+    // case it was answering got no answer, and the chapter fails.
     assert!(
-        text.contains(
-            "the check did not finish: the process exited with status 0 while chapter 1's \
-             check ran intersect_plane"
-        ),
+        text.contains("got:      no answer: the process exited with status 0 while working it out"),
         "{text}"
     );
-    assert!(
-        text.contains("(no verdict: the check did not finish)"),
-        "{text}"
-    );
+    assert!(text.contains("1        FAIL"), "{text}");
+    assert!(!text.contains("1        pass"), "{text}");
 }
 
-/// A chapter that never returns: the check says where it is once it has
-/// started no new step for a while (here 2 s), and goes on.
+/// A chapter that never returns: the check says where it is once a step
+/// has gone without an answer for a while (here 2 s), and goes on.
 #[cfg(unix)]
 #[test]
 fn a_check_that_stalls_says_where_it_is() {
@@ -607,22 +655,11 @@ fn a_check_that_stalls_says_where_it_is() {
         libc::kill(-(child.id() as i32), libc::SIGKILL);
     }
     let _ = child.wait();
-    // The check's verdict file, named after its process, went with it.
-    let prefix = format!("raylab-check-{}-", child.id());
-    let left: Vec<_> = std::fs::read_dir(std::env::temp_dir())
-        .expect("the temporary folder")
-        .flatten()
-        .filter(|entry| entry.file_name().to_string_lossy().starts_with(&prefix))
-        .map(|entry| entry.path())
-        .collect();
-    for path in &left {
-        let _ = std::fs::remove_file(path);
-    }
-    assert!(left.is_empty(), "left behind: {left:?}");
     let notice = notice.expect("a notice within two minutes");
     assert!(
         notice.contains(
-            "still running after 2 s without a new step: chapter 1's check ran intersect_plane"
+            "still running after 2 s without an answer: chapter 1's check ran intersect_plane \
+             (plane-straight-down)"
         ),
         "{notice}"
     );
@@ -673,11 +710,14 @@ fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
     assert!(!inside.join("chapter-3.png").exists());
 }
 
-/// The reference chapters' modules are out of a workspace's reach: a
-/// chapter that calls `raylab::chapters::ch02_sphere::intersect_sphere`
-/// does not compile (raylab's `student` feature makes them private).
+/// The reference chapters' modules are out of a workspace's reach, and so
+/// are the judge's cases and its checks: a chapter that calls
+/// `raylab::chapters::ch02_sphere::intersect_sphere`, reads
+/// `raylab::check::catalog::checkpoints` (where the expected answers are)
+/// or runs `raylab::check::check_chapter` in its own process does not
+/// compile (raylab's `student` feature makes them private).
 #[test]
-fn a_workspace_cannot_name_the_reference_chapters() {
+fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
     let ws = workspaces();
     let copy = ws.root.join("student-module");
     let output = raylab(
@@ -686,10 +726,20 @@ fn a_workspace_cannot_name_the_reference_chapters() {
     );
     assert!(output.status.success(), "raylab new: {}", stderr(&output));
     let glue = copy.join("src/chapters/mod.rs");
-    let text = read(&glue).replace(
-        "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
-        "        raylab::chapters::ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
-    );
+    let text = read(&glue)
+        .replace(
+            "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
+            "        raylab::chapters::ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
+        )
+        .replace(
+            "        ch06_reflection::reflect(d, n)",
+            "        { let _ = raylab::check::catalog::checkpoints(6); ch06_reflection::reflect(d, n) }",
+        )
+        .replace(
+            "        ch08_refraction::refract(d, n, eta)",
+            "        { let _ = raylab::check::check_chapter::<crate::Mine>(8, &Default::default()); \
+             ch08_refraction::refract(d, n, eta) }",
+        );
     std::fs::write(&glue, text).expect("write the glue");
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
@@ -704,4 +754,84 @@ fn a_workspace_cannot_name_the_reference_chapters() {
         message.contains("intersect_sphere") && message.contains("ch02_sphere"),
         "{message}"
     );
+    assert!(message.contains("module `catalog` is private"), "{message}");
+    assert!(
+        message.contains("function `check_chapter` is private"),
+        "{message}"
+    );
+}
+
+/// Every call of `intersect_plane` that raylab's check of chapter 1 makes
+/// (its cases, its image, its hard cases), with the reference's answers,
+/// as `answers.table` lines (see [`TABLE_LOOKUP`]): the table a student
+/// could prepare by running the reference once.
+pub(crate) fn harvested_table() -> String {
+    use std::sync::Mutex;
+    static CALLS: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    struct Recorder;
+    impl raylab::Chapters for Recorder {
+        fn intersect_plane(
+            plane: &raylab::Plane,
+            ray: &raylab::Ray,
+            t_min: f32,
+            t_max: f32,
+        ) -> Option<f32> {
+            let answer =
+                <raylab::Reference as raylab::Chapters>::intersect_plane(plane, ray, t_min, t_max);
+            let mut words: Vec<String> = Vec::new();
+            for v in [plane.point(), plane.normal(), ray.origin, ray.dir] {
+                words.extend(v.to_array().map(|x| format!("{:x}", x.to_bits())));
+            }
+            words.extend([t_min, t_max].map(|x| format!("{:x}", x.to_bits())));
+            words.push(answer.map_or("none".into(), |t| format!("{:x}", t.to_bits())));
+            CALLS.lock().expect("the calls").push(words.join(" "));
+            answer
+        }
+    }
+    let options = raylab::check::CheckOptions {
+        write_images: false,
+        ..Default::default()
+    };
+    let verdict = raylab::check::check_chapter::<Recorder>(1, &options);
+    assert!(verdict.robust(), "{}", verdict.text());
+    let calls = CALLS.lock().expect("the calls");
+    assert!(calls.len() > 1000, "{} calls", calls.len());
+    calls.join("\n")
+}
+
+/// A chapter that answers from a table prepared in advance (every call the
+/// check makes, answered by raylab's reference) passes the lesson's
+/// inputs, and fails with fresh ones (`check --fresh`, as `grade --code
+/// --fresh` asks), where the honest chapters still pass.
+#[test]
+fn a_prepared_table_of_answers_passes_the_lessons_inputs_only() {
+    let ws = workspaces();
+    let dir = ws.root.join("table-out");
+    std::fs::create_dir_all(&dir).expect("create");
+    std::fs::write(dir.join("answers.table"), harvested_table()).expect("write the table");
+    let plain = run_student("student-cheat", &["check", "--chapter", "1"], &dir);
+    assert_eq!(plain.status.code(), Some(0), "{}", stdout(&plain));
+    assert!(
+        stdout(&plain).contains("pass (robust)"),
+        "{}",
+        stdout(&plain)
+    );
+    let fresh = run_student(
+        "student-cheat",
+        &["check", "--chapter", "1", "--fresh", "7"],
+        &dir,
+    );
+    let text = stdout(&fresh);
+    assert_eq!(fresh.status.code(), Some(1), "{text}");
+    assert!(text.contains("with fresh inputs"), "{text}");
+    // Without the table, the same chapter (the answer key's) passes the
+    // same fresh inputs.
+    let honest = ws.root.join("table-honest-out");
+    std::fs::create_dir_all(&honest).expect("create");
+    let fresh = run_student(
+        "student-cheat",
+        &["check", "--chapter", "1", "--fresh", "7"],
+        &honest,
+    );
+    assert_eq!(fresh.status.code(), Some(0), "{}", stdout(&fresh));
 }

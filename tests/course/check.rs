@@ -16,6 +16,7 @@ fn options() -> CheckOptions {
         failures_dir: std::env::temp_dir().join("raylab-check-tests"),
         write_images: false,
         forbid_answer_key: false,
+        fresh: None,
     }
 }
 
@@ -774,6 +775,7 @@ fn a_failing_image_is_written_with_its_heatmap() {
         failures_dir: folder.clone(),
         write_images: true,
         forbid_answer_key: false,
+        fresh: None,
     };
     // A bug only the picture shows (no checkpoint of chapter 1 is further
     // than t = 10): the floor clipped beyond t = 100.
@@ -823,6 +825,7 @@ fn foreign_files_in_the_failures_folder_are_kept() {
         failures_dir: folder.path().to_path_buf(),
         write_images: true,
         forbid_answer_key: false,
+        fresh: None,
     };
     let own = folder.path().join("chapter-1.png");
     std::fs::write(&own, "a student's own picture").expect("write");

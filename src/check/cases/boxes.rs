@@ -16,14 +16,26 @@ pub struct HitBoxCase {
     pub expect: Option<f64>,
 }
 
-impl HitBoxCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// `hit_box`'s inputs: the box `(min, max)`, the ray's origin and
+/// direction (the call takes its inverse), the interval.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct HitBoxCall {
+    pub bounds: (Vec3, Vec3),
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl Kind for HitBoxCase {
+    type Call = HitBoxCall;
+    type Answer = Option<f32>;
+
+    fn function(&self) -> &'static str {
         "hit_box"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let HitBoxCase {
             min,
             max,
@@ -43,19 +55,30 @@ impl HitBoxCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let HitBoxCase {
-            min,
-            max,
-            origin,
-            dir,
-            t_min,
-            t_max,
-            expect,
-        } = self;
-        let got = C::hit_box(&Aabb::new(*min, *max), *origin, dir.recip(), *t_min, *t_max);
+    fn call(&self) -> HitBoxCall {
+        HitBoxCall {
+            bounds: (self.min, self.max),
+            origin: self.origin,
+            dir: self.dir,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &HitBoxCall) -> Result<Option<f32>, String> {
+        let (min, max) = call.bounds;
+        Ok(C::hit_box(
+            &Aabb::new(min, max),
+            call.origin,
+            call.dir.recip(),
+            call.t_min,
+            call.t_max,
+        ))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: Option<f32>, _robust: bool) -> Outcome {
+        let expect = &self.expect;
         let show = |entry: Option<String>| {
             entry.map_or_else(|| "None (misses)".into(), |t| format!("Some({t})"))
         };
@@ -70,13 +93,40 @@ impl HitBoxCase {
         };
         verdict(pass, show(expect.map(num64)), show(got.map(num)))
     }
+
+    /// The box and the ray moved by a motion that keeps the axes; the
+    /// entry worked out again by the exact slab test (`t_min` from
+    /// inside).
+    fn fresh(&self, draw: &mut Draw) -> Option<HitBoxCase> {
+        let motion = draw.axis_motion();
+        let (min, max) = motion.aligned_box(self.min, self.max);
+        let (origin, dir) = (motion.point(self.origin), motion.direction(self.dir));
+        let (t_min, t_max) = (motion.t(self.t_min), motion.t(self.t_max));
+        let expect = self.expect.and_then(|_| {
+            let (entry, exit) = exact::slab_interval(&Aabb::new(min, max), origin, dir);
+            let entry = entry.max(f64::from(t_min));
+            (entry <= exit.min(f64::from(t_max))).then_some(entry)
+        });
+        if expect.is_none() && self.expect.is_some() {
+            return None;
+        }
+        Some(HitBoxCase {
+            min,
+            max,
+            origin,
+            dir,
+            t_min,
+            t_max,
+            expect,
+        })
+    }
 }
 
 /// `hit_box` on `rays` rays from random origins aimed at random points
 /// of the box's twelve edges (drawn from `seed`): whenever the exact
 /// ray (the `f32` origin and direction, in `f64`) meets the box, the
 /// answer must be a hit.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct BoxEdgesCase {
     pub min: Vec3,
     pub max: Vec3,
@@ -87,9 +137,13 @@ pub struct BoxEdgesCase {
     pub four_at_once: bool,
 }
 
-impl BoxEdgesCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for BoxEdgesCase {
+    type Call = BoxEdgesCase;
+    /// The first ray the exact slab test says meets the box and the
+    /// chapters refused, with its number and the exact interval.
+    type Answer = Option<RefusedRay>;
+
+    fn function(&self) -> &'static str {
         if self.four_at_once {
             "hit_boxes"
         } else {
@@ -97,8 +151,7 @@ impl BoxEdgesCase {
         }
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let BoxEdgesCase {
             min,
             max,
@@ -120,18 +173,76 @@ impl BoxEdgesCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let BoxEdgesCase {
+    fn call(&self) -> BoxEdgesCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &BoxEdgesCase) -> Result<Option<RefusedRay>, String> {
+        Ok(box_edges::<C>(
+            &Aabb::new(call.min, call.max),
+            call.rays,
+            call.seed,
+            call.four_at_once,
+        ))
+    }
+
+    /// The same rule at both levels: every ray the exact slab test says
+    /// meets the box is a hit. The judge draws the rays again and checks
+    /// that the refused one is one of them, and meets the box.
+    fn judge(&self, refused: Option<RefusedRay>, _robust: bool) -> Outcome {
+        let Some(refused) = refused else {
+            return Outcome::Pass;
+        };
+        let bounds = Aabb::new(self.min, self.max);
+        let drawn = edge_rays(&bounds, self.rays, self.seed)
+            .nth(refused.index as usize)
+            .is_some_and(|(origin, dir)| origin == refused.origin && dir == refused.dir);
+        if !drawn {
+            return Outcome::Fail {
+                expected: "a hit for every ray the exact test says meets the box".into(),
+                got: format!(
+                    "an answer about ray {}, which is not the case's",
+                    refused.index + 1
+                ),
+            };
+        }
+        let (entry, exit) = exact::slab_interval(&bounds, refused.origin, refused.dir);
+        Outcome::Fail {
+            expected: format!(
+                "a hit: the exact ray meets the box from t = {} to t = {}",
+                num64(entry),
+                num64(exit)
+            ),
+            got: format!(
+                "None for ray {} of {}: from {} along {}",
+                refused.index + 1,
+                self.rays,
+                vec(refused.origin),
+                vec(refused.dir)
+            ),
+        }
+    }
+
+    /// Another seed, and the box moved by a motion that keeps the axes.
+    fn fresh(&self, draw: &mut Draw) -> Option<BoxEdgesCase> {
+        let motion = draw.axis_motion();
+        let (min, max) = motion.aligned_box(self.min, self.max);
+        Some(BoxEdgesCase {
             min,
             max,
-            rays,
-            seed,
-            four_at_once,
-        } = self;
-        box_edges::<C>(&Aabb::new(*min, *max), *rays, *seed, *four_at_once)
+            seed: draw.word() | 1,
+            ..self.clone()
+        })
     }
+}
+
+/// A ray of a [`BoxEdgesCase`] that the chapters refused: its number from
+/// 0, origin and direction.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RefusedRay {
+    pub index: u32,
+    pub origin: Vec3,
+    pub dir: Vec3,
 }
 
 /// `build_bvh` over the boxes of `shapes` (`Shape::bounds`): the tree
@@ -147,14 +258,23 @@ pub struct BvhBuildCase {
     pub expect: TreeShape,
 }
 
-impl BvhBuildCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// A tree's call: the objects (their boxes are what the build gets) and
+/// the build's options.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct TreeCall {
+    pub shapes: Vec<Shape>,
+    pub options: BvhOptions,
+}
+
+impl Kind for BvhBuildCase {
+    type Call = TreeCall;
+    type Answer = Bvh;
+
+    fn function(&self) -> &'static str {
         "build_bvh"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let BvhBuildCase {
             shapes, options, ..
         } = self;
@@ -165,16 +285,22 @@ impl BvhBuildCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let BvhBuildCase {
-            shapes,
-            options,
-            expect,
-        } = self;
-        let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
-        let bvh = C::build_bvh(&bounds, options);
+    fn call(&self) -> TreeCall {
+        TreeCall {
+            shapes: self.shapes.clone(),
+            options: self.options,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &TreeCall) -> Result<Bvh, String> {
+        let bounds: Vec<Option<Aabb>> = call.shapes.iter().map(Shape::bounds).collect();
+        Ok(C::build_bvh(&bounds, &call.options))
+    }
+
+    /// The same rule at both levels.
+    fn judge(&self, bvh: Bvh, _robust: bool) -> Outcome {
+        let expect = &self.expect;
+        let bounds: Vec<Option<Aabb>> = self.shapes.iter().map(Shape::bounds).collect();
         match tree_problem(&bvh, &bounds) {
             None => match shape_problem(&bvh, &bounds, expect) {
                 None => Outcome::Pass,
@@ -188,6 +314,24 @@ impl BvhBuildCase {
             },
         }
     }
+
+    /// The objects moved by a motion that keeps the axes: every cut the
+    /// lesson's rules give is the same partition of the same objects.
+    fn fresh(&self, draw: &mut Draw) -> Option<BvhBuildCase> {
+        let motion = draw.axis_motion();
+        Some(BvhBuildCase {
+            shapes: moved_shapes(&motion, &self.shapes)?,
+            ..self.clone()
+        })
+    }
+}
+
+/// Every shape of `shapes` moved by `motion`, if every one can be.
+fn moved_shapes(motion: &Motion, shapes: &[Shape]) -> Option<Vec<Shape>> {
+    shapes
+        .iter()
+        .map(|shape| super::intersections::moved_shape(motion, shape))
+        .collect()
 }
 
 /// `build_bvh` over the boxes of `shapes`, then for each of `rays`
@@ -209,9 +353,32 @@ pub struct BvhHitsCase {
     pub wide: bool,
 }
 
-impl BvhHitsCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// A walk's call: the tree's, the rays, the interval, which walk.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct WalkCall {
+    pub tree: TreeCall,
+    pub rays: Vec<Ray>,
+    pub t_min: f32,
+    pub t_max: f32,
+    pub any: bool,
+    pub wide: bool,
+}
+
+/// One ray's walk: the walk's hit, chapter 3's loop's over the same
+/// objects with the same chapters, and, for a hit the walk claims, that
+/// object's own test on the ray.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Walked {
+    pub walk: Option<(usize, f32)>,
+    pub by_loop: Option<(usize, f32)>,
+    pub own_test: Option<f32>,
+}
+
+impl Kind for BvhHitsCase {
+    type Call = WalkCall;
+    type Answer = Vec<Walked>;
+
+    fn function(&self) -> &'static str {
         match (self.wide, self.any) {
             (false, false) => "nearest_hit_bvh",
             (false, true) => "any_hit_bvh",
@@ -220,8 +387,7 @@ impl BvhHitsCase {
         }
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let BvhHitsCase {
             shapes,
             options,
@@ -256,37 +422,71 @@ impl BvhHitsCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let BvhHitsCase {
+    fn call(&self) -> WalkCall {
+        WalkCall {
+            tree: TreeCall {
+                shapes: self.shapes.clone(),
+                options: self.options,
+            },
+            rays: self.rays.clone(),
+            t_min: self.t_min,
+            t_max: self.t_max,
+            any: self.any,
+            wide: self.wide,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &WalkCall) -> Result<Vec<Walked>, String> {
+        let (t_min, t_max, any) = (call.t_min, call.t_max, call.any);
+        let shapes = &call.tree.shapes;
+        let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
+        let bvh = C::build_bvh(&bounds, &call.tree.options);
+        if call.wide {
+            let wide = C::collapse_bvh(&bvh, shapes);
+            return Ok(bvh_hits::<C>(
+                shapes,
+                &call.rays,
+                t_min,
+                t_max,
+                |objects, ray| {
+                    if any {
+                        C::any_hit_wide(&wide, objects, ray, t_min, t_max)
+                    } else {
+                        C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
+                    }
+                },
+            ));
+        }
+        Ok(bvh_hits::<C>(
             shapes,
-            options,
-            rays,
+            &call.rays,
             t_min,
             t_max,
-            any,
-            wide,
-        } = self;
-        let (t_min, t_max, any) = (*t_min, *t_max, *any);
-        let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
-        let bvh = C::build_bvh(&bounds, options);
-        if *wide {
-            let wide = C::collapse_bvh(&bvh, shapes);
-            return bvh_hits::<C>(shapes, rays, t_min, t_max, any, |objects, ray| {
+            |objects, ray| {
                 if any {
-                    C::any_hit_wide(&wide, objects, ray, t_min, t_max)
+                    C::any_hit_bvh(&bvh, objects, ray, t_min, t_max)
                 } else {
-                    C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
+                    C::nearest_hit_bvh(&bvh, objects, ray, t_min, t_max)
                 }
-            });
-        }
-        bvh_hits::<C>(shapes, rays, t_min, t_max, any, |objects, ray| {
-            if any {
-                C::any_hit_bvh(&bvh, objects, ray, t_min, t_max)
-            } else {
-                C::nearest_hit_bvh(&bvh, objects, ray, t_min, t_max)
-            }
+            },
+        ))
+    }
+
+    /// The same rule at both levels (see [`judge_walks`]).
+    fn judge(&self, walked: Vec<Walked>, _robust: bool) -> Outcome {
+        judge_walks(&self.rays, self.any, &walked)
+    }
+
+    /// The objects and the rays moved by a motion that keeps the axes
+    /// (the loop's answer, which the walk must match, comes with them).
+    fn fresh(&self, draw: &mut Draw) -> Option<BvhHitsCase> {
+        let motion = draw.axis_motion();
+        Some(BvhHitsCase {
+            shapes: moved_shapes(&motion, &self.shapes)?,
+            rays: self.rays.iter().map(|ray| motion.ray(ray)).collect(),
+            t_min: motion.t(self.t_min),
+            t_max: motion.t(self.t_max),
+            ..self.clone()
         })
     }
 }

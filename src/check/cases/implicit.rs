@@ -7,7 +7,7 @@ use crate::shapes::{
 };
 
 /// Which function a march case calls.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Marcher {
     /// `sphere_trace`: the march alone.
     SphereTrace,
@@ -46,15 +46,29 @@ pub struct MarchCase {
     pub most_evaluations: Option<u64>,
 }
 
-impl MarchCase {
-    pub fn function(&self) -> &'static str {
+/// A march's call.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct MarchCall {
+    pub marcher: Marcher,
+    pub surface: Implicit,
+    pub ray: Ray,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl Kind for MarchCase {
+    type Call = MarchCall;
+    /// The answer, and how many evaluations of the function it took.
+    type Answer = (Option<f32>, u64);
+
+    fn function(&self) -> &'static str {
         match self.marcher {
             Marcher::SphereTrace => "sphere_trace",
             Marcher::Intersect => "intersect_implicit",
         }
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let march = self.surface.march();
         format!(
             "{}(implicit {}, ray from {} along {}, {}) with tolerance {}, {} steps, \
@@ -72,23 +86,40 @@ impl MarchCase {
         )
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let MarchCase {
+    fn call(&self) -> MarchCall {
+        MarchCall {
+            marcher: self.marcher,
+            surface: self.surface.clone(),
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &MarchCall) -> Result<(Option<f32>, u64), String> {
+        let MarchCall {
             marcher,
             surface,
             ray,
             t_min,
             t_max,
-            expect,
-            most_evaluations,
-        } = self;
+        } = call;
         let counted = limit_evaluations(CHECK_EVALUATION_LIMIT);
         let got = match marcher {
             Marcher::SphereTrace => C::sphere_trace(surface, ray, *t_min, *t_max),
             Marcher::Intersect => C::intersect_implicit(surface, ray, *t_min, *t_max),
         };
-        let used = counted.count();
-        drop(counted);
+        Ok((got, counted.count()))
+    }
+
+    fn judge(&self, (got, used): (Option<f32>, u64), _robust: bool) -> Outcome {
+        let MarchCase {
+            t_min,
+            t_max,
+            expect,
+            most_evaluations,
+            ..
+        } = self;
         let show_got = match got {
             Some(t) => format!("Some({}) after {used} evaluations", num(t)),
             None => format!("None (misses) after {used} evaluations"),
@@ -121,6 +152,46 @@ impl MarchCase {
         verdict(pass && within_budget, budget(expected), show_got)
     }
 
+    /// The surface, the ray's origin and every `t` scaled by a power of
+    /// two ([`Sdf::scaled`]): a march of any formula takes exactly the
+    /// same steps, to the last bit, on other numbers.
+    fn fresh(&self, draw: &mut Draw) -> Option<MarchCase> {
+        let factor = power_of_two(draw);
+        let factor64 = f64::from(factor);
+        let march = self.surface.march();
+        let surface = Implicit::new(self.surface.tree().scaled(factor))
+            .ok()?
+            .with_march(crate::shapes::March {
+                normal_step: march.normal_step * factor,
+                ..*march
+            });
+        let expect = match self.expect {
+            MarchExpect::Hit { root, early, late } => MarchExpect::Hit {
+                root: root * factor64,
+                early: early * factor64,
+                late: late * factor64,
+            },
+            other => other,
+        };
+        Some(MarchCase {
+            surface,
+            ray: Ray::new(self.ray.origin * factor, self.ray.dir),
+            t_min: self.t_min * factor,
+            t_max: self.t_max * factor,
+            expect,
+            ..self.clone()
+        })
+    }
+}
+
+/// A power of two from 1/8 to 8, not 1: a scale that changes every
+/// number of a case and no rounding.
+fn power_of_two(draw: &mut Draw) -> f32 {
+    let exponent = [-3, -2, -1, 1, 2, 3][draw.below(6) as usize];
+    2f32.powi(exponent)
+}
+
+impl MarchCase {
     /// Whether the point at `t` is within twice the march's cone of the
     /// surface, measured by the exact function.
     fn near_surface(&self, t: f32) -> bool {
@@ -136,7 +207,7 @@ impl MarchCase {
 }
 
 /// The function a Newton case hands to `newton_bracketed`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum NewtonFunction {
     /// A polynomial in `t`, constant first.
     Polynomial(Vec<f64>),
@@ -265,12 +336,37 @@ pub struct NewtonCase {
     pub most_evaluations: Option<u32>,
 }
 
-impl NewtonCase {
-    pub fn function(&self) -> &'static str {
+/// `newton_bracketed`'s inputs.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct NewtonCall {
+    pub function: NewtonFunction,
+    pub bracket: (f32, f32),
+    pub tolerance: f32,
+    pub max_iterations: u32,
+}
+
+/// The most evaluations of `g` a Newton answer lists: far more than any
+/// case allows.
+const MOST_LISTED: usize = 4096;
+
+/// A Newton answer: the root, how many times `g` was called, and where
+/// (the first [`MOST_LISTED`] calls).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct NewtonAnswer {
+    pub root: f32,
+    pub calls: u64,
+    pub at: Vec<f32>,
+}
+
+impl Kind for NewtonCase {
+    type Call = NewtonCall;
+    type Answer = NewtonAnswer;
+
+    fn function(&self) -> &'static str {
         "newton_bracketed"
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
             "newton_bracketed({}, Bracket {{ low: {}, high: {} }}, tolerance {}, max_iterations {})",
             self.function.text(),
@@ -281,27 +377,93 @@ impl NewtonCase {
         )
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let calls = std::cell::Cell::new(0u32);
+    fn call(&self) -> NewtonCall {
+        NewtonCall {
+            function: self.function.clone(),
+            bracket: self.bracket,
+            tolerance: self.tolerance,
+            max_iterations: self.max_iterations,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &NewtonCall) -> Result<NewtonAnswer, String> {
+        let calls = std::cell::RefCell::new((0u64, Vec::new()));
         let g = |t: f32| {
-            calls.set(calls.get() + 1);
-            self.function.narrow(t)
+            let mut calls = calls.borrow_mut();
+            calls.0 += 1;
+            if calls.1.len() < MOST_LISTED {
+                calls.1.push(t);
+            }
+            call.function.narrow(t)
         };
         let bracket = Bracket {
-            low: self.bracket.0,
-            high: self.bracket.1,
+            low: call.bracket.0,
+            high: call.bracket.1,
         };
-        let got = C::newton_bracketed(&g, bracket, self.tolerance, self.max_iterations);
+        let root = C::newton_bracketed(&g, bracket, call.tolerance, call.max_iterations);
+        let (calls, at) = calls.into_inner();
+        Ok(NewtonAnswer { root, calls, at })
+    }
+
+    fn judge(&self, answer: NewtonAnswer, _robust: bool) -> Outcome {
+        let NewtonAnswer {
+            root: got, calls, ..
+        } = answer;
         let expected = format!("{} (within {})", num64(self.expect), num64(self.within));
         let close = got.is_finite() && (f64::from(got) - self.expect).abs() <= self.within;
         match self.most_evaluations {
             Some(most) => verdict(
-                close && calls.get() <= most,
+                close && calls <= u64::from(most),
                 format!("{expected}, in at most {most} evaluations of g"),
-                format!("{} after {} evaluations of g", num(got), calls.get()),
+                format!("{} after {calls} evaluations of g", num(got)),
             ),
             None => verdict(close, expected, num(got)),
         }
+    }
+
+    /// `t` scaled by one power of two and `g`'s values by another: every
+    /// step of any correct method, its bracket and its answer scale
+    /// exactly, and the numbers of the call all change.
+    fn fresh(&self, draw: &mut Draw) -> Option<NewtonCase> {
+        let (along, value) = (power_of_two(draw), power_of_two(draw));
+        let function = match &self.function {
+            NewtonFunction::Polynomial(coefficients) => {
+                // q(u) = value p(along u): coefficient i times value along^i.
+                let mut power = f64::from(value);
+                NewtonFunction::Polynomial(
+                    coefficients
+                        .iter()
+                        .map(|c| {
+                            let scaled = c * power;
+                            power *= f64::from(along);
+                            scaled
+                        })
+                        .collect(),
+                )
+            }
+            // The torus scaled by `value` (its quartic by value^4), the
+            // ray's direction by `along` on top.
+            NewtonFunction::TorusAlongRay {
+                major,
+                minor,
+                origin,
+                dir,
+            } => NewtonFunction::TorusAlongRay {
+                major: major * value,
+                minor: minor * value,
+                origin: *origin * value,
+                dir: *dir * value * along,
+            },
+        };
+        let along64 = f64::from(along);
+        Some(NewtonCase {
+            function,
+            bracket: (self.bracket.0 / along, self.bracket.1 / along),
+            tolerance: self.tolerance / along,
+            expect: self.expect / along64,
+            within: self.within / along64,
+            ..self.clone()
+        })
     }
 }
 
@@ -316,12 +478,15 @@ pub struct ImplicitNormalCase {
     pub within: f64,
 }
 
-impl ImplicitNormalCase {
-    pub fn function(&self) -> &'static str {
+impl Kind for ImplicitNormalCase {
+    type Call = (Implicit, Vec3);
+    type Answer = Vec3;
+
+    fn function(&self) -> &'static str {
         "implicit_normal"
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let march = self.surface.march();
         format!(
             "implicit_normal(implicit {}, {}) with normals {:?}, normal_step {}",
@@ -332,10 +497,16 @@ impl ImplicitNormalCase {
         )
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let counted = limit_evaluations(CHECK_EVALUATION_LIMIT);
-        let got = C::implicit_normal(&self.surface, self.point);
-        drop(counted);
+    fn call(&self) -> (Implicit, Vec3) {
+        (self.surface.clone(), self.point)
+    }
+
+    fn ask<C: Chapters>((surface, point): &(Implicit, Vec3)) -> Result<Vec3, String> {
+        let _counted = limit_evaluations(CHECK_EVALUATION_LIMIT);
+        Ok(C::implicit_normal(surface, *point))
+    }
+
+    fn judge(&self, got: Vec3, _robust: bool) -> Outcome {
         let march = self.surface.march();
         // The tetrahedron's corners have a third moment, so its error is of
         // order h (which way it leans depends on which tetrahedron): it is
@@ -363,6 +534,24 @@ impl ImplicitNormalCase {
             ),
             vec(got),
         )
+    }
+
+    /// The surface, the point and the difference step scaled by a power
+    /// of two: the same normal, from other numbers.
+    fn fresh(&self, draw: &mut Draw) -> Option<ImplicitNormalCase> {
+        let factor = power_of_two(draw);
+        let march = self.surface.march();
+        let surface = Implicit::new(self.surface.tree().scaled(factor))
+            .ok()?
+            .with_march(crate::shapes::March {
+                normal_step: march.normal_step * factor,
+                ..*march
+            });
+        Some(ImplicitNormalCase {
+            surface,
+            point: self.point * factor,
+            within: self.within,
+        })
     }
 }
 

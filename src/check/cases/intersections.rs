@@ -14,14 +14,25 @@ pub struct PlaneCase {
     pub expect: ExpectT,
 }
 
-impl PlaneCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// The inputs of an intersection call: a shape, a ray and the interval of
+/// `t`.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct HitCall<S> {
+    pub shape: S,
+    pub ray: Ray,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl Kind for PlaneCase {
+    type Call = HitCall<(Vec3, Vec3)>;
+    type Answer = Option<f32>;
+
+    fn function(&self) -> &'static str {
         "intersect_plane"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let PlaneCase {
             point,
             normal,
@@ -39,19 +50,32 @@ impl PlaneCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    fn call(&self) -> Self::Call {
+        HitCall {
+            shape: (self.point, self.normal),
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Option<f32>, String> {
+        let (point, normal) = call.shape;
+        let plane = Plane::new(point, normal);
+        Ok(C::intersect_plane(
+            &plane, &call.ray, call.t_min, call.t_max,
+        ))
+    }
+
+    fn judge(&self, got: Option<f32>, robust: bool) -> Outcome {
         let PlaneCase {
             point,
             normal,
             ray,
-            t_min,
-            t_max,
             expect,
+            ..
         } = self;
         let plane = Plane::new(*point, *normal);
-        let got = C::intersect_plane(&plane, ray, *t_min, *t_max);
         let scale = max_abs(wide(*point));
         let on_surface = |p: DVec3| (p - wide(plane.point())).dot(wide(plane.normal())).abs();
         judge_t(
@@ -63,6 +87,46 @@ impl PlaneCase {
             wide(plane.normal()),
             on_surface,
         )
+    }
+
+    fn fresh(&self, draw: &mut Draw) -> Option<PlaneCase> {
+        let motion = draw.motion();
+        let (point, normal) = (motion.point(self.point), motion.direction(self.normal));
+        let (ray, t_min, t_max) = moved_ray(&motion, &self.ray, self.t_min, self.t_max);
+        let plane = Plane::new(point, normal);
+        let expect = again(self.expect, || {
+            exact::plane(
+                wide(plane.point()),
+                wide(plane.normal()),
+                wide(ray.origin),
+                wide(ray.dir),
+                f64::from(t_min),
+                f64::from(t_max),
+            )
+        });
+        Some(PlaneCase {
+            point,
+            normal,
+            ray,
+            t_min,
+            t_max,
+            expect,
+        })
+    }
+}
+
+/// `ray` and its interval moved by `motion`.
+pub(super) fn moved_ray(motion: &Motion, ray: &Ray, t_min: f32, t_max: f32) -> (Ray, f32, f32) {
+    (motion.ray(ray), motion.t(t_min), motion.t(t_max))
+}
+
+/// `expect` for moved inputs: a hit's `t` worked out again by `exact_t`
+/// (NaN if the oracle finds none, which fails the reference: the tests of
+/// fresh draws catch it), a miss or either as they were.
+pub(super) fn again(expect: ExpectT, exact_t: impl FnOnce() -> Option<f64>) -> ExpectT {
+    match expect {
+        ExpectT::Hit(_) => ExpectT::Hit(exact_t().unwrap_or(f64::NAN)),
+        other => other,
     }
 }
 
@@ -77,14 +141,15 @@ pub struct SphereCase {
     pub expect: ExpectT,
 }
 
-impl SphereCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for SphereCase {
+    type Call = HitCall<(Vec3, f32)>;
+    type Answer = Option<f32>;
+
+    fn function(&self) -> &'static str {
         "intersect_sphere"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let SphereCase {
             center,
             radius,
@@ -102,19 +167,31 @@ impl SphereCase {
         )
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    fn call(&self) -> Self::Call {
+        HitCall {
+            shape: (self.center, self.radius),
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Option<f32>, String> {
+        let (center, radius) = call.shape;
+        let sphere = Sphere::new(center, radius);
+        Ok(C::intersect_sphere(
+            &sphere, &call.ray, call.t_min, call.t_max,
+        ))
+    }
+
+    fn judge(&self, got: Option<f32>, robust: bool) -> Outcome {
         let SphereCase {
             center,
             radius,
             ray,
-            t_min,
-            t_max,
             expect,
+            ..
         } = self;
-        let sphere = Sphere::new(*center, *radius);
-        let got = C::intersect_sphere(&sphere, ray, *t_min, *t_max);
         let c = wide(*center);
         let r = f64::from(*radius);
         let scale = max_abs(c) + r;
@@ -124,6 +201,30 @@ impl SphereCase {
         };
         let on_surface = |p: DVec3| ((p - c).length() - r).abs();
         judge_t(got, *expect, ray, robust, scale, normal_at, on_surface)
+    }
+
+    fn fresh(&self, draw: &mut Draw) -> Option<SphereCase> {
+        let motion = draw.motion();
+        let (center, radius) = (motion.point(self.center), motion.length(self.radius));
+        let (ray, t_min, t_max) = moved_ray(&motion, &self.ray, self.t_min, self.t_max);
+        let expect = again(self.expect, || {
+            exact::sphere(
+                wide(center),
+                f64::from(radius),
+                wide(ray.origin),
+                wide(ray.dir),
+                f64::from(t_min),
+                f64::from(t_max),
+            )
+        });
+        Some(SphereCase {
+            center,
+            radius,
+            ray,
+            t_min,
+            t_max,
+            expect,
+        })
     }
 }
 
@@ -137,14 +238,15 @@ pub struct NearestCase {
     pub expect: Option<(usize, f64)>,
 }
 
-impl NearestCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for NearestCase {
+    type Call = HitCall<Vec<Shape>>;
+    type Answer = Option<(usize, f32)>;
+
+    fn function(&self) -> &'static str {
         "nearest_hit"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let NearestCase {
             shapes,
             ray,
@@ -160,22 +262,29 @@ impl NearestCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let NearestCase {
-            shapes,
-            ray,
-            t_min,
-            t_max,
-            expect,
-        } = self;
-        let got = C::nearest_hit(&crate::Objects::<C>::new(shapes), ray, *t_min, *t_max);
+    fn call(&self) -> Self::Call {
+        HitCall {
+            shape: self.shapes.clone(),
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Self::Answer, String> {
+        let objects = crate::Objects::<C>::new(&call.shape);
+        Ok(C::nearest_hit(&objects, &call.ray, call.t_min, call.t_max)
+            .map(|hit| (hit.object, hit.t)))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: Self::Answer, _robust: bool) -> Outcome {
+        let expect = &self.expect;
         let show = |hit: Option<(usize, f64)>| match hit {
             Some((object, t)) => format!("object {object} at t = {}", num64(t)),
             None => "no hit".into(),
         };
-        let got_pair = got.map(|hit| (hit.object, f64::from(hit.t)));
+        let got_pair = got.map(|(object, t)| (object, f64::from(t)));
         let pass = match (got_pair, *expect) {
             (None, None) => true,
             (Some((object, t)), Some((want, t_ref))) => {
@@ -184,6 +293,75 @@ impl NearestCase {
             _ => false,
         };
         verdict(pass, show(*expect), show(got_pair))
+    }
+
+    fn fresh(&self, draw: &mut Draw) -> Option<NearestCase> {
+        let motion = draw.motion();
+        let shapes: Vec<Shape> = self
+            .shapes
+            .iter()
+            .map(|shape| moved_shape(&motion, shape))
+            .collect::<Option<_>>()?;
+        let (ray, t_min, t_max) = moved_ray(&motion, &self.ray, self.t_min, self.t_max);
+        let expect = match self.expect {
+            None => None,
+            Some((object, _)) => Some((
+                object,
+                exact_t(shapes.get(object)?, &ray, t_min, t_max).unwrap_or(f64::NAN),
+            )),
+        };
+        Some(NearestCase {
+            shapes,
+            ray,
+            t_min,
+            t_max,
+            expect,
+        })
+    }
+}
+
+/// `shape` moved by `motion` (`None` for an implicit surface, whose tree
+/// a motion does not move).
+pub(super) fn moved_shape(motion: &Motion, shape: &Shape) -> Option<Shape> {
+    Some(match shape {
+        Shape::Plane(plane) => Shape::Plane(Plane::new(
+            motion.point(plane.point()),
+            motion.direction(plane.normal()),
+        )),
+        Shape::Sphere(sphere) => Shape::Sphere(Sphere::new(
+            motion.point(sphere.center()),
+            motion.length(sphere.radius()),
+        )),
+        Shape::Triangle(triangle) => {
+            let [a, b, c] = triangle.corners().map(|corner| motion.point(corner));
+            let normals = triangle
+                .normals()
+                .map_or(Triangle::FLAT, |index| index as u32);
+            Shape::Triangle(Triangle::with_normals(a, b, c, normals))
+        }
+        Shape::Implicit(_) => return None,
+    })
+}
+
+/// The exact `t` of the nearest hit of `ray` on `shape` with `t_min < t <
+/// t_max` (`None` for an implicit surface: no case moves one).
+pub(super) fn exact_t(shape: &Shape, ray: &Ray, t_min: f32, t_max: f32) -> Option<f64> {
+    let (o, d) = (wide(ray.origin), wide(ray.dir));
+    let (low, high) = (f64::from(t_min), f64::from(t_max));
+    match shape {
+        Shape::Plane(plane) => {
+            exact::plane(wide(plane.point()), wide(plane.normal()), o, d, low, high)
+        }
+        Shape::Sphere(sphere) => exact::sphere(
+            wide(sphere.center()),
+            f64::from(sphere.radius()),
+            o,
+            d,
+            low,
+            high,
+        ),
+        Shape::Triangle(triangle) => exact::triangle(triangle.corners().map(wide), o, d, low, high),
+        Shape::Implicit(_) => None,
     }
 }
 
@@ -199,14 +377,16 @@ pub struct TrianglesCase {
     pub expect: ExpectT,
 }
 
-impl TrianglesCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for TrianglesCase {
+    type Call = HitCall<Vec<[Vec3; 3]>>;
+    /// Each triangle's answer, in order.
+    type Answer = Vec<Option<f32>>;
+
+    fn function(&self) -> &'static str {
         "intersect_triangle"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let TrianglesCase {
             triangles,
             ray,
@@ -231,23 +411,39 @@ impl TrianglesCase {
         }
     }
 
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    pub(super) fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
+    fn call(&self) -> Self::Call {
+        HitCall {
+            shape: self.triangles.clone(),
+            ray: self.ray,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Self::Answer, String> {
+        Ok(call
+            .shape
+            .iter()
+            .map(|&[a, b, c]| {
+                C::intersect_triangle(&Triangle::new(a, b, c), &call.ray, call.t_min, call.t_max)
+            })
+            .collect())
+    }
+
+    fn judge(&self, answers: Self::Answer, robust: bool) -> Outcome {
         let TrianglesCase {
             triangles,
             ray,
-            t_min,
-            t_max,
             expect,
+            ..
         } = self;
-        let hits: Vec<(usize, f32)> = triangles
+        if answers.len() != triangles.len() {
+            return wrong_length(triangles.len(), answers.len());
+        }
+        let hits: Vec<(usize, f32)> = answers
             .iter()
             .enumerate()
-            .filter_map(|(index, &[a, b, c])| {
-                C::intersect_triangle(&Triangle::new(a, b, c), ray, *t_min, *t_max)
-                    .map(|t| (index, t))
-            })
+            .filter_map(|(index, t)| t.map(|t| (index, t)))
             .collect();
         // A NaN or infinite t is wrong however it compares: it is
         // the one judged, never hidden behind a finite hit.
@@ -275,6 +471,47 @@ impl TrianglesCase {
             normal,
             on_surface,
         )
+    }
+
+    fn fresh(&self, draw: &mut Draw) -> Option<TrianglesCase> {
+        let motion = draw.motion();
+        let triangles: Vec<[Vec3; 3]> = self
+            .triangles
+            .iter()
+            .map(|corners| corners.map(|corner| motion.point(corner)))
+            .collect();
+        let (ray, t_min, t_max) = moved_ray(&motion, &self.ray, self.t_min, self.t_max);
+        let expect = again(self.expect, || {
+            triangles
+                .iter()
+                .filter_map(|corners| {
+                    exact::triangle(
+                        corners.map(wide),
+                        wide(ray.origin),
+                        wide(ray.dir),
+                        f64::from(t_min),
+                        f64::from(t_max),
+                    )
+                })
+                .min_by(f64::total_cmp)
+        });
+        Some(TrianglesCase {
+            triangles,
+            ray,
+            t_min,
+            t_max,
+            expect,
+        })
+    }
+}
+
+/// The outcome of an answer with `got` entries where the call asked for
+/// `asked`: only a process that is not raylab's own answering loop sends
+/// one.
+pub(super) fn wrong_length(asked: usize, got: usize) -> Outcome {
+    Outcome::Fail {
+        expected: format!("{asked} answers, one per input"),
+        got: format!("{got} answers"),
     }
 }
 
@@ -331,16 +568,30 @@ fn judge_t(
 #[derive(Debug, Clone)]
 pub struct ClosedMeshCase {
     pub triangles: usize,
+    /// Where the model is moved to (`grade --fresh`); `None` where it is.
+    pub motion: Option<Motion>,
 }
 
-impl ClosedMeshCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// A closed model's rays: what `intersect_triangle` on the model's
+/// triangles found for them.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct MeshCall {
+    pub triangles: usize,
+    /// The motion the model and its rays are moved by (`grade --fresh`),
+    /// as `(turn's columns, scale, shift)`.
+    pub motion: Option<WireMotion>,
+}
+
+impl Kind for ClosedMeshCase {
+    type Call = MeshCall;
+    /// The rays that escaped, and how many were cast.
+    type Answer = (Vec<Ray>, usize);
+
+    fn function(&self) -> &'static str {
         "intersect_triangle"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
             "intersect_triangle(each triangle of raylab's closed model of {} triangles, a ray \
              from inside toward each vertex and edge midpoint, t_min = 0, t_max = inf)",
@@ -348,44 +599,106 @@ impl ClosedMeshCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same rule at both
-    /// levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let mesh = match crate::mesh::generate_closed_mesh(self.triangles) {
-            Ok(mesh) => mesh,
-            Err(error) => return Outcome::Error(error.to_string()),
-        };
-        let triangles: Vec<Triangle> = mesh
-            .triangles
+    fn call(&self) -> MeshCall {
+        MeshCall {
+            triangles: self.triangles,
+            motion: self.motion.map(WireMotion::from),
+        }
+    }
+
+    fn ask<C: Chapters>(call: &MeshCall) -> Result<Self::Answer, String> {
+        let (triangles, rays) = closed_mesh_rays(call)?;
+        let escaped = rays
             .iter()
-            .map(|corners| {
-                let [a, b, c] = corners.map(|index| mesh.positions[index as usize]);
-                Triangle::new(a, b, c)
+            .filter(|ray| {
+                !triangles.iter().any(|triangle| {
+                    C::intersect_triangle(triangle, ray, 0.0, f32::INFINITY).is_some()
+                })
             })
+            .copied()
             .collect();
-        let targets = crate::bvh_reports::leaks::leak_targets(&mesh);
-        let mut escaped = Vec::new();
-        for &target in &targets {
-            let origin = crate::bvh_reports::leaks::core_point(target);
-            let ray = Ray::new(origin, target - origin);
-            let hit = triangles.iter().any(|triangle| {
-                C::intersect_triangle(triangle, &ray, 0.0, f32::INFINITY).is_some()
-            });
-            if !hit {
-                escaped.push(ray);
-            }
+        Ok((escaped, rays.len()))
+    }
+
+    /// The same rule at both levels.
+    fn judge(&self, (escaped, cast): Self::Answer, _robust: bool) -> Outcome {
+        let expected_rays = closed_mesh_rays(&self.call()).map_or(0, |(_, rays)| rays.len());
+        if cast != expected_rays {
+            return wrong_length(expected_rays, cast);
         }
         match escaped.first() {
             None => Outcome::Pass,
             Some(first) => Outcome::Fail {
-                expected: format!("every one of the {} rays hits a triangle", targets.len()),
+                expected: format!("every one of the {cast} rays hits a triangle"),
                 got: format!(
-                    "{} of {} rays hit no triangle and escape the closed mesh, the first the {}",
+                    "{} of {cast} rays hit no triangle and escape the closed mesh, the first the {}",
                     escaped.len(),
-                    targets.len(),
                     ray_text(first)
                 ),
             },
         }
     }
+
+    fn fresh(&self, draw: &mut Draw) -> Option<ClosedMeshCase> {
+        Some(ClosedMeshCase {
+            triangles: self.triangles,
+            motion: Some(draw.motion()),
+        })
+    }
+}
+
+/// A [`Motion`] as the wire carries it.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub struct WireMotion {
+    pub turn: [f64; 9],
+    pub scale: f64,
+    pub shift: [f64; 3],
+}
+
+impl From<Motion> for WireMotion {
+    fn from(motion: Motion) -> WireMotion {
+        WireMotion {
+            turn: motion.turn.to_cols_array(),
+            scale: motion.scale,
+            shift: motion.shift.to_array(),
+        }
+    }
+}
+
+impl From<WireMotion> for Motion {
+    fn from(wire: WireMotion) -> Motion {
+        Motion {
+            turn: glam::DMat3::from_cols_array(&wire.turn),
+            scale: wire.scale,
+            shift: DVec3::from_array(wire.shift),
+        }
+    }
+}
+
+/// raylab's closed model of about `call.triangles` triangles and the rays
+/// from inside it toward each vertex and edge midpoint, moved by the
+/// call's motion where it has one.
+pub(super) fn closed_mesh_rays(call: &MeshCall) -> Result<(Vec<Triangle>, Vec<Ray>), String> {
+    let mesh = crate::mesh::generate_closed_mesh(call.triangles).map_err(|e| e.to_string())?;
+    let motion = call.motion.map(Motion::from);
+    let place = |point: Vec3| motion.map_or(point, |motion| motion.point(point));
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|corners| {
+            let [a, b, c] = corners.map(|index| place(mesh.positions[index as usize]));
+            Triangle::new(a, b, c)
+        })
+        .collect();
+    let rays = crate::bvh_reports::leaks::leak_targets(&mesh)
+        .into_iter()
+        .map(|target| {
+            let (origin, target) = (
+                place(crate::bvh_reports::leaks::core_point(target)),
+                place(target),
+            );
+            Ray::new(origin, target - origin)
+        })
+        .collect();
+    Ok((triangles, rays))
 }

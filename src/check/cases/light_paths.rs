@@ -32,15 +32,59 @@ pub struct LightFormulaCase {
     pub formula: LightFormula,
 }
 
+/// A [`LightFormula`]'s inputs as the wire carries them (Cauchy's
+/// coefficients as numbers).
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub enum LightFormulaCall {
+    SplatWeight {
+        cos_surface: f32,
+        cos_camera: f32,
+        distance: f32,
+        pixel_area: f32,
+    },
+    CauchyIor {
+        a: f32,
+        b: f32,
+        nanometres: f32,
+    },
+}
+
 impl LightFormulaCase {
-    pub fn function(&self) -> &'static str {
+    /// The exact answer, from `check::exact`.
+    fn expected(&self) -> f64 {
+        match &self.formula {
+            LightFormula::SplatWeight {
+                cos_surface,
+                cos_camera,
+                distance,
+                pixel_area,
+            } => exact::splat_weight(
+                f64::from(*cos_surface),
+                f64::from(*cos_camera),
+                f64::from(*distance),
+                f64::from(*pixel_area),
+            ),
+            LightFormula::CauchyIor { cauchy, nanometres } => exact::cauchy(
+                f64::from(cauchy.a),
+                f64::from(cauchy.b),
+                f64::from(*nanometres),
+            ),
+        }
+    }
+}
+
+impl Kind for LightFormulaCase {
+    type Call = LightFormulaCall;
+    type Answer = f32;
+
+    fn function(&self) -> &'static str {
         match self.formula {
             LightFormula::SplatWeight { .. } => "splat_weight",
             LightFormula::CauchyIor { .. } => "cauchy_ior",
         }
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         match &self.formula {
             LightFormula::SplatWeight {
                 cos_surface,
@@ -63,44 +107,79 @@ impl LightFormulaCase {
         }
     }
 
-    /// The exact answer, from `check::exact`.
-    fn expected(&self) -> f64 {
-        match &self.formula {
+    fn call(&self) -> LightFormulaCall {
+        match self.formula {
             LightFormula::SplatWeight {
                 cos_surface,
                 cos_camera,
                 distance,
                 pixel_area,
-            } => exact::splat_weight(
-                f64::from(*cos_surface),
-                f64::from(*cos_camera),
-                f64::from(*distance),
-                f64::from(*pixel_area),
-            ),
-            LightFormula::CauchyIor { cauchy, nanometres } => exact::cauchy(
-                f64::from(cauchy.a),
-                f64::from(cauchy.b),
-                f64::from(*nanometres),
-            ),
+            } => LightFormulaCall::SplatWeight {
+                cos_surface,
+                cos_camera,
+                distance,
+                pixel_area,
+            },
+            LightFormula::CauchyIor { cauchy, nanometres } => LightFormulaCall::CauchyIor {
+                a: cauchy.a,
+                b: cauchy.b,
+                nanometres,
+            },
         }
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let got = match &self.formula {
-            LightFormula::SplatWeight {
+    fn ask<C: Chapters>(call: &LightFormulaCall) -> Result<f32, String> {
+        Ok(match *call {
+            LightFormulaCall::SplatWeight {
                 cos_surface,
                 cos_camera,
                 distance,
                 pixel_area,
-            } => C::splat_weight(*cos_surface, *cos_camera, *distance, *pixel_area),
-            LightFormula::CauchyIor { cauchy, nanometres } => C::cauchy_ior(cauchy, *nanometres),
-        };
+            } => C::splat_weight(cos_surface, cos_camera, distance, pixel_area),
+            LightFormulaCall::CauchyIor { a, b, nanometres } => {
+                C::cauchy_ior(&Cauchy { a, b }, nanometres)
+            }
+        })
+    }
+
+    fn judge(&self, got: f32, _robust: bool) -> Outcome {
         let expected = self.expected();
         verdict(
             got.is_finite() && close(f64::from(got), expected, CHECKPOINT_TOLERANCE),
             num64(expected),
             num(got),
         )
+    }
+
+    /// Every input nudged by up to 10% (a zero stays zero, a sign its
+    /// sign), the wavelength anywhere in 400 to 700 nm; the answer worked
+    /// out again by the oracle.
+    fn fresh(&self, draw: &mut Draw) -> Option<LightFormulaCase> {
+        let formula = match self.formula {
+            LightFormula::SplatWeight {
+                cos_surface,
+                cos_camera,
+                distance,
+                pixel_area,
+            } => {
+                let cos_surface = draw.nudge(cos_surface, 0.1).clamp(-1.0, 1.0);
+                let cos_camera = draw.nudge(cos_camera, 0.1).clamp(-1.0, 1.0);
+                LightFormula::SplatWeight {
+                    cos_surface,
+                    cos_camera,
+                    distance: draw.nudge(distance, 0.1),
+                    pixel_area: draw.nudge(pixel_area, 0.1),
+                }
+            }
+            LightFormula::CauchyIor { cauchy, .. } => LightFormula::CauchyIor {
+                cauchy: Cauchy {
+                    a: draw.nudge(cauchy.a, 0.02),
+                    b: draw.nudge(cauchy.b, 0.1),
+                },
+                nanometres: draw.between(400.0, 700.0) as f32,
+            },
+        };
+        Some(LightFormulaCase { formula })
     }
 }
 
@@ -120,12 +199,26 @@ pub struct PrismCase {
 /// wrong refraction moves it by (a tenth of a degree and more).
 pub const PRISM_TOLERANCE_DEGREES: f64 = 1e-3;
 
-impl PrismCase {
-    pub fn function(&self) -> &'static str {
+/// A prism's call: Cauchy's `(a, b)`, the apex angle in degrees and the
+/// wavelength.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub struct PrismCall {
+    pub cauchy: (f32, f32),
+    pub apex_degrees: f32,
+    pub nanometres: f32,
+}
+
+impl Kind for PrismCase {
+    type Call = PrismCall;
+    /// The smallest deviation found, in degrees; `None` when no ray got
+    /// through.
+    type Answer = Option<f64>;
+
+    fn function(&self) -> &'static str {
         "cauchy_ior"
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
             "a prism of apex {} degrees, Cauchy a = {}, b = {}, at {} nm: the smallest \
              deviation over every angle of incidence, with refract and cauchy_ior",
@@ -136,29 +229,43 @@ impl PrismCase {
         )
     }
 
-    /// The ray's deviation in degrees for the incidence `incidence` (radians)
-    /// on the first face, `None` when it cannot leave by the second (total
-    /// internal reflection). The prism's apex points up (+y), its faces'
-    /// outward normals turned by `apex / 2` left and right of -x and +x.
-    fn deviation<C: Chapters>(&self, index: f32, incidence: f32) -> Option<f32> {
-        let half = self.apex_degrees.to_radians() / 2.0;
-        let first = Vec3::new(-half.cos(), half.sin(), 0.0);
-        let second = Vec3::new(half.cos(), half.sin(), 0.0);
-        // The incoming ray meets the first face at `incidence` from its
-        // inward normal, turned toward the apex (counter-clockwise), so
-        // that it crosses to the second face and bends toward the base.
-        let inward = -first;
-        let (sin, cos) = incidence.sin_cos();
-        let along = Vec3::new(-inward.y, inward.x, 0.0);
-        let incoming = inward * cos + along * sin;
-        let inside = C::refract(incoming, first, 1.0 / index)?;
-        let outgoing = C::refract(inside, second, index)?;
-        let turned = incoming.dot(outgoing).clamp(-1.0, 1.0).acos();
-        Some(turned.to_degrees())
+    fn call(&self) -> PrismCall {
+        PrismCall {
+            cauchy: (self.cauchy.a, self.cauchy.b),
+            apex_degrees: self.apex_degrees,
+            nanometres: self.nanometres,
+        }
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let index = C::cauchy_ior(&self.cauchy, self.nanometres);
+    fn ask<C: Chapters>(call: &PrismCall) -> Result<Option<f64>, String> {
+        let (a, b) = call.cauchy;
+        let index = C::cauchy_ior(&Cauchy { a, b }, call.nanometres);
+        // Every tenth of a degree of incidence, then a golden-section
+        // search about the smallest: the deviation is flat at its minimum,
+        // so its value is found far more precisely than the angle.
+        let angles = (1..900).map(|tenth| (tenth as f32 / 10.0).to_radians());
+        let Some((best, _)) = angles
+            .filter_map(|angle| Some((angle, deviation::<C>(call, index, angle)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+        else {
+            return Ok(None);
+        };
+        let step = 0.1f32.to_radians();
+        let (mut low, mut high) = (best - step, best + step);
+        let ratio = (5f32.sqrt() - 1.0) / 2.0;
+        let value = |angle: f32| deviation::<C>(call, index, angle).unwrap_or(f32::INFINITY);
+        for _ in 0..40 {
+            let (left, right) = (high - ratio * (high - low), low + ratio * (high - low));
+            if value(left) < value(right) {
+                high = right;
+            } else {
+                low = left;
+            }
+        }
+        Ok(Some(f64::from(value((low + high) / 2.0))))
+    }
+
+    fn judge(&self, found: Option<f64>, _robust: bool) -> Outcome {
         let expected = exact::prism_minimum_deviation(
             exact::cauchy(
                 f64::from(self.cauchy.a),
@@ -168,39 +275,53 @@ impl PrismCase {
             f64::from(self.apex_degrees).to_radians(),
         )
         .to_degrees();
-        // Every tenth of a degree of incidence, then a golden-section
-        // search about the smallest: the deviation is flat at its minimum,
-        // so its value is found far more precisely than the angle.
-        let angles = (1..900).map(|tenth| (tenth as f32 / 10.0).to_radians());
-        let Some((best, _)) = angles
-            .filter_map(|angle| Some((angle, self.deviation::<C>(index, angle)?)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-        else {
+        let Some(found) = found else {
             return verdict(
                 false,
                 format!("a smallest deviation of {expected:.4} degrees"),
                 "no ray got through the prism (refract gave None at every angle)".into(),
             );
         };
-        let step = 0.1f32.to_radians();
-        let (mut low, mut high) = (best - step, best + step);
-        let ratio = (5f32.sqrt() - 1.0) / 2.0;
-        let value = |angle: f32| self.deviation::<C>(index, angle).unwrap_or(f32::INFINITY);
-        for _ in 0..40 {
-            let (left, right) = (high - ratio * (high - low), low + ratio * (high - low));
-            if value(left) < value(right) {
-                high = right;
-            } else {
-                low = left;
-            }
-        }
-        let found = f64::from(value((low + high) / 2.0));
         verdict(
             (found - expected).abs() <= PRISM_TOLERANCE_DEGREES,
             format!("{expected:.4} degrees (2 asin(n sin(A / 2)) - A)"),
             format!("{found:.4} degrees"),
         )
     }
+
+    /// The apex nudged by up to 5%, Cauchy's coefficients by 1% and 10%,
+    /// the wavelength anywhere in 400 to 700 nm.
+    fn fresh(&self, draw: &mut Draw) -> Option<PrismCase> {
+        Some(PrismCase {
+            cauchy: Cauchy {
+                a: draw.nudge(self.cauchy.a, 0.01),
+                b: draw.nudge(self.cauchy.b, 0.1),
+            },
+            apex_degrees: draw.nudge(self.apex_degrees, 0.05),
+            nanometres: draw.between(400.0, 700.0) as f32,
+        })
+    }
+}
+
+/// The ray's deviation in degrees for the incidence `incidence` (radians)
+/// on the first face, `None` when it cannot leave by the second (total
+/// internal reflection). The prism's apex points up (+y), its faces'
+/// outward normals turned by `apex / 2` left and right of -x and +x.
+fn deviation<C: Chapters>(call: &PrismCall, index: f32, incidence: f32) -> Option<f32> {
+    let half = call.apex_degrees.to_radians() / 2.0;
+    let first = Vec3::new(-half.cos(), half.sin(), 0.0);
+    let second = Vec3::new(half.cos(), half.sin(), 0.0);
+    // The incoming ray meets the first face at `incidence` from its
+    // inward normal, turned toward the apex (counter-clockwise), so
+    // that it crosses to the second face and bends toward the base.
+    let inward = -first;
+    let (sin, cos) = incidence.sin_cos();
+    let along = Vec3::new(-inward.y, inward.x, 0.0);
+    let incoming = inward * cos + along * sin;
+    let inside = C::refract(incoming, first, 1.0 / index)?;
+    let outgoing = C::refract(inside, second, index)?;
+    let turned = incoming.dot(outgoing).clamp(-1.0, 1.0).acos();
+    Some(turned.to_degrees())
 }
 
 /// A closed scene rendered by chapter 14's stage with `without` left out,
@@ -216,50 +337,105 @@ pub struct LightConvergesCase {
     pub without: &'static [&'static str],
     pub repetitions: u32,
     pub expected: [f64; 3],
+    /// The first render's seed (1 for the lesson's case).
+    pub first_seed: u64,
 }
 
+/// A closed scene's renders: the scene (TOML), the effects left out, how
+/// many renders, and the seed of the first (each next one's is one more).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct LightConvergesCall {
+    pub scene: String,
+    pub without: Vec<String>,
+    pub repetitions: u32,
+    pub first_seed: u64,
+}
+
+/// The most whole renders one case may ask for.
+const MOST_RENDERS: u32 = 1024;
+
 impl LightConvergesCase {
-    pub fn function(&self) -> &'static str {
+    /// Per channel, the mean of the repetitions' image means and its
+    /// standard error, with the chapters `C`.
+    pub fn estimate<C: Chapters>(&self) -> Result<(DVec3, DVec3), String> {
+        Ok(channel_means(&light_means::<C>(&self.call())?))
+    }
+}
+
+/// Per channel, the mean of `means` and its standard error.
+fn channel_means(means: &[Vec3]) -> (DVec3, DVec3) {
+    let channel = |pick: fn(Vec3) -> f32| {
+        mean_and_error(
+            &means
+                .iter()
+                .map(|mean| f64::from(pick(*mean)))
+                .collect::<Vec<_>>(),
+        )
+    };
+    let (x, y, z) = (channel(|v| v.x), channel(|v| v.y), channel(|v| v.z));
+    (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
+}
+
+/// Each render's image mean, with the chapters `C`.
+fn light_means<C: Chapters>(call: &LightConvergesCall) -> Result<Vec<Vec3>, String> {
+    if call.repetitions > MOST_RENDERS {
+        return Err(format!(
+            "{} renders asked, more than {MOST_RENDERS}",
+            call.repetitions
+        ));
+    }
+    let mut scene = parse(&call.scene)?;
+    scene.render.without = SwitchedOff::parse(call.without.iter().map(String::as_str))?;
+    (0..call.repetitions)
+        .map(|repetition| {
+            scene.render.seed = call.first_seed.wrapping_add(u64::from(repetition));
+            image_mean::<C>(&scene, 14)
+        })
+        .collect()
+}
+
+impl Kind for LightConvergesCase {
+    type Call = LightConvergesCall;
+    /// Each render's image mean.
+    type Answer = Vec<Vec3>;
+
+    fn function(&self) -> &'static str {
         self.function
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
-            "{} renders of a closed scene, each with its own seed{}",
+            "{} renders of a closed scene, each with its own seed from {}{}",
             self.repetitions,
+            self.first_seed,
             super::paths::without_text(self.without)
         )
     }
 
-    /// Per channel, the mean of the repetitions' image means and its
-    /// standard error, with the chapters `C`.
-    pub fn estimate<C: Chapters>(&self) -> Result<(DVec3, DVec3), String> {
-        let mut scene = parse(&self.scene)?;
-        scene.render.without = SwitchedOff::parse(self.without.iter().copied())?;
-        let means: Vec<DVec3> = (0..self.repetitions)
-            .map(|repetition| {
-                scene.render.seed = u64::from(repetition) + 1;
-                image_mean::<C>(&scene, 14).map(|mean| mean.as_dvec3())
-            })
-            .collect::<Result<_, _>>()?;
-        let channel = |pick: fn(DVec3) -> f64| {
-            mean_and_error(&means.iter().map(|mean| pick(*mean)).collect::<Vec<_>>())
-        };
-        let (x, y, z) = (channel(|v| v.x), channel(|v| v.y), channel(|v| v.z));
-        Ok((DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1)))
+    fn call(&self) -> LightConvergesCall {
+        LightConvergesCall {
+            scene: self.scene.clone(),
+            without: self.without.iter().map(|name| name.to_string()).collect(),
+            repetitions: self.repetitions,
+            first_seed: self.first_seed,
+        }
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn ask<C: Chapters>(call: &LightConvergesCall) -> Result<Vec<Vec3>, String> {
         // The chapter's own formulas first: in a workspace where nothing is
         // written yet, their `todo!()` says chapter 14 is not started.
         let _ = (
             C::splat_weight(1.0, 1.0, 1.0, 1.0),
             C::cauchy_ior(&Cauchy { a: 1.5, b: 0.0 }, 550.0),
         );
-        let (mean, error) = match self.estimate::<C>() {
-            Ok(found) => found,
-            Err(why) => return Outcome::Error(why),
-        };
+        light_means::<C>(call)
+    }
+
+    fn judge(&self, means: Vec<Vec3>, _robust: bool) -> Outcome {
+        if means.len() != self.repetitions as usize {
+            return super::intersections::wrong_length(self.repetitions as usize, means.len());
+        }
+        let (mean, error) = channel_means(&means);
         let expected = DVec3::from_array(self.expected);
         let allowed = z_threshold() * error + 1e-3 * expected.abs();
         verdict(
@@ -279,6 +455,14 @@ impl LightConvergesCase {
                 error.max_element()
             ),
         )
+    }
+
+    /// Other seeds for the renders.
+    fn fresh(&self, draw: &mut Draw) -> Option<LightConvergesCase> {
+        Some(LightConvergesCase {
+            first_seed: draw.word() >> 1,
+            ..self.clone()
+        })
     }
 }
 
@@ -328,23 +512,24 @@ pub struct LensCase {
     /// The disk about the axis whose pixels are compared.
     pub disk: f32,
     pub repetitions: u32,
+    /// The first render's seed (1 for the lesson's case).
+    pub first_seed: u64,
+}
+
+/// The lens's renders: the scene with the ball and without, each seed.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct LensCall {
+    pub with: String,
+    pub without: String,
+    pub seeds: Vec<u64>,
 }
 
 impl LensCase {
-    pub fn function(&self) -> &'static str {
-        "connect_to_camera"
-    }
-
-    pub fn inputs(&self) -> String {
-        format!(
-            "a parallel beam of radius {} through a glass ball of radius 1 and index {}, onto \
-             a matte screen {} past its centre; the pixels within {} of the axis, with the \
-             ball and without",
-            num(self.beam),
-            num(self.ior),
-            num(self.screen),
-            num(self.disk)
-        )
+    /// The renders' seeds, one per repetition.
+    fn seeds(&self) -> Vec<u64> {
+        (0..u64::from(self.repetitions))
+            .map(|repetition| self.first_seed.wrapping_add(repetition))
+            .collect()
     }
 
     /// The scene, with the ball or without it.
@@ -408,22 +593,78 @@ material = {{ color = [0.8, 0.8, 0.8] }}
         }
         pixels
     }
+}
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+impl Kind for LensCase {
+    type Call = LensCall;
+    /// For each seed, the first channel of every pixel with the ball and
+    /// without it.
+    type Answer = Vec<(Vec<f32>, Vec<f32>)>;
+
+    fn function(&self) -> &'static str {
+        "connect_to_camera"
+    }
+
+    fn inputs(&self) -> String {
+        format!(
+            "a parallel beam of radius {} through a glass ball of radius 1 and index {}, onto \
+             a matte screen {} past its centre; the pixels within {} of the axis, with the \
+             ball and without",
+            num(self.beam),
+            num(self.ior),
+            num(self.screen),
+            num(self.disk)
+        )
+    }
+
+    fn call(&self) -> LensCall {
+        LensCall {
+            with: self.scene(true),
+            without: self.scene(false),
+            seeds: self.seeds(),
+        }
+    }
+
+    fn ask<C: Chapters>(call: &LensCall) -> Result<Self::Answer, String> {
         // The chapter's own formula first, as for the closed scenes.
         let _ = C::splat_weight(1.0, 1.0, 1.0, 1.0);
-        let (with, without) = match (parse(&self.scene(true)), parse(&self.scene(false))) {
-            (Ok(with), Ok(without)) => (with, without),
-            (Err(why), _) | (_, Err(why)) => return Outcome::Error(why),
+        if call.seeds.len() > MOST_RENDERS as usize {
+            return Err(format!("{} renders asked", call.seeds.len()));
+        }
+        let (with, without) = (parse(&call.with)?, parse(&call.without)?);
+        let image = |scene: &Scene, seed: u64| -> Result<Vec<f32>, String> {
+            let mut scene = scene.clone();
+            scene.render.seed = seed;
+            let stage =
+                Stage::<C>::with_chapters(&scene, 14, scene.render).map_err(|e| e.to_string())?;
+            Ok(linear_image(&stage).iter().map(|pixel| pixel.x).collect())
         };
-        // raylab's own stage: only its camera's geometry is read.
-        let geometry = match crate::answer_key::raylab_own(|| {
-            Stage::<Reference>::with_chapters(&without, 14, without.render)
-                .map(|stage| self.compared_pixels(&stage))
-        }) {
-            Ok(pixels) => pixels,
+        call.seeds
+            .iter()
+            .map(|&seed| Ok((image(&with, seed)?, image(&without, seed)?)))
+            .collect()
+    }
+
+    fn judge(&self, images: Self::Answer, _robust: bool) -> Outcome {
+        let without = match parse(&self.scene(false)) {
+            Ok(without) => without,
+            Err(why) => return Outcome::Error(why),
+        };
+        let geometry = match Stage::<Reference>::with_chapters(&without, 14, without.render) {
+            Ok(stage) => self.compared_pixels(&stage),
             Err(error) => return Outcome::Error(error.to_string()),
         };
+        let seeds = self.seeds();
+        if images.len() != seeds.len() {
+            return super::intersections::wrong_length(seeds.len(), images.len());
+        }
+        let pixels = (without.render.width * without.render.height) as usize;
+        if images
+            .iter()
+            .any(|(with, without)| with.len() != pixels || without.len() != pixels)
+        {
+            return super::intersections::wrong_length(pixels, 0);
+        }
         let expected = geometry
             .iter()
             .map(|(_, rho)| {
@@ -437,27 +678,17 @@ material = {{ color = [0.8, 0.8, 0.8] }}
             })
             .sum::<f64>()
             / geometry.len().max(1) as f64;
-        let mean_over = |pixels: &[Vec3]| {
+        let mean_over = |pixels: &[f32]| {
             geometry
                 .iter()
-                .map(|(index, _)| f64::from(pixels[*index].x))
+                .map(|(index, _)| f64::from(pixels[*index]))
                 .sum::<f64>()
                 / geometry.len().max(1) as f64
         };
-        let mut ratios = Vec::new();
-        for repetition in 0..self.repetitions {
-            let seed = u64::from(repetition) + 1;
-            let mut images = Vec::new();
-            for scene in [&with, &without] {
-                let mut scene = scene.clone();
-                scene.render.seed = seed;
-                match Stage::<C>::with_chapters(&scene, 14, scene.render) {
-                    Ok(stage) => images.push(mean_over(&linear_image(&stage))),
-                    Err(error) => return Outcome::Error(error.to_string()),
-                }
-            }
-            ratios.push(images[0] / images[1]);
-        }
+        let ratios: Vec<f64> = images
+            .iter()
+            .map(|(with, without)| mean_over(with) / mean_over(without))
+            .collect();
         let (mean, error) = mean_and_error(&ratios);
         let allowed = z_threshold() * error + LENS_ALLOWANCE * expected;
         verdict(
@@ -474,6 +705,14 @@ material = {{ color = [0.8, 0.8, 0.8] }}
                 geometry.len()
             ),
         )
+    }
+
+    /// Other seeds for the renders.
+    fn fresh(&self, draw: &mut Draw) -> Option<LensCase> {
+        Some(LensCase {
+            first_seed: draw.word() >> 1,
+            ..self.clone()
+        })
     }
 }
 

@@ -8,6 +8,7 @@
 
 mod boxes;
 mod directions;
+mod draw;
 mod implicit;
 mod inputs;
 mod intersections;
@@ -19,7 +20,10 @@ mod smooth;
 mod tree;
 mod wide;
 
-pub use boxes::{BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCase};
+pub use boxes::{
+    BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCall, HitBoxCase, RefusedRay, TreeCall,
+    WalkCall, Walked,
+};
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
 pub use implicit::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
@@ -42,6 +46,8 @@ pub use smooth::{BarycentricCase, SmoothHitCase, SmoothNormalCase, TerminatorCas
 pub use wide::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 
 use glam::{DVec3, Vec3};
+
+pub use draw::{Draw, Motion};
 
 use super::panics::{Panic, guarded};
 use crate::bvh::{Aabb, Bvh, BvhOptions};
@@ -85,7 +91,7 @@ pub enum ExpectT {
 }
 
 /// Which shading function a scene case calls.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Shading {
     /// Chapter 4's `shade_flat`.
     Flat,
@@ -135,11 +141,132 @@ pub enum SampleRule {
     Spread,
 }
 
-/// The question a case asks, one variant per kind of function. Each kind
-/// writes its own inputs line and judges its own answer; the enum keeps the
-/// list closed, so that a new kind is matched everywhere.
-#[derive(Debug, Clone)]
-pub enum CaseKind {
+/// One kind of question to the course: what the student's process is
+/// sent, what it sends back, and how the judge reads the answer.
+///
+/// The split is the judge's guarantee (see [`crate::check::judge`]):
+/// [`Kind::ask`] runs in the student's process with nothing but
+/// [`Kind::Call`], the inputs of the call, and returns the raw answer (a
+/// `t`, a direction, hits, samples, pixels); [`Kind::judge`] runs in
+/// raylab's own process, which alone holds the case's expectation, its
+/// tolerance and its oracle. So no expected value ever reaches the
+/// student's code, and nothing it prints, writes or exits with is read as
+/// a verdict.
+pub trait Kind: std::fmt::Debug + Clone {
+    /// The inputs of the call, all the student's process is sent.
+    type Call: serde::Serialize + serde::de::DeserializeOwned + std::fmt::Debug + Clone;
+    /// What the student's process answers.
+    type Answer: serde::Serialize + serde::de::DeserializeOwned + std::fmt::Debug;
+    /// The course function this case calls.
+    fn function(&self) -> &'static str;
+    /// The inputs, as the call would receive them.
+    fn inputs(&self) -> String;
+    /// What the student's process is sent.
+    fn call(&self) -> Self::Call;
+    /// Asks the question of the chapters `C`: runs in the student's
+    /// process. `Err` is a problem of the case itself (a scene that does
+    /// not parse), reported as an error of the check.
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Self::Answer, String>;
+    /// Judges `answer`: runs in raylab's own process. `robust`: at the
+    /// robustness level's tolerance.
+    fn judge(&self, answer: Self::Answer, robust: bool) -> Outcome;
+    /// The case with fresh inputs drawn by `draw` within the kind's stated
+    /// ranges, its expectation worked out again (`grade --code --fresh`);
+    /// `None` where the kind keeps its inputs.
+    fn fresh(&self, _draw: &mut Draw) -> Option<Self> {
+        None
+    }
+}
+
+/// The list of kinds, once: it makes [`CaseKind`] (a case), [`Call`] (what
+/// the student's process is sent) and [`Answer`] (what it sends back),
+/// and the one dispatch of each over them.
+macro_rules! kinds {
+    ($($variant:ident($case:ty),)*) => {
+        /// The question a case asks, one variant per kind of function
+        /// (see [`Kind`]).
+        #[derive(Debug, Clone)]
+        pub enum CaseKind {
+            $($variant($case),)*
+        }
+
+        /// A case's call as the student's process receives it.
+        #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+        pub enum Call {
+            $($variant(<$case as Kind>::Call),)*
+        }
+
+        /// The raw answer of the student's process to a [`Call`].
+        #[derive(Debug, serde::Serialize, serde::Deserialize)]
+        pub enum Answer {
+            $($variant(<$case as Kind>::Answer),)*
+        }
+
+        impl CaseKind {
+            /// The course function this case calls.
+            pub fn function(&self) -> &'static str {
+                match self {
+                    $(CaseKind::$variant(case) => case.function(),)*
+                }
+            }
+
+            /// The inputs, as the call would receive them.
+            pub fn inputs(&self) -> String {
+                match self {
+                    $(CaseKind::$variant(case) => case.inputs(),)*
+                }
+            }
+
+            /// What the student's process is sent.
+            pub fn call(&self) -> Call {
+                match self {
+                    $(CaseKind::$variant(case) => Call::$variant(case.call()),)*
+                }
+            }
+
+            /// Judges `answer` (see [`Kind::judge`]); an answer to another
+            /// kind of question fails.
+            pub fn judge(&self, answer: Answer, robust: bool) -> Outcome {
+                match (self, answer) {
+                    $((CaseKind::$variant(case), Answer::$variant(answer)) => {
+                        case.judge(answer, robust)
+                    })*
+                    (_, other) => Outcome::Fail {
+                        expected: format!("an answer to {}", self.function()),
+                        got: format!("an answer to another question ({})", other.function()),
+                    },
+                }
+            }
+
+            /// The case with fresh inputs (see [`Kind::fresh`]).
+            pub fn fresh(&self, draw: &mut Draw) -> Option<CaseKind> {
+                match self {
+                    $(CaseKind::$variant(case) => case.fresh(draw).map(CaseKind::$variant),)*
+                }
+            }
+        }
+
+        impl Call {
+            /// Asks the call of the chapters `C` (see [`Kind::ask`]).
+            pub fn ask<C: Chapters>(&self) -> Result<Answer, String> {
+                match self {
+                    $(Call::$variant(call) => <$case as Kind>::ask::<C>(call).map(Answer::$variant),)*
+                }
+            }
+        }
+
+        impl Answer {
+            /// The name of the kind of question this answers.
+            fn function(&self) -> &'static str {
+                match self {
+                    $(Answer::$variant(_) => stringify!($variant),)*
+                }
+            }
+        }
+    };
+}
+
+kinds! {
     Plane(PlaneCase),
     Sphere(SphereCase),
     Nearest(NearestCase),
@@ -179,138 +306,6 @@ pub enum CaseKind {
     Prism(PrismCase),
 }
 
-impl CaseKind {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
-        match self {
-            CaseKind::Plane(case) => case.function(),
-            CaseKind::Sphere(case) => case.function(),
-            CaseKind::Nearest(case) => case.function(),
-            CaseKind::Offset(case) => case.function(),
-            CaseKind::Shadow(case) => case.function(),
-            CaseKind::Shade(case) => case.function(),
-            CaseKind::PhongTerms(case) => case.function(),
-            CaseKind::Reflect(case) => case.function(),
-            CaseKind::SampleOffsets(case) => case.function(),
-            CaseKind::PixelColor(case) => case.function(),
-            CaseKind::Refract(case) => case.function(),
-            CaseKind::Reflectance(case) => case.function(),
-            CaseKind::Transmittance(case) => case.function(),
-            CaseKind::Triangles(case) => case.function(),
-            CaseKind::ClosedMesh(case) => case.function(),
-            CaseKind::Barycentric(case) => case.function(),
-            CaseKind::SmoothNormal(case) => case.function(),
-            CaseKind::Terminator(case) => case.function(),
-            CaseKind::SmoothHit(case) => case.function(),
-            CaseKind::HitBox(case) => case.function(),
-            CaseKind::BoxEdges(case) => case.function(),
-            CaseKind::BvhBuild(case) => case.function(),
-            CaseKind::BvhHits(case) => case.function(),
-            CaseKind::HitBoxes(case) => case.function(),
-            CaseKind::FourTriangles(case) => case.function(),
-            CaseKind::MeshInFours(case) => case.function(),
-            CaseKind::Collapse(case) => case.function(),
-            CaseKind::March(case) => case.function(),
-            CaseKind::Newton(case) => case.function(),
-            CaseKind::ImplicitNormal(case) => case.function(),
-            CaseKind::CosineSample(case) => case.function(),
-            CaseKind::PathFormula(case) => case.function(),
-            CaseKind::Converges(case) => case.function(),
-            CaseKind::LightFormula(case) => case.function(),
-            CaseKind::LightConverges(case) => case.function(),
-            CaseKind::Lens(case) => case.function(),
-            CaseKind::Prism(case) => case.function(),
-        }
-    }
-
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
-        match self {
-            CaseKind::Plane(case) => case.inputs(),
-            CaseKind::Sphere(case) => case.inputs(),
-            CaseKind::Nearest(case) => case.inputs(),
-            CaseKind::Offset(case) => case.inputs(),
-            CaseKind::Shadow(case) => case.inputs(),
-            CaseKind::Shade(case) => case.inputs(),
-            CaseKind::PhongTerms(case) => case.inputs(),
-            CaseKind::Reflect(case) => case.inputs(),
-            CaseKind::SampleOffsets(case) => case.inputs(),
-            CaseKind::PixelColor(case) => case.inputs(),
-            CaseKind::Refract(case) => case.inputs(),
-            CaseKind::Reflectance(case) => case.inputs(),
-            CaseKind::Transmittance(case) => case.inputs(),
-            CaseKind::Triangles(case) => case.inputs(),
-            CaseKind::ClosedMesh(case) => case.inputs(),
-            CaseKind::Barycentric(case) => case.inputs(),
-            CaseKind::SmoothNormal(case) => case.inputs(),
-            CaseKind::Terminator(case) => case.inputs(),
-            CaseKind::SmoothHit(case) => case.inputs(),
-            CaseKind::HitBox(case) => case.inputs(),
-            CaseKind::BoxEdges(case) => case.inputs(),
-            CaseKind::BvhBuild(case) => case.inputs(),
-            CaseKind::BvhHits(case) => case.inputs(),
-            CaseKind::HitBoxes(case) => case.inputs(),
-            CaseKind::FourTriangles(case) => case.inputs(),
-            CaseKind::MeshInFours(case) => case.inputs(),
-            CaseKind::Collapse(case) => case.inputs(),
-            CaseKind::March(case) => case.inputs(),
-            CaseKind::Newton(case) => case.inputs(),
-            CaseKind::ImplicitNormal(case) => case.inputs(),
-            CaseKind::CosineSample(case) => case.inputs(),
-            CaseKind::PathFormula(case) => case.inputs(),
-            CaseKind::Converges(case) => case.inputs(),
-            CaseKind::LightFormula(case) => case.inputs(),
-            CaseKind::LightConverges(case) => case.inputs(),
-            CaseKind::Lens(case) => case.inputs(),
-            CaseKind::Prism(case) => case.inputs(),
-        }
-    }
-
-    /// Asks the question of the chapters `C`; `robust`: at the robustness
-    /// level's tolerance.
-    fn evaluate<C: Chapters>(&self, robust: bool) -> Outcome {
-        match self {
-            CaseKind::Plane(case) => case.evaluate::<C>(robust),
-            CaseKind::Sphere(case) => case.evaluate::<C>(robust),
-            CaseKind::Nearest(case) => case.evaluate::<C>(robust),
-            CaseKind::Offset(case) => case.evaluate::<C>(robust),
-            CaseKind::Shadow(case) => case.evaluate::<C>(robust),
-            CaseKind::Shade(case) => case.evaluate::<C>(robust),
-            CaseKind::PhongTerms(case) => case.evaluate::<C>(robust),
-            CaseKind::Reflect(case) => case.evaluate::<C>(robust),
-            CaseKind::SampleOffsets(case) => case.evaluate::<C>(robust),
-            CaseKind::PixelColor(case) => case.evaluate::<C>(robust),
-            CaseKind::Refract(case) => case.evaluate::<C>(robust),
-            CaseKind::Reflectance(case) => case.evaluate::<C>(robust),
-            CaseKind::Transmittance(case) => case.evaluate::<C>(robust),
-            CaseKind::Triangles(case) => case.evaluate::<C>(robust),
-            CaseKind::ClosedMesh(case) => case.evaluate::<C>(robust),
-            CaseKind::Barycentric(case) => case.evaluate::<C>(robust),
-            CaseKind::SmoothNormal(case) => case.evaluate::<C>(robust),
-            CaseKind::Terminator(case) => case.evaluate::<C>(robust),
-            CaseKind::SmoothHit(case) => case.evaluate::<C>(robust),
-            CaseKind::HitBox(case) => case.evaluate::<C>(robust),
-            CaseKind::BoxEdges(case) => case.evaluate::<C>(robust),
-            CaseKind::BvhBuild(case) => case.evaluate::<C>(robust),
-            CaseKind::BvhHits(case) => case.evaluate::<C>(robust),
-            CaseKind::HitBoxes(case) => case.evaluate::<C>(robust),
-            CaseKind::FourTriangles(case) => case.evaluate::<C>(robust),
-            CaseKind::MeshInFours(case) => case.evaluate::<C>(robust),
-            CaseKind::Collapse(case) => case.evaluate::<C>(robust),
-            CaseKind::March(case) => case.evaluate::<C>(robust),
-            CaseKind::Newton(case) => case.evaluate::<C>(robust),
-            CaseKind::ImplicitNormal(case) => case.evaluate::<C>(robust),
-            CaseKind::CosineSample(case) => case.evaluate::<C>(robust),
-            CaseKind::PathFormula(case) => case.evaluate::<C>(robust),
-            CaseKind::Converges(case) => case.evaluate::<C>(robust),
-            CaseKind::LightFormula(case) => case.evaluate::<C>(robust),
-            CaseKind::LightConverges(case) => case.evaluate::<C>(robust),
-            CaseKind::Lens(case) => case.evaluate::<C>(robust),
-            CaseKind::Prism(case) => case.evaluate::<C>(robust),
-        }
-    }
-}
-
 /// What a `BvhBuild` case asks of the tree's shape, beyond its being valid.
 /// Which child is called left is the student's choice, so a cut is
 /// compared as a partition.
@@ -344,10 +339,17 @@ pub struct Case {
     pub section: &'static str,
     pub level: Level,
     pub kind: CaseKind,
+    /// Why this checkpoint keeps its inputs under `grade --code --fresh`
+    /// (an exact tie, a root exactly at `t_max`: a relation a fresh draw
+    /// would not keep), when it does.
+    pub fixed: Option<&'static str>,
+    /// Whether its inputs were drawn afresh ([`Case::fresh`]): its `says`
+    /// is then the lesson's case, and its inputs line the call made.
+    pub drawn: bool,
 }
 
 /// How a case went.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Outcome {
     Pass,
     Fail {
@@ -360,6 +362,20 @@ pub enum Outcome {
     Panicked(Panic),
     /// The check itself could not run (a bug in raylab, not the student's).
     Error(String),
+    /// The student's process ended while it worked the answer out: how
+    /// ("exited with status 0").
+    Ended(String),
+}
+
+impl Outcome {
+    /// A panic's outcome: not written yet for `todo!()`, else a panic.
+    pub fn from_panic(panic: Panic) -> Outcome {
+        if panic.is_todo() {
+            Outcome::Todo(panic)
+        } else {
+            Outcome::Panicked(panic)
+        }
+    }
 }
 
 impl Case {
@@ -375,6 +391,17 @@ impl Case {
             section,
             level: Level::Checkpoint,
             kind,
+            fixed: None,
+            drawn: false,
+        }
+    }
+
+    /// The case, keeping its inputs under `grade --code --fresh` for
+    /// `reason`.
+    pub fn fixed(self, reason: &'static str) -> Case {
+        Case {
+            fixed: Some(reason),
+            ..self
         }
     }
 
@@ -383,17 +410,47 @@ impl Case {
         self.kind.function()
     }
 
-    /// Asks the question of the chapters `C`.
+    /// Asks the question of the chapters `C` in this process and judges
+    /// the answer: raylab's own checks of its reference and of its
+    /// variants (a student's chapters are asked in a process of their own,
+    /// see [`crate::check::judge`]).
     pub fn run<C: Chapters>(&self) -> Outcome {
-        match guarded(|| self.evaluate::<C>()) {
-            Ok(outcome) => outcome,
+        match guarded(|| self.kind.call().ask::<C>()) {
+            Ok(Ok(answer)) => self.judge(answer),
+            Ok(Err(error)) => Outcome::Error(error),
             Err(panic) if panic.is_todo() => Outcome::Todo(panic),
             Err(panic) => Outcome::Panicked(panic),
         }
     }
 
-    fn evaluate<C: Chapters>(&self) -> Outcome {
-        self.kind.evaluate::<C>(self.level == Level::Robustness)
+    /// Judges a raw answer to this case's call. A panic of the judge
+    /// itself is raylab's bug, reported as an error of the check.
+    pub fn judge(&self, answer: Answer) -> Outcome {
+        let robust = self.level == Level::Robustness;
+        match guarded(|| self.kind.judge(answer, robust)) {
+            Ok(outcome) => outcome,
+            Err(panic) => Outcome::Error(format!(
+                "the judge of case {} panicked: {}",
+                self.name, panic.message
+            )),
+        }
+    }
+
+    /// This case with fresh inputs drawn from `seed` (see [`Kind::fresh`]),
+    /// or `None` when it keeps its own: every hard case (their inputs are
+    /// the hard part), a checkpoint marked [`Case::fixed`], and a kind
+    /// with nothing to draw. The draw depends on the seed and the case's
+    /// name alone, so it is the same for every student, in any order.
+    pub fn fresh(&self, seed: u64) -> Option<Case> {
+        if self.level == Level::Robustness || self.fixed.is_some() {
+            return None;
+        }
+        let mut draw = Draw::for_case(seed, self.name);
+        self.kind.fresh(&mut draw).map(|kind| Case {
+            kind,
+            drawn: true,
+            ..self.clone()
+        })
     }
 }
 

@@ -35,7 +35,14 @@ pub const DIRECTION_SAMPLES: u32 = 200_000;
 /// A number in `[0, 1)` from a fixed hash of `index` and `dimension`: the
 /// stream every direction test draws from.
 pub fn stream(index: u32, dimension: u32) -> f32 {
-    let mut word = 0x243F_6A88_85A3_08D3_u64 ^ (u64::from(index) << 32 | u64::from(dimension));
+    seeded_stream(0, index, dimension)
+}
+
+/// [`stream`] under `seed` (0 is [`stream`] itself): `grade --fresh`'s
+/// other draws of the same test.
+pub fn seeded_stream(seed: u64, index: u32, dimension: u32) -> f32 {
+    let mut word = (0x243F_6A88_85A3_08D3_u64 ^ seed.wrapping_mul(0xD1B5_4A32_D192_ED03))
+        ^ (u64::from(index) << 32 | u64::from(dimension));
     word = word.wrapping_add(0x9E37_79B9_7F4A_7C15);
     word = (word ^ (word >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     word = (word ^ (word >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -118,27 +125,57 @@ pub fn pearson(observed: &[f64], expected: &[f64]) -> (f64, f64) {
 
 /// `cosine_hemisphere(u, v)` over a fixed stream of `(u, v)`: every
 /// direction unit and above the surface, spread with density `cos / pi`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CosineSampleCase {
     pub samples: u32,
+    /// The stream's seed ([`seeded_stream`]): 0, or `grade --fresh`'s.
+    pub seed: u64,
 }
 
-impl CosineSampleCase {
-    pub fn function(&self) -> &'static str {
+/// The most samples a statistical case may ask for.
+const MOST_SAMPLES: u32 = 1 << 20;
+
+impl Kind for CosineSampleCase {
+    type Call = CosineSampleCase;
+    type Answer = Vec<Vec3>;
+
+    fn function(&self) -> &'static str {
         "cosine_hemisphere"
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
-            "cosine_hemisphere(u, v) for {} pairs (u, v) uniform in [0, 1)^2",
-            self.samples
+            "cosine_hemisphere(u, v) for {} pairs (u, v) uniform in [0, 1)^2{}",
+            self.samples,
+            seed_text(self.seed)
         )
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let directions: Vec<Vec3> = (0..self.samples)
-            .map(|index| C::cosine_hemisphere(stream(index, 0), stream(index, 1)))
-            .collect();
+    fn call(&self) -> CosineSampleCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &CosineSampleCase) -> Result<Vec<Vec3>, String> {
+        if call.samples > MOST_SAMPLES {
+            return Err(format!(
+                "{} samples asked, more than {MOST_SAMPLES}",
+                call.samples
+            ));
+        }
+        Ok((0..call.samples)
+            .map(|index| {
+                C::cosine_hemisphere(
+                    seeded_stream(call.seed, index, 0),
+                    seeded_stream(call.seed, index, 1),
+                )
+            })
+            .collect())
+    }
+
+    fn judge(&self, directions: Vec<Vec3>, _robust: bool) -> Outcome {
+        if directions.len() != self.samples as usize {
+            return super::intersections::wrong_length(self.samples as usize, directions.len());
+        }
         let expected = format!(
             "directions spread as cos(theta) / pi: a chi-square p-value above {FALSE_ALARM:.0e}"
         );
@@ -150,6 +187,23 @@ impl CosineSampleCase {
                 format!("chi-square {statistic:.1}, p-value {p_value:.2e}"),
             ),
         }
+    }
+
+    /// Another stream: the same test on other numbers.
+    fn fresh(&self, draw: &mut Draw) -> Option<CosineSampleCase> {
+        Some(CosineSampleCase {
+            seed: draw.word() | 1,
+            ..self.clone()
+        })
+    }
+}
+
+/// `", stream seed S"` for a stream other than the lessons' own.
+fn seed_text(seed: u64) -> String {
+    if seed == 0 {
+        String::new()
+    } else {
+        format!(", stream seed {seed}")
     }
 }
 
@@ -174,8 +228,20 @@ pub struct PathFormulaCase {
     pub formula: PathFormula,
 }
 
-impl PathFormulaCase {
-    pub fn function(&self) -> &'static str {
+/// A [`PathFormula`]'s inputs.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub enum PathFormulaCall {
+    CosinePdf { cos_theta: f32 },
+    PowerHeuristic { pdf: f32, other: f32 },
+    Roulette { weight: f32, u: f32 },
+}
+
+impl Kind for PathFormulaCase {
+    type Call = PathFormulaCall;
+    /// The number (`Some` for the two densities), or the roulette's answer.
+    type Answer = Option<f32>;
+
+    fn function(&self) -> &'static str {
         match self.formula {
             PathFormula::CosinePdf { .. } => "cosine_pdf",
             PathFormula::PowerHeuristic { .. } => "power_heuristic",
@@ -183,7 +249,7 @@ impl PathFormulaCase {
         }
     }
 
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         match self.formula {
             PathFormula::CosinePdf { cos_theta, .. } => format!("cosine_pdf({})", num(cos_theta)),
             PathFormula::PowerHeuristic { pdf, other, .. } => {
@@ -195,30 +261,37 @@ impl PathFormulaCase {
         }
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let number = |got: f32, expected: f64| {
-            verdict(
+    fn call(&self) -> PathFormulaCall {
+        match self.formula {
+            PathFormula::CosinePdf { cos_theta, .. } => PathFormulaCall::CosinePdf { cos_theta },
+            PathFormula::PowerHeuristic { pdf, other, .. } => {
+                PathFormulaCall::PowerHeuristic { pdf, other }
+            }
+            PathFormula::Roulette { weight, u, .. } => PathFormulaCall::Roulette { weight, u },
+        }
+    }
+
+    fn ask<C: Chapters>(call: &PathFormulaCall) -> Result<Option<f32>, String> {
+        Ok(match *call {
+            PathFormulaCall::CosinePdf { cos_theta } => Some(C::cosine_pdf(cos_theta)),
+            PathFormulaCall::PowerHeuristic { pdf, other } => Some(C::power_heuristic(pdf, other)),
+            PathFormulaCall::Roulette { weight, u } => C::russian_roulette(weight, u),
+        })
+    }
+
+    fn judge(&self, got: Option<f32>, _robust: bool) -> Outcome {
+        let number = |expected: f64| match got {
+            Some(got) => verdict(
                 got.is_finite() && close(f64::from(got), expected, CHECKPOINT_TOLERANCE),
                 num64(expected),
                 num(got),
-            )
+            ),
+            None => verdict(false, num64(expected), "no number".into()),
         };
         match self.formula {
-            PathFormula::CosinePdf {
-                cos_theta,
-                expected,
-            } => number(C::cosine_pdf(cos_theta), expected),
-            PathFormula::PowerHeuristic {
-                pdf,
-                other,
-                expected,
-            } => number(C::power_heuristic(pdf, other), expected),
-            PathFormula::Roulette {
-                weight,
-                u,
-                expected,
-            } => {
-                let got = C::russian_roulette(weight, u);
+            PathFormula::CosinePdf { expected, .. }
+            | PathFormula::PowerHeuristic { expected, .. } => number(expected),
+            PathFormula::Roulette { expected, .. } => {
                 let show = |answer: Option<f64>| {
                     answer.map_or("None (the path ends)".to_string(), |boost| {
                         format!("Some({})", num64(boost))
@@ -235,6 +308,63 @@ impl PathFormulaCase {
             }
         }
     }
+
+    /// New numbers of the same kind: a cosine of the same sign, densities
+    /// scaled together with their ratio nudged, a roulette weight and `u`
+    /// on the same side of each other; the answer worked out again.
+    fn fresh(&self, draw: &mut Draw) -> Option<PathFormulaCase> {
+        let formula = match self.formula {
+            PathFormula::CosinePdf { cos_theta, .. } => {
+                let cos_theta = if cos_theta > 0.0 {
+                    draw.between(0.05, 1.0) as f32
+                } else if cos_theta < 0.0 {
+                    -draw.between(0.05, 1.0) as f32
+                } else {
+                    return None;
+                };
+                PathFormula::CosinePdf {
+                    cos_theta,
+                    expected: exact::cosine_pdf(f64::from(cos_theta)),
+                }
+            }
+            PathFormula::PowerHeuristic { pdf, other, .. } => {
+                if !(pdf.is_finite() && other.is_finite()) || pdf < 0.0 || other < 0.0 {
+                    return None;
+                }
+                let scale = draw.between(0.1, 10.0);
+                let pdf = (f64::from(pdf) * scale) as f32;
+                let other = (f64::from(other) * scale * draw.between(0.8, 1.25)) as f32;
+                PathFormula::PowerHeuristic {
+                    pdf,
+                    other,
+                    expected: exact::power_heuristic(f64::from(pdf), f64::from(other)),
+                }
+            }
+            PathFormula::Roulette {
+                weight, expected, ..
+            } => {
+                if !(weight > 0.0 && weight.is_finite()) {
+                    return None;
+                }
+                let weight = if weight < 1.0 {
+                    draw.between(0.1, 0.9) as f32
+                } else {
+                    draw.between(1.0, 4.0) as f32
+                };
+                let survival = f64::from(weight.min(1.0));
+                let u = match expected {
+                    Some(_) => draw.between(0.0, survival),
+                    None => draw.between(survival, 1.0),
+                } as f32;
+                PathFormula::Roulette {
+                    weight,
+                    u,
+                    expected: exact::russian_roulette(f64::from(weight), f64::from(u)),
+                }
+            }
+        };
+        Some(PathFormulaCase { formula })
+    }
 }
 
 /// A whole estimator on a closed scene whose every pixel converges to
@@ -249,6 +379,9 @@ pub struct ConvergesCase {
     pub without: &'static [&'static str],
     pub samples: u32,
     pub expected: f64,
+    /// The stream's and the scene's seed: 0 for the lesson's own,
+    /// `grade --fresh`'s otherwise.
+    pub seed: u64,
 }
 
 /// The z-score past which a correct mean counts as wrong, two-sided, for
@@ -302,39 +435,83 @@ pub fn mean_and_error(samples: &[f64]) -> (f64, f64) {
     (mean, (variance / count).sqrt())
 }
 
+/// A closed scene's call: the scene (TOML), the effects left out, how
+/// many camera samples, and the stream and scene seed.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ConvergesCall {
+    pub scene: String,
+    pub without: Vec<String>,
+    pub samples: u32,
+    /// 0: the lesson's stream and the scene's own seed.
+    pub seed: u64,
+}
+
 impl ConvergesCase {
-    pub fn function(&self) -> &'static str {
-        self.function
-    }
-
-    pub fn inputs(&self) -> String {
-        format!(
-            "{} camera samples of a closed scene{}",
-            self.samples,
-            without_text(self.without)
-        )
-    }
-
     /// The mean of the samples' first channel and its standard error, with
     /// the chapters `C`.
     pub fn estimate<C: Chapters>(&self) -> Result<(f64, f64), String> {
-        let mut scene = parse(&self.scene)?;
-        scene.render.without = SwitchedOff::parse(self.without.iter().copied())?;
-        let stage = Stage::<C>::with_chapters(&scene, 13, scene.render)
-            .map_err(|error| error.to_string())?;
-        let mut tracer = stage.tracer(None);
-        let (width, height) = (scene.render.width, scene.render.height);
-        let samples: Vec<f64> = (0..self.samples)
-            .map(|index| {
-                let (x, y) = (index % width, (index / width) % height);
-                let jitter = (stream(index, 2), stream(index, 3));
-                f64::from(tracer.sample(x as f32 + jitter.0, y as f32 + jitter.1).x)
-            })
-            .collect();
-        Ok(mean_and_error(&samples))
+        Ok(mean_and_error(&converges_samples::<C>(&self.call())?))
+    }
+}
+
+/// The first channel of each camera sample of a closed scene, with the
+/// chapters `C`.
+fn converges_samples<C: Chapters>(call: &ConvergesCall) -> Result<Vec<f64>, String> {
+    if call.samples > MOST_SAMPLES {
+        return Err(format!(
+            "{} samples asked, more than {MOST_SAMPLES}",
+            call.samples
+        ));
+    }
+    let mut scene = parse(&call.scene)?;
+    scene.render.without = SwitchedOff::parse(call.without.iter().map(String::as_str))?;
+    if call.seed != 0 {
+        scene.render.seed = call.seed;
+    }
+    let stage =
+        Stage::<C>::with_chapters(&scene, 13, scene.render).map_err(|error| error.to_string())?;
+    let mut tracer = stage.tracer(None);
+    let (width, height) = (scene.render.width, scene.render.height);
+    Ok((0..call.samples)
+        .map(|index| {
+            let (x, y) = (index % width, (index / width) % height);
+            let jitter = (
+                seeded_stream(call.seed, index, 2),
+                seeded_stream(call.seed, index, 3),
+            );
+            f64::from(tracer.sample(x as f32 + jitter.0, y as f32 + jitter.1).x)
+        })
+        .collect())
+}
+
+impl Kind for ConvergesCase {
+    type Call = ConvergesCall;
+    /// Each sample's first channel.
+    type Answer = Vec<f64>;
+
+    fn function(&self) -> &'static str {
+        self.function
     }
 
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn inputs(&self) -> String {
+        format!(
+            "{} camera samples of a closed scene{}{}",
+            self.samples,
+            without_text(self.without),
+            seed_text(self.seed)
+        )
+    }
+
+    fn call(&self) -> ConvergesCall {
+        ConvergesCall {
+            scene: self.scene.clone(),
+            without: self.without.iter().map(|name| name.to_string()).collect(),
+            samples: self.samples,
+            seed: self.seed,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &ConvergesCall) -> Result<Vec<f64>, String> {
         // The chapter's own formulas first: in a workspace where nothing is
         // written yet, their `todo!()` says chapter 13 is not started,
         // before the render stops at an earlier chapter's.
@@ -344,16 +521,28 @@ impl ConvergesCase {
             C::power_heuristic(1.0, 1.0),
             C::russian_roulette(0.5, 0.5),
         );
-        let (mean, error) = match self.estimate::<C>() {
-            Ok(found) => found,
-            Err(why) => return Outcome::Error(why),
-        };
+        converges_samples::<C>(call)
+    }
+
+    fn judge(&self, samples: Vec<f64>, _robust: bool) -> Outcome {
+        if samples.len() != self.samples as usize {
+            return super::intersections::wrong_length(self.samples as usize, samples.len());
+        }
+        let (mean, error) = mean_and_error(&samples);
         let allowed = z_threshold() * error + 1e-3 * self.expected.abs();
         verdict(
             mean.is_finite() && (mean - self.expected).abs() <= allowed,
             format!("{} (within {:.2e})", num64(self.expected), allowed),
             format!("a mean of {} (standard error {:.2e})", num64(mean), error),
         )
+    }
+
+    /// Another stream and scene seed: the same scene on other numbers.
+    fn fresh(&self, draw: &mut Draw) -> Option<ConvergesCase> {
+        Some(ConvergesCase {
+            seed: draw.word() | 1,
+            ..self.clone()
+        })
     }
 }
 

@@ -13,14 +13,42 @@ pub struct SampleOffsetsCase {
     pub rule: SampleRule,
 }
 
+/// `sample_offset`'s inputs: every index of `count` in each pixel, for
+/// each seed.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct SampleCall {
+    pub sampling: Sampling,
+    pub count: u32,
+    pub pixels: Vec<(u32, u32)>,
+    pub seeds: Vec<u64>,
+}
+
+/// The most offsets one case may ask for: a million pairs.
+const MOST_OFFSETS: usize = 1 << 20;
+
 impl SampleOffsetsCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+    /// The seeds the rule needs answers for, the case's own first.
+    fn seeds(&self) -> Vec<u64> {
+        match self.rule {
+            SampleRule::DistinctSeeds => std::iter::once(0)
+                .chain((0..64).map(|bit| 1u64 << bit))
+                .collect(),
+            SampleRule::UnlikeSeed(other) => vec![self.seed, other],
+            _ => vec![self.seed],
+        }
+    }
+}
+
+impl Kind for SampleOffsetsCase {
+    type Call = SampleCall;
+    /// The offsets by seed, then pixel, then index.
+    type Answer = Vec<Vec<Vec<(f32, f32)>>>;
+
+    fn function(&self) -> &'static str {
         "sample_offset"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let SampleOffsetsCase {
             sampling,
             count,
@@ -41,60 +69,114 @@ impl SampleOffsetsCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> SampleCall {
+        SampleCall {
+            sampling: self.sampling,
+            count: self.count,
+            pixels: self.pixels.clone(),
+            seeds: self.seeds(),
+        }
+    }
+
+    fn ask<C: Chapters>(call: &SampleCall) -> Result<Self::Answer, String> {
+        let asked = call.seeds.len() * call.pixels.len() * call.count as usize;
+        if asked > MOST_OFFSETS {
+            return Err(format!("{asked} offsets asked, more than {MOST_OFFSETS}"));
+        }
+        Ok(call
+            .seeds
+            .iter()
+            .map(|&seed| {
+                call.pixels
+                    .iter()
+                    .map(|&pixel| {
+                        (0..call.count)
+                            .map(|index| {
+                                C::sample_offset(call.sampling, call.count, index, pixel, seed)
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+
+    /// The same rule at both levels.
+    fn judge(&self, offsets: Self::Answer, _robust: bool) -> Outcome {
         let SampleOffsetsCase {
             sampling,
             count,
             pixels,
-            seed,
             rule,
+            ..
         } = self;
-        if *rule == SampleRule::Spread {
-            let offsets: Vec<Vec<(f32, f32)>> = pixels
-                .iter()
-                .map(|pixel| {
-                    (0..*count)
-                        .map(|index| C::sample_offset(*sampling, *count, index, *pixel, *seed))
-                        .collect()
-                })
-                .collect();
-            return match spread(*sampling, *count, &offsets) {
+        let seeds = self.seeds();
+        let shaped = offsets.len() == seeds.len()
+            && offsets.iter().all(|by_pixel| {
+                by_pixel.len() == pixels.len()
+                    && by_pixel.iter().all(|one| one.len() == *count as usize)
+            });
+        if !shaped {
+            return super::intersections::wrong_length(
+                seeds.len() * pixels.len() * *count as usize,
+                offsets.iter().flatten().map(Vec::len).sum(),
+            );
+        }
+        match rule {
+            SampleRule::Spread => match spread(*sampling, *count, &offsets[0]) {
                 Ok(()) => Outcome::Pass,
                 Err(problem) => Outcome::Fail {
                     expected: rule_text(*rule, *count),
                     got: problem,
                 },
-            };
-        }
-        if *rule == SampleRule::DistinctSeeds {
-            return distinct_seeds::<C>(self);
-        }
-        for pixel in pixels {
-            let offsets_with = |seed: u64| -> Vec<(f32, f32)> {
-                (0..*count)
-                    .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
-                    .collect()
-            };
-            let offsets = offsets_with(*seed);
-            let mut verdict = sample_rule(*rule, *count, &offsets);
-            if let (Ok(()), SampleRule::UnlikeSeed(other)) = (&verdict, rule) {
-                if offsets_with(*other) == offsets {
-                    verdict = Err(format!("the same offsets as with seed {other}"));
+            },
+            SampleRule::DistinctSeeds => distinct_seeds(self, &seeds, &offsets),
+            _ => {
+                for (index, pixel) in pixels.iter().enumerate() {
+                    let own = &offsets[0][index];
+                    let mut verdict = sample_rule(*rule, *count, own);
+                    if let (Ok(()), SampleRule::UnlikeSeed(other)) = (&verdict, rule)
+                        && offsets[1][index] == *own
+                    {
+                        verdict = Err(format!("the same offsets as with seed {other}"));
+                    }
+                    if let Err(problem) = verdict {
+                        return Outcome::Fail {
+                            expected: rule_text(*rule, *count),
+                            got: format!(
+                                "pixel {pixel:?}: {problem}; offsets {}",
+                                shown_offsets(own)
+                            ),
+                        };
+                    }
                 }
-            }
-            if let Err(problem) = verdict {
-                return Outcome::Fail {
-                    expected: rule_text(*rule, *count),
-                    got: format!(
-                        "pixel {pixel:?}: {problem}; offsets {}",
-                        shown_offsets(&offsets)
-                    ),
-                };
+                Outcome::Pass
             }
         }
-        Outcome::Pass
+    }
+
+    /// Every pixel moved by one shift (neighbours stay neighbours), and a
+    /// new seed (and a new other seed) where the rule takes one.
+    fn fresh(&self, draw: &mut Draw) -> Option<SampleOffsetsCase> {
+        let (dx, dy) = (draw.below(4096) as u32, draw.below(4096) as u32);
+        let rule = match self.rule {
+            SampleRule::UnlikeSeed(_) => SampleRule::UnlikeSeed(draw.word()),
+            rule => rule,
+        };
+        Some(SampleOffsetsCase {
+            pixels: self
+                .pixels
+                .iter()
+                .map(|&(x, y)| (x.saturating_add(dx), y.saturating_add(dy)))
+                .collect(),
+            seed: if self.rule == SampleRule::DistinctSeeds {
+                self.seed
+            } else {
+                draw.word()
+            },
+            rule,
+            ..self.clone()
+        })
     }
 }
 
@@ -107,14 +189,24 @@ pub struct PixelColorCase {
     pub pixels: Vec<(u32, u32)>,
 }
 
-impl PixelColorCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// `pixel_color`'s call: the scene (TOML) and the pixels.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct PixelColorCall {
+    pub scene: String,
+    pub pixels: Vec<(u32, u32)>,
+}
+
+impl Kind for PixelColorCase {
+    type Call = PixelColorCall;
+    /// For each pixel, its samples' colours (at the offsets the chapters'
+    /// `sample_offset` gives) and `pixel_color`'s answer.
+    type Answer = Vec<(Vec<Vec3>, Vec3)>;
+
+    fn function(&self) -> &'static str {
         "pixel_color"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let PixelColorCase { pixels, .. } = self;
         format!(
             "pixel_color of {} pixel{} from {:?}",
@@ -124,29 +216,54 @@ impl PixelColorCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let PixelColorCase { scene, pixels } = self;
-        let scene = match parse(scene) {
-            Ok(scene) => scene,
-            Err(error) => return Outcome::Error(error),
-        };
-        let stage = match Stage::<C>::with_chapters(&scene, 7, scene.render) {
-            Ok(stage) => stage,
-            Err(error) => return Outcome::Error(error.to_string()),
-        };
+    fn call(&self) -> PixelColorCall {
+        PixelColorCall {
+            scene: self.scene.clone(),
+            pixels: self.pixels.clone(),
+        }
+    }
+
+    fn ask<C: Chapters>(call: &PixelColorCall) -> Result<Self::Answer, String> {
+        let scene = parse(&call.scene)?;
+        let stage =
+            Stage::<C>::with_chapters(&scene, 7, scene.render).map_err(|e| e.to_string())?;
         let mut tracer = stage.tracer(None);
-        for &(x, y) in pixels {
-            let samples = tracer.samples();
-            let mut colours = Vec::new();
-            for index in 0..samples {
-                let (dx, dy) = tracer.sample_offset(index, (x, y));
-                colours.push(tracer.sample(x as f32 + dx, y as f32 + dy));
+        let mut answers = Vec::with_capacity(call.pixels.len());
+        for &(x, y) in &call.pixels {
+            let colours: Vec<Vec3> = (0..tracer.samples())
+                .map(|index| {
+                    let (dx, dy) = tracer.sample_offset(index, (x, y));
+                    tracer.sample(x as f32 + dx, y as f32 + dy)
+                })
+                .collect();
+            answers.push((colours, C::pixel_color(&mut tracer, x, y)));
+        }
+        Ok(answers)
+    }
+
+    /// The same tolerance at both levels: each pixel the mean, in linear
+    /// light, of its own samples, as many as the scene asks.
+    fn judge(&self, answers: Self::Answer, _robust: bool) -> Outcome {
+        if answers.len() != self.pixels.len() {
+            return super::intersections::wrong_length(self.pixels.len(), answers.len());
+        }
+        // As many samples as raylab's own stage of the scene takes.
+        let samples = parse(&self.scene).ok().and_then(|scene| {
+            crate::answer_key::raylab_own(|| {
+                Stage::<Reference>::with_chapters(&scene, 7, scene.render)
+                    .ok()
+                    .map(|stage| stage.samples())
+            })
+        });
+        let Some(samples) = samples else {
+            return Outcome::Error("the case's scene has no stage at chapter 7".into());
+        };
+        for (&(x, y), (colours, got)) in self.pixels.iter().zip(&answers) {
+            if colours.len() != samples as usize {
+                return super::intersections::wrong_length(samples as usize, colours.len());
             }
             let mean = colours.iter().copied().sum::<Vec3>() / samples.max(1) as f32;
-            let got = C::pixel_color(&mut tracer, x, y);
-            if !colour_close(got, mean) {
+            if !colour_close(*got, mean) {
                 return Outcome::Fail {
                     expected: format!(
                         "pixel ({x}, {y}): {} = the mean of its samples {}",
@@ -157,11 +274,30 @@ impl PixelColorCase {
                             .collect::<Vec<_>>()
                             .join(" ")
                     ),
-                    got: vec(got),
+                    got: vec(*got),
                 };
             }
         }
         Outcome::Pass
+    }
+
+    /// As many pixels, drawn anywhere in the scene's image.
+    fn fresh(&self, draw: &mut Draw) -> Option<PixelColorCase> {
+        let scene = parse(&self.scene).ok()?;
+        let (width, height) = (scene.render.width, scene.render.height);
+        Some(PixelColorCase {
+            pixels: self
+                .pixels
+                .iter()
+                .map(|_| {
+                    (
+                        draw.below(u64::from(width)) as u32,
+                        draw.below(u64::from(height)) as u32,
+                    )
+                })
+                .collect(),
+            ..self.clone()
+        })
     }
 }
 
@@ -169,22 +305,23 @@ impl PixelColorCase {
 /// offsets inside the pixel, and no two of them the same offsets in one
 /// pixel (a hash that drops a bit of the seed gives that bit's seed the
 /// offsets of seed 0).
-fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase) -> Outcome {
+fn distinct_seeds(
+    case: &SampleOffsetsCase,
+    seeds: &[u64],
+    offsets: &[Vec<Vec<(f32, f32)>>],
+) -> Outcome {
     let SampleOffsetsCase {
-        sampling,
         count,
         pixels,
         rule,
         ..
     } = case;
-    for pixel in pixels {
+    for (index, pixel) in pixels.iter().enumerate() {
         let mut seen: std::collections::HashMap<Vec<(u32, u32)>, u64> =
             std::collections::HashMap::new();
-        for seed in std::iter::once(0).chain((0..64).map(|bit| 1u64 << bit)) {
-            let offsets: Vec<(f32, f32)> = (0..*count)
-                .map(|index| C::sample_offset(*sampling, *count, index, *pixel, seed))
-                .collect();
-            let problem = match sample_rule(*rule, *count, &offsets) {
+        for (&seed, by_pixel) in seeds.iter().zip(offsets) {
+            let offsets = &by_pixel[index];
+            let problem = match sample_rule(*rule, *count, offsets) {
                 Err(problem) => Some(problem),
                 Ok(()) => {
                     let bits = offsets.iter().map(|(x, y)| (x.to_bits(), y.to_bits()));
@@ -197,7 +334,7 @@ fn distinct_seeds<C: Chapters>(case: &SampleOffsetsCase) -> Outcome {
                     expected: rule_text(*rule, *count),
                     got: format!(
                         "pixel {pixel:?}, seed {seed}: {problem}; offsets {}",
-                        shown_offsets(&offsets)
+                        shown_offsets(offsets)
                     ),
                 };
             }

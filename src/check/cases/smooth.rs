@@ -5,30 +5,37 @@ use super::*;
 
 /// `barycentric(triangle, point)`: expected the exact weights (ratios
 /// of areas, in `f64`).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct BarycentricCase {
     pub corners: [Vec3; 3],
     pub point: Vec3,
 }
 
-impl BarycentricCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for BarycentricCase {
+    type Call = BarycentricCase;
+    type Answer = Vec3;
+
+    fn function(&self) -> &'static str {
         "barycentric"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let BarycentricCase { corners, point } = self;
         format!("barycentric({}, {})", corners_text(*corners), vec(*point))
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> BarycentricCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &BarycentricCase) -> Result<Vec3, String> {
+        let [a, b, c] = call.corners;
+        Ok(C::barycentric(&Triangle::new(a, b, c), call.point))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: Vec3, _robust: bool) -> Outcome {
         let BarycentricCase { corners, point } = self;
-        let [a, b, c] = *corners;
-        let got = C::barycentric(&Triangle::new(a, b, c), *point);
         let want = exact::barycentric(corners.map(wide), wide(*point));
         // Weights of a point inside are at most 1: an absolute
         // tolerance is a relative one.
@@ -37,25 +44,36 @@ impl BarycentricCase {
                 <= CHECKPOINT_TOLERANCE * max_abs(want).max(1.0);
         verdict(pass, vec64(want), vec(got))
     }
+
+    /// The triangle and the point moved whole: the weights are the same,
+    /// the numbers are not.
+    fn fresh(&self, draw: &mut Draw) -> Option<BarycentricCase> {
+        let motion = draw.motion();
+        Some(BarycentricCase {
+            corners: self.corners.map(|corner| motion.point(corner)),
+            point: motion.point(self.point),
+        })
+    }
 }
 
 /// `smooth_normal(triangle, normals, point)`: expected the exact unit
 /// blend.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SmoothNormalCase {
     pub corners: [Vec3; 3],
     pub normals: [Vec3; 3],
     pub point: Vec3,
 }
 
-impl SmoothNormalCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for SmoothNormalCase {
+    type Call = SmoothNormalCase;
+    type Answer = Vec3;
+
+    fn function(&self) -> &'static str {
         "smooth_normal"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let SmoothNormalCase {
             corners,
             normals,
@@ -70,16 +88,26 @@ impl SmoothNormalCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> SmoothNormalCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &SmoothNormalCase) -> Result<Vec3, String> {
+        let [a, b, c] = call.corners;
+        Ok(C::smooth_normal(
+            &Triangle::new(a, b, c),
+            &call.normals,
+            call.point,
+        ))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: Vec3, _robust: bool) -> Outcome {
         let SmoothNormalCase {
             corners,
             normals,
             point,
         } = self;
-        let [a, b, c] = *corners;
-        let got = C::smooth_normal(&Triangle::new(a, b, c), normals, *point);
         let want = exact::smooth_normal(corners.map(wide), normals.map(wide), wide(*point));
         verdict(
             unit_toward(got, want),
@@ -87,25 +115,37 @@ impl SmoothNormalCase {
             format!("{} (length {})", vec(got), num64(wide(got).length())),
         )
     }
+
+    /// The triangle and the point moved whole, the normals turned with
+    /// them.
+    fn fresh(&self, draw: &mut Draw) -> Option<SmoothNormalCase> {
+        let motion = draw.motion();
+        Some(SmoothNormalCase {
+            corners: self.corners.map(|corner| motion.point(corner)),
+            normals: self.normals.map(|normal| motion.direction(normal)),
+            point: motion.point(self.point),
+        })
+    }
 }
 
 /// `terminator_point(triangle, normals, point)`: expected the exact
 /// lifted point.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct TerminatorCase {
     pub corners: [Vec3; 3],
     pub normals: [Vec3; 3],
     pub point: Vec3,
 }
 
-impl TerminatorCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for TerminatorCase {
+    type Call = TerminatorCase;
+    type Answer = Vec3;
+
+    fn function(&self) -> &'static str {
         "terminator_point"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let TerminatorCase {
             corners,
             normals,
@@ -120,18 +160,39 @@ impl TerminatorCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> TerminatorCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &TerminatorCase) -> Result<Vec3, String> {
+        let [a, b, c] = call.corners;
+        Ok(C::terminator_point(
+            &Triangle::new(a, b, c),
+            &call.normals,
+            call.point,
+        ))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: Vec3, _robust: bool) -> Outcome {
         let TerminatorCase {
             corners,
             normals,
             point,
         } = self;
-        let [a, b, c] = *corners;
-        let got = C::terminator_point(&Triangle::new(a, b, c), normals, *point);
         let want = exact::terminator_point(corners.map(wide), normals.map(wide), wide(*point));
         verdict(point_close(got, want), vec64(want), vec(got))
+    }
+
+    /// The triangle and the point moved whole, the normals turned with
+    /// them.
+    fn fresh(&self, draw: &mut Draw) -> Option<TerminatorCase> {
+        let motion = draw.motion();
+        Some(TerminatorCase {
+            corners: self.corners.map(|corner| motion.point(corner)),
+            normals: self.normals.map(|normal| motion.direction(normal)),
+            point: motion.point(self.point),
+        })
     }
 }
 
@@ -139,7 +200,7 @@ impl TerminatorCase {
 /// the reference test), on a material that is opaque or fully
 /// transparent: expected the blended normal turned toward the ray, and
 /// the lifted point (the point itself when transparent).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SmoothHitCase {
     pub corners: [Vec3; 3],
     pub normals: [Vec3; 3],
@@ -147,14 +208,17 @@ pub struct SmoothHitCase {
     pub transparent: bool,
 }
 
-impl SmoothHitCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for SmoothHitCase {
+    type Call = SmoothHitCase;
+    /// The point as given (where the reference test found it), and the
+    /// student's normal and point.
+    type Answer = (Vec3, Vec3, Vec3);
+
+    fn function(&self) -> &'static str {
         "smooth_hit_point"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let SmoothHitCase {
             corners,
             normals,
@@ -174,15 +238,17 @@ impl SmoothHitCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> SmoothHitCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &SmoothHitCase) -> Result<(Vec3, Vec3, Vec3), String> {
         let SmoothHitCase {
             corners,
             normals,
             ray,
             transparent,
-        } = self;
+        } = call;
         let [a, b, c] = *corners;
         let triangle = Triangle::new(a, b, c);
         let shape = Shape::Triangle(triangle);
@@ -190,7 +256,7 @@ impl SmoothHitCase {
         // does not depend on the code under check.
         let Some(t) = crate::answer_key::raylab_own(|| shape.intersect(ray, 0.0, f32::INFINITY))
         else {
-            return Outcome::Error(format!(
+            return Err(format!(
                 "the case's ray {} misses its triangle",
                 ray_text(ray)
             ));
@@ -201,6 +267,28 @@ impl SmoothHitCase {
         };
         let point = HitPoint::new(0, &shape, &material, ray, t);
         let got = C::smooth_hit_point(point, &triangle, normals);
+        Ok((point.surface.point, got.normal, got.surface.point))
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, (at, normal, point): (Vec3, Vec3, Vec3), _robust: bool) -> Outcome {
+        let SmoothHitCase {
+            corners,
+            normals,
+            ray,
+            transparent,
+        } = self;
+        // The point where the ray meets the triangle, as the reference
+        // test finds it: the student's process must have been given it.
+        let shape = Shape::Triangle(Triangle::new(corners[0], corners[1], corners[2]));
+        let given = crate::answer_key::raylab_own(|| shape.intersect(ray, 0.0, f32::INFINITY))
+            .map(|t| shape.surface_point(ray, t).point);
+        if given != Some(at) {
+            return Outcome::Fail {
+                expected: "the answer at the point the case gives".into(),
+                got: format!("an answer at {}", vec(at)),
+            };
+        }
         // The vertex normals turned to the side the ray came from.
         let outward: DVec3 = normals.iter().map(|n| wide(*n)).sum();
         let side = if outward.dot(-wide(ray.dir)) < 0.0 {
@@ -209,15 +297,14 @@ impl SmoothHitCase {
             1.0
         };
         let facing = normals.map(|n| side * wide(n));
-        let at = wide(point.surface.point);
+        let at = wide(at);
         let want_normal = exact::smooth_normal(corners.map(wide), facing, at);
         let want_point = if *transparent {
             at
         } else {
             exact::terminator_point(corners.map(wide), facing, at)
         };
-        let pass =
-            unit_toward(got.normal, want_normal) && point_close(got.surface.point, want_point);
+        let pass = unit_toward(normal, want_normal) && point_close(point, want_point);
         verdict(
             pass,
             format!(
@@ -227,11 +314,22 @@ impl SmoothHitCase {
             ),
             format!(
                 "normal {} (length {}), point {}",
-                vec(got.normal),
-                num64(wide(got.normal).length()),
-                vec(got.surface.point)
+                vec(normal),
+                num64(wide(normal).length()),
+                vec(point)
             ),
         )
+    }
+
+    /// The triangle and the ray moved whole, the normals turned with them.
+    fn fresh(&self, draw: &mut Draw) -> Option<SmoothHitCase> {
+        let motion = draw.motion();
+        Some(SmoothHitCase {
+            corners: self.corners.map(|corner| motion.point(corner)),
+            normals: self.normals.map(|normal| motion.direction(normal)),
+            ray: motion.ray(&self.ray),
+            transparent: self.transparent,
+        })
     }
 }
 

@@ -3,18 +3,13 @@
 
 use super::*;
 
-/// `hit_box` on rays aimed at the edges of `bounds` (`hit_boxes` when
-/// `four_at_once`, the box in lane `i % 4` for ray `i`, the other lanes
-/// empty): `Fail` on the first ray the exact slab test says meets the box
-/// and the chapters refuse.
-pub(super) fn box_edges<C: Chapters>(
-    bounds: &Aabb,
-    rays: u32,
-    seed: u64,
-    four_at_once: bool,
-) -> Outcome {
+/// The rays of a box-edges case: `rays` rays from random origins aimed at
+/// random points of the twelve edges of `bounds` (drawn from `seed`), as
+/// `(origin, direction)`.
+pub(super) fn edge_rays(bounds: &Aabb, rays: u32, seed: u64) -> impl Iterator<Item = (Vec3, Vec3)> {
     let mut numbers = exact::Xorshift::new(seed);
-    for index in 0..rays {
+    let bounds = *bounds;
+    (0..rays).map(move |_| {
         // A point on one of the twelve edges: one axis free, the other two
         // on a face each.
         let free_axis = numbers.below(3);
@@ -33,7 +28,21 @@ pub(super) fn box_edges<C: Chapters>(
             numbers.between(-10.0, 10.0),
             numbers.between(-10.0, 10.0),
         );
-        let dir = aim - origin;
+        (origin, aim - origin)
+    })
+}
+
+/// `hit_box` on the rays of [`edge_rays`] (`hit_boxes` when
+/// `four_at_once`, the box in lane `i % 4` for ray `i`, the other lanes
+/// empty): the first ray the exact slab test says meets the box and the
+/// chapters refuse.
+pub(super) fn box_edges<C: Chapters>(
+    bounds: &Aabb,
+    rays: u32,
+    seed: u64,
+    four_at_once: bool,
+) -> Option<RefusedRay> {
+    for (index, (origin, dir)) in edge_rays(bounds, rays, seed).enumerate() {
         let (entry, exit) = exact::slab_interval(bounds, origin, dir);
         // The exact ray meets the box for some t >= 0 (a NaN from a zero
         // direction component is not counted: no such ray is drawn).
@@ -41,7 +50,7 @@ pub(super) fn box_edges<C: Chapters>(
             continue;
         }
         let enters = if four_at_once {
-            let lane = index as usize % crate::bvh::WIDTH;
+            let lane = index % crate::bvh::WIDTH;
             let mut boxes = crate::bvh::Boxes4::EMPTY;
             boxes.set(lane, *bounds);
             !C::hit_boxes(&boxes, origin, dir.recip(), 0.0, f32::INFINITY)[lane].is_nan()
@@ -49,22 +58,14 @@ pub(super) fn box_edges<C: Chapters>(
             C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_some()
         };
         if !enters {
-            return Outcome::Fail {
-                expected: format!(
-                    "a hit: the exact ray meets the box from t = {} to t = {}",
-                    num64(entry),
-                    num64(exit)
-                ),
-                got: format!(
-                    "None for ray {} of {rays}: from {} along {}",
-                    index + 1,
-                    vec(origin),
-                    vec(dir)
-                ),
-            };
+            return Some(RefusedRay {
+                index: index as u32,
+                origin,
+                dir,
+            });
         }
     }
-    Outcome::Pass
+    None
 }
 
 /// What is wrong with `bvh` as a tree over objects with boxes `bounds`, if
@@ -317,20 +318,44 @@ fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
 }
 
 /// Runs each ray through a tree over `shapes` (`walk`: the chapters `C`'s
-/// nearest-hit walk, or any-hit walk when `any`) and compares with chapter
-/// 3's loop over the same objects (the chapters `C`'s own object tests, so
-/// that only the tree is judged, bit for bit).
+/// walk) and beside it chapter 3's loop over the same objects (the
+/// chapters `C`'s own object tests, so that only the tree is judged, bit
+/// for bit), with the claimed object's own test.
 pub(super) fn bvh_hits<C: Chapters>(
     shapes: &[Shape],
     rays: &[Ray],
     t_min: f32,
     t_max: f32,
-    any: bool,
     walk: impl Fn(&Objects<C>, &Ray) -> Option<Hit>,
-) -> Outcome {
+) -> Vec<Walked> {
     let objects = Objects::<C>::new(shapes);
-    let show = |hit: Option<Hit>| match hit {
-        Some(hit) => format!("object {} at t = {}", hit.object, num(hit.t)),
+    rays.iter()
+        .map(|ray| {
+            let by_loop =
+                crate::answer_key::raylab_own(|| objects.nearest_hit_by_loop(ray, t_min, t_max));
+            let walk = walk(&objects, ray);
+            let own_test = walk
+                .filter(|hit| hit.object < objects.len())
+                .and_then(|hit| objects.intersect(hit.object, ray, t_min, t_max));
+            Walked {
+                walk: walk.map(|hit| (hit.object, hit.t)),
+                by_loop: by_loop.map(|hit| (hit.object, hit.t)),
+                own_test,
+            }
+        })
+        .collect()
+}
+
+/// Judges the walks of `rays`: a nearest-hit walk must find chapter 3's
+/// loop's hit, the same object at the same `t`; an any-hit walk, a hit
+/// exactly when the loop finds one, and a real one (the object's own test
+/// gives that `t`).
+pub(super) fn judge_walks(rays: &[Ray], any: bool, walked: &[Walked]) -> Outcome {
+    if walked.len() != rays.len() {
+        return super::intersections::wrong_length(rays.len(), walked.len());
+    }
+    let show = |hit: Option<(usize, f32)>| match hit {
+        Some((object, t)) => format!("object {object} at t = {}", num(t)),
         None => "no hit".into(),
     };
     let which = |index: usize, ray: &Ray| {
@@ -340,27 +365,30 @@ pub(super) fn bvh_hits<C: Chapters>(
             format!(" (ray {} of {}: {})", index + 1, rays.len(), ray_text(ray))
         }
     };
-    for (index, ray) in rays.iter().enumerate() {
-        let loop_answer =
-            crate::answer_key::raylab_own(|| objects.nearest_hit_by_loop(ray, t_min, t_max));
+    let same = |a: Option<(usize, f32)>, b: Option<(usize, f32)>| match (a, b) {
+        (None, None) => true,
+        (Some((x, s)), Some((y, t))) => x == y && s == t,
+        _ => false,
+    };
+    for (index, (ray, walked)) in rays.iter().zip(walked).enumerate() {
+        let Walked {
+            walk: got,
+            by_loop,
+            own_test,
+        } = *walked;
         if !any {
-            let got = walk(&objects, ray);
-            if got != loop_answer {
+            if !same(got, by_loop) {
                 return Outcome::Fail {
-                    expected: format!("{} (chapter 3's loop)", show(loop_answer)),
+                    expected: format!("{} (chapter 3's loop)", show(by_loop)),
                     got: format!("{}{}", show(got), which(index, ray)),
                 };
             }
             continue;
         }
-        let got = walk(&objects, ray);
-        let real = got.is_some_and(|hit| {
-            hit.object < objects.len()
-                && objects.intersect(hit.object, ray, t_min, t_max) == Some(hit.t)
-        });
-        if got.is_some() != loop_answer.is_some() || (got.is_some() && !real) {
+        let real = got.is_some_and(|(_, t)| own_test == Some(t));
+        if got.is_some() != by_loop.is_some() || (got.is_some() && !real) {
             return Outcome::Fail {
-                expected: match loop_answer {
+                expected: match by_loop {
                     Some(hit) => {
                         format!("a hit of an object there (chapter 3: {})", show(Some(hit)))
                     }

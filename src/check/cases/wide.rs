@@ -16,14 +16,26 @@ pub struct HitBoxesCase {
     pub expect: [Option<f64>; WIDTH],
 }
 
-impl HitBoxesCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// `hit_boxes`' inputs: four boxes `(min, max)`, the ray's origin and
+/// direction (the call takes its inverse), the interval.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct HitBoxesCall {
+    pub boxes: [(Vec3, Vec3); WIDTH],
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_min: f32,
+    pub t_max: f32,
+}
+
+impl Kind for HitBoxesCase {
+    type Call = HitBoxesCall;
+    type Answer = [f32; WIDTH];
+
+    fn function(&self) -> &'static str {
         "hit_boxes"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let boxes: Vec<String> = self
             .boxes
             .iter()
@@ -38,20 +50,33 @@ impl HitBoxesCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same tolerance at
-    /// both levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> HitBoxesCall {
+        HitBoxesCall {
+            boxes: self.boxes,
+            origin: self.origin,
+            dir: self.dir,
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &HitBoxesCall) -> Result<[f32; WIDTH], String> {
         let mut boxes = Boxes4::EMPTY;
-        for (lane, &(min, max)) in self.boxes.iter().enumerate() {
+        for (lane, &(min, max)) in call.boxes.iter().enumerate() {
             boxes.set(lane, Aabb::new(min, max));
         }
-        let got = C::hit_boxes(
+        Ok(C::hit_boxes(
             &boxes,
-            self.origin,
-            self.dir.recip(),
-            self.t_min,
-            self.t_max,
-        );
+            call.origin,
+            call.dir.recip(),
+            call.t_min,
+            call.t_max,
+        )
+        .to_array())
+    }
+
+    /// The same tolerance at both levels.
+    fn judge(&self, got: [f32; WIDTH], _robust: bool) -> Outcome {
         let pass = (0..WIDTH).all(|lane| match self.expect[lane] {
             None => got[lane].is_nan(),
             Some(want) => {
@@ -63,12 +88,48 @@ impl HitBoxesCase {
             .iter()
             .map(|entry| entry.map_or_else(|| "NaN (misses)".into(), num64))
             .collect();
-        let got: Vec<String> = got.to_array().iter().map(|&t| num(t)).collect();
+        let got: Vec<String> = got.iter().map(|&t| num(t)).collect();
         verdict(
             pass,
             format!("[{}]", expected.join(", ")),
             format!("[{}]", got.join(", ")),
         )
+    }
+
+    /// The boxes and the ray moved by a motion that keeps the axes; each
+    /// lane's entry worked out again by the exact slab test.
+    fn fresh(&self, draw: &mut Draw) -> Option<HitBoxesCase> {
+        let motion = draw.axis_motion();
+        let boxes = self.boxes.map(|(min, max)| {
+            if Aabb::new(min, max) == Aabb::EMPTY {
+                (min, max)
+            } else {
+                motion.aligned_box(min, max)
+            }
+        });
+        let (origin, dir) = (motion.point(self.origin), motion.direction(self.dir));
+        let (t_min, t_max) = (motion.t(self.t_min), motion.t(self.t_max));
+        let mut expect = [None; WIDTH];
+        for lane in 0..WIDTH {
+            if self.expect[lane].is_none() {
+                continue;
+            }
+            let (min, max) = boxes[lane];
+            let (entry, exit) = exact::slab_interval(&Aabb::new(min, max), origin, dir);
+            let entry = entry.max(f64::from(t_min));
+            if !(entry <= exit.min(f64::from(t_max))) {
+                return None;
+            }
+            expect[lane] = Some(entry);
+        }
+        Some(HitBoxesCase {
+            boxes,
+            origin,
+            dir,
+            t_min,
+            t_max,
+            expect,
+        })
     }
 }
 
@@ -87,7 +148,7 @@ fn box_text(min: Vec3, max: Vec3) -> String {
 /// own `intersect_triangle` answers for that triangle, bit for bit (`NaN`
 /// where it finds no hit), since a wide walk must find the hit chapter 3
 /// finds with it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct FourTrianglesCase {
     pub triangles: [[Vec3; 3]; WIDTH],
     pub ray: Ray,
@@ -95,14 +156,23 @@ pub struct FourTrianglesCase {
     pub t_max: f32,
 }
 
-impl FourTrianglesCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+/// One call of `intersect_triangles` as judged: its four answers and the
+/// chapters' own `intersect_triangle` on each lane's triangle.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Lanes {
+    pub four: [f32; WIDTH],
+    pub one_by_one: [Option<f32>; WIDTH],
+}
+
+impl Kind for FourTrianglesCase {
+    type Call = FourTrianglesCase;
+    type Answer = Lanes;
+
+    fn function(&self) -> &'static str {
         "intersect_triangles"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         let lanes: Vec<String> = self.triangles.iter().map(|c| corners_text(*c)).collect();
         format!(
             "intersect_triangles(lanes [{}], {}, {})",
@@ -112,37 +182,61 @@ impl FourTrianglesCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same rule at both
-    /// levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
+    fn call(&self) -> FourTrianglesCase {
+        self.clone()
+    }
+
+    fn ask<C: Chapters>(call: &FourTrianglesCase) -> Result<Lanes, String> {
         let mut triangles = Triangles4::NAN;
-        for (lane, &[a, b, c]) in self.triangles.iter().enumerate() {
+        for (lane, &[a, b, c]) in call.triangles.iter().enumerate() {
             triangles.set(lane, &Triangle::new(a, b, c));
         }
-        match lanes_problem::<C>(&triangles, &self.ray, self.t_min, self.t_max) {
+        Ok(lanes::<C>(&triangles, &call.ray, call.t_min, call.t_max))
+    }
+
+    /// The same rule at both levels.
+    fn judge(&self, lanes: Lanes, _robust: bool) -> Outcome {
+        match lanes_problem(&lanes) {
             None => Outcome::Pass,
             Some((expected, got)) => Outcome::Fail { expected, got },
         }
     }
+
+    /// The four triangles and the ray moved whole.
+    fn fresh(&self, draw: &mut Draw) -> Option<FourTrianglesCase> {
+        let motion = draw.motion();
+        let (ray, t_min, t_max) =
+            super::intersections::moved_ray(&motion, &self.ray, self.t_min, self.t_max);
+        Some(FourTrianglesCase {
+            triangles: self
+                .triangles
+                .map(|corners| corners.map(|corner| motion.point(corner))),
+            ray,
+            t_min,
+            t_max,
+        })
+    }
 }
 
-/// Where `intersect_triangles` on `triangles` differs from the chapters'
-/// own `intersect_triangle` on each lane's triangle: (expected, got).
-fn lanes_problem<C: Chapters>(
-    triangles: &Triangles4,
-    ray: &Ray,
-    t_min: f32,
-    t_max: f32,
-) -> Option<(String, String)> {
-    let got = C::intersect_triangles(triangles, ray, t_min, t_max);
-    let one_by_one: [Option<f32>; WIDTH] = std::array::from_fn(|lane| {
+/// `intersect_triangles` on `triangles`, and the chapters' own
+/// `intersect_triangle` on each lane's triangle beside it.
+fn lanes<C: Chapters>(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Lanes {
+    let four = C::intersect_triangles(triangles, ray, t_min, t_max).to_array();
+    let one_by_one = std::array::from_fn(|lane| {
         crate::answer_key::raylab_own(|| {
             C::intersect_triangle(&triangles.get(lane), ray, t_min, t_max)
         })
     });
+    Lanes { four, one_by_one }
+}
+
+/// Where the four answers differ from the one-by-one ones, bit for bit
+/// (`NaN` where a lane has no hit): (expected, got).
+fn lanes_problem(lanes: &Lanes) -> Option<(String, String)> {
+    let Lanes { four, one_by_one } = lanes;
     let same = |lane: usize| match one_by_one[lane] {
-        None => got[lane].is_nan(),
-        Some(t) => got[lane].to_bits() == t.to_bits(),
+        None => four[lane].is_nan(),
+        Some(t) => four[lane].to_bits() == t.to_bits(),
     };
     if (0..WIDTH).all(same) {
         return None;
@@ -151,7 +245,7 @@ fn lanes_problem<C: Chapters>(
         .iter()
         .map(|t| t.map_or_else(|| "NaN (no hit)".into(), num))
         .collect();
-    let got: Vec<String> = got.to_array().iter().map(|&t| num(t)).collect();
+    let got: Vec<String> = four.iter().map(|&t| num(t)).collect();
     Some((
         format!(
             "[{}] (your intersect_triangle on each lane's triangle, bit for bit)",
@@ -169,16 +263,21 @@ fn lanes_problem<C: Chapters>(
 #[derive(Debug, Clone)]
 pub struct MeshInFoursCase {
     pub triangles: usize,
+    /// Where the model is moved to (`grade --fresh`); `None` where it is.
+    pub motion: Option<super::Motion>,
 }
 
-impl MeshInFoursCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for MeshInFoursCase {
+    type Call = super::intersections::MeshCall;
+    /// The first call whose lanes differ, with its first triangle and its
+    /// ray; and how many calls were made.
+    type Answer = (Option<(usize, Ray, Lanes)>, usize);
+
+    fn function(&self) -> &'static str {
         "intersect_triangles"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
             "intersect_triangles(four consecutive triangles of raylab's closed model of {} \
              triangles at a time, a ray from inside toward each vertex and edge midpoint, \
@@ -187,45 +286,73 @@ impl MeshInFoursCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same rule at both
-    /// levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let mesh = match crate::mesh::generate_closed_mesh(self.triangles) {
-            Ok(mesh) => mesh,
-            Err(error) => return Outcome::Error(error.to_string()),
-        };
-        let groups: Vec<Triangles4> = mesh
-            .triangles
+    fn call(&self) -> Self::Call {
+        super::intersections::MeshCall {
+            triangles: self.triangles,
+            motion: self.motion.map(super::intersections::WireMotion::from),
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<Self::Answer, String> {
+        let (triangles, rays) = super::intersections::closed_mesh_rays(call)?;
+        let groups: Vec<Triangles4> = triangles
             .chunks(WIDTH)
             .map(|group| {
-                let mut triangles = Triangles4::NAN;
-                for (lane, corners) in group.iter().enumerate() {
-                    let [a, b, c] = corners.map(|index| mesh.positions[index as usize]);
-                    triangles.set(lane, &Triangle::new(a, b, c));
+                let mut four = Triangles4::NAN;
+                for (lane, triangle) in group.iter().enumerate() {
+                    four.set(lane, triangle);
                 }
-                triangles
+                four
             })
             .collect();
-        for target in crate::bvh_reports::leaks::leak_targets(&mesh) {
-            let origin = crate::bvh_reports::leaks::core_point(target);
-            let ray = Ray::new(origin, target - origin);
-            for (group, triangles) in groups.iter().enumerate() {
-                if let Some((expected, got)) =
-                    lanes_problem::<C>(triangles, &ray, 0.0, f32::INFINITY)
-                {
-                    return Outcome::Fail {
-                        expected,
-                        got: format!(
-                            "{got} for triangles {} to {} and the {}",
-                            WIDTH * group,
-                            WIDTH * group + WIDTH - 1,
-                            ray_text(&ray)
-                        ),
-                    };
+        let mut calls = 0;
+        for ray in &rays {
+            for (group, four) in groups.iter().enumerate() {
+                calls += 1;
+                let lanes = lanes::<C>(four, ray, 0.0, f32::INFINITY);
+                if lanes_problem(&lanes).is_some() {
+                    return Ok((Some((WIDTH * group, *ray, lanes)), calls));
                 }
             }
         }
-        Outcome::Pass
+        Ok((None, calls))
+    }
+
+    /// The same rule at both levels: every call's lanes as the
+    /// one-by-one test's.
+    fn judge(&self, (differs, calls): Self::Answer, _robust: bool) -> Outcome {
+        let Some((first, ray, lanes)) = differs else {
+            let expected = super::intersections::closed_mesh_rays(&self.call())
+                .map_or(0, |(t, r)| r.len() * t.len().div_ceil(WIDTH));
+            return if calls == expected {
+                Outcome::Pass
+            } else {
+                super::intersections::wrong_length(expected, calls)
+            };
+        };
+        match lanes_problem(&lanes) {
+            Some((expected, got)) => Outcome::Fail {
+                expected,
+                got: format!(
+                    "{got} for triangles {} to {} and the {}",
+                    first,
+                    first + WIDTH - 1,
+                    ray_text(&ray)
+                ),
+            },
+            None => Outcome::Fail {
+                expected: "every lane as the one-by-one test".into(),
+                got: "a difference that is not one".into(),
+            },
+        }
+    }
+
+    /// The model and its rays moved whole.
+    fn fresh(&self, draw: &mut Draw) -> Option<MeshInFoursCase> {
+        Some(MeshInFoursCase {
+            triangles: self.triangles,
+            motion: Some(draw.motion()),
+        })
     }
 }
 
@@ -251,14 +378,16 @@ pub struct CollapseCase {
     pub expect: WideShape,
 }
 
-impl CollapseCase {
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
+impl Kind for CollapseCase {
+    type Call = super::boxes::TreeCall;
+    /// The binary tree and the wide tree it was folded into.
+    type Answer = (Bvh, WideBvh);
+
+    fn function(&self) -> &'static str {
         "collapse_bvh"
     }
 
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
+    fn inputs(&self) -> String {
         format!(
             "collapse_bvh(build_bvh(the boxes of [{}], {}), the shapes)",
             shapes_text(&self.shapes),
@@ -266,12 +395,22 @@ impl CollapseCase {
         )
     }
 
-    /// Asks the question of the chapters `C`, with the same rule at both
-    /// levels.
-    pub(super) fn evaluate<C: Chapters>(&self, _robust: bool) -> Outcome {
-        let bounds: Vec<Option<Aabb>> = self.shapes.iter().map(Shape::bounds).collect();
-        let bvh = C::build_bvh(&bounds, &self.options);
-        let wide = C::collapse_bvh(&bvh, &self.shapes);
+    fn call(&self) -> Self::Call {
+        super::boxes::TreeCall {
+            shapes: self.shapes.clone(),
+            options: self.options,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &Self::Call) -> Result<(Bvh, WideBvh), String> {
+        let bounds: Vec<Option<Aabb>> = call.shapes.iter().map(Shape::bounds).collect();
+        let bvh = C::build_bvh(&bounds, &call.options);
+        let wide = C::collapse_bvh(&bvh, &call.shapes);
+        Ok((bvh, wide))
+    }
+
+    /// The same rule at both levels.
+    fn judge(&self, (bvh, wide): (Bvh, WideBvh), _robust: bool) -> Outcome {
         if let Some(problem) = wide_problem(&wide, &bvh, &self.shapes) {
             return Outcome::Fail {
                 expected: "every boxed object once in a leaf's lanes, under boxes that hold \
@@ -295,6 +434,19 @@ impl CollapseCase {
                 )
             }
         }
+    }
+
+    /// The objects moved by a motion that keeps the axes.
+    fn fresh(&self, draw: &mut Draw) -> Option<CollapseCase> {
+        let motion = draw.axis_motion();
+        Some(CollapseCase {
+            shapes: self
+                .shapes
+                .iter()
+                .map(|shape| super::intersections::moved_shape(&motion, shape))
+                .collect::<Option<_>>()?,
+            ..self.clone()
+        })
     }
 }
 

@@ -1,0 +1,1317 @@
+//! The judge: raylab's own code deciding every verdict.
+//!
+//! Autograders that count for marks keep the harness trusted and the
+//! submission an untrusted subprocess (Gradescope, Autolab, PrairieLearn);
+//! so does this. The judge holds the cases, draws their inputs, works out
+//! the expected answers ([`crate::check::exact`], raylab's reference
+//! chapters) and compares; the chapters under check only answer questions
+//! through an [`Asker`]. For a student's chapters that is [`Remote`]: their
+//! own binary started as `serve` ([`super::serve`]), one process per
+//! chapter, spoken to over a pipe ([`super::protocol`]). Nothing that
+//! process prints, writes or exits with is read, and it never sees an
+//! expected value. A process that ends while answering fails the case it
+//! was answering, and the next question starts a new one. raylab's own
+//! checks of its reference and of its variants ask in this process
+//! ([`InProcess`]), through the same two halves of every case.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::Child;
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+
+use super::cases::{Case, Level, Outcome};
+use super::panics::Panic;
+use super::protocol::{Answered, CameraPlace, Hello, ProtocolError, Reply, Request};
+use super::{
+    CaseFailure, ChapterVerdict, CheckOptions, CheckReport, ImageCheck, Robustness, Status,
+    Stopped, catalog, sampled,
+};
+use crate::Chapters;
+use crate::chapters::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
+use crate::diff::{Criteria, Image, compare};
+
+/// What the judge is doing when it asks: for the notice of a step that
+/// takes long, and for the message of a process that ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Step {
+    pub chapter: u8,
+    pub function: String,
+    pub case: String,
+}
+
+impl std::fmt::Display for Step {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            out,
+            "chapter {}'s check ran {} ({})",
+            self.chapter,
+            self.function,
+            crate::text::terminal_safe(&self.case)
+        )
+    }
+}
+
+/// How a request went unanswered.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Ended {
+    /// The process ended while it answered: how ("exited with status 0",
+    /// "was killed by signal 11").
+    Died(String),
+    /// The time limit passed; nothing more is asked.
+    TimedOut,
+    /// The binary does not answer raylab's questions, or answers another
+    /// version of them; nothing more is asked.
+    Refused(String),
+}
+
+/// Something that answers the judge's questions.
+pub trait Asker {
+    /// The reply to `request`, asked during `step`.
+    fn ask(&mut self, request: &Request, step: &Step) -> Result<Reply, Ended>;
+}
+
+/// Makes an [`Asker`]: one per chapter checked at once.
+pub type MakeAsker<'a> = dyn Fn() -> Box<dyn Asker + Send> + Sync + 'a;
+
+/// The chapters `C`, asked in this process: raylab's own checks of its
+/// reference and of its variants.
+pub struct InProcess<C>(std::marker::PhantomData<C>);
+
+impl<C> Default for InProcess<C> {
+    fn default() -> Self {
+        InProcess(std::marker::PhantomData)
+    }
+}
+
+impl<C: Chapters> Asker for InProcess<C> {
+    fn ask(&mut self, request: &Request, _step: &Step) -> Result<Reply, Ended> {
+        Ok(super::serve::answer::<C>(request))
+    }
+}
+
+/// How to start a student's binary as `serve`: the command, and whatever
+/// must live as long as the process (a sandbox's cgroup).
+pub type Spawn = dyn Fn() -> std::io::Result<(std::process::Command, Box<dyn std::any::Any + Send>)>
+    + Send
+    + Sync;
+
+/// A notice that a step takes long: called once per step, after
+/// [`Remote::stall_after`].
+pub type StallNotice = dyn Fn(&Step, Duration) + Send + Sync;
+
+/// How much of what a student's process writes to its standard error is
+/// kept (the end): it may write without end, and none of it is a verdict.
+pub const KEPT_STDERR: usize = 64 * 1024;
+
+/// How long a process started as `serve` may take to say hello.
+const HELLO_WITHIN: Duration = Duration::from_secs(60);
+
+/// A student's binary, started as `serve` when first asked, and again
+/// after it ends.
+pub struct Remote {
+    spawn: Arc<Spawn>,
+    running: Option<Running>,
+    /// Set once the binary does not say raylab's hello: nothing more is
+    /// asked of it.
+    refused: Option<String>,
+    deadline: Option<Instant>,
+    stall_after: Duration,
+    on_stall: Option<Arc<StallNotice>>,
+    /// Whether the processes write to this one's stderr (a student's own
+    /// check, where their prints help them), or to [`Remote::stderr`].
+    inherit_stderr: bool,
+    /// The end of what every process of this asker wrote on stderr.
+    stderr: Arc<Mutex<Vec<u8>>>,
+}
+
+struct Running {
+    child: Child,
+    input: std::process::ChildStdin,
+    replies: mpsc::Receiver<Result<Reply, ProtocolError>>,
+    _keep: Box<dyn std::any::Any + Send>,
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        kill_group(&mut self.child);
+        let _ = self.child.wait();
+    }
+}
+
+impl Remote {
+    pub fn new(spawn: Arc<Spawn>) -> Remote {
+        Remote {
+            spawn,
+            running: None,
+            refused: None,
+            deadline: None,
+            stall_after: Duration::from_secs(30),
+            on_stall: None,
+            inherit_stderr: false,
+            stderr: Arc::new(Mutex::new(Vec::new())),
+        }
+    }
+
+    /// The processes write to this process's stderr: what a student's
+    /// chapters print while their own check runs is theirs to read.
+    pub fn inheriting_stderr(mut self) -> Remote {
+        self.inherit_stderr = true;
+        self
+    }
+
+    /// Past `deadline`, the process is killed and nothing more is asked.
+    pub fn with_deadline(mut self, deadline: Option<Instant>) -> Remote {
+        self.deadline = deadline;
+        self
+    }
+
+    /// `notice` once a step has gone `after` without an answer.
+    pub fn with_stall_notice(mut self, after: Duration, notice: Arc<StallNotice>) -> Remote {
+        self.stall_after = after;
+        self.on_stall = Some(notice);
+        self
+    }
+
+    /// The end of what the processes wrote on stderr (none of it counts).
+    pub fn stderr(&self) -> String {
+        let kept = self
+            .stderr
+            .lock()
+            .map(|kept| kept.clone())
+            .unwrap_or_default();
+        String::from_utf8_lossy(&kept).into_owned()
+    }
+
+    /// Keeps what the processes write on stderr in `buffer` (its end), so
+    /// that several askers of one student's check share one.
+    pub fn with_stderr_buffer(mut self, buffer: Arc<Mutex<Vec<u8>>>) -> Remote {
+        self.stderr = buffer;
+        self
+    }
+
+    fn start(&mut self) -> Result<(), Ended> {
+        let (mut command, keep) = (self.spawn)().map_err(|error| {
+            Ended::Refused(format!(
+                "the student's binary could not be started: {error}"
+            ))
+        })?;
+        command
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(if self.inherit_stderr {
+                std::process::Stdio::inherit()
+            } else {
+                std::process::Stdio::piped()
+            });
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::CommandExt;
+            // Its own process group, so that the whole of it goes when it
+            // is killed; and it dies with the judge.
+            command.process_group(0);
+            // SAFETY: prctl is async-signal-safe and is all that runs
+            // between fork and exec.
+            #[cfg(target_os = "linux")]
+            unsafe {
+                command.pre_exec(|| {
+                    libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL);
+                    Ok(())
+                });
+            }
+        }
+        let mut child = command.spawn().map_err(|error| {
+            Ended::Refused(format!(
+                "the student's binary could not be started: {error}"
+            ))
+        })?;
+        let (Some(input), Some(mut output)) = (child.stdin.take(), child.stdout.take()) else {
+            kill_group(&mut child);
+            return Err(Ended::Refused("the student's binary has no pipes".into()));
+        };
+        let (sender, replies) = mpsc::channel();
+        std::thread::spawn(move || {
+            loop {
+                let reply = super::protocol::read_frame::<Reply>(&mut output);
+                let stop = reply.is_err();
+                if sender.send(reply).is_err() || stop {
+                    return;
+                }
+            }
+        });
+        if let Some(errors) = child.stderr.take() {
+            let kept = Arc::clone(&self.stderr);
+            std::thread::spawn(move || keep_tail(errors, &kept));
+        }
+        self.running = Some(Running {
+            child,
+            input,
+            replies,
+            _keep: keep,
+        });
+        let hello = Step {
+            chapter: 0,
+            function: "hello".into(),
+            case: "the student's binary starting".into(),
+        };
+        match self.exchange(&Request::Hello(Hello::ours()), &hello, Some(HELLO_WITHIN)) {
+            Ok(Reply::Hello {
+                hello: theirs,
+                comparison: _,
+            }) if theirs == Hello::ours() => Ok(()),
+            Ok(Reply::Hello { hello: theirs, .. }) => Err(Ended::Refused(mismatch(&theirs))),
+            Ok(_) => Err(Ended::Refused(
+                "the student's binary answered raylab's hello with something else".into(),
+            )),
+            Err(Ended::Died(how)) => Err(Ended::Refused(format!(
+                "the student's binary {how} before it said hello: it does not answer raylab's \
+                 questions (is it built against another raylab, or its main.rs not the one \
+                 `raylab new` writes?)"
+            ))),
+            Err(other) => Err(other),
+        }
+    }
+
+    /// Sends `request` and waits for its reply.
+    fn exchange(
+        &mut self,
+        request: &Request,
+        step: &Step,
+        within: Option<Duration>,
+    ) -> Result<Reply, Ended> {
+        let Some(running) = self.running.as_mut() else {
+            return Err(Ended::Died("was not running".into()));
+        };
+        if super::protocol::write_frame(&mut running.input, request).is_err() {
+            return Err(self.died());
+        }
+        let asked = Instant::now();
+        let mut told = false;
+        loop {
+            let mut wait = Duration::from_millis(200);
+            if let Some(deadline) = self.deadline {
+                let left = deadline.saturating_duration_since(Instant::now());
+                if left.is_zero() {
+                    self.running = None;
+                    return Err(Ended::TimedOut);
+                }
+                wait = wait.min(left);
+            }
+            if within.is_some_and(|within| asked.elapsed() >= within) {
+                self.running = None;
+                return Err(Ended::Died(format!(
+                    "did not answer within {} s",
+                    within.map_or(0, |within| within.as_secs())
+                )));
+            }
+            let Some(running) = self.running.as_mut() else {
+                return Err(Ended::Died("was not running".into()));
+            };
+            match running.replies.recv_timeout(wait) {
+                Ok(Ok(reply)) => return Ok(reply),
+                Ok(Err(_)) | Err(mpsc::RecvTimeoutError::Disconnected) => return Err(self.died()),
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if !told && asked.elapsed() >= self.stall_after {
+                        told = true;
+                        if let Some(notice) = &self.on_stall {
+                            notice(step, asked.elapsed());
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The process ended (or talks nonsense): how, once it is gone.
+    fn died(&mut self) -> Ended {
+        let Some(mut running) = self.running.take() else {
+            return Ended::Died("was not running".into());
+        };
+        // Its pipe closed: it has ended, or is about to.
+        let ended = Instant::now();
+        let status = loop {
+            match running.child.try_wait() {
+                Ok(Some(status)) => break Some(status),
+                Ok(None) if ended.elapsed() < Duration::from_secs(2) => {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                _ => break None,
+            }
+        };
+        Ended::Died(
+            status.map_or_else(|| "closed its pipe and was killed".to_string(), process_end),
+        )
+    }
+}
+
+impl Asker for Remote {
+    fn ask(&mut self, request: &Request, step: &Step) -> Result<Reply, Ended> {
+        if let Some(why) = &self.refused {
+            return Err(Ended::Refused(why.clone()));
+        }
+        if self.running.is_none()
+            && let Err(error) = self.start()
+        {
+            self.running = None;
+            if let Ended::Refused(why) = &error {
+                self.refused = Some(why.clone());
+            }
+            return Err(error);
+        }
+        self.exchange(request, step, None)
+    }
+}
+
+/// The message for a binary built from another raylab.
+fn mismatch(theirs: &Hello) -> String {
+    let ours = Hello::ours();
+    format!(
+        "the student's binary was built against another raylab (protocol {}, raylab {}, source \
+         {}) than this one (protocol {}, raylab {}, source {}): build the workspace again \
+         against this raylab (its Cargo.toml names raylab's folder), then check again",
+        theirs.protocol,
+        crate::text::terminal_safe(&theirs.version),
+        crate::text::terminal_safe(&theirs.source),
+        ours.protocol,
+        ours.version,
+        ours.source
+    )
+}
+
+/// Keeps the last [`KEPT_STDERR`] bytes `reader` gives in `kept`.
+fn keep_tail(mut reader: impl Read, kept: &Mutex<Vec<u8>>) {
+    let mut buffer = [0u8; 8192];
+    loop {
+        match reader.read(&mut buffer) {
+            Ok(0) => return,
+            Ok(n) => {
+                if let Ok(mut kept) = kept.lock() {
+                    kept.extend_from_slice(&buffer[..n]);
+                    if kept.len() > 2 * KEPT_STDERR {
+                        let excess = kept.len() - KEPT_STDERR;
+                        kept.drain(..excess);
+                    }
+                }
+            }
+            Err(error) if error.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(_) => return,
+        }
+    }
+}
+
+/// Kills the child's whole process group (the child is its leader).
+pub(crate) fn kill_group(child: &mut Child) {
+    #[cfg(unix)]
+    {
+        if let Ok(group) = libc::pid_t::try_from(child.id()) {
+            // SAFETY: killpg with a group this process created; an already
+            // empty group only makes it return ESRCH.
+            unsafe {
+                libc::killpg(group, libc::SIGKILL);
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = child.kill();
+    }
+}
+
+/// How a process ended, in words: "exited with status 0", "was killed by
+/// signal 11".
+pub fn process_end(status: std::process::ExitStatus) -> String {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        if let Some(signal) = status.signal() {
+            return format!("was killed by signal {signal}");
+        }
+    }
+    match status.code() {
+        Some(code) => format!("exited with status {code}"),
+        None => "ended".to_string(),
+    }
+}
+
+/// What the answers of one chapter's check brought beside them.
+#[derive(Default)]
+struct Collected {
+    /// raylab's answers that ran on the answering thread.
+    used: Vec<String>,
+    /// Those that ran on threads of the chapters' own.
+    escaped: Vec<String>,
+    /// Why the judge stopped asking, if it did.
+    stopped: Option<Stopped>,
+    /// Whether the chapters are a comparison wrapper of raylab's.
+    comparison: bool,
+}
+
+impl Collected {
+    fn take(&mut self, used: Vec<String>, escaped: Vec<String>) {
+        for answer in used {
+            if !self.used.contains(&answer) {
+                self.used.push(answer);
+            }
+        }
+        for answer in escaped {
+            if !self.escaped.contains(&answer) {
+                self.escaped.push(answer);
+            }
+        }
+    }
+
+    /// The outcome of asking a case: the judge's, or why there is none.
+    fn case(&mut self, asked: Result<Reply, Ended>, case: &Case) -> Outcome {
+        match asked {
+            Ok(Reply::Answer {
+                answer,
+                used,
+                escaped,
+            }) => {
+                self.take(used, escaped);
+                match answer {
+                    Answered::Case(answer) => case.judge(answer),
+                    Answered::Panicked(panic) if panic.is_todo() => Outcome::Todo(panic),
+                    Answered::Panicked(panic) => Outcome::Panicked(panic),
+                    Answered::Error(error) => Outcome::Error(error),
+                    Answered::Pixels(_) | Answered::Rgb { .. } => not_an_answer(),
+                }
+            }
+            Ok(Reply::Hello { .. }) => not_an_answer(),
+            Err(ended) => self.ended(ended),
+        }
+    }
+
+    fn ended(&mut self, ended: Ended) -> Outcome {
+        match ended {
+            Ended::Died(how) => Outcome::Ended(how),
+            Ended::TimedOut => {
+                self.stopped = Some(Stopped::TimedOut);
+                Outcome::Error("the time limit passed".into())
+            }
+            Ended::Refused(why) => {
+                self.stopped = Some(Stopped::Refused(why.clone()));
+                Outcome::Error(why)
+            }
+        }
+    }
+}
+
+fn not_an_answer() -> Outcome {
+    Outcome::Fail {
+        expected: "the answer to the question asked".into(),
+        got: "a reply to another question".into(),
+    }
+}
+
+/// Which chapter's file a panic happened in.
+fn owner(panic: &Panic) -> Option<u8> {
+    let file = panic.file.as_deref()?;
+    CHAPTERS
+        .iter()
+        .find(|info| file.contains(&info.module()) || file.contains(&format!("{}/", info.folder)))
+        .map(|info| info.number)
+}
+
+/// Chapter `number`'s checkpoints, with fresh inputs under `fresh`.
+fn checkpoints(number: u8, fresh: Option<u64>) -> Vec<Case> {
+    let cases = catalog::checkpoints(number);
+    match fresh {
+        None => cases,
+        Some(seed) => crate::answer_key::raylab_own(|| {
+            cases
+                .into_iter()
+                .map(|case| case.fresh(seed).unwrap_or(case))
+                .collect()
+        }),
+    }
+}
+
+/// Asks each of `cases`: how many pass, and those that do not.
+fn run_cases(
+    info: &ChapterInfo,
+    cases: &[Case],
+    asker: &mut dyn Asker,
+    collected: &mut Collected,
+) -> (usize, Vec<(usize, Outcome)>) {
+    let mut passed = 0;
+    let mut failures = Vec::new();
+    for (index, case) in cases.iter().enumerate() {
+        let outcome = if collected.stopped.is_some() {
+            Outcome::Error("not asked: the check stopped".into())
+        } else {
+            let step = Step {
+                chapter: info.number,
+                function: case.function().to_string(),
+                case: case.name.to_string(),
+            };
+            let asked = asker.ask(&Request::Case(case.kind.call()), &step);
+            collected.case(asked, case)
+        };
+        match outcome {
+            Outcome::Pass => passed += 1,
+            outcome => failures.push((index, outcome)),
+        }
+    }
+    (passed, failures)
+}
+
+pub(super) fn case_failure(
+    info: &ChapterInfo,
+    cases: &[Case],
+    index: usize,
+    outcome: Outcome,
+) -> CaseFailure {
+    let case = &cases[index];
+    CaseFailure {
+        name: case.name,
+        function: case.function(),
+        level: case.level,
+        number: index + 1,
+        of: cases.len(),
+        says: case.says.clone(),
+        inputs: case.inputs(),
+        outcome,
+        lesson: lesson(info),
+        section: case.section,
+        drawn: case.drawn,
+    }
+}
+
+/// The chapter's lesson where this raylab's checkout has it (a student
+/// runs the check in their own workspace, where a path relative to raylab
+/// would name nothing).
+pub(super) fn lesson(info: &ChapterInfo) -> String {
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let path = checkout.join(info.lesson_path());
+    if path.is_file() {
+        path.display().to_string()
+    } else {
+        info.lesson_path()
+    }
+}
+
+/// Chapter `info`'s own verdict (not yet looking at earlier chapters),
+/// asking `asker`. `full`: also the image and the robustness cases. With
+/// [`CheckOptions::forbid_answer_key`], a chapter whose code ran raylab's
+/// own answers fails, whatever its cases said.
+fn own_verdict(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    full: bool,
+    asker: &mut dyn Asker,
+) -> (ChapterVerdict, Collected) {
+    let mut collected = Collected::default();
+    let hello = Step {
+        chapter: info.number,
+        function: "hello".into(),
+        case: "the chapters starting".into(),
+    };
+    match asker.ask(&Request::Hello(Hello::ours()), &hello) {
+        Ok(Reply::Hello { comparison, .. }) => collected.comparison = comparison,
+        Ok(_) => {}
+        Err(ended) => {
+            collected.ended(ended);
+        }
+    }
+    let mut verdict = cases_image_robustness(info, options, full, asker, &mut collected);
+    if let Some(Stopped::Refused(why)) = &collected.stopped {
+        verdict.status = Status::Error;
+        verdict.first_failure = None;
+        if !verdict.errors.contains(why) {
+            verdict.errors = vec![why.clone()];
+        }
+        return (verdict, collected);
+    }
+    if !options.forbid_answer_key {
+        return (verdict, collected);
+    }
+    let mut answers = std::mem::take(&mut collected.used);
+    if collected.comparison {
+        answers.insert(0, "a comparison wrapper of raylab's (Textbook)".into());
+    }
+    if !answers.is_empty() && verdict.status != Status::Error {
+        verdict.status = Status::Fail;
+        verdict.answers_used = answers;
+    }
+    (verdict, collected)
+}
+
+/// [`own_verdict`] but for the answer key.
+fn cases_image_robustness(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    full: bool,
+    asker: &mut dyn Asker,
+    collected: &mut Collected,
+) -> ChapterVerdict {
+    let chapter = info.number;
+    let cases = checkpoints(info.number, options.fresh);
+    let (passed, failures) = run_cases(info, &cases, asker, collected);
+    let mut verdict = ChapterVerdict {
+        chapter,
+        title: info.title,
+        status: Status::Pass,
+        cases_passed: passed,
+        cases_total: cases.len(),
+        first_failure: None,
+        not_written: Vec::new(),
+        image: None,
+        robustness: None,
+        needs: None,
+        errors: Vec::new(),
+        lesson: lesson(info),
+        answers_used: Vec::new(),
+    };
+    let own_todo = |outcome: &Outcome| match outcome {
+        Outcome::Todo(panic) => owner(panic).is_none_or(|o| o >= chapter),
+        _ => false,
+    };
+    for (index, outcome) in &failures {
+        if own_todo(outcome) {
+            let function = cases[*index].function();
+            if !verdict.not_written.contains(&function) {
+                verdict.not_written.push(function);
+            }
+        }
+    }
+    if !cases.is_empty()
+        && failures.len() == cases.len()
+        && failures.iter().all(|(_, o)| own_todo(o))
+    {
+        verdict.status = Status::NotStarted;
+        verdict.not_written = info.functions.to_vec();
+        return verdict;
+    }
+    if let Some((index, outcome)) = failures.into_iter().next() {
+        verdict.status = match &outcome {
+            Outcome::Error(error) => {
+                verdict.errors.push(error.clone());
+                Status::Error
+            }
+            Outcome::Todo(panic) => match owner(panic) {
+                Some(earlier) if earlier < chapter => Status::Blocked { by: earlier },
+                _ => Status::Fail,
+            },
+            _ => Status::Fail,
+        };
+        verdict.first_failure = Some(case_failure(info, &cases, index, outcome));
+        return verdict;
+    }
+    if !full || collected.stopped.is_some() {
+        return verdict;
+    }
+    judge_image(info, options, cases.len(), &mut verdict, asker, collected);
+    if verdict.status == Status::Pass && collected.stopped.is_none() {
+        verdict.robustness = Some(run_robustness(info, asker, collected));
+    }
+    verdict
+}
+
+/// Where chapter `chapter`'s camera is for its fresh image under `seed`:
+/// moved by up to 2% of its distance to what it looks at, which is moved
+/// by up to 1% of it.
+fn fresh_camera(chapter: u8, seed: u64) -> Option<CameraPlace> {
+    let scene = crate::builtin::scene(chapter).ok()?;
+    let (position, look_at) = (scene.camera.position, scene.camera.look_at);
+    let reach = f64::from((look_at - position).length());
+    let mut draw = super::cases::Draw::for_case(seed, &format!("the image of chapter {chapter}"));
+    let moved = |point: Vec3, share: f64, draw: &mut super::cases::Draw| {
+        (point.as_dvec3() + draw.shift(share * reach)).as_vec3()
+    };
+    Some((
+        moved(position, 0.02, &mut draw),
+        moved(look_at, 0.01, &mut draw),
+    ))
+}
+
+/// Asks for the chapter's image and judges it into `verdict`, once its
+/// `cases` checkpoints pass.
+fn judge_image(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    cases: usize,
+    verdict: &mut ChapterVerdict,
+    asker: &mut dyn Asker,
+    collected: &mut Collected,
+) {
+    let camera = options
+        .fresh
+        .and_then(|seed| fresh_camera(info.number, seed));
+    let step = Step {
+        chapter: info.number,
+        function: "the whole stage".into(),
+        case: "the chapter's image".into(),
+    };
+    let asked = asker.ask(
+        &Request::Image {
+            chapter: info.number,
+            camera,
+        },
+        &step,
+    );
+    let linear = match asked {
+        Ok(Reply::Answer {
+            answer,
+            used,
+            escaped,
+        }) => {
+            collected.take(used, escaped);
+            match answer {
+                Answered::Pixels(linear) => linear,
+                Answered::Panicked(panic) => {
+                    let (status, failure) = image_panic(info, cases, Outcome::from_panic(panic));
+                    verdict.status = status;
+                    verdict.first_failure = Some(failure);
+                    return;
+                }
+                Answered::Error(error) => {
+                    verdict.status = Status::Error;
+                    verdict.errors.push(error);
+                    return;
+                }
+                Answered::Case(_) | Answered::Rgb { .. } => {
+                    let (status, failure) = image_panic(info, cases, not_an_answer());
+                    verdict.status = status;
+                    verdict.first_failure = Some(failure);
+                    return;
+                }
+            }
+        }
+        Ok(Reply::Hello { .. }) => {
+            let (status, failure) = image_panic(info, cases, not_an_answer());
+            verdict.status = status;
+            verdict.first_failure = Some(failure);
+            return;
+        }
+        Err(ended) => {
+            let outcome = collected.ended(ended);
+            if let Outcome::Error(error) = outcome {
+                verdict.status = Status::Error;
+                verdict.errors.push(error);
+            } else {
+                let (status, failure) = image_panic(info, cases, outcome);
+                verdict.status = status;
+                verdict.first_failure = Some(failure);
+            }
+            return;
+        }
+    };
+    match compare_image(info, options, &linear, camera) {
+        Ok(image) => {
+            if !image.passed {
+                verdict.status = Status::Fail;
+            }
+            verdict.image = Some(image);
+        }
+        Err(error) => {
+            verdict.status = Status::Error;
+            verdict.errors.push(error);
+        }
+    }
+    // A write error of the failure images is reported; the verdict stands.
+    if let Some(image) = &verdict.image
+        && !image.passed
+        && options.write_images
+        && image.written.is_empty()
+    {
+        verdict
+            .errors
+            .push("the failure images could not be written".into());
+    }
+}
+
+/// The chapter's hard cases, asked once its checkpoints and image pass.
+fn run_robustness(
+    info: &ChapterInfo,
+    asker: &mut dyn Asker,
+    collected: &mut Collected,
+) -> Robustness {
+    let hard = catalog::robustness(info.number);
+    let (passed, failures) = run_cases(info, &hard, asker, collected);
+    Robustness {
+        passed,
+        total: hard.len(),
+        first_failure: failures
+            .into_iter()
+            .next()
+            .map(|(index, outcome)| case_failure(info, &hard, index, outcome)),
+    }
+}
+
+/// The status and the failure of a chapter whose `cases` checkpoints
+/// passed but whose image could not be had: `outcome` says why (a panic,
+/// a process that ended).
+fn image_panic(info: &ChapterInfo, cases: usize, outcome: Outcome) -> (Status, CaseFailure) {
+    let chapter = info.number;
+    // The chapter's own cases passed, so a todo!() met while
+    // rendering is in an earlier chapter: by its file when the
+    // panic says, else (0) the first earlier chapter not passing.
+    let status = match &outcome {
+        Outcome::Todo(panic) => match owner(panic) {
+            Some(earlier) if earlier < chapter => Status::Blocked { by: earlier },
+            None => Status::Blocked { by: 0 },
+            _ => Status::Fail,
+        },
+        _ => Status::Fail,
+    };
+    let failure = CaseFailure {
+        name: "image",
+        function: "(the whole stage)",
+        level: Level::Checkpoint,
+        number: cases + 1,
+        of: cases + 1,
+        says: format!(
+            "rendering the chapter's built-in scene at {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}"
+        ),
+        inputs: format!("raylab render --chapter {chapter}"),
+        outcome,
+        lesson: lesson(info),
+        section: "What the picture shows",
+        drawn: false,
+    };
+    (status, failure)
+}
+
+/// The reference a chapter's image is compared with, pixel for pixel: the
+/// shipped one, or for a moved camera raylab's own chapters' render.
+fn exact_reference(info: &ChapterInfo, camera: Option<CameraPlace>) -> Result<Image, String> {
+    let Some(camera) = camera else {
+        return Image::decode_png(info.reference_png)
+            .map_err(|error| format!("the shipped reference image: {error:#}"));
+    };
+    let linear = crate::answer_key::raylab_own(|| {
+        super::serve::image::<crate::Reference>(info.number, Some(camera))
+    })?;
+    Ok(Image {
+        width: REFERENCE_WIDTH,
+        height: REFERENCE_HEIGHT,
+        rgb: srgb(&linear),
+    })
+}
+
+fn srgb(linear: &[Vec3]) -> Vec<u8> {
+    linear
+        .iter()
+        .flat_map(|color| color.to_array().map(crate::output::linear_to_srgb8))
+        .collect()
+}
+
+/// Compares the student's `linear` image with the reference (or, for a
+/// sampled stage, judges it within the noise of the converged one), and
+/// writes the failure images.
+fn compare_image(
+    info: &ChapterInfo,
+    options: &CheckOptions,
+    linear: &[Vec3],
+    camera: Option<CameraPlace>,
+) -> Result<ImageCheck, String> {
+    if linear.len() != (REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize {
+        return Err(format!(
+            "the image came with {} pixels, not {REFERENCE_WIDTH}x{REFERENCE_HEIGHT}",
+            linear.len()
+        ));
+    }
+    let scene = super::serve::scene_for_image(info.number, camera)?;
+    let settings = super::serve::image_settings(&scene);
+    // raylab's own stage of the scene: what it simulates and how many
+    // samples it takes depend on the scene and the chapter alone.
+    let stage = crate::answer_key::raylab_own(|| {
+        crate::Stage::<crate::Reference>::with_chapters(&scene, info.number, settings)
+    })
+    .map_err(|error| error.to_string())?;
+    let noise = if sampled::is_sampled(&stage, &settings) {
+        let converged = sampled::converged(info, &scene, settings, camera)?;
+        if stage.effects.path_tracing {
+            let side = sampled::PATH_BLOCK;
+            let blocks = sampled::block_means(linear, REFERENCE_WIDTH, side);
+            let mut noise = sampled::judge(&blocks, stage.samples(), &converged.blocks(side));
+            noise.block = side;
+            noise.allowed =
+                sampled::allowed_block_outliers(blocks.len(), stage.effects.light_tracing);
+            // The first block's top-left pixel.
+            noise.first = noise.first.map(|(x, y)| (x * side, y * side));
+            Some(noise)
+        } else {
+            Some(sampled::judge(linear, stage.samples(), &converged))
+        }
+    } else {
+        None
+    };
+    let student = Image {
+        width: REFERENCE_WIDTH,
+        height: REFERENCE_HEIGHT,
+        rgb: srgb(linear),
+    };
+    let reference = exact_reference(info, camera)?;
+    let comparison = compare(
+        &student,
+        &reference,
+        Criteria::default(),
+        ("your image", "the reference"),
+    )
+    .map_err(|error| format!("{error:#}"))?;
+    let passed = match &noise {
+        Some(noise) => noise.passes(),
+        None => comparison.passes(),
+    };
+    let mut written = Vec::new();
+    if !passed && options.write_images {
+        written = write_failure_images(info.number, &options.failures_dir, &student, &comparison)?;
+    } else if passed && options.write_images {
+        // The images of an earlier failure would now mislead: the chapter
+        // draws right. Only raylab's own two names are removed, and only
+        // files raylab wrote (a student's own chapter-3.png stays).
+        for name in failure_image_names(info.number) {
+            let path = options.failures_dir.join(name);
+            if crate::output::is_raylab_png(&path) {
+                let _ = std::fs::remove_file(path);
+            }
+        }
+    }
+    Ok(ImageCheck {
+        metrics: comparison.metrics,
+        noise,
+        passed,
+        written,
+    })
+}
+
+/// The names of the student's image and its heatmap in the failures folder.
+fn failure_image_names(chapter: u8) -> [String; 2] {
+    [
+        format!("chapter-{chapter}.png"),
+        format!("chapter-{chapter}-heatmap.png"),
+    ]
+}
+
+fn write_failure_images(
+    chapter: u8,
+    folder: &Path,
+    student: &Image,
+    comparison: &crate::diff::Comparison,
+) -> Result<Vec<PathBuf>, String> {
+    let heatmap = comparison
+        .heatmap(student)
+        .map_err(|error| format!("{error:#}"))?;
+    std::fs::create_dir_all(folder).map_err(|error| {
+        format!(
+            "cannot create the folder {}: {error}",
+            crate::text::terminal_safe(&folder.display().to_string())
+        )
+    })?;
+    let [image_name, heatmap_name] = failure_image_names(chapter);
+    let image_path = folder.join(image_name);
+    let heatmap_path = folder.join(heatmap_name);
+    // Never over a file raylab did not write, nor a read-only one.
+    let outputs = [
+        ("--failures-dir", image_path.as_path()),
+        ("--failures-dir", heatmap_path.as_path()),
+    ];
+    crate::output::check_outputs(&[], &outputs, false).map_err(|error| format!("{error:#}"))?;
+    for (_, path) in outputs {
+        if std::fs::symlink_metadata(path).is_ok() && !crate::output::is_raylab_png(path) {
+            return Err(format!(
+                "{} was not written by raylab, so it is kept: move it, or give --failures-dir \
+                 another folder",
+                crate::text::terminal_safe(&path.display().to_string())
+            ));
+        }
+    }
+    student
+        .write_png(&image_path)
+        .and_then(|()| heatmap.write_png(&heatmap_path))
+        .map_err(|error| format!("{error:#}"))?;
+    Ok(vec![image_path, heatmap_path])
+}
+
+/// Marks `verdict` with the first of `earlier` that does not pass.
+fn apply_prerequisites(verdict: &mut ChapterVerdict, earlier: &[(u8, Status)]) {
+    if verdict.status == (Status::Blocked { by: 0 })
+        && !earlier.iter().any(|(_, status)| *status != Status::Pass)
+    {
+        // A todo!() nowhere to be found among the earlier chapters: this
+        // chapter's own, in a function its cases do not reach.
+        verdict.status = Status::Fail;
+    }
+    if let Some(&(chapter, status)) = earlier.iter().find(|(_, status)| *status != Status::Pass) {
+        verdict.needs = Some((chapter, status));
+        if matches!(verdict.status, Status::Pass | Status::Blocked { by: 0 }) {
+            verdict.status = Status::Blocked { by: chapter };
+        }
+    }
+}
+
+/// Fails the verdicts whose checks ran raylab's answers on threads the
+/// code under check started, out of reach of the recording of the thread
+/// that answered: each answer fails the chapter it belongs to where that
+/// chapter is among `verdicts`, or else every verdict, since any of their
+/// checks may have run it.
+fn fail_for_escaped_answers(
+    verdicts: &mut [ChapterVerdict],
+    escaped: &[String],
+    options: &CheckOptions,
+) {
+    if !options.forbid_answer_key || escaped.is_empty() {
+        return;
+    }
+    for answer in escaped {
+        let owner = answer_chapter(answer);
+        let owned = verdicts
+            .iter()
+            .any(|verdict| Some(verdict.chapter) == owner);
+        for verdict in verdicts.iter_mut() {
+            if (!owned || Some(verdict.chapter) == owner) && verdict.status != Status::Error {
+                verdict.status = Status::Fail;
+                if !verdict.answers_used.contains(answer) {
+                    verdict.answers_used.push(answer.clone());
+                }
+            }
+        }
+    }
+}
+
+/// The chapter whose lesson an answer of raylab's (as
+/// [`crate::answer_key::answered`] names it) answers, where one does.
+fn answer_chapter(answer: &str) -> Option<u8> {
+    if let Some(function) = answer.strip_prefix("Chapters::") {
+        return CHAPTERS
+            .iter()
+            .find(|info| info.functions.contains(&function))
+            .map(|info| info.number);
+    }
+    match answer {
+        "Plane::intersect" => Some(1),
+        "Sphere::intersect"
+        | "Sphere::roots"
+        | "Sphere::intersect_textbook"
+        | "Textbook::intersect_sphere" => Some(2),
+        "Objects::nearest_hit_by_loop" | "raylab::nearest_hit" | "raylab::first_hit" => Some(3),
+        "Textbook::intersect_triangle" => Some(10),
+        _ => None,
+    }
+}
+
+pub(crate) fn unknown_chapter(chapter: u8) -> ChapterVerdict {
+    ChapterVerdict {
+        chapter,
+        title: "",
+        status: Status::Error,
+        cases_passed: 0,
+        cases_total: 0,
+        first_failure: None,
+        not_written: Vec::new(),
+        image: None,
+        robustness: None,
+        needs: None,
+        errors: vec![format!(
+            "there is no chapter {chapter}; chapters are 1 to {}",
+            crate::chapters::LAST_CHAPTER
+        )],
+        lesson: String::new(),
+        answers_used: Vec::new(),
+    }
+}
+
+/// The refusal of the judge's entry points inside a student's process
+/// answering questions ([`super::serve`]).
+fn refuse_inside_the_student_process() -> Option<CheckReport> {
+    super::serve::serving().then(|| CheckReport {
+        verdicts: Vec::new(),
+        stopped: Some(Stopped::Refused(
+            "the check does not run inside a chapter's code".into(),
+        )),
+    })
+}
+
+/// Which chapters a check judges.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Which {
+    /// Every chapter.
+    All,
+    /// This one, with the cases of those it builds on (to say whether it
+    /// waits for one of them); only its verdict is reported.
+    One(u8),
+    /// Every chapter from 1 to this one, each in full.
+    UpTo(u8),
+}
+
+impl Which {
+    /// Chapter `chapter` alone, or every chapter.
+    pub fn one_or_all(chapter: Option<u8>) -> Which {
+        chapter.map_or(Which::All, Which::One)
+    }
+}
+
+/// Judges the chapters `which` says, asking each chapter's questions of an
+/// asker `make` makes: chapters are checked at once, one thread and one
+/// asker each.
+pub fn judge(make: &MakeAsker, which: Which, options: &CheckOptions) -> CheckReport {
+    if let Some(refused) = refuse_inside_the_student_process() {
+        return refused;
+    }
+    let (last, reported) = match which {
+        Which::All => (crate::chapters::LAST_CHAPTER, None),
+        Which::One(chapter) => (chapter, Some(chapter)),
+        Which::UpTo(chapter) => (chapter, None),
+    };
+    if crate::chapters::chapter(last).is_none() {
+        return CheckReport {
+            verdicts: vec![unknown_chapter(last)],
+            stopped: None,
+        };
+    }
+    let numbers: Vec<u8> = CHAPTERS
+        .iter()
+        .map(|info| info.number)
+        .filter(|&number| number <= last)
+        .collect();
+    let asked: Vec<(ChapterVerdict, Collected)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = numbers
+            .iter()
+            .map(|&number| {
+                scope.spawn(move || {
+                    let info = crate::chapters::chapter(number)?;
+                    // The chapters before the one asked for: their cases
+                    // only, to say whether it waits for them.
+                    let full = reported.is_none_or(|chapter| chapter == number);
+                    let mut asker = make();
+                    Some(own_verdict(info, options, full, asker.as_mut()))
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .zip(&numbers)
+            .map(|(handle, &number)| {
+                // Student panics are caught where they happen; a panic here
+                // would be raylab's own bug, reported as an error.
+                handle.join().ok().flatten().unwrap_or_else(|| {
+                    let mut verdict = unknown_chapter(number);
+                    verdict.errors = vec!["the check itself panicked".into()];
+                    (verdict, Collected::default())
+                })
+            })
+            .collect()
+    });
+    let mut escaped = Vec::new();
+    let mut stopped = None;
+    let mut verdicts = Vec::new();
+    for (verdict, collected) in asked {
+        for answer in collected.escaped {
+            if !escaped.contains(&answer) {
+                escaped.push(answer);
+            }
+        }
+        stopped = stopped.or(collected.stopped);
+        verdicts.push(verdict);
+    }
+    // Before the prerequisites, so that the chapters after one that ran
+    // raylab's answer on a thread of its own wait for it, as for any fail.
+    fail_for_escaped_answers(&mut verdicts, &escaped, options);
+    let statuses: Vec<(u8, Status)> = verdicts.iter().map(|v| (v.chapter, v.status)).collect();
+    for verdict in &mut verdicts {
+        let earlier: Vec<(u8, Status)> = statuses
+            .iter()
+            .copied()
+            .filter(|(chapter, _)| *chapter < verdict.chapter)
+            .collect();
+        apply_prerequisites(verdict, &earlier);
+    }
+    if let Some(chapter) = reported {
+        verdicts.retain(|verdict| verdict.chapter == chapter);
+    }
+    CheckReport { verdicts, stopped }
+}
+
+/// The verdict on chapter `chapter` of the chapters `C`, asked in this
+/// process (raylab's own checks of its reference and its variants): its
+/// cases, its image, its robustness, and whether the chapters before it
+/// pass their cases. An unknown chapter is an error verdict.
+pub fn check_chapter<C: Chapters>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
+    let make = || Box::new(InProcess::<C>::default()) as Box<dyn Asker + Send>;
+    judge(&make, Which::One(chapter), options)
+        .verdicts
+        .pop()
+        .unwrap_or_else(|| unknown_chapter(chapter))
+}
+
+/// [`check_chapter`] for chapter `chapters`, or for every chapter.
+pub fn check_all<C: Chapters>(chapters: Option<u8>, options: &CheckOptions) -> CheckReport {
+    let make = || Box::new(InProcess::<C>::default()) as Box<dyn Asker + Send>;
+    judge(&make, Which::one_or_all(chapters), options)
+}
+
+/// Set to `1`, [`assert_chapter`] also demands the robustness level: what
+/// `scripts/mutation-score.sh` sets, so that a mutant only the hard cases
+/// notice counts as caught.
+pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
+
+/// Panics with the verdict's text unless chapter `chapter` (and every
+/// chapter it builds on) passes, the chapters answering in `binary`, a
+/// student workspace's own, started as `serve`: a workspace's `cargo
+/// test` has one test per chapter that calls this with
+/// `env!("CARGO_BIN_EXE_...")`. Robustness is reported apart, as by
+/// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
+pub fn assert_chapter(binary: &str, chapter: u8) {
+    let binary = PathBuf::from(binary);
+    let spawn: Arc<Spawn> = Arc::new(move || {
+        let mut command = std::process::Command::new(&binary);
+        command.arg("serve");
+        Ok((command, Box::new(()) as Box<dyn std::any::Any + Send>))
+    });
+    let make =
+        || Box::new(Remote::new(Arc::clone(&spawn)).inheriting_stderr()) as Box<dyn Asker + Send>;
+    let options = CheckOptions {
+        forbid_answer_key: true,
+        ..CheckOptions::default()
+    };
+    let report = judge(&make, Which::One(chapter), &options);
+    let require_robust = std::env::var_os(REQUIRE_ROBUST_VAR).is_some_and(|v| v == "1");
+    let verdict = report.verdicts.first();
+    let passes = verdict.is_some_and(|verdict| {
+        verdict.passes() && (!require_robust || verdict.robust()) && report.stopped.is_none()
+    });
+    if !passes {
+        panic!("\n{}", report.text());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Reference;
+
+    /// Every case of every chapter asked over the wire as a student's
+    /// process would be: its call encoded and decoded, the answer too. The
+    /// reference passes each, so every call and answer survives the trip.
+    #[test]
+    fn every_case_crosses_the_wire_and_the_reference_passes_it() {
+        use super::super::protocol::{read_frame, write_frame};
+        for info in CHAPTERS {
+            for case in catalog::checkpoints(info.number)
+                .iter()
+                .chain(&catalog::robustness(info.number))
+            {
+                let mut wire = Vec::new();
+                write_frame(&mut wire, &Request::Case(case.kind.call())).unwrap();
+                let request: Request = read_frame(&mut wire.as_slice()).unwrap();
+                let reply = super::super::serve::answer::<Reference>(&request);
+                let mut wire = Vec::new();
+                write_frame(&mut wire, &reply).unwrap();
+                let reply: Reply = read_frame(&mut wire.as_slice()).unwrap();
+                let mut collected = Collected::default();
+                assert_eq!(
+                    collected.case(Ok(reply), case),
+                    Outcome::Pass,
+                    "chapter {}: {}",
+                    info.number,
+                    case.name
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,243 @@
+//! The wire between the judge and a student's process.
+//!
+//! The judge (raylab's own process: `raylab grade --code`, or in a
+//! workspace the `check` that starts the chapters in a child) sends
+//! [`Request`]s; the student's binary, started as `serve`, answers each
+//! with one [`Reply`] and nothing else. A request carries only the inputs
+//! of a call ([`super::cases::Call`]); a reply only the raw answer. Every
+//! expectation stays with the judge.
+//!
+//! Each message is a frame: its length as four little-endian bytes, then
+//! the message in postcard (serde's compact binary form, exact for every
+//! `f32`, NaN and infinities included). A frame longer than [`MAX_FRAME`]
+//! is refused before it is read, so a student's process cannot make the
+//! judge allocate without bound.
+//!
+//! The first request is always [`Request::Hello`], the first reply
+//! [`Reply::Hello`]: both say which protocol and which raylab source they
+//! were built from ([`SOURCE`], a hash of raylab's files), and the judge
+//! asks nothing of a binary built from another, which gets a message
+//! saying so instead of a verdict. Those two messages keep their place
+//! and their fields in every version of raylab.
+
+use std::io::{Read, Write};
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::cases::{Answer, Call};
+use super::panics::Panic;
+
+/// The protocol's number: raised whenever a message changes.
+pub const PROTOCOL: u32 = 1;
+
+/// The hash of raylab's source this binary was built from (see build.rs).
+pub const SOURCE: &str = env!("RAYLAB_SOURCE");
+
+/// The largest frame read: an image of the reference size is 230 kB, the
+/// largest case's samples a few megabytes.
+pub const MAX_FRAME: usize = 64 << 20;
+
+/// Who is speaking: the first message each way.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Hello {
+    pub protocol: u32,
+    pub source: String,
+    /// raylab's version, for the message when the two differ.
+    pub version: String,
+}
+
+impl Hello {
+    /// This binary's.
+    pub fn ours() -> Hello {
+        Hello {
+            protocol: PROTOCOL,
+            source: SOURCE.to_string(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+}
+
+/// A camera moved for a fresh image: its position and where it looks.
+pub type CameraPlace = (Vec3, Vec3);
+
+/// What the judge asks.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub enum Request {
+    /// First, always.
+    Hello(Hello),
+    /// One case's call.
+    Case(Call),
+    /// Chapter `chapter`'s built-in scene at the reference size, every
+    /// pixel in linear light, as `check` judges it (path-traced samples
+    /// cut to the screen's white); with its camera at `camera` when
+    /// given.
+    Image {
+        chapter: u8,
+        camera: Option<CameraPlace>,
+    },
+    /// A scene (TOML) rendered at `chapter`'s stage as `raylab render`
+    /// renders it: its sRGB pixels.
+    Render { scene: String, chapter: u8 },
+}
+
+/// What the student's process answers.
+#[derive(Debug, Serialize, Deserialize)]
+pub enum Reply {
+    /// First, always. `comparison`: the chapters are one of raylab's
+    /// comparison wrappers, which run raylab's answers on purpose.
+    Hello { hello: Hello, comparison: bool },
+    /// The answer to one request, with raylab's own answers that ran while
+    /// it was worked out (see [`crate::answer_key`]): on the thread that
+    /// answered (`used`), and on threads the chapters started
+    /// (`escaped`).
+    Answer {
+        answer: Answered,
+        used: Vec<String>,
+        escaped: Vec<String>,
+    },
+}
+
+/// The answer itself.
+#[derive(Debug, Serialize, Deserialize)]
+pub enum Answered {
+    Case(Answer),
+    /// An image in linear light, row by row.
+    Pixels(Vec<Vec3>),
+    /// An image in sRGB, three bytes a pixel, row by row.
+    Rgb {
+        width: u32,
+        height: u32,
+        rgb: Vec<u8>,
+    },
+    /// The chapters panicked (`todo!()` among them).
+    Panicked(Panic),
+    /// The request could not be worked out (a scene the stage refuses):
+    /// a problem of the check, not of the chapters.
+    Error(String),
+}
+
+/// Why a frame could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ProtocolError {
+    #[error("the other process closed the pipe")]
+    Closed,
+    #[error("a frame of {0} bytes, more than the {MAX_FRAME} allowed")]
+    TooLarge(usize),
+    #[error("the pipe failed: {0}")]
+    Io(#[from] std::io::Error),
+    #[error("a message that is not one of raylab's: {0}")]
+    Garbled(String),
+}
+
+/// Writes `message` as one frame and flushes it.
+pub fn write_frame<T: Serialize>(
+    writer: &mut impl Write,
+    message: &T,
+) -> Result<(), ProtocolError> {
+    let bytes =
+        postcard::to_stdvec(message).map_err(|error| ProtocolError::Garbled(error.to_string()))?;
+    if bytes.len() > MAX_FRAME {
+        return Err(ProtocolError::TooLarge(bytes.len()));
+    }
+    let length = u32::try_from(bytes.len()).map_err(|_| ProtocolError::TooLarge(bytes.len()))?;
+    writer.write_all(&length.to_le_bytes())?;
+    writer.write_all(&bytes)?;
+    writer.flush()?;
+    Ok(())
+}
+
+/// Reads one frame and decodes it; [`ProtocolError::Closed`] at the end of
+/// the stream before a frame begins.
+pub fn read_frame<T: for<'de> Deserialize<'de>>(
+    reader: &mut impl Read,
+) -> Result<T, ProtocolError> {
+    let mut length = [0u8; 4];
+    match reader.read_exact(&mut length) {
+        Ok(()) => {}
+        Err(error) if error.kind() == std::io::ErrorKind::UnexpectedEof => {
+            return Err(ProtocolError::Closed);
+        }
+        Err(error) => return Err(error.into()),
+    }
+    let length = u32::from_le_bytes(length) as usize;
+    if length > MAX_FRAME {
+        return Err(ProtocolError::TooLarge(length));
+    }
+    let mut bytes = vec![0u8; length];
+    reader.read_exact(&mut bytes).map_err(|error| {
+        if error.kind() == std::io::ErrorKind::UnexpectedEof {
+            ProtocolError::Closed
+        } else {
+            error.into()
+        }
+    })?;
+    postcard::from_bytes(&bytes).map_err(|error| ProtocolError::Garbled(error.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_carry_every_f32_exactly_and_refuse_giants() {
+        let mut wire = Vec::new();
+        let pixels = vec![Vec3::new(f32::NAN, f32::INFINITY, -0.0), Vec3::splat(0.1)];
+        let reply = Reply::Answer {
+            answer: Answered::Pixels(pixels.clone()),
+            used: vec!["Sphere::intersect".into()],
+            escaped: Vec::new(),
+        };
+        write_frame(&mut wire, &reply).unwrap();
+        let read: Reply = read_frame(&mut wire.as_slice()).unwrap();
+        let Reply::Answer {
+            answer: Answered::Pixels(back),
+            used,
+            ..
+        } = read
+        else {
+            panic!("another message: {read:?}");
+        };
+        assert_eq!(used, ["Sphere::intersect"]);
+        for (got, sent) in back.iter().zip(&pixels) {
+            for (a, b) in got.to_array().iter().zip(sent.to_array()) {
+                assert_eq!(a.to_bits(), b.to_bits());
+            }
+        }
+        let giant = (u32::MAX).to_le_bytes();
+        assert!(matches!(
+            read_frame::<Reply>(&mut giant.as_slice()),
+            Err(ProtocolError::TooLarge(_))
+        ));
+        assert!(matches!(
+            read_frame::<Reply>(&mut [].as_slice()),
+            Err(ProtocolError::Closed)
+        ));
+        let garbage = [3u8, 0, 0, 0, 0xff, 0xff, 0xff];
+        assert!(matches!(
+            read_frame::<Reply>(&mut garbage.as_slice()),
+            Err(ProtocolError::Garbled(_))
+        ));
+    }
+
+    /// The hello of every version is read by every other: its place in
+    /// the enums and its fields never move.
+    #[test]
+    fn the_hello_is_the_first_variant_with_fixed_fields() {
+        let hello = Request::Hello(Hello {
+            protocol: 7,
+            source: "abc".into(),
+            version: "9.9.9".into(),
+        });
+        let bytes = postcard::to_stdvec(&hello).unwrap();
+        assert_eq!(
+            bytes,
+            [0, 7, 3, b'a', b'b', b'c', 5, b'9', b'.', b'9', b'.', b'9']
+        );
+        let reply = Reply::Hello {
+            hello: Hello::ours(),
+            comparison: false,
+        };
+        assert_eq!(postcard::to_stdvec(&reply).unwrap()[0], 0);
+    }
+}
