@@ -81,6 +81,10 @@ mkdir -p "$staging"
 cp "$REPO"/web/page/* "$staging/"
 cp "$wasm" "$staging/raylab.wasm"
 cp -r "$DOCS" "$staging/doc"
+# No source pages on the page, even ones an older rustdoc run left in
+# the docs folder: raylab's are the answer key.
+rm -rf "$staging/doc/src"
+bash "$REPO/scripts/check-docs-no-source.sh" "$staging/doc"
 rm -rf "$OUT"
 mv "$staging" "$OUT"
 log "the page is in $OUT: serve it (python3 -m http.server -d $OUT 8000) and open http://localhost:8000/"

@@ -28,6 +28,10 @@
 // (see the `student` feature): what only a student could have called is
 // then unused, which is the point.
 #![cfg_attr(feature = "student", allow(dead_code, unused_imports))]
+// The crate docs are the lessons, which students read (`cargo doc --open`,
+// the browser page): a "Source" link would open the reference solutions,
+// the answer key. scripts/check-docs-no-source.sh fails if one comes back.
+#![doc(html_no_source)]
 
 // The browser page (web/) builds this crate for WebAssembly without the
 // command line, the cost tables and their plots: see Cargo.toml.

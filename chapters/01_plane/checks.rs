@@ -146,6 +146,24 @@ pub fn robustness() -> Vec<Case> {
             range: IN_FRONT,
             expect: Expect::Either,
         }),
+        // The stored normal's x and z are exactly twice its y, so the ray is
+        // parallel to the plane as stored, not only on paper: only the
+        // rounding of `3 * 0.6666667` makes the f32 dot product nonzero.
+        Case::from(PlaneQuestion {
+            name: "plane-parallel-denominator-rounded",
+            section: CODE_1,
+            says: "a ray from (0, 3, 0) along (3, -2, -2) runs parallel to the plane through the \
+                   origin with normal (2, 1, 2), 1 away from it: dot(dir, n) = (6 - 2 - 4) / 3 = \
+                   0. In f32 the unit normal is (0.6666667, 0.33333334, 0.6666667) and the dot \
+                   product rounds to 2.0 - 0.6666667 - 1.3333334 = -1.2e-7, not 0; dividing -1 by \
+                   it gives t = 8388608, a point still 1 away from the plane. That denominator is \
+                   below the rounding bound 4 * f32::EPSILON * sum |dir_i| |n_i| = 4 * 1.19e-7 * \
+                   4 = 1.9e-6: expected no hit, which a test `dot(dir, n) == 0` lets through",
+            plane: (Vec3::ZERO, Vec3::new(2.0, 1.0, 2.0)),
+            ray: (Vec3::new(0.0, 3.0, 0.0), Vec3::new(3.0, -2.0, -2.0)),
+            range: IN_FRONT,
+            expect: Expect::Miss,
+        }),
         Case::from(PlaneQuestion {
             name: "plane-tiny-direction",
             section: CODE_1,
@@ -249,5 +267,26 @@ mod tests {
                 assert!(t.is_finite(), "{}: the exact reference misses", case.name);
             }
         }
+    }
+
+    /// The numbers `plane-parallel-denominator-rounded` tells the student:
+    /// parallel exactly for the normal as stored, yet a nonzero f32
+    /// denominator and a "hit" 1 away from the plane.
+    #[test]
+    fn the_rounded_denominator_is_what_the_case_says() {
+        let plane = Plane::new(Vec3::ZERO, Vec3::new(2.0, 1.0, 2.0));
+        let (origin, dir) = (Vec3::new(0.0, 3.0, 0.0), Vec3::new(3.0, -2.0, -2.0));
+        let n = plane.normal();
+        assert_eq!(n.to_array(), [0.6666667, 0.33333334, 0.6666667]);
+        assert_eq!(wide(dir).dot(wide(n)), 0.0, "parallel as stored");
+        let denominator = dir.dot(n);
+        assert_eq!(denominator, -(2.0_f32.powi(-23)));
+        assert_eq!(dir.abs().dot(n.abs()), 4.0);
+        let t = (plane.point() - origin).dot(n) / denominator;
+        assert_eq!(t, 8388608.0);
+        let off = (wide(origin) + f64::from(t) * wide(dir)).dot(wide(n));
+        assert!((off - 1.0).abs() < 1e-6, "{off}");
+        let bound = 4.0 * f32::EPSILON * 4.0;
+        assert!(denominator.abs() < bound && (bound - 1.9e-6).abs() < 1e-8);
     }
 }

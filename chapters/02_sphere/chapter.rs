@@ -106,11 +106,11 @@ fn solve(dir: Vec3, oc: Vec3, a: f32, h: f32, c: f32, radius: f32) -> Option<(f3
 /// When the point at `t_min` is outside the sphere that is the near root;
 /// inside, the far one.
 ///
-/// Each root is only known to within [`root_error`], so "beyond `t_min`"
-/// must mean beyond it by more than that: a ray leaving the sphere's own
-/// surface has a root within rounding of its origin, on either side of it,
-/// and must not meet the sphere again there (whatever `t_min` the caller
-/// passes). See [`choose_root`] for the rare case rounding cannot decide.
+/// Each root is only known to within its rounding error, so "beyond
+/// `t_min`" must mean beyond it by more than that: a ray leaving the
+/// sphere's own surface has a root within rounding of its origin, on either
+/// side of it, and must not meet it again there (whatever `t_min` the
+/// caller passes). The lesson's "Roots near `t_min`" gives bound and rule.
 pub fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
     let roots = roots_unless_behind(sphere, ray, t_min >= 0.0)?;
     choose_root(sphere, ray, roots, t_min, t_max)

@@ -5,7 +5,7 @@ use raylab::{Material, Vec3};
 /// The ambient term: light that arrives "from everywhere", a stand-in for
 /// all the light bounced between surfaces that a Whitted tracer does not
 /// follow. `albedo * k_a * ambient_light`.
-pub fn ambient(albedo: Vec3, k_ambient: f32, ambient_light: Vec3) -> Vec3 {
+pub fn ambient_term(albedo: Vec3, k_ambient: f32, ambient_light: Vec3) -> Vec3 {
     albedo * k_ambient * ambient_light
 }
 
@@ -58,7 +58,7 @@ pub fn phong_terms(
 pub fn shade_phong<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint) -> PhongTerms {
     let material = &point.material;
     let mut sum = PhongTerms {
-        diffuse: ambient(point.albedo, material.ambient, tracer.ambient_light()),
+        diffuse: ambient_term(point.albedo, material.ambient, tracer.ambient_light()),
         specular: Vec3::ZERO,
     };
     for light in tracer.lights() {

@@ -15,8 +15,8 @@ fn material(diffuse: f32, specular: f32, shininess: u32) -> Material {
 }
 
 #[test]
-fn ambient_is_albedo_times_coefficient_times_ambient_light() {
-    let a = ambient(Vec3::new(1.0, 0.5, 0.0), 0.1, Vec3::new(1.0, 1.0, 0.5));
+fn ambient_term_is_albedo_times_coefficient_times_ambient_light() {
+    let a = ambient_term(Vec3::new(1.0, 0.5, 0.0), 0.1, Vec3::new(1.0, 1.0, 0.5));
     assert_eq!(a, Vec3::new(0.1, 0.05, 0.0));
 }
 
@@ -96,8 +96,14 @@ fn non_finite_colours_give_non_finite_ambient_and_powers_follow_powf() {
             let mut colour = [0.5, 0.6, 0.7];
             colour[axis] = value;
             let spoilt = Vec3::from(colour);
-            assert!(!ambient(spoilt, 0.1, WHITE).is_finite(), "albedo {spoilt}");
-            assert!(!ambient(WHITE, 0.1, spoilt).is_finite(), "light {spoilt}");
+            assert!(
+                !ambient_term(spoilt, 0.1, WHITE).is_finite(),
+                "albedo {spoilt}"
+            );
+            assert!(
+                !ambient_term(WHITE, 0.1, spoilt).is_finite(),
+                "light {spoilt}"
+            );
         }
     }
     assert!(pow_whole(f32::NAN, 3).is_nan());

@@ -38,8 +38,8 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 /// own mirror image, which a mirror shows in full. The recursion stops after
 /// `max_depth` bounces, and skips rays whose weight in the pixel is too
 /// small to see (`min_contribution`). The mirror direction is about the
-/// shading normal `point.normal`, as the Phong terms are (see
-/// `mirror_direction`).
+/// shading normal `point.normal`, as the Phong terms are, unless that image
+/// points into the surface (the lesson's "Which normal").
 pub fn shade_mirror<C: Chapters>(
     tracer: &mut Tracer<C>,
     point: &HitPoint,

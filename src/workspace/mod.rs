@@ -721,17 +721,22 @@ pub fn chapter_file(
     Ok(out)
 }
 
-/// `text` with each doc link to a bare name the file does not define
-/// (`[`root_error`]`, a helper of the lesson that the skeleton leaves for
-/// the student to write) turned into plain code: the student's docs name
-/// it without a broken link.
+/// `text` with each doc link to a bare name the file neither defines nor
+/// imports (a helper the skeleton leaves out) turned into plain code, so
+/// that the student's docs have no broken link. The links to raylab's
+/// items the file imports (`greater_of`, `WIDTH`) stay links: the student
+/// has those. No reference doc comment copied into a skeleton names a
+/// helper (`no_skeleton_or_lesson_sends_the_student_to_a_helper_of_the_answer_key`):
+/// this is the fallback that keeps the docs building if one does.
 fn unlink_missing(text: &str) -> String {
+    let imported = imported_names(text);
     let defines = |name: &str| {
-        [
-            "fn ", "struct ", "enum ", "const ", "type ", "trait ", "static ",
-        ]
-        .iter()
-        .any(|keyword| text.contains(&format!("{keyword}{name}")))
+        imported.contains(&name)
+            || [
+                "fn ", "struct ", "enum ", "const ", "type ", "trait ", "static ",
+            ]
+            .iter()
+            .any(|keyword| text.contains(&format!("{keyword}{name}")))
     };
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
@@ -744,7 +749,7 @@ fn unlink_missing(text: &str) -> String {
         });
         match name_end {
             Some(end) if !defines(&after[..end]) => {
-                out.push_str(&format!("`{}` (in the lesson)", &after[..end]));
+                out.push_str(&format!("`{}`", &after[..end]));
                 rest = &after[end + 2..];
             }
             _ => {
@@ -755,6 +760,26 @@ fn unlink_missing(text: &str) -> String {
     }
     out.push_str(rest);
     out
+}
+
+/// Every name the `use` items at the start of a line of `text` mention,
+/// paths and all: a module's name among them is harmless, as a link to it
+/// resolves too.
+fn imported_names(text: &str) -> Vec<&str> {
+    let mut names = Vec::new();
+    for (at, _) in text.match_indices("use ") {
+        let line_start = text[..at].rfind('\n').map_or(0, |newline| newline + 1);
+        if !matches!(text[line_start..at].trim(), "" | "pub") {
+            continue;
+        }
+        let end = text[at..].find(';').map_or(text.len(), |end| at + end);
+        names.extend(
+            text[at + 4..end]
+                .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .filter(|name| !name.is_empty()),
+        );
+    }
+    names
 }
 
 /// A chapter file's module doc: what to write (or that this is the answer
@@ -1073,12 +1098,130 @@ mod tests {
                     pub fn intersect_sphere() {}\n";
         assert_eq!(
             unlink_missing(text),
-            "/// Within `root_error` (in the lesson) of [`intersect_sphere`], see [`a::b`].\n\
+            "/// Within `root_error` of [`intersect_sphere`], see [`a::b`].\n\
              pub fn intersect_sphere() {}\n"
         );
-        let skeleton = chapter_file(&CHAPTERS[1], "/raylab", false).expect("cut");
-        assert!(!skeleton.contains("[`root_error`]"), "{skeleton}");
-        assert!(!skeleton.contains("[`choose_root`]"), "{skeleton}");
+        let imports = "use raylab::bvh::{\n    WIDTH, greater_of,\n};\n\
+                       /// Up to [`WIDTH`], by [`greater_of`], not [`leaf4`].\n\
+                       pub fn hit_boxes() {}\n";
+        assert_eq!(
+            unlink_missing(imports),
+            "use raylab::bvh::{\n    WIDTH, greater_of,\n};\n\
+             /// Up to [`WIDTH`], by [`greater_of`], not `leaf4`.\n\
+             pub fn hit_boxes() {}\n"
+        );
+    }
+
+    /// The names the answer key of `info` defines and its skeleton does
+    /// not: the helpers `raylab new` leaves out, which a student has
+    /// nowhere (raylab's own are private to a workspace's build).
+    fn dropped_helpers(info: &ChapterInfo) -> Vec<String> {
+        let defined = |text: &str| -> Vec<String> {
+            scan::items(text)
+                .expect("a cut file scans")
+                .into_iter()
+                .filter(|item| {
+                    !matches!(
+                        item.kind,
+                        ItemKind::Use | ItemKind::Impl | ItemKind::Mod | ItemKind::InnerAttribute
+                    )
+                })
+                .filter_map(|item| item.name)
+                .collect()
+        };
+        let skeleton = defined(&chapter_file(info, "/r", false).expect("cuts"));
+        defined(&chapter_file(info, "/r", true).expect("cuts"))
+            .into_iter()
+            .filter(|name| !skeleton.contains(name))
+            .collect()
+    }
+
+    /// Whether `text` names `name` as an identifier: not inside a longer
+    /// one nor a case's name (`normal-central-with-a-wide-step`), and not
+    /// after a `.`, where it is a field or method of a value the student
+    /// has (`material.ambient`).
+    fn names(text: &str, name: &str) -> bool {
+        let joined = |c: char| c.is_alphanumeric() || c == '_' || c == '-';
+        text.match_indices(name).any(|(at, _)| {
+            let before = text[..at].chars().next_back();
+            let after = text[at + name.len()..].chars().next();
+            !before.is_some_and(|c| joined(c) || c == '.') && !after.is_some_and(joined)
+        })
+    }
+
+    /// The code of a lesson or of a skeleton (fenced blocks and inline
+    /// spans) and the rest, its prose and the skeleton's signatures.
+    fn code_and_prose(markdown: &str) -> (String, String) {
+        let (mut code, mut prose) = (String::new(), String::new());
+        let mut fenced = false;
+        for line in markdown.lines() {
+            if line.trim_start().starts_with("```") {
+                fenced = !fenced;
+            } else if fenced {
+                code.push_str(line);
+                code.push('\n');
+            } else {
+                prose.push_str(line);
+                prose.push('\n');
+            }
+        }
+        let mut plain = String::new();
+        for (index, part) in prose.split('`').enumerate() {
+            if index % 2 == 1 {
+                code.push_str(part);
+                code.push('\n');
+            } else {
+                plain.push_str(part);
+            }
+        }
+        (code, plain)
+    }
+
+    #[test]
+    fn no_skeleton_or_lesson_sends_the_student_to_a_helper_of_the_answer_key() {
+        let helpers: Vec<(u8, String)> = CHAPTERS
+            .iter()
+            .flat_map(|info| {
+                dropped_helpers(info)
+                    .into_iter()
+                    .map(|name| (info.number, name))
+            })
+            .collect();
+        // Each chapter drops at least its constants or helper functions:
+        // an empty list would mean the derivation broke, not that all is well.
+        assert!(
+            helpers.iter().any(|(_, name)| name == "root_error"),
+            "{helpers:?}"
+        );
+        let mut found = Vec::new();
+        for info in CHAPTERS {
+            let skeleton = chapter_file(info, "/r", false).expect("cuts");
+            let lesson_path = Path::new(RAYLAB_DIR).join(info.lesson_path());
+            let lesson = std::fs::read_to_string(&lesson_path).expect("the lesson reads");
+            let (code, prose) = code_and_prose(&lesson);
+            let (skeleton_code, skeleton_rest) = code_and_prose(&skeleton);
+            for (chapter, name) in &helpers {
+                // Another chapter's `wide` or `Nearest` is more likely a
+                // name of this one (a parameter, a word); `root_error` is
+                // no one else's.
+                if *chapter != info.number && !name.contains('_') {
+                    continue;
+                }
+                // A lowercase word (`ambient`, `boundary`) in prose is the
+                // word; a name with `_`, a capital or a digit is code.
+                let word = name.chars().all(|c| c.is_ascii_lowercase());
+                if names(&skeleton_code, name) || (!word && names(&skeleton_rest, name)) {
+                    found.push(format!("the skeleton of chapter {} names `{name}` (chapter {chapter}'s answer key)", info.number));
+                }
+                if names(&code, name) || (!word && names(&prose, name)) {
+                    found.push(format!(
+                        "{} names `{name}` (chapter {chapter}'s answer key)",
+                        info.lesson_path()
+                    ));
+                }
+            }
+        }
+        assert!(found.is_empty(), "{}", found.join("\n"));
     }
 
     #[test]

@@ -1108,6 +1108,60 @@ fn a_panic_in_the_students_loop_names_the_students_line() {
 // variant below breaks one clause that no case caught before, and fails on
 // exactly the case added for it.
 
+/// Chapter 1 with `if denominator == 0.0` for the parallel test, the one
+/// the lesson says not to write: right on paper, so every checkpoint
+/// passes, but a denominator that is 0 only up to rounding divides into a
+/// huge `t` off the plane.
+struct PlaneParallelOnlyAtZero;
+impl Chapters for PlaneParallelOnlyAtZero {
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let denominator = ray.dir.dot(plane.normal());
+        if denominator == 0.0 {
+            return None;
+        }
+        let t = (plane.point() - ray.origin).dot(plane.normal()) / denominator;
+        (t > t_min && t < t_max).then_some(t)
+    }
+}
+
+/// Chapter 1 with the parallel test written as the lesson derives its
+/// bound, `gamma_3` for the dot product and `2u` for the stored normal,
+/// with no margin: tighter than the reference's `8u`, and still robust.
+struct PlaneParallelTightBound;
+impl Chapters for PlaneParallelTightBound {
+    // The lesson's `!(|D . N| > bound)`: "not greater, or NaN".
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let u = f32::EPSILON / 2.0;
+        let gamma_3 = 3.0 * u / (1.0 - 3.0 * u);
+        let denominator = ray.dir.dot(plane.normal());
+        let bound = (gamma_3 + 2.0 * u) * ray.dir.abs().dot(plane.normal().abs());
+        if !(denominator.abs() > bound) {
+            return None;
+        }
+        let t = (plane.point() - ray.origin).dot(plane.normal()) / denominator;
+        (t > t_min && t < t_max).then_some(t)
+    }
+}
+
+/// Chapter 1 with the bound scaled by `|D| |N|` instead of
+/// `sum |D_i| |N_i|`: never smaller (Cauchy-Schwarz), so it calls at least
+/// as many rays parallel, and still finds every hit the hard cases ask for.
+struct PlaneParallelBoundByLengths;
+impl Chapters for PlaneParallelBoundByLengths {
+    // The lesson's `!(|D . N| > bound)`: "not greater, or NaN".
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let denominator = ray.dir.dot(plane.normal());
+        let bound = 4.0 * f32::EPSILON * ray.dir.length() * plane.normal().length();
+        if !(denominator.abs() > bound) {
+            return None;
+        }
+        let t = (plane.point() - ray.origin).dot(plane.normal()) / denominator;
+        (t > t_min && t < t_max).then_some(t)
+    }
+}
+
 /// Chapter 2: `t_min` taken as a closed bound: a root exactly at `t_min`
 /// is the hit.
 struct SphereTMinClosed;
@@ -1620,6 +1674,28 @@ impl Chapters for PhongNanClamped {
             specular: terms.specular.map(|term| term.max(0.0)),
         }
     }
+}
+
+#[test]
+fn contract_plane_parallel_up_to_rounding() {
+    let verdict = check_chapter::<PlaneParallelOnlyAtZero>(1, &options());
+    let text = verdict.text();
+    assert!(verdict.passes(), "{text}");
+    assert!(!verdict.robust(), "{text}");
+    let failure = verdict
+        .robustness
+        .as_ref()
+        .and_then(|robustness| robustness.first_failure.as_ref())
+        .expect("a hard case fails");
+    assert_eq!(failure.name, "plane-parallel-denominator-rounded", "{text}");
+}
+
+#[test]
+fn alternative_plane_parallel_bounds_are_robust() {
+    let verdict = check_chapter::<PlaneParallelTightBound>(1, &options());
+    assert!(verdict.robust(), "{}", verdict.text());
+    let verdict = check_chapter::<PlaneParallelBoundByLengths>(1, &options());
+    assert!(verdict.robust(), "{}", verdict.text());
 }
 
 /// A hard case catches `C` in `chapter`: correct, not robust.
