@@ -570,9 +570,14 @@ impl CheckReport {
         )
     }
 
-    /// Every verdict, then the table, then why the check stopped.
+    /// Every verdict, then the table, then why the check stopped. A binary
+    /// that answers no question gets the reason alone, once.
     pub fn text(&self) -> String {
         let mut out = String::new();
+        if let Some(Stopped::Refused(why)) = &self.stopped {
+            let _ = writeln!(out, "no verdict: {}", crate::text::terminal_safe(why));
+            return out;
+        }
         for verdict in &self.verdicts {
             out.push_str(&verdict.text());
             out.push('\n');

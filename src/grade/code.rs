@@ -293,11 +293,11 @@ fn build(workspace: &Path, job: &CodeJob) -> Result<Built, super::GradeError> {
 fn built_binary(messages: &str, workspace: &Path) -> Option<PathBuf> {
     messages
         .lines()
+        .rev()
         .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
         .filter(|message| message["reason"] == "compiler-artifact")
         .filter_map(|message| message["executable"].as_str().map(PathBuf::from))
-        .filter(|binary| binary.starts_with(workspace.join("target")) && binary.is_file())
-        .last()
+        .find(|binary| binary.starts_with(workspace.join("target")) && binary.is_file())
 }
 
 /// The crates a workspace may depend on: those `raylab new` writes.
