@@ -78,18 +78,19 @@ if [[ ! -f "$kinds/cheat/Cargo.toml" ]]; then
     make_kind cheat --solutions
     glue="$kinds/cheat/src/chapters/mod.rs"
     python3 - "$glue" <<'EOF'
-import sys
+import re, sys
 path = sys.argv[1]
 text = open(path).read()
-for honest, cheating in [
-    ("        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)",
-     "        sphere.intersect(ray, t_min, t_max)"),
-    ("        ch07_antialiasing::pixel_color(tracer, x, y)",
+# Each chapter's call in the glue, whatever its module is named.
+for call, cheating in [
+    ("intersect_sphere(sphere, ray, t_min, t_max)", "        sphere.intersect(ray, t_min, t_max)"),
+    ("pixel_color(tracer, x, y)",
      "        {\n            println!(\"chapter  status       cases   robustness     image\");\n"
      "            println!(\"7        pass\");\n            std::process::exit(0)\n        }"),
 ]:
-    assert honest in text, honest
-    text = text.replace(honest, cheating)
+    honest = re.compile(r"        ch\d\d_\w+::" + re.escape(call))
+    assert honest.search(text), call
+    text = honest.sub(lambda _: cheating, text, count=1)
 open(path, "w").write(text)
 EOF
 fi
