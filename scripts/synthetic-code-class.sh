@@ -94,8 +94,9 @@ for call, cheating in [
 open(path, "w").write(text)
 EOF
 fi
+# One target folder for the four: raylab and its dependencies build once.
 for kind in right progress skeleton cheat; do
-    (cd "$kinds/$kind" && CARGO_TARGET_DIR="$kinds/$kind/target" cargo build --release --offline --quiet)
+    (cd "$kinds/$kind" && CARGO_TARGET_DIR="$kinds/target" cargo build --release --offline --quiet)
 done
 
 # The stand-in for cargo: `build` names the one binary in the workspace's
@@ -122,8 +123,7 @@ for index in $(seq 1 "$students"); do
     student="$class/$(printf 'student-%04d' "$index")"
     mkdir -p "$student/target/release"
     (cd "$kinds/$kind" && tar cf - --exclude=./target .) | (cd "$student" && tar xf -)
-    binary=$(find "$kinds/$kind/target/release" -maxdepth 1 -type f -perm -u+x | head -n 1)
-    ln "$binary" "$student/target/release/"
+    ln "$kinds/target/release/$kind" "$student/target/release/"
 done
 
 if [[ -n $make_only ]]; then

@@ -159,6 +159,13 @@ pub fn grade_class_code(
     for student in &mut students {
         run_code_of(student, job, progress)?;
         write_section(sections, student)?;
+        // The full output is in the section now; the class keeps only the
+        // lines its summary shows, so that its memory does not grow with
+        // every student's failures.
+        if let Outcome::Code(run) = &mut student.outcome {
+            run.stdout = last_lines(&run.stdout, SUMMARY_LINES);
+            run.stderr = last_lines(&run.stderr, SUMMARY_LINES);
+        }
     }
     let similar = similar_code(&students)?;
     Ok(Class {
