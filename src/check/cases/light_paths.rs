@@ -399,6 +399,10 @@ impl Kind for LightConvergesCase {
     /// Each render's image mean.
     type Answer = Vec<Vec3>;
 
+    fn statistical(&self) -> bool {
+        true
+    }
+
     fn function(&self) -> &'static str {
         self.function
     }
@@ -600,6 +604,10 @@ impl Kind for LensCase {
     /// For each seed, the first channel of every pixel with the ball and
     /// without it.
     type Answer = Vec<(Vec<f32>, Vec<f32>)>;
+
+    fn statistical(&self) -> bool {
+        true
+    }
 
     fn function(&self) -> &'static str {
         "connect_to_camera"
