@@ -467,7 +467,7 @@ impl Kind for BvhHitsCase {
                     C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
                 }
             });
-            let trees = steps.then(|| WalkedTrees {
+            let trees = steps.then_some(WalkedTrees {
                 bvh,
                 wide: Some(wide),
             });
