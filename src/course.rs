@@ -668,7 +668,20 @@ impl<C: Chapters, const SPHERE: bool, const TRIANGLE: bool> Chapters
 /// The objects a ray can hit, as the running chapters intersect them.
 pub struct Objects<'a, C> {
     shapes: &'a [Shape],
+    /// Where each object test is written down while a check watches a
+    /// walk's steps from outside it ([`Objects::recording`]).
+    asked: Option<&'a std::sync::Mutex<Vec<Asked>>>,
     chapters: std::marker::PhantomData<C>,
+}
+
+/// One object test a walk made: which object, the interval it was asked
+/// in, and its answer.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Asked {
+    pub object: usize,
+    pub t_min: f32,
+    pub t_max: f32,
+    pub answer: Option<f32>,
 }
 
 impl<C> Clone for Objects<'_, C> {
@@ -682,6 +695,17 @@ impl<'a, C: Chapters> Objects<'a, C> {
     pub fn new(shapes: &'a [Shape]) -> Self {
         Objects {
             shapes,
+            asked: None,
+            chapters: std::marker::PhantomData,
+        }
+    }
+
+    /// The objects `shapes`, each test of which is appended to `asked`:
+    /// how a check sees the order in which a walk asks them.
+    pub(crate) fn recording(shapes: &'a [Shape], asked: &'a std::sync::Mutex<Vec<Asked>>) -> Self {
+        Objects {
+            shapes,
+            asked: Some(asked),
             chapters: std::marker::PhantomData,
         }
     }
@@ -703,7 +727,20 @@ impl<'a, C: Chapters> Objects<'a, C> {
     #[inline(always)]
     #[track_caller]
     pub fn intersect(&self, object: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        self.shape(object).intersect_with::<C>(ray, t_min, t_max)
+        let answer = self.shape(object).intersect_with::<C>(ray, t_min, t_max);
+        if let Some(asked) = self.asked {
+            let test = Asked {
+                object,
+                t_min,
+                t_max,
+                answer,
+            };
+            asked
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .push(test);
+        }
+        answer
     }
 
     /// The shape of object `object`; out of `0..len()`, a panic that names

@@ -38,6 +38,22 @@ const CONCAVE_NORMALS: [Vec3; 3] = [
     Vec3::new(0.6, 0.0, 0.8),
 ];
 
+/// Tilted one way at a and b, straight up at c: over [`FLOOR_TRIANGLE`]
+/// at (0.25, 0.25, 0) the point is below a's tangent plane, above b's and
+/// on c's.
+const MIXED_NORMALS: [Vec3; 3] = [
+    Vec3::new(-0.6, 0.0, 0.8),
+    Vec3::new(-0.6, 0.0, 0.8),
+    Vec3::Z,
+];
+
+/// A right triangle standing in the wall x = 2.
+const WALL_TRIANGLE: [Vec3; 3] = [
+    Vec3::new(2.0, 0.0, 0.0),
+    Vec3::new(2.0, 1.0, 0.0),
+    Vec3::new(2.0, 0.0, 1.0),
+];
+
 /// One normal per axis: their blend shows each weight on its own axis.
 const AXIS_NORMALS: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
 
@@ -352,6 +368,24 @@ pub fn checkpoints() -> Vec<Case> {
             expect: Expect::Hit,
         }),
         Case::from(TrianglesQuestion {
+            name: "triangle-tilted",
+            section: WATERTIGHT_10,
+            says: "a tilted triangle (0, 0, 1), (2, 0, 3), (0, 2, 2) and a ray from (0.5, 0.5, 0) \
+                   along +z: (0.5, 0.5) is a + 0.25 (b - a) + 0.25 (c - a), weights \
+                   (0.5, 0.25, 0.25), and the corners' heights 1, 3 and 2 blended with them give \
+                   0.5 x 1 + 0.25 x 3 + 0.25 x 2 = 1.75: expected t = 1.75 \
+                   (the corners are at different heights: one corner's height, 1, or their plain \
+                   mean, 2, is not t)",
+            triangles: vec![[
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(2.0, 0.0, 3.0),
+                Vec3::new(0.0, 2.0, 2.0),
+            ]],
+            ray: (Vec3::new(0.5, 0.5, 0.0), Vec3::Z),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(TrianglesQuestion {
             name: "triangle-before-t-min",
             section: HIT_10,
             says: "the first case's ray with t_min = 2.5: the only hit, t = 2, is before it: \
@@ -534,6 +568,18 @@ pub fn checkpoints() -> Vec<Case> {
             }),
         ),
         Case::new(
+            "barycentric-in-a-wall",
+            BARYCENTRIC_10,
+            "the triangle (2, 0, 0), (2, 1, 0), (2, 0, 1) in the wall x = 2 (seen from above, along \
+             z, it is a line) at (2, 0.25, 0.5) = a + 0.25 (b - a) + 0.5 (c - a): expected \
+             (0.25, 0.25, 0.5)",
+            CaseKind::Barycentric(BarycentricCase {
+                corners: WALL_TRIANGLE,
+                point: Vec3::new(2.0, 0.25, 0.5),
+            }),
+        )
+        .fixed("a wall: its shadow on the xy plane is a line, which a turned copy would not be"),
+        Case::new(
             "smooth-normal-at-corner",
             SMOOTH_10,
             "the lesson's triangle with vertex normals (1, 0, 0), (0, 1, 0), (0, 0, 1), at its \
@@ -605,6 +651,22 @@ pub fn checkpoints() -> Vec<Case> {
             }),
         ),
         Case::new(
+            "terminator-mixed-heights",
+            TERMINATOR_10,
+            "the same triangle and point with the vertex normals (-0.6, 0, 0.8) at a and b and \
+             (0, 0, 1) at c; weights (0.5, 0.25, 0.25). Heights above the corners' tangent planes: \
+             a: (0.25, 0.25, 0).n_a = -0.15, below; b: (-0.75, 0.25, 0).n_b = 0.45, above; c: 0, \
+             on it. Each corner decides for itself: only a's plane lifts, by 0.5 x 0.15 n_a = \
+             (-0.045, 0, 0.06): expected (0.205, 0.25, 0.06) \
+             (projecting onto all three planes, or onto none because the weighted heights add \
+             up to +0.0375, is not the lift)",
+            CaseKind::Terminator(TerminatorCase {
+                corners: FLOOR_TRIANGLE,
+                normals: MIXED_NORMALS,
+                point: Vec3::new(0.25, 0.25, 0.0),
+            }),
+        ),
+        Case::new(
             "smooth-hit-convex",
             TERMINATOR_10,
             "the bulge of terminator-convex-lifted, opaque, hit by a ray from (0.25, 0.25, 5) \
@@ -615,7 +677,7 @@ pub fn checkpoints() -> Vec<Case> {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
-                transparent: false,
+                transparency: 0.0,
             }),
         ),
         Case::new(
@@ -629,7 +691,7 @@ pub fn checkpoints() -> Vec<Case> {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, -5.0), Vec3::new(0.0, 0.0, 1.0)),
-                transparent: false,
+                transparency: 0.0,
             }),
         ),
         Case::new(
@@ -642,7 +704,7 @@ pub fn checkpoints() -> Vec<Case> {
                 corners: FLOOR_TRIANGLE,
                 normals: CONVEX_NORMALS,
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
-                transparent: true,
+                transparency: 1.0,
             }),
         ),
         Case::new(
@@ -663,7 +725,7 @@ pub fn checkpoints() -> Vec<Case> {
                     Vec3::new(0.0, 0.96, 0.28),
                 ],
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
-                transparent: true,
+                transparency: 1.0,
             }),
         ),
         Case::new(
@@ -680,7 +742,60 @@ pub fn checkpoints() -> Vec<Case> {
                     Vec3::Z,
                 ],
                 ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
-                transparent: true,
+                transparency: 1.0,
+            }),
+        ),
+        Case::new(
+            "smooth-hit-one-normal-below-the-facet",
+            TERMINATOR_10,
+            "the lesson's floor triangle with the vertex normals (0.96, 0, -0.28) at a (below the \
+             facet's plane, as at a sharp crease) and (0, 0, 1) at b and c, transparent, hit at \
+             (0.25, 0.25, 0) by a ray from (0.25, 0.25, 5) along -z: their sum (0.96, 0, 1.72) is \
+             on the ray's side, so all three are kept, a's included; blended with the weights \
+             (0.5, 0.25, 0.25): (0.48, 0, 0.36), of length 0.6: expected the normal (0.8, 0, 0.6) \
+             (a's normal turned on its own would give (-0.6, 0, 0.8))",
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: FLOOR_TRIANGLE,
+                normals: [
+                    Vec3::new(0.96, 0.0, -0.28),
+                    Vec3::Z,
+                    Vec3::Z,
+                ],
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
+                transparency: 1.0,
+            }),
+        ),
+        Case::new(
+            "smooth-hit-winding-against-the-normals",
+            TERMINATOR_10,
+            "the triangle (0, 0, 0), (0, 1, 0), (1, 0, 0), wound so that its own normal is -z, \
+             with the bulge's vertex normals (-0.6, 0, 0.8), (-0.6, 0, 0.8), (0.6, 0, 0.8), which \
+             say out is +z; opaque, hit from above by a ray from (0.25, 0.25, 5) along -z. The \
+             vertex normals say where out is, not the winding: their sum faces the ray, so they \
+             are kept: expected, as in smooth-hit-convex, the normal (-0.35112, 0, 0.93633) and \
+             the point lifted to (0.25, 0.25, 0.18)",
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: [Vec3::ZERO, Vec3::Y, Vec3::X],
+                normals: [
+                    Vec3::new(-0.6, 0.0, 0.8),
+                    Vec3::new(-0.6, 0.0, 0.8),
+                    Vec3::new(0.6, 0.0, 0.8),
+                ],
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z),
+                transparency: 0.0,
+            }),
+        ),
+        Case::new(
+            "smooth-hit-half-transparent",
+            TERMINATOR_10,
+            "the bulge of smooth-hit-convex with transparency 0.5: half of its light is refracted \
+             into the mesh and must start below the surface, so the point is not lifted: \
+             expected the normal (-0.35112, 0, 0.93633) and the point (0.25, 0.25, 0)",
+            CaseKind::SmoothHit(SmoothHitCase {
+                corners: FLOOR_TRIANGLE,
+                normals: CONVEX_NORMALS,
+                ray: Ray::new(Vec3::new(0.25, 0.25, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+                transparency: 0.5,
             }),
         ),
         smooth_shade(
@@ -1005,5 +1120,38 @@ mod tests {
         .map(wide);
         let weights = exact::barycentric(skewed, glam::DVec3::new(1.0, 1.0, 0.0));
         assert!((weights - glam::DVec3::new(0.25, 0.25, 0.5)).length() < 1e-12);
+        let weights = exact::barycentric(WALL_TRIANGLE.map(wide), glam::DVec3::new(2.0, 0.25, 0.5));
+        assert!((weights - glam::DVec3::new(0.25, 0.25, 0.5)).length() < 1e-12);
+        let lifted = exact::terminator_point(
+            FLOOR_TRIANGLE.map(wide),
+            MIXED_NORMALS.map(wide),
+            wide(Vec3::new(0.25, 0.25, 0.0)),
+        );
+        assert!((lifted - glam::DVec3::new(0.205, 0.25, 0.06)).length() < 1e-7);
+        let tilted = [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 3.0),
+            Vec3::new(0.0, 2.0, 2.0),
+        ]
+        .map(wide);
+        let t = exact::triangle(
+            tilted,
+            glam::DVec3::new(0.5, 0.5, 0.0),
+            glam::DVec3::Z,
+            0.0,
+            9.0,
+        );
+        assert!(t.is_some_and(|t| (t - 1.75).abs() < 1e-12), "{t:?}");
+        let below = [
+            glam::DVec3::new(0.96, 0.0, -0.28),
+            glam::DVec3::Z,
+            glam::DVec3::Z,
+        ];
+        let normal = exact::smooth_normal(
+            FLOOR_TRIANGLE.map(wide),
+            below,
+            glam::DVec3::new(0.25, 0.25, 0.0),
+        );
+        assert!((normal - glam::DVec3::new(0.8, 0.0, 0.6)).length() < 1e-12);
     }
 }

@@ -3,9 +3,11 @@
 //! 10 on the case that names it; and the correct alternatives that must
 //! pass, Moller-Trumbore first ("correct, not yet robust").
 
+use glam::Vec2;
 use raylab::chapters::CHAPTERS;
 use raylab::check::{ChapterVerdict, CheckOptions, Level, Status, check_chapter};
 use raylab::course::{Chapters, HitPoint, Textbook};
+use raylab::render::{RayKind, Tracer};
 use raylab::shapes::Triangle;
 use raylab::{Ray, Reference, Vec3};
 
@@ -223,6 +225,605 @@ impl Chapters for LiftsGlass {
 #[test]
 fn gallery_transparent_points_lifted() {
     assert_caught::<LiftsGlass>("smooth-hit-transparent");
+}
+
+// ---------------------------------------------------------------------------
+// The contract, clause by clause: each variant breaks one sentence of the
+// lesson or of a doc comment, and fails on the case that asks it.
+
+/// Asserts that `C` passes chapter 10's checkpoints and fails its hard
+/// case `case` first: a clause only rounding or degenerate input can show.
+fn assert_caught_by_hard_case<C: Chapters>(case: &str) {
+    let verdict = check_chapter::<C>(CHAPTER, &options());
+    let text = verdict.text();
+    assert!(verdict.passes(), "{text}");
+    let failure = verdict
+        .robustness
+        .as_ref()
+        .and_then(|robustness| robustness.first_failure.as_ref())
+        .expect("a hard case fails");
+    assert_eq!(failure.name, case, "{text}");
+}
+
+/// One sentence of the watertight test broken, by [`watertight`].
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Slip {
+    /// None: the reference's test, operation for operation.
+    None,
+    /// Edge `e` (0 for b c, 1 for c a, 2 for a b) left out of the inside
+    /// test.
+    EdgeUnchecked(usize),
+    /// A zero on edge `e` counted outside: a ray exactly on that edge
+    /// belongs to neither triangle that shares it.
+    EdgeStrict(usize),
+    /// A zero counted outside from behind (the other edge functions
+    /// negative) only.
+    StrictFromBehind,
+    /// The shear always along z, whichever axis the ray moves fastest
+    /// along.
+    AlwaysAlongZ,
+    /// `t` as corner a's height alone, not the heights blended by the
+    /// edge functions.
+    HeightOfTheFirstCorner,
+    /// `t` in units of length: the direction made unit first.
+    UnitDirection,
+    /// `t >= t_min`.
+    TMinIncluded,
+    /// `t <= t_max`.
+    TMaxIncluded,
+    /// No upper end to the interval.
+    TMaxIgnored,
+    /// The interval tested as `!(t <= t_min || t >= t_max)`, which a NaN
+    /// `t` passes.
+    NanPassesTheRange,
+    /// A determinant below an absolute `1e-9` taken for an edge-on
+    /// triangle.
+    AbsoluteEpsilon,
+}
+
+/// Chapter 10's watertight test as the reference writes it, with `slip`.
+fn watertight(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32, slip: Slip) -> Option<f32> {
+    let ray = if slip == Slip::UnitDirection {
+        Ray::new(ray.origin, ray.dir.normalize())
+    } else {
+        *ray
+    };
+    let dir = ray.dir.to_array();
+    let z = if slip == Slip::AlwaysAlongZ {
+        2
+    } else {
+        ray.dir.abs().max_position()
+    };
+    let (mut x, mut y) = ((z + 1) % 3, (z + 2) % 3);
+    if dir[z] < 0.0 {
+        std::mem::swap(&mut x, &mut y);
+    }
+    let (shear_x, shear_y, scale_z) = (dir[x] / dir[z], dir[y] / dir[z], 1.0 / dir[z]);
+    let [a, b, c] = triangle
+        .corners()
+        .map(|corner| (corner - ray.origin).to_array());
+    let sheared = |p: [f32; 3]| (p[x] - shear_x * p[z], p[y] - shear_y * p[z]);
+    let ((ax, ay), (bx, by), (cx, cy)) = (sheared(a), sheared(b), sheared(c));
+    let mut edges = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
+    if edges.contains(&0.0) {
+        let cross = |px: f32, py: f32, qx: f32, qy: f32| {
+            (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
+        };
+        edges = [
+            cross(cx, cy, bx, by),
+            cross(ax, ay, cx, cy),
+            cross(bx, by, ax, ay),
+        ];
+    }
+    let asked = |edge: usize| slip != Slip::EdgeUnchecked(edge);
+    let negative = (0..3).any(|edge| asked(edge) && edges[edge] < 0.0);
+    let positive = (0..3).any(|edge| asked(edge) && edges[edge] > 0.0);
+    let on_an_edge = edges.contains(&0.0);
+    let outside = (negative && positive)
+        || matches!(slip, Slip::EdgeStrict(edge) if edges[edge] == 0.0)
+        || (slip == Slip::StrictFromBehind && negative && on_an_edge);
+    if outside {
+        return None;
+    }
+    let [u, v, w] = edges;
+    let determinant = u + v + w;
+    let edge_on = if slip == Slip::AbsoluteEpsilon {
+        !(determinant.abs() > 1e-9)
+    } else {
+        !(determinant != 0.0)
+    };
+    if edge_on {
+        return None;
+    }
+    let (az, bz, cz) = (scale_z * a[z], scale_z * b[z], scale_z * c[z]);
+    let t = if slip == Slip::HeightOfTheFirstCorner {
+        az
+    } else {
+        (u * az + v * bz + w * cz) / determinant
+    };
+    let within = match slip {
+        Slip::TMinIncluded => t >= t_min && t < t_max,
+        Slip::TMaxIncluded => t > t_min && t <= t_max,
+        Slip::TMaxIgnored => t > t_min,
+        Slip::NanPassesTheRange => !(t <= t_min || t >= t_max),
+        _ => t > t_min && t < t_max,
+    };
+    within.then_some(t)
+}
+
+/// Variants of the reference, each with one [`Slip`] planted in its
+/// triangle test.
+macro_rules! slipped {
+    ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
+        $(#[$doc])*
+        struct $name;
+        impl Chapters for $name {
+            fn intersect_triangle(
+                triangle: &Triangle,
+                ray: &Ray,
+                t_min: f32,
+                t_max: f32,
+            ) -> Option<f32> {
+                watertight(triangle, ray, t_min, t_max, $slip)
+            }
+        }
+    )*};
+}
+
+slipped! {
+    EdgeBcUnchecked = Slip::EdgeUnchecked(0);
+    EdgeCaUnchecked = Slip::EdgeUnchecked(1);
+    EdgeAbUnchecked = Slip::EdgeUnchecked(2);
+    /// Only edge b c leaves its boundary out: the lesson's square cut
+    /// along its diagonal, which is edge b c of both halves, leaks.
+    EdgeBcStrict = Slip::EdgeStrict(0);
+    EdgeCaStrict = Slip::EdgeStrict(1);
+    EdgeAbStrict = Slip::EdgeStrict(2);
+    StrictFromBehind = Slip::StrictFromBehind;
+    AlwaysAlongZ = Slip::AlwaysAlongZ;
+    HeightOfTheFirstCorner = Slip::HeightOfTheFirstCorner;
+    UnitDirection = Slip::UnitDirection;
+    TMinIncluded = Slip::TMinIncluded;
+    TMaxIncluded = Slip::TMaxIncluded;
+    TMaxIgnored = Slip::TMaxIgnored;
+    NanPassesTheRange = Slip::NanPassesTheRange;
+    AbsoluteEpsilon = Slip::AbsoluteEpsilon;
+}
+
+#[test]
+fn the_slipless_copy_is_the_reference_bit_for_bit() {
+    let triangles = [
+        Triangle::new(
+            Vec3::new(0.0, 0.0, 2.0),
+            Vec3::X + 2.0 * Vec3::Z,
+            Vec3::Y + 2.0 * Vec3::Z,
+        ),
+        Triangle::new(
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 3.0),
+            Vec3::new(0.0, 2.0, 2.0),
+        ),
+        Triangle::new(
+            Vec3::new(1.8, 1.0, 0.4),
+            Vec3::new(0.0, -0.4, -0.8),
+            Vec3::new(-0.4, -1.4, 1.7),
+        ),
+    ];
+    let mut numbers = raylab::check::exact::Xorshift::new(10);
+    for _ in 0..2000 {
+        let origin = Vec3::new(
+            numbers.between(-3.0, 3.0),
+            numbers.between(-3.0, 3.0),
+            numbers.between(-3.0, 3.0),
+        );
+        let aim = Vec3::new(
+            numbers.between(-1.0, 2.0),
+            numbers.between(-1.0, 2.0),
+            numbers.between(0.0, 3.0),
+        );
+        let ray = Ray::new(origin, aim - origin);
+        for triangle in &triangles {
+            let copy = watertight(triangle, &ray, 0.0, f32::INFINITY, Slip::None);
+            let reference = Reference::intersect_triangle(triangle, &ray, 0.0, f32::INFINITY);
+            assert_eq!(
+                copy.map(f32::to_bits),
+                reference.map(f32::to_bits),
+                "{ray:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn contract_each_edge_is_asked() {
+    assert_caught::<EdgeBcUnchecked>("triangle-miss-beyond-bc");
+    assert_caught::<EdgeCaUnchecked>("triangle-miss-beyond-ca");
+    assert_caught::<EdgeAbUnchecked>("triangle-miss-beyond-ab");
+}
+
+#[test]
+fn contract_every_edge_belongs_to_its_triangles() {
+    assert_caught::<EdgeBcStrict>("triangle-shared-diagonal-bc");
+    assert_caught::<EdgeCaStrict>("triangle-shared-vertex");
+    assert_caught::<EdgeAbStrict>("triangle-shared-vertex");
+    assert_caught::<StrictFromBehind>("triangle-shared-edge");
+}
+
+#[test]
+fn contract_the_shear_runs_along_the_fastest_axis() {
+    assert_caught::<AlwaysAlongZ>("triangle-along-x");
+}
+
+#[test]
+fn contract_t_blends_the_corners_heights() {
+    assert_caught::<HeightOfTheFirstCorner>("triangle-tilted");
+}
+
+#[test]
+fn contract_t_counts_lengths_of_the_direction() {
+    assert_caught::<UnitDirection>("triangle-direction-not-unit");
+}
+
+#[test]
+fn contract_the_interval_is_open_at_both_ends() {
+    assert_caught::<TMinIncluded>("triangle-at-t-min");
+    assert_caught::<TMaxIncluded>("triangle-at-t-max");
+    assert_caught::<TMaxIgnored>("triangle-beyond-t-max");
+}
+
+#[test]
+fn contract_nan_and_degenerate_input_is_no_hit() {
+    assert_caught_by_hard_case::<NanPassesTheRange>("triangle-nan-origin");
+}
+
+#[test]
+fn contract_no_absolute_epsilon_swallows_a_tiny_triangle() {
+    assert_caught_by_hard_case::<AbsoluteEpsilon>("triangle-tiny-hit");
+}
+
+/// Barycentric coordinates whose alpha has a sign slip, `1 - beta +
+/// gamma`: right at the corners, where beta or gamma is 0 or 1 alone.
+struct AlphaSignSlip;
+impl Chapters for AlphaSignSlip {
+    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        let weights = Reference::barycentric(triangle, point);
+        Vec3::new(1.0 - weights.y + weights.z, weights.y, weights.z)
+    }
+}
+
+#[test]
+fn contract_the_weights_sum_to_one() {
+    assert_caught::<AlphaSignSlip>("barycentric-lesson-point");
+}
+
+/// Barycentric coordinates that take the edges for perpendicular (each
+/// weight a projection on its own edge): right on the lesson's right
+/// triangle, wrong on any other.
+struct EdgesAssumedPerpendicular;
+impl Chapters for EdgesAssumedPerpendicular {
+    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        let [a, b, c] = triangle.corners();
+        let (e1, e2, to_point) = (b - a, c - a, point - a);
+        let beta = to_point.dot(e1) / e1.dot(e1);
+        let gamma = to_point.dot(e2) / e2.dot(e2);
+        Vec3::new(1.0 - beta - gamma, beta, gamma)
+    }
+}
+
+#[test]
+fn contract_barycentric_of_a_skewed_triangle() {
+    assert_caught::<EdgesAssumedPerpendicular>("barycentric-skewed-triangle");
+}
+
+/// The lesson's two equations solved on x and y only: right wherever the
+/// triangle's shadow on the xy plane is a triangle, NaN on a wall.
+struct BarycentricInXyOnly;
+impl Chapters for BarycentricInXyOnly {
+    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
+        let [a, b, c] = triangle.corners().map(|corner| corner.truncate());
+        let (e1, e2, to_point) = (b - a, c - a, point.truncate() - a);
+        let flat = |u: Vec2, v: Vec2| u.dot(v);
+        let (d11, d12, d22) = (flat(e1, e1), flat(e1, e2), flat(e2, e2));
+        let (p1, p2) = (flat(to_point, e1), flat(to_point, e2));
+        let denominator = d11 * d22 - d12 * d12;
+        let beta = (d22 * p1 - d12 * p2) / denominator;
+        let gamma = (d11 * p2 - d12 * p1) / denominator;
+        Vec3::new(1.0 - beta - gamma, beta, gamma)
+    }
+}
+
+#[test]
+fn contract_barycentric_in_any_plane() {
+    assert_caught::<BarycentricInXyOnly>("barycentric-in-a-wall");
+}
+
+/// The three vertex normals averaged with equal weights, wherever the
+/// point is.
+struct NormalsBlendedEqually;
+impl Chapters for NormalsBlendedEqually {
+    fn smooth_normal(_: &Triangle, normals: &[Vec3; 3], _: Vec3) -> Vec3 {
+        (normals[0] + normals[1] + normals[2]).normalize()
+    }
+}
+
+#[test]
+fn contract_the_normals_are_blended_by_the_weights() {
+    assert_caught::<NormalsBlendedEqually>("smooth-normal-at-corner");
+}
+
+/// One sentence of Hanika's lift broken, by [`lift`].
+#[derive(Clone, Copy, PartialEq)]
+enum LiftSlip {
+    /// The point pushed out along the blended normal by a fixed 1e-3, as
+    /// an offset would, rather than projected.
+    NudgedOut,
+    /// The three projections blended with equal weights.
+    EqualWeights,
+    /// Projected onto every tangent plane, above it or below: Phong
+    /// tessellation's projection, not kept only where it lifts.
+    EveryPlane,
+    /// Decided once for the triangle: onto every plane when the point is
+    /// below any of them.
+    WholeTriangle,
+    /// Decided once for the triangle: onto every plane when the heights,
+    /// weighted, add up to below 0.
+    WeightedHeights,
+}
+
+/// Chapter 10's `terminator_point` with `slip`.
+fn lift(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3, slip: LiftSlip) -> Vec3 {
+    let weights = Reference::barycentric(triangle, point).to_array();
+    let weights = if slip == LiftSlip::EqualWeights {
+        [1.0 / 3.0; 3]
+    } else {
+        weights
+    };
+    let heights = triangle
+        .corners()
+        .iter()
+        .zip(normals)
+        .map(|(corner, normal)| (point - *corner).dot(*normal))
+        .collect::<Vec<f32>>();
+    if slip == LiftSlip::NudgedOut {
+        let blended = weights[0] * normals[0] + weights[1] * normals[1] + weights[2] * normals[2];
+        return point + 1e-3 * blended.normalize();
+    }
+    let whole = match slip {
+        LiftSlip::EveryPlane => true,
+        LiftSlip::WholeTriangle => heights.iter().any(|&height| height < 0.0),
+        LiftSlip::WeightedHeights => {
+            heights.iter().zip(weights).map(|(h, w)| h * w).sum::<f32>() < 0.0
+        }
+        _ => false,
+    };
+    let mut lifted = point;
+    for ((normal, height), weight) in normals.iter().zip(&heights).zip(weights) {
+        let moves = match slip {
+            LiftSlip::WholeTriangle | LiftSlip::WeightedHeights => whole,
+            LiftSlip::EveryPlane => true,
+            _ => *height < 0.0,
+        };
+        if moves {
+            lifted -= weight * height * *normal;
+        }
+    }
+    lifted
+}
+
+macro_rules! lifted {
+    ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
+        $(#[$doc])*
+        struct $name;
+        impl Chapters for $name {
+            fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
+                lift(triangle, normals, point, $slip)
+            }
+        }
+    )*};
+}
+
+lifted! {
+    NudgedOut = LiftSlip::NudgedOut;
+    LiftedWithEqualWeights = LiftSlip::EqualWeights;
+    ProjectedOntoEveryPlane = LiftSlip::EveryPlane;
+    LiftDecidedForTheWholeTriangle = LiftSlip::WholeTriangle;
+    LiftDecidedByTheWeightedHeights = LiftSlip::WeightedHeights;
+}
+
+#[test]
+fn contract_a_flat_facet_stays_where_it_is() {
+    assert_caught::<NudgedOut>("terminator-flat-unchanged");
+}
+
+#[test]
+fn contract_the_lifts_are_blended_by_the_weights() {
+    assert_caught::<LiftedWithEqualWeights>("terminator-convex-lifted");
+}
+
+#[test]
+fn contract_only_lifts_never_lowers() {
+    assert_caught::<ProjectedOntoEveryPlane>("terminator-concave-unchanged");
+}
+
+#[test]
+fn contract_each_corner_decides_its_own_lift() {
+    assert_caught::<LiftDecidedForTheWholeTriangle>("terminator-mixed-heights");
+    assert_caught::<LiftDecidedByTheWeightedHeights>("terminator-mixed-heights");
+}
+
+/// How a variant of `smooth_hit_point` turns the vertex normals toward
+/// the ray.
+#[derive(Clone, Copy, PartialEq)]
+enum Turn {
+    /// All three by one sign, their sum's: the reference.
+    BySum,
+    /// Each turned on its own, by its own side.
+    EachOnItsOwn,
+    /// All three by the first normal's side.
+    ByTheFirst,
+    /// All three by the winding: turned when the hit point's normal was
+    /// turned from the triangle's own.
+    ByTheWinding,
+}
+
+/// What a variant of `smooth_hit_point` does.
+#[derive(Clone, Copy)]
+struct SmoothRules {
+    turn: Turn,
+    /// The shading normal set to the blend (else the flat normal kept).
+    blends: bool,
+    /// The point lifted where the material is opaque.
+    lifts: bool,
+    /// The point lifted with the normals as given, not the turned ones.
+    lifts_unturned: bool,
+    /// Lifted unless the material is fully transparent (not unless it
+    /// lets any light through).
+    lifts_half_transparent: bool,
+}
+
+impl SmoothRules {
+    const CORRECT: SmoothRules = SmoothRules {
+        turn: Turn::BySum,
+        blends: true,
+        lifts: true,
+        lifts_unturned: false,
+        lifts_half_transparent: false,
+    };
+}
+
+/// Chapter 10's `smooth_hit_point` as `rules` say.
+fn smooth_hit<'a, C: Chapters>(
+    point: HitPoint<'a>,
+    triangle: &Triangle,
+    normals: &[Vec3; 3],
+    rules: SmoothRules,
+) -> HitPoint<'a> {
+    let side = |toward: Vec3| {
+        if toward.dot(point.normal) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        }
+    };
+    let turned = match rules.turn {
+        Turn::BySum => normals.map(|normal| side(normals[0] + normals[1] + normals[2]) * normal),
+        Turn::EachOnItsOwn => normals.map(|normal| side(normal) * normal),
+        Turn::ByTheFirst => normals.map(|normal| side(normals[0]) * normal),
+        Turn::ByTheWinding => normals.map(|normal| side(triangle.geometric_normal()) * normal),
+    };
+    let mut smooth = point;
+    if rules.blends {
+        smooth.normal = C::smooth_normal(triangle, &turned, point.surface.point);
+    }
+    let transparency = point.material.transparency;
+    let lifted = if rules.lifts_half_transparent {
+        transparency < 1.0
+    } else {
+        transparency == 0.0
+    };
+    if rules.lifts && lifted {
+        let lifted_with = if rules.lifts_unturned {
+            normals
+        } else {
+            &turned
+        };
+        smooth.surface.point = C::terminator_point(triangle, lifted_with, point.surface.point);
+    }
+    smooth
+}
+
+macro_rules! smoothed {
+    ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
+        $(#[$doc])*
+        struct $name;
+        impl Chapters for $name {
+            fn smooth_hit_point<'a>(
+                point: HitPoint<'a>,
+                triangle: &Triangle,
+                normals: &[Vec3; 3],
+            ) -> HitPoint<'a> {
+                smooth_hit::<Self>(point, triangle, normals, $rules)
+            }
+        }
+    )*};
+}
+
+smoothed! {
+    KeepsTheFlatNormal = SmoothRules { blends: false, ..SmoothRules::CORRECT };
+    PointNotLifted = SmoothRules { lifts: false, ..SmoothRules::CORRECT };
+    /// The blend turned, the lift made with the normals as given: from
+    /// below, a bulge seen as a hollow is lifted all the same.
+    LiftsWithUnturnedNormals = SmoothRules { lifts_unturned: true, ..SmoothRules::CORRECT };
+    EachNormalTurnedOnItsOwn = SmoothRules { turn: Turn::EachOnItsOwn, ..SmoothRules::CORRECT };
+    TurnedByTheFirstNormal = SmoothRules { turn: Turn::ByTheFirst, ..SmoothRules::CORRECT };
+    /// The side read off the triangle's winding: right wherever the
+    /// winding and the vertex normals agree on which side is out.
+    TurnedByTheWinding = SmoothRules { turn: Turn::ByTheWinding, ..SmoothRules::CORRECT };
+    /// Lifted unless the material lets everything through: a half
+    /// transparent point's refracted ray starts above the surface.
+    LiftsHalfTransparent = SmoothRules { lifts_half_transparent: true, ..SmoothRules::CORRECT };
+    /// All of the rules kept: it must pass.
+    SmoothAsTheLessonSays = SmoothRules::CORRECT;
+}
+
+#[test]
+fn contract_the_shading_normal_is_the_blend() {
+    assert_caught::<KeepsTheFlatNormal>("smooth-hit-convex");
+}
+
+#[test]
+fn contract_an_opaque_point_is_lifted() {
+    assert_caught::<PointNotLifted>("smooth-hit-convex");
+}
+
+#[test]
+fn contract_the_lift_uses_the_turned_normals() {
+    assert_caught::<LiftsWithUnturnedNormals>("smooth-hit-from-below");
+}
+
+#[test]
+fn contract_the_normals_are_turned_together_by_their_sum() {
+    assert_caught::<EachNormalTurnedOnItsOwn>("smooth-hit-one-normal-below-the-facet");
+    assert_caught::<TurnedByTheFirstNormal>("smooth-hit-one-normal-below-the-facet");
+}
+
+#[test]
+fn contract_the_vertex_normals_say_where_out_is_not_the_winding() {
+    assert_caught::<TurnedByTheWinding>("smooth-hit-winding-against-the-normals");
+}
+
+#[test]
+fn contract_any_transparency_keeps_the_point() {
+    assert_caught::<LiftsHalfTransparent>("smooth-hit-half-transparent");
+}
+
+#[test]
+fn the_rules_copy_passes() {
+    let verdict = check_chapter::<SmoothAsTheLessonSays>(CHAPTER, &options());
+    assert!(verdict.robust(), "{}", verdict.text());
+}
+
+/// Chapter 6's mirror on a smooth mesh that never falls back to the
+/// facet's normal: a grazing ray's mirror image about the blended normal
+/// goes into the surface, and sees the inside of the mesh.
+struct MirrorNeverFallsBack;
+impl Chapters for MirrorNeverFallsBack {
+    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Self::shade_phong(tracer, point);
+        let k_r = point.material.reflectivity;
+        let mut color = (1.0 - k_r) * local.diffuse + local.specular;
+        if depth < tracer.max_depth() && tracer.worth_casting(weight, k_r) {
+            let dir = Self::reflect(point.ray.dir, point.normal);
+            let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
+            color += k_r * tracer.trace(RayKind::Reflection, &reflected, depth + 1, weight * k_r);
+        }
+        color
+    }
+}
+
+#[test]
+fn contract_a_smooth_mirror_falls_back_to_the_facet() {
+    assert_caught::<MirrorNeverFallsBack>("smooth-mirror-grazing-falls-back");
 }
 
 // ---------------------------------------------------------------------------

@@ -239,6 +239,36 @@ fn smooth_glass_bends_and_reflects_about_the_shading_normal() {
     );
 }
 
+/// The checkpoints added for the contract's clauses get fresh inputs
+/// under `grade --code --fresh`: the reference must pass every draw.
+#[test]
+fn the_contracts_checkpoints_pass_with_fresh_inputs() {
+    let names = [
+        "triangle-tilted",
+        "terminator-mixed-heights",
+        "smooth-hit-one-normal-below-the-facet",
+        "smooth-hit-winding-against-the-normals",
+        "smooth-hit-half-transparent",
+    ];
+    let cases = crate::check::catalog::checkpoints(10);
+    for name in names {
+        let case = cases
+            .iter()
+            .find(|case| case.name == name)
+            .expect("the case exists");
+        for seed in 1..=20 {
+            let fresh = case.fresh(seed).expect("drawn afresh");
+            let outcome = fresh.run::<crate::Reference>();
+            assert_eq!(
+                outcome,
+                crate::check::Outcome::Pass,
+                "{name}, seed {seed}: {}",
+                fresh.kind.inputs()
+            );
+        }
+    }
+}
+
 // The bug gallery and the accepted alternatives of this chapter.
 #[path = "gallery.rs"]
 mod gallery;

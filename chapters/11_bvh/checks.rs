@@ -90,9 +90,23 @@ impl From<BvhHitsQuestion> for Case {
                 t_max,
                 any: question.any_hit,
                 wide: question.wide,
+                steps: false,
             }),
         )
     }
+}
+
+/// The question's case, judging also the walk's steps as the lesson gives
+/// them, seen through the objects it asks: planes first, a box entered
+/// beyond the best hit so far skipped, each object asked up to and
+/// including the best hit so far, and for any hit, nothing asked after
+/// the first.
+fn steps_judged(question: BvhHitsQuestion) -> Case {
+    let mut case = Case::from(question);
+    if let CaseKind::BvhHits(walk) = &mut case.kind {
+        walk.steps = true;
+    }
+    case
 }
 
 /// A `hit_boxes` question: four boxes (`(min, max)`, lane by lane), the
@@ -212,6 +226,34 @@ pub fn checkpoints() -> Vec<Case> {
         ]
     };
     let from_origin = |dir: Vec3| Ray::new(Vec3::ZERO, dir);
+    // Unit spheres one behind the other on the z axis.
+    let in_a_row = || {
+        vec![
+            sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 15.0), 1.0),
+        ]
+    };
+    // The plane z = 3 in front of two of them, listed last.
+    let plane_in_front = || {
+        vec![
+            sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+            Plane::new(Vec3::new(0.0, 0.0, 3.0), -Vec3::Z).into(),
+        ]
+    };
+    // Two blockers on the z axis, three spheres beside it and a plane
+    // parallel to it.
+    let shadow_row = || {
+        vec![
+            sphere(Vec3::new(0.0, 0.0, 15.0), 1.0),
+            sphere(Vec3::new(3.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+            sphere(Vec3::new(-3.0, 0.0, 5.0), 1.0),
+            sphere(Vec3::new(0.0, 3.0, 5.0), 1.0),
+            Plane::new(Vec3::new(5.0, 0.0, 0.0), Vec3::X).into(),
+        ]
+    };
     vec![
         Case::from(BoxQuestion {
             name: "box-from-outside",
@@ -385,6 +427,36 @@ pub fn checkpoints() -> Vec<Case> {
             any_hit: false,
             wide: false,
         }),
+        steps_judged(BvhHitsQuestion {
+            name: "bvh-nearest-skips-boxes-beyond-the-best",
+            section: WALK_11,
+            says: "unit spheres on the z axis at z = 5, 10 and 15 (objects 0 to 2), one per leaf; a \
+                   ray from the origin along +z hits object 0 at t = 4, and the boxes of objects 1 \
+                   and 2 start at z = 9 and 14, beyond that hit. A box entered beyond the best hit \
+                   so far is skipped, with everything in it: expected object 0 at t = 4, and \
+                   objects 1 and 2 never asked",
+            shapes: in_a_row(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "bvh-nearest-asks-up-to-the-best",
+            section: WALK_11,
+            says: "the spheres of bvh-nearest-behind-a-nearer-box: object 0's box is entered at \
+                   t = 5 and it is hit at 7, object 1's at 6 and hit at 6, object 2's at 19. Both \
+                   boxes are entered before either hit, so both objects are asked, the second one \
+                   for hits up to and including the first one's t (7, or 6), not to infinity; \
+                   object 2's box is skipped: expected object 1 at t = 6",
+            shapes: behind(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
+        }),
         Case::new(
             "bvh-plane-stays-out",
             PLANES_11,
@@ -393,6 +465,26 @@ pub fn checkpoints() -> Vec<Case> {
              expected unbounded = [1], and objects 0 and 2 in the tree",
             CaseKind::BvhBuild(BvhBuildCase {
                 shapes: plane_between(),
+                options: ONE_PER_LEAF,
+                expect: TreeShape::Any,
+            }),
+        ),
+        Case::new(
+            "bvh-build-mixed-shapes",
+            BUILD_11,
+            "the triangle (0, 0, 5), (2, 0, 5), (0, 2, 5) (object 0), a unit sphere at (0, 0, 10) \
+             (object 1), the plane z = 0 (object 2) and the triangle (4, 0, 0), (4, 2, 0), \
+             (4, 0, 2) (object 3), one per leaf: the triangles' boxes are flat (z from 5 to 5, x \
+             from 4 to 4), finite and not empty, so they go in the tree like the sphere's: \
+             expected unbounded = [2] and objects 0, 1 and 3 each in a leaf whose box holds its \
+             box grown by 4 epsilons",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    triangle([0.0, 0.0, 5.0], [2.0, 0.0, 5.0], [0.0, 2.0, 5.0]),
+                    sphere(Vec3::new(0.0, 0.0, 10.0), 1.0),
+                    Plane::new(Vec3::ZERO, Vec3::Z).into(),
+                    triangle([4.0, 0.0, 0.0], [4.0, 2.0, 0.0], [4.0, 0.0, 2.0]),
+                ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::Any,
             }),
@@ -407,6 +499,21 @@ pub fn checkpoints() -> Vec<Case> {
             shapes: plane_between(),
             options: ONE_PER_LEAF,
             rays: vec![from_origin(Vec3::Z), from_origin(Vec3::new(0.6, 0.0, 0.8))],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "bvh-planes-first-their-hit-shortens-the-walk",
+            section: PLANES_11,
+            says: "unit spheres at z = 5 and 10 (objects 0 and 1) and the plane z = 3 (object 2, \
+                   outside the tree); a ray from the origin along +z. The plane is asked first, by \
+                   the loop before the tree, and hit at t = 3; every box of the tree is entered \
+                   beyond it (the nearest at z = 4): expected object 2 at t = 3, and neither \
+                   sphere asked",
+            shapes: plane_in_front(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
             range: IN_FRONT,
             any_hit: false,
             wide: false,
@@ -471,6 +578,22 @@ pub fn checkpoints() -> Vec<Case> {
             any_hit: true,
             wide: false,
         }),
+        steps_judged(BvhHitsQuestion {
+            name: "bvh-any-hit-stops-at-its-first-hit",
+            section: ANY_11,
+            says: "unit spheres on the z axis at z = 15 and 10 (objects 0 and 2) and beside it at \
+                   (3, 0, 5), (-3, 0, 5) and (0, 3, 5) (objects 1, 3 and 4, whose boxes the ray \
+                   misses), and the plane x = 5 (object 5, outside the tree, parallel to the ray); \
+                   a shadow ray from the origin along +z with t_max = 20. The plane is asked first \
+                   (no hit), then the boxes the ray enters, and the first blocker ends the walk: \
+                   expected a hit, nothing asked after it, and objects 1, 3 and 4 never asked",
+            shapes: shadow_row(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: (0.0, 20.0),
+            any_hit: true,
+            wide: false,
+        }),
         // The build's own rules, which the walks above cannot see (any
         // valid tree gives their answers). Which child is left is the
         // student's choice: a cut is compared as a partition.
@@ -524,6 +647,24 @@ pub fn checkpoints() -> Vec<Case> {
                 ],
                 options: ONE_PER_LEAF,
                 expect: TreeShape::RootCut(vec![vec![0, 1]]),
+            }),
+        ),
+        Case::new(
+            "bvh-middle-not-the-mean",
+            BUILD_11,
+            "unit spheres at x = 0, 1, 5 and 12 (objects 0 to 3), one per leaf, cut at the middle: \
+             the centroids spread from 0 to 12, whose middle is 6: expected the root cut into \
+             objects [0, 1, 2] and [3] \
+             (their mean, 4.5, or their median would cut [0, 1] from [2, 3])",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(1.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(5.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(12.0, 0.0, 0.0), 1.0),
+                ],
+                options: ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1, 2]]),
             }),
         ),
         Case::new(
@@ -645,6 +786,25 @@ pub fn checkpoints() -> Vec<Case> {
             }),
         ),
         Case::new(
+            "bvh-sah-tie-goes-to-the-first-boundary",
+            SAH_11,
+            "unit spheres at x = -5, 0 and 5 (objects 0 to 2; half areas 12), the SAH, 16 bins, \
+             max_leaf 1. The root from (-6, -1, -1) to (6, 1, 1): 12 x 2 + 2 x 2 + 2 x 12 = 52. \
+             [0] | [1, 2]: the right box 7 by 2 by 2, 32: 52 + 12 + 32 x 2 = 128; [0, 1] | [2]: \
+             the mirror image, 128 too. Of equal costs the first boundary wins: expected the root \
+             cut into [0] and [1, 2] (the middle of the centroids, 0, cuts the same)",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    sphere(Vec3::new(-5.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(0.0, 0.0, 0.0), 1.0),
+                    sphere(Vec3::new(5.0, 0.0, 0.0), 1.0),
+                ],
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0]]),
+            }),
+        )
+        .fixed("two cuts of exactly equal cost, mirror images: a fresh draw would not keep the tie"),
+        Case::new(
             "bvh-cut-along-z",
             BUILD_11,
             "unit spheres at z = 0, 3 and 7 on the z axis, one per leaf, cut at the middle: the \
@@ -661,6 +821,41 @@ pub fn checkpoints() -> Vec<Case> {
                 expect: TreeShape::RootCut(vec![vec![0, 1]]),
             }),
         ),
+        Case::new(
+            "bvh-cut-where-the-centroids-spread",
+            BUILD_11,
+            "the triangle (-10, 0, 0), (10, 0, 0), (0, 0.5, 0) (object 0, its box's centre \
+             (0, 0.25, 0)) and unit spheres at z = 3 and 7 (objects 1 and 2), one per leaf, cut at \
+             the middle: the node's box is widest along x (20 against 2 and 9), but the centroids \
+             do not spread along x at all, 0.25 along y and 7 along z: the cut is along z, at \
+             3.5: expected the root cut into [0, 1] and [2] \
+             (along the box's widest axis every centroid is at x = 0, and no cut separates them)",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: vec![
+                    triangle([-10.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 0.5, 0.0]),
+                    sphere(Vec3::new(0.0, 0.0, 3.0), 1.0),
+                    sphere(Vec3::new(0.0, 0.0, 7.0), 1.0),
+                ],
+                options: ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1]]),
+            }),
+        ),
+        Case::new(
+            "bvh-coincident-centroids-stay-a-leaf",
+            BUILD_11,
+            "spheres of radius 1, 2 and 3 around the same centre (0, 0, 10) (objects 0 to 2), one \
+             per leaf: every centroid is the same point, so no plane separates them, and halves of \
+             the list would be two children with the same box, both visited by every ray that \
+             meets either: expected the root a leaf holding all three, max_leaf 1 or not",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: (1..=3)
+                    .map(|radius| sphere(Vec3::new(0.0, 0.0, 10.0), radius as f32))
+                    .collect(),
+                options: ONE_PER_LEAF,
+                expect: TreeShape::RootLeaf,
+            }),
+        )
+        .fixed("centroids that coincide exactly: a fresh draw's radii round them apart"),
         Case::new(
             "bvh-nan-and-infinite-boxes-stay-out",
             PLANES_11,
@@ -747,6 +942,25 @@ pub fn checkpoints() -> Vec<Case> {
             range: IN_FRONT,
             expect: [Some(4.0), Some(4.0), None, None],
         }),
+        Case::from(BoxesQuestion {
+            name: "boxes-flat-touched-at-t-min",
+            section: BOXES4_11,
+            says: "a ray from the origin along (0, 0, 1), 0 <= t <= 10, and four boxes: lane 0 the \
+                   flat box from (-1, -1, 0) to (1, 1, 0), entered and left at t = 0 = t_min (the \
+                   interval is closed); lane 1 from (-1, -1, 2) to (1, 1, 4), entered at 2; lane 2 \
+                   the flat box at z = 3, entered at 3; lane 3 the flat box at z = -1, behind the \
+                   ray: a miss. Expected [0, 2, 3, NaN]",
+            boxes: [
+                cuboid([-1.0, -1.0, 0.0], [1.0, 1.0, 0.0]),
+                cuboid([-1.0, -1.0, 2.0], [1.0, 1.0, 4.0]),
+                cuboid([-1.0, -1.0, 3.0], [1.0, 1.0, 3.0]),
+                cuboid([-1.0, -1.0, -1.0], [1.0, 1.0, -1.0]),
+            ],
+            ray: (Vec3::ZERO, Vec3::Z),
+            range: (0.0, 10.0),
+            expect: [Some(0.0), Some(2.0), Some(3.0), None],
+        })
+        .fixed("lane 0 is touched exactly at t_min, which a fresh draw would move"),
         Case::new(
             "triangles-four-at-once",
             TRIANGLES4_11,
@@ -792,6 +1006,23 @@ pub fn checkpoints() -> Vec<Case> {
             }),
         )
         .fixed("edge functions exactly zero in two lanes"),
+        Case::new(
+            "triangles-at-the-ends-of-the-interval",
+            TRIANGLES4_11,
+            "a ray from the origin along +z, 1 < t < 4, and four copies of the triangle \
+             (-1, -1, z), (1, -1, z), (0, 1, z): lane 0 at z = 2, met at t = 2, inside; lane 1 at \
+             z = 8, beyond t_max; lane 2 at z = 4, exactly at t_max; lane 3 at z = 1, exactly at \
+             t_min. The interval is open at both ends, in every lane as in intersect_triangle: \
+             expected your intersect_triangle's answers bit for bit, [2, NaN, NaN, NaN]",
+            CaseKind::FourTriangles(FourTrianglesCase {
+                triangles: [2.0, 8.0, 4.0, 1.0]
+                    .map(|z| corners([-1.0, -1.0, z], [1.0, -1.0, z], [0.0, 1.0, z])),
+                ray: Ray::new(Vec3::ZERO, Vec3::Z),
+                t_min: 1.0,
+                t_max: 4.0,
+            }),
+        )
+        .fixed("two lanes met exactly at t_min and t_max, which a fresh draw would move"),
         Case::new(
             "collapse-triangles-copied-a-sphere-alone",
             COLLAPSE_11,
@@ -919,6 +1150,131 @@ pub fn checkpoints() -> Vec<Case> {
             options: ONE_PER_LEAF,
             rays: vec![from_origin(Vec3::Z)],
             range: (0.0, 3.5),
+            any_hit: true,
+            wide: true,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "wide-skips-waiting-children-beyond-the-best",
+            section: WIDE_WALK_11,
+            says: "the spheres of bvh-nearest-skips-boxes-beyond-the-best through the wide tree, \
+                   one lane each: the root's boxes are entered at t = 4, 9 and 14, object 0 is hit \
+                   at 4, and the two lanes left waiting are skipped when they come off the stack: \
+                   expected object 0 at t = 4, and objects 1 and 2 never asked",
+            shapes: in_a_row(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "wide-asks-up-to-the-best",
+            section: WIDE_WALK_11,
+            says: "the spheres of bvh-nearest-asks-up-to-the-best through the wide tree: objects 0 \
+                   and 1 are both asked, the second for hits up to and including the first one's \
+                   t, and object 2 is skipped: expected object 1 at t = 6",
+            shapes: behind(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "wide-planes-first",
+            section: WIDE_WALK_11,
+            says: "the objects of bvh-planes-first-their-hit-shortens-the-walk through the wide \
+                   tree: the plane z = 3, outside the tree, is asked first and hit at t = 3, \
+                   before every box: expected object 2 at t = 3, and neither sphere asked",
+            shapes: plane_in_front(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        steps_judged(BvhHitsQuestion {
+            name: "wide-any-hit-stops-at-its-first-hit",
+            section: WIDE_WALK_11,
+            says: "the objects and the shadow ray of bvh-any-hit-stops-at-its-first-hit through \
+                   any_hit_wide: the plane first, then only the lanes the ray enters, and nothing \
+                   after the first blocker: expected a hit, and objects 1, 3 and 4 never asked",
+            shapes: shadow_row(),
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: (0.0, 20.0),
+            any_hit: true,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-mixed-leaf",
+            section: WIDE_WALK_11,
+            says: "one leaf of four, the default options: the triangle (-1, -1, 6), (1, -1, 6), \
+                   (0, 1, 6) (object 0), a unit sphere at (0, 0, 5) (object 1), the triangle \
+                   (2, -1, 3), (4, -1, 3), (3, 1, 3) (object 2) and a unit sphere at (3, 0, 5) \
+                   (object 3); the plane z = 8 (object 4) outside the tree. Along +z from the \
+                   origin the sphere, asked on its own, is nearer (t = 4) than the triangle in its \
+                   lane (6); from (3, 0, 0) the triangle (t = 3) is nearer than the sphere (4): \
+                   expected object 1 at t = 4, then object 2 at t = 3",
+            shapes: vec![
+                triangle([-1.0, -1.0, 6.0], [1.0, -1.0, 6.0], [0.0, 1.0, 6.0]),
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                triangle([2.0, -1.0, 3.0], [4.0, -1.0, 3.0], [3.0, 1.0, 3.0]),
+                sphere(Vec3::new(3.0, 0.0, 5.0), 1.0),
+                Plane::new(Vec3::new(0.0, 0.0, 8.0), -Vec3::Z).into(),
+            ],
+            options: BvhOptions::default(),
+            rays: vec![
+                from_origin(Vec3::Z),
+                Ray::new(Vec3::new(3.0, 0.0, 0.0), Vec3::Z),
+            ],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-mixed-leaf-tie",
+            section: WIDE_WALK_11,
+            says: "one leaf of four: the triangle (-1, -1, 4), (1, -1, 4), (0, 1, 4) (object 0), \
+                   unit spheres at (0, 0, 5) and (3, 0, 5) (objects 1 and 2) and the triangle \
+                   (2, -1, 4), (4, -1, 4), (3, 1, 4) (object 3). Along +z from the origin the \
+                   triangle in its lane and the sphere asked on its own both meet the ray at \
+                   exactly t = 4, and so do the other two from (3, 0, 0). Chapter 3 keeps the first \
+                   listed: expected object 0 at t = 4, then object 2 at t = 4, whichever of the \
+                   two the walk asks first",
+            shapes: vec![
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                sphere(Vec3::new(3.0, 0.0, 5.0), 1.0),
+                triangle([2.0, -1.0, 4.0], [4.0, -1.0, 4.0], [3.0, 1.0, 4.0]),
+            ],
+            options: BvhOptions::default(),
+            rays: vec![
+                from_origin(Vec3::Z),
+                Ray::new(Vec3::new(3.0, 0.0, 0.0), Vec3::Z),
+            ],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        })
+        .fixed("exact ties between a triangle and a sphere, which a fresh draw would break"),
+        Case::from(BvhHitsQuestion {
+            name: "wide-any-hit-mixed-leaf",
+            section: WIDE_WALK_11,
+            says: "one leaf of four: the triangles (2, -1, 6), (4, -1, 6), (3, 1, 6) and \
+                   (-4, -1, 6), (-2, -1, 6), (-3, 1, 6) (objects 0 and 2) and a unit sphere at \
+                   (0, 3, 5) (object 3) beside the ray, a unit sphere at (0, 0, 5) (object 1) on \
+                   it; a shadow ray from the origin along +z with t_max = 10: no triangle lane \
+                   hits, the sphere asked on its own does, at t = 4: expected a hit",
+            shapes: vec![
+                triangle([2.0, -1.0, 6.0], [4.0, -1.0, 6.0], [3.0, 1.0, 6.0]),
+                sphere(Vec3::new(0.0, 0.0, 5.0), 1.0),
+                triangle([-4.0, -1.0, 6.0], [-2.0, -1.0, 6.0], [-3.0, 1.0, 6.0]),
+                sphere(Vec3::new(0.0, 3.0, 5.0), 1.0),
+            ],
+            options: BvhOptions::default(),
+            rays: vec![from_origin(Vec3::Z)],
+            range: (0.0, 10.0),
             any_hit: true,
             wide: true,
         }),
@@ -1059,6 +1415,17 @@ pub fn robustness() -> Vec<Case> {
     let (ties_wide, tie_rays_wide) = (ties.clone(), tie_rays.clone());
     let (concentric_wide, concentric_rays_wide) = (concentric.clone(), concentric_rays.clone());
     let (mesh, mesh_rays) = closed_mesh(1000, 300, 1111);
+    // The 70 spheres at x = 3^k of bvh-deeper-than-the-stack, object 3 of
+    // radius 2, and a ray 0.9 off the axis in y and z, 1.27 from every
+    // centre: it enters every box and misses every unit sphere, so its
+    // one hit, object 3, is one of the last spheres set aside.
+    let spilled: Vec<Shape> = (0..70)
+        .map(|k| {
+            let radius = if k == 3 { 2.0 } else { 1.0 };
+            sphere(Vec3::new(3.0f32.powi(k), 0.0, 0.0), radius)
+        })
+        .collect();
+    let past_the_stack = Ray::new(Vec3::new(-10.0, 0.9, 0.9), Vec3::X);
     robust(vec![
         Case::from(BvhHitsQuestion {
             name: "bvh-thousand-spheres",
@@ -1428,5 +1795,73 @@ pub fn robustness() -> Vec<Case> {
             any_hit: false,
             wide: true,
         }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-stack-spills-over",
+            section: WALK_11,
+            says: "the 70 spheres of bvh-deeper-than-the-stack with object 3 (x = 27) of radius \
+                   2, and a ray from (-10, 0.9, 0.9) along +x: it enters every box and passes 1.27 \
+                   from every centre, missing every unit sphere. Each sphere peeled off on the way \
+                   down waits on the stack, object 3 among the last five, past the fixed array's \
+                   64 entries: they spill into a Vec, and none is lost: expected object 3 at \
+                   t = 37 - sqrt(4 - 1.62) = 35.4573",
+            shapes: spilled.clone(),
+            options: ONE_PER_LEAF,
+            rays: vec![past_the_stack],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-any-hit-stack-spills-over",
+            section: ANY_11,
+            says: "the same spheres and ray through any_hit_bvh: its one blocker, object 3, waits \
+                   past the fixed array's 64 entries: expected a hit",
+            shapes: spilled.clone(),
+            options: ONE_PER_LEAF,
+            rays: vec![past_the_stack],
+            range: IN_FRONT,
+            any_hit: true,
+            wide: false,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-stack-spills-over",
+            section: WIDE_WALK_11,
+            says: "the same spheres and ray through the wide tree, each node leaving up to three \
+                   children waiting: expected object 3 at t = 35.4573",
+            shapes: spilled.clone(),
+            options: ONE_PER_LEAF,
+            rays: vec![past_the_stack],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        }),
+        Case::from(BvhHitsQuestion {
+            name: "wide-any-hit-stack-spills-over",
+            section: WIDE_WALK_11,
+            says: "the same through any_hit_wide: expected a hit",
+            shapes: spilled,
+            options: ONE_PER_LEAF,
+            rays: vec![past_the_stack],
+            range: IN_FRONT,
+            any_hit: true,
+            wide: true,
+        }),
+        Case::new(
+            "bvh-sah-boxes-1e20-wide",
+            SAH_11,
+            "the spheres of bvh-sah-cut-not-the-middle scaled by 1e19: radius 1e19, centres at \
+             x = 1e21, 1.01e21, 1.05e21, 1.06e21 and 1.11e21. Every half area is 1e38 times the \
+             small case's (the root's 5.6e39), past f32::MAX (3.4e38): summed in f64 the costs \
+             are the same ratios: expected the same cut, [0, 1] and [2, 3, 4] (or the middle's, \
+             [0, 1, 2] and [3, 4])",
+            CaseKind::BvhBuild(BvhBuildCase {
+                shapes: [1.0e21, 1.01e21, 1.05e21, 1.06e21, 1.11e21]
+                    .into_iter()
+                    .map(|x| sphere(Vec3::new(x, 0.0, 0.0), 1e19))
+                    .collect(),
+                options: SAH_ONE_PER_LEAF,
+                expect: TreeShape::RootCut(vec![vec![0, 1], vec![0, 1, 2]]),
+            }),
+        ),
     ])
 }

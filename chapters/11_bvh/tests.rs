@@ -302,6 +302,44 @@ fn the_wide_walks_answer_as_the_binary_walks_do() {
     }
 }
 
+/// The checkpoints added for the contract's clauses get fresh inputs
+/// under `grade --code --fresh`: the reference must pass every draw.
+#[test]
+fn the_contracts_checkpoints_pass_with_fresh_inputs() {
+    let names = [
+        "bvh-build-mixed-shapes",
+        "bvh-nearest-skips-boxes-beyond-the-best",
+        "bvh-nearest-asks-up-to-the-best",
+        "bvh-planes-first-their-hit-shortens-the-walk",
+        "bvh-any-hit-stops-at-its-first-hit",
+        "bvh-middle-not-the-mean",
+        "bvh-cut-where-the-centroids-spread",
+        "wide-skips-waiting-children-beyond-the-best",
+        "wide-asks-up-to-the-best",
+        "wide-planes-first",
+        "wide-any-hit-stops-at-its-first-hit",
+        "wide-mixed-leaf",
+        "wide-any-hit-mixed-leaf",
+    ];
+    let cases = crate::check::catalog::checkpoints(11);
+    for name in names {
+        let case = cases
+            .iter()
+            .find(|case| case.name == name)
+            .expect("the case exists");
+        for seed in 1..=20 {
+            let fresh = case.fresh(seed).expect("drawn afresh");
+            let outcome = fresh.run::<Reference>();
+            assert_eq!(
+                outcome,
+                crate::check::Outcome::Pass,
+                "{name}, seed {seed}: {}",
+                fresh.kind.inputs()
+            );
+        }
+    }
+}
+
 // The bug gallery and the accepted alternatives of this chapter.
 #[path = "gallery.rs"]
 mod gallery;

@@ -351,6 +351,9 @@ pub struct BvhHitsCase {
     pub t_max: f32,
     pub any: bool,
     pub wide: bool,
+    /// Also judges the walk's steps as the lesson gives them, seen through
+    /// the objects it asks (see [`steps_problem`]).
+    pub steps: bool,
 }
 
 /// A walk's call: the tree's, the rays, the interval, which walk.
@@ -362,21 +365,34 @@ pub struct WalkCall {
     pub t_max: f32,
     pub any: bool,
     pub wide: bool,
+    /// Whether to write down every object test the walk makes, and send
+    /// the trees back with the answers.
+    pub steps: bool,
 }
 
 /// One ray's walk: the walk's hit, chapter 3's loop's over the same
 /// objects with the same chapters, and, for a hit the walk claims, that
-/// object's own test on the ray.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+/// object's own test on the ray; when its steps are judged, every object
+/// test the walk made, in order.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Walked {
     pub walk: Option<(usize, f32)>,
     pub by_loop: Option<(usize, f32)>,
     pub own_test: Option<f32>,
+    pub asked: Vec<crate::course::Asked>,
+}
+
+/// The trees a walk went through, as the student's process built them.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct WalkedTrees {
+    pub bvh: Bvh,
+    /// The wide tree folded from it, for the wide walks.
+    pub wide: Option<crate::bvh::WideBvh>,
 }
 
 impl Kind for BvhHitsCase {
     type Call = WalkCall;
-    type Answer = Vec<Walked>;
+    type Answer = (Vec<Walked>, Option<WalkedTrees>);
 
     fn function(&self) -> &'static str {
         match (self.wide, self.any) {
@@ -433,48 +449,57 @@ impl Kind for BvhHitsCase {
             t_max: self.t_max,
             any: self.any,
             wide: self.wide,
+            steps: self.steps,
         }
     }
 
-    fn ask<C: Chapters>(call: &WalkCall) -> Result<Vec<Walked>, String> {
-        let (t_min, t_max, any) = (call.t_min, call.t_max, call.any);
+    fn ask<C: Chapters>(call: &WalkCall) -> Result<Self::Answer, String> {
+        let (t_min, t_max, any, steps) = (call.t_min, call.t_max, call.any, call.steps);
         let shapes = &call.tree.shapes;
         let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
         let bvh = C::build_bvh(&bounds, &call.tree.options);
         if call.wide {
             let wide = C::collapse_bvh(&bvh, shapes);
-            return Ok(bvh_hits::<C>(
-                shapes,
-                &call.rays,
-                t_min,
-                t_max,
-                |objects, ray| {
-                    if any {
-                        C::any_hit_wide(&wide, objects, ray, t_min, t_max)
-                    } else {
-                        C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
-                    }
-                },
-            ));
-        }
-        Ok(bvh_hits::<C>(
-            shapes,
-            &call.rays,
-            t_min,
-            t_max,
-            |objects, ray| {
+            let walked = bvh_hits::<C>(shapes, &call.rays, t_min, t_max, steps, |objects, ray| {
                 if any {
-                    C::any_hit_bvh(&bvh, objects, ray, t_min, t_max)
+                    C::any_hit_wide(&wide, objects, ray, t_min, t_max)
                 } else {
-                    C::nearest_hit_bvh(&bvh, objects, ray, t_min, t_max)
+                    C::nearest_hit_wide(&wide, objects, ray, t_min, t_max)
                 }
-            },
-        ))
+            });
+            let trees = steps.then_some(WalkedTrees {
+                bvh,
+                wide: Some(wide),
+            });
+            return Ok((walked, trees));
+        }
+        let walked = bvh_hits::<C>(shapes, &call.rays, t_min, t_max, steps, |objects, ray| {
+            if any {
+                C::any_hit_bvh(&bvh, objects, ray, t_min, t_max)
+            } else {
+                C::nearest_hit_bvh(&bvh, objects, ray, t_min, t_max)
+            }
+        });
+        Ok((walked, steps.then_some(WalkedTrees { bvh, wide: None })))
     }
 
-    /// The same rule at both levels (see [`judge_walks`]).
-    fn judge(&self, walked: Vec<Walked>, _robust: bool) -> Outcome {
-        judge_walks(&self.rays, self.any, &walked)
+    /// The same rule at both levels (see [`judge_walks`]), and, for a case
+    /// that judges them, the walk's steps (see [`steps_problem`]).
+    fn judge(&self, (walked, trees): Self::Answer, _robust: bool) -> Outcome {
+        let answers = judge_walks(&self.rays, self.any, &walked);
+        if answers != Outcome::Pass || !self.steps {
+            return answers;
+        }
+        let Some(trees) = trees else {
+            return Outcome::Fail {
+                expected: "the trees the walk went through".into(),
+                got: "no trees".into(),
+            };
+        };
+        match steps_problem(&self.shapes, &self.call(), &trees, &walked) {
+            None => Outcome::Pass,
+            Some((expected, got)) => Outcome::Fail { expected, got },
+        }
     }
 
     /// The objects and the rays moved by a motion that keeps the axes

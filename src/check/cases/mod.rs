@@ -22,7 +22,7 @@ mod wide;
 
 pub use boxes::{
     BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCall, HitBoxCase, RefusedRay, TreeCall,
-    WalkCall, Walked,
+    WalkCall, Walked, WalkedTrees,
 };
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
 pub use implicit::{

@@ -197,15 +197,16 @@ impl Kind for TerminatorCase {
 }
 
 /// `smooth_hit_point` at the point where `ray` meets the triangle (by
-/// the reference test), on a material that is opaque or fully
-/// transparent: expected the blended normal turned toward the ray, and
-/// the lifted point (the point itself when transparent).
+/// the reference test), on a material of the given transparency:
+/// expected the blended normal turned toward the ray, and the lifted
+/// point (the point itself when the material lets any light through).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SmoothHitCase {
     pub corners: [Vec3; 3],
     pub normals: [Vec3; 3],
     pub ray: Ray,
-    pub transparent: bool,
+    /// The material's `transparency`, from 0 (opaque) to 1.
+    pub transparency: f32,
 }
 
 impl Kind for SmoothHitCase {
@@ -223,16 +224,16 @@ impl Kind for SmoothHitCase {
             corners,
             normals,
             ray,
-            transparent,
+            transparency,
         } = self;
         format!(
             "smooth_hit_point(the point where {} meets {}, {}, normals {})",
             ray_text(ray),
             corners_text(*corners),
-            if *transparent {
-                "transparent material"
+            if *transparency == 0.0 {
+                "opaque material".to_string()
             } else {
-                "opaque material"
+                format!("material of transparency {}", num(*transparency))
             },
             normals_text(normals)
         )
@@ -247,7 +248,7 @@ impl Kind for SmoothHitCase {
             corners,
             normals,
             ray,
-            transparent,
+            transparency,
         } = call;
         let [a, b, c] = *corners;
         let triangle = Triangle::new(a, b, c);
@@ -262,7 +263,7 @@ impl Kind for SmoothHitCase {
             ));
         };
         let material = Material {
-            transparency: if *transparent { 1.0 } else { 0.0 },
+            transparency: *transparency,
             ..Material::default()
         };
         let point = HitPoint::new(0, &shape, &material, ray, t);
@@ -276,7 +277,7 @@ impl Kind for SmoothHitCase {
             corners,
             normals,
             ray,
-            transparent,
+            transparency,
         } = self;
         // The point where the ray meets the triangle, as the reference
         // test finds it: the student's process must have been given it.
@@ -299,7 +300,9 @@ impl Kind for SmoothHitCase {
         let facing = normals.map(|n| side * wide(n));
         let at = wide(at);
         let want_normal = exact::smooth_normal(corners.map(wide), facing, at);
-        let want_point = if *transparent {
+        // Any light let through is refracted into the mesh, and must start
+        // below the surface: only an opaque point is lifted.
+        let want_point = if *transparency > 0.0 {
             at
         } else {
             exact::terminator_point(corners.map(wide), facing, at)
@@ -328,7 +331,7 @@ impl Kind for SmoothHitCase {
             corners: self.corners.map(|corner| motion.point(corner)),
             normals: self.normals.map(|normal| motion.direction(normal)),
             ray: motion.ray(&self.ray),
-            transparent: self.transparent,
+            transparency: self.transparency,
         })
     }
 }

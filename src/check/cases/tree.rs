@@ -249,6 +249,19 @@ fn placement_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
     None
 }
 
+/// How many `f32::EPSILON`s of its largest coordinate a leaf's box must
+/// at least grow each object's box by: half of the lesson's 4, so that
+/// any way of writing the lesson's padding passes, rounding included, and
+/// a box not grown at all does not.
+const PADDING_JUDGED: f32 = 2.0;
+
+/// `bounds` grown by `epsilons` of its largest coordinate.
+fn grown(bounds: Aabb, epsilons: f32) -> Aabb {
+    let magnitude = bounds.min.abs().max(bounds.max.abs()).max_element();
+    let pad = Vec3::splat(epsilons * f32::EPSILON * magnitude);
+    Aabb::new(bounds.min - pad, bounds.max + pad)
+}
+
 /// From the root, every node reached once, each box holding its children's
 /// or its objects', and every slot of `primitives` under exactly one leaf.
 fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
@@ -295,15 +308,28 @@ fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
         for slot in range {
             covered[slot] += 1;
             let object = bvh.primitives[slot] as usize;
-            if let Some(object_box) = boxed(object)
-                && !holds(&node.bounds, &object_box)
-            {
+            let Some(object_box) = boxed(object) else {
+                continue;
+            };
+            if !holds(&node.bounds, &object_box) {
                 return Some(format!(
                     "leaf {index}'s box {} to {} does not hold object {object}'s, {} to {}",
                     vec(node.bounds.min),
                     vec(node.bounds.max),
                     vec(object_box.min),
                     vec(object_box.max)
+                ));
+            }
+            let padded = grown(object_box, PADDING_JUDGED);
+            if !holds(&node.bounds, &padded) {
+                return Some(format!(
+                    "leaf {index}'s box {} to {} does not hold object {object}'s box grown by 4 \
+                     epsilons of its largest coordinate, {} to {} (so that a hit the object \
+                     reports lies inside its box)",
+                    vec(node.bounds.min),
+                    vec(node.bounds.max),
+                    vec(padded.min),
+                    vec(padded.max)
                 ));
             }
         }
@@ -320,12 +346,14 @@ fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
 /// Runs each ray through a tree over `shapes` (`walk`: the chapters `C`'s
 /// walk) and beside it chapter 3's loop over the same objects (the
 /// chapters `C`'s own object tests, so that only the tree is judged, bit
-/// for bit), with the claimed object's own test.
+/// for bit), with the claimed object's own test; when `record`, with
+/// every object test the walk made, in order.
 pub(super) fn bvh_hits<C: Chapters>(
     shapes: &[Shape],
     rays: &[Ray],
     t_min: f32,
     t_max: f32,
+    record: bool,
     walk: impl Fn(&Objects<C>, &Ray) -> Option<Hit>,
 ) -> Vec<Walked> {
     let objects = Objects::<C>::new(shapes);
@@ -333,7 +361,12 @@ pub(super) fn bvh_hits<C: Chapters>(
         .map(|ray| {
             let by_loop =
                 crate::answer_key::raylab_own(|| objects.nearest_hit_by_loop(ray, t_min, t_max));
-            let walk = walk(&objects, ray);
+            let log = std::sync::Mutex::new(Vec::new());
+            let walk = if record {
+                walk(&Objects::recording(shapes, &log), ray)
+            } else {
+                walk(&objects, ray)
+            };
             let own_test = walk
                 .filter(|hit| hit.object < objects.len())
                 .and_then(|hit| objects.intersect(hit.object, ray, t_min, t_max));
@@ -341,9 +374,210 @@ pub(super) fn bvh_hits<C: Chapters>(
                 walk: walk.map(|hit| (hit.object, hit.t)),
                 by_loop: by_loop.map(|hit| (hit.object, hit.t)),
                 own_test,
+                asked: log
+                    .into_inner()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner),
             }
         })
         .collect()
+}
+
+/// Where a walk broke one of the steps the lesson gives it, seen from
+/// outside through the objects it asked (`walked`, ray by ray) and the
+/// trees it walked: (expected, got).
+///
+/// The steps: the objects outside the tree (planes) are asked first; an
+/// object in the tree is asked only if the ray enters its leaf's box
+/// within `[t_min, limit]`, the limit being the best hit so far for the
+/// nearest hit (a box entered beyond it is skipped, with everything in
+/// it) and `t_max` for any hit; the nearest hit asks each object up to and
+/// including the best hit so far; any hit asks nothing after its first
+/// hit. Only what goes through the objects can be seen: a wide leaf's
+/// triangles answer inside `intersect_triangles`, so a hit among them
+/// leaves the best seen here larger than the walk's, which only makes
+/// these rules more lenient.
+pub(super) fn steps_problem(
+    shapes: &[Shape],
+    walk: &WalkCall,
+    trees: &WalkedTrees,
+    walked: &[Walked],
+) -> Option<(String, String)> {
+    let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
+    if let Some(problem) = tree_problem(&trees.bvh, &bounds) {
+        return Some(("a valid tree to walk".into(), problem));
+    }
+    let (unbounded, leaf_boxes) = match &trees.wide {
+        None => (
+            trees.bvh.unbounded.clone(),
+            binary_leaf_boxes(&trees.bvh, shapes.len()),
+        ),
+        Some(wide) => {
+            if let Some(problem) = super::wide::wide_problem(wide, &trees.bvh, shapes) {
+                return Some(("a valid wide tree to walk".into(), problem));
+            }
+            (wide.unbounded.clone(), wide_leaf_boxes(wide, shapes.len()))
+        }
+    };
+    for (index, (ray, walked)) in walk.rays.iter().zip(walked).enumerate() {
+        if let Some((expected, got)) =
+            ray_steps_problem(walk, ray, &unbounded, &leaf_boxes, &walked.asked)
+        {
+            let which = if walk.rays.len() == 1 {
+                String::new()
+            } else {
+                format!(" (ray {} of {})", index + 1, walk.rays.len())
+            };
+            return Some((expected, format!("{got}{which}")));
+        }
+    }
+    None
+}
+
+/// The box of the leaf holding each object, in a valid binary tree.
+fn binary_leaf_boxes(bvh: &Bvh, objects: usize) -> Vec<Option<Aabb>> {
+    let mut boxes = vec![None; objects];
+    let mut to_visit = if bvh.nodes.is_empty() {
+        vec![]
+    } else {
+        vec![0]
+    };
+    while let Some(index) = to_visit.pop() {
+        let node = &bvh.nodes[index];
+        match node.children() {
+            Some((left, right)) => to_visit.extend([left, right]),
+            None => {
+                for &object in &bvh.primitives[node.primitive_range()] {
+                    boxes[object as usize] = Some(node.bounds);
+                }
+            }
+        }
+    }
+    boxes
+}
+
+/// The box of the lane holding each object's leaf, in a valid wide tree.
+fn wide_leaf_boxes(wide: &crate::bvh::WideBvh, objects: usize) -> Vec<Option<Aabb>> {
+    let mut boxes = vec![None; objects];
+    let mut to_visit = if wide.nodes.is_empty() {
+        vec![]
+    } else {
+        vec![0]
+    };
+    while let Some(index) = to_visit.pop() {
+        let node = &wide.nodes[index];
+        for lane in (0..crate::bvh::WIDTH).filter(|&lane| node.used_lanes().test(lane)) {
+            let (first, count) = (node.first[lane] as usize, node.count[lane] as usize);
+            if count == 0 {
+                to_visit.push(first);
+                continue;
+            }
+            for leaf in &wide.leaves[first..first + count] {
+                for &object in leaf.objects.iter().filter(|&&object| object != u32::MAX) {
+                    boxes[object as usize] = Some(node.boxes.get(lane));
+                }
+            }
+        }
+    }
+    boxes
+}
+
+/// [`steps_problem`] for one ray, whose walk asked `asked`.
+fn ray_steps_problem(
+    walk: &WalkCall,
+    ray: &Ray,
+    unbounded: &[u32],
+    leaf_boxes: &[Option<Aabb>],
+    asked: &[crate::course::Asked],
+) -> Option<(String, String)> {
+    let inverse = ray.dir.recip();
+    let enters = |bounds: &Aabb, limit: f32| {
+        crate::answer_key::raylab_own(|| {
+            Reference::hit_box(bounds, ray.origin, inverse, walk.t_min, limit)
+        })
+    };
+    let show =
+        |t: Option<f32>| t.map_or_else(|| "never".to_string(), |t| format!("at t = {}", num(t)));
+    let mut best: Option<f32> = None;
+    for (step, test) in asked.iter().enumerate() {
+        let object = test.object;
+        if walk.any
+            && let Some(hit) = best
+        {
+            return Some((
+                "nothing asked after the first hit: any hit will do".into(),
+                format!(
+                    "object {object} asked after a hit at t = {} (test {} of the walk)",
+                    num(hit),
+                    step + 1
+                ),
+            ));
+        }
+        let in_tree = !unbounded.contains(&(object as u32));
+        if in_tree
+            && let Some(&plane) = unbounded
+                .iter()
+                .find(|&&plane| !asked[..step].iter().any(|t| t.object == plane as usize))
+        {
+            return Some((
+                "the objects outside the tree (planes) asked first".into(),
+                format!(
+                    "object {object}, in the tree, asked before object {plane}, outside it \
+                     (test {} of the walk)",
+                    step + 1
+                ),
+            ));
+        }
+        let limit = if walk.any {
+            walk.t_max
+        } else {
+            best.unwrap_or(walk.t_max)
+        };
+        if in_tree {
+            let leaf = leaf_boxes.get(object).copied().flatten();
+            // A student's slab test may widen a little more than raylab's.
+            let allowed = limit + 1e-4 * limit.abs().max(1.0);
+            if leaf.and_then(|bounds| enters(&bounds, allowed)).is_none() {
+                let entry = leaf.and_then(|bounds| enters(&bounds, f32::INFINITY));
+                return Some((
+                    format!(
+                        "only objects whose leaf's box the ray enters by t = {} asked ({})",
+                        num(limit),
+                        if walk.any {
+                            "t_max"
+                        } else {
+                            "the best hit so far: a box entered beyond it is skipped"
+                        }
+                    ),
+                    format!(
+                        "object {object} asked (test {} of the walk), whose leaf's box the ray \
+                         enters {}",
+                        step + 1,
+                        show(entry)
+                    ),
+                ));
+            }
+        }
+        if !walk.any
+            && let Some(hit) = best
+            && !(test.t_max <= hit.next_up())
+        {
+            return Some((
+                format!(
+                    "object {object} asked for hits up to and including the best so far, t = {}",
+                    num(hit)
+                ),
+                format!(
+                    "object {object} asked for hits up to t = {} (test {} of the walk)",
+                    num(test.t_max),
+                    step + 1
+                ),
+            ));
+        }
+        if let Some(t) = test.answer {
+            best = Some(best.map_or(t, |hit| hit.min(t)));
+        }
+    }
+    None
 }
 
 /// Judges the walks of `rays`: a nearest-hit walk must find chapter 3's
@@ -375,6 +609,7 @@ pub(super) fn judge_walks(rays: &[Ray], any: bool, walked: &[Walked]) -> Outcome
             walk: got,
             by_loop,
             own_test,
+            ..
         } = *walked;
         if !any {
             if !same(got, by_loop) {

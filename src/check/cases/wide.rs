@@ -453,7 +453,7 @@ impl Kind for CollapseCase {
 /// What is wrong with `wide` as the collapse of `bvh` over `shapes`, if
 /// anything. Walks from the root with a visited mark per node, so that a
 /// cycle or an index out of range is reported, not followed.
-fn wide_problem(wide: &WideBvh, bvh: &Bvh, shapes: &[Shape]) -> Option<String> {
+pub(super) fn wide_problem(wide: &WideBvh, bvh: &Bvh, shapes: &[Shape]) -> Option<String> {
     let mut unbounded = wide.unbounded.clone();
     let mut expected = bvh.unbounded.clone();
     unbounded.sort_unstable();
@@ -514,15 +514,23 @@ fn wide_problem(wide: &WideBvh, bvh: &Bvh, shapes: &[Shape]) -> Option<String> {
                     wide.leaves.len()
                 ));
             };
-            for leaf in leaves {
+            for (place, leaf) in leaves.iter().enumerate() {
                 if let Some(problem) = leaf_problem(leaf, &lane_box, shapes, &mut placed) {
                     return Some(format!("node {index}, lane {lane}: {problem}"));
+                }
+                let held = leaf.objects.iter().filter(|&&o| o != u32::MAX).count();
+                if place + 1 < count && held < WIDTH {
+                    return Some(format!(
+                        "node {index}, lane {lane}: Leaf4 {} of {count} holds {held} objects \
+                         (a leaf's objects go four to each Leaf4, only the last one short)",
+                        place + 1
+                    ));
                 }
             }
         }
     }
     let boxed = |object: usize| !bvh.unbounded.contains(&(object as u32));
-    (0..shapes.len())
+    if let Some(problem) = (0..shapes.len())
         .find(|&object| placed[object] != usize::from(boxed(object)))
         .map(|object| {
             format!(
@@ -535,6 +543,92 @@ fn wide_problem(wide: &WideBvh, bvh: &Bvh, shapes: &[Shape]) -> Option<String> {
                 }
             )
         })
+    {
+        return Some(problem);
+    }
+    let bounds: Vec<Option<Aabb>> = shapes.iter().map(Shape::bounds).collect();
+    if super::tree::tree_problem(bvh, &bounds).is_some() {
+        return None;
+    }
+    lane_box_problem(wide, bvh)
+}
+
+/// A lane of `wide` whose box is not the box of the node of `bvh` that
+/// holds exactly the objects under it: the fold keeps the binary tree's
+/// nodes, four at a time, and their boxes with them (both trees valid).
+fn lane_box_problem(wide: &WideBvh, bvh: &Bvh) -> Option<String> {
+    let mut binary = std::collections::HashMap::new();
+    let mut reached = if bvh.nodes.is_empty() {
+        vec![]
+    } else {
+        vec![0]
+    };
+    while let Some(node) = reached.pop() {
+        binary.insert(
+            super::tree::objects_under(bvh, node),
+            bvh.nodes[node].bounds,
+        );
+        reached.extend(
+            bvh.nodes[node]
+                .children()
+                .map(|(left, right)| [left, right])
+                .into_iter()
+                .flatten(),
+        );
+    }
+    let mut to_visit = vec![0usize];
+    while let Some(index) = to_visit.pop() {
+        let node = &wide.nodes[index];
+        for lane in (0..WIDTH).filter(|&lane| node.used_lanes().test(lane)) {
+            let lane_box = node.boxes.get(lane);
+            let under = objects_under_lane(wide, node.first[lane], node.count[lane]);
+            if node.count[lane] == 0 {
+                to_visit.push(node.first[lane] as usize);
+            }
+            match binary.get(&under) {
+                Some(folded) if *folded == lane_box => {}
+                Some(folded) => {
+                    return Some(format!(
+                        "node {index}, lane {lane}: its box {} to {} is not the box of the binary \
+                         node holding its objects {under:?}, {} to {} (the fold keeps the binary \
+                         tree's boxes)",
+                        vec(lane_box.min),
+                        vec(lane_box.max),
+                        vec(folded.min),
+                        vec(folded.max)
+                    ));
+                }
+                None => {
+                    return Some(format!(
+                        "node {index}, lane {lane}: its objects {under:?} are no node's of the \
+                         binary tree (the fold keeps the binary tree's nodes, four at a time)"
+                    ));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// The objects under a lane `first`, `count` of a valid wide tree, sorted.
+fn objects_under_lane(wide: &WideBvh, first: u32, count: u32) -> Vec<u32> {
+    let mut found = Vec::new();
+    let mut to_visit = vec![(first, count)];
+    while let Some((first, count)) = to_visit.pop() {
+        let (first, count) = (first as usize, count as usize);
+        if count > 0 {
+            for leaf in &wide.leaves[first..first + count] {
+                found.extend(leaf.objects.iter().filter(|&&object| object != u32::MAX));
+            }
+            continue;
+        }
+        let node = &wide.nodes[first];
+        for lane in (0..WIDTH).filter(|&lane| node.used_lanes().test(lane)) {
+            to_visit.push((node.first[lane], node.count[lane]));
+        }
+    }
+    found.sort_unstable();
+    found
 }
 
 /// What is wrong with one [`Leaf4`] under a lane whose box is `lane_box`;
