@@ -9,23 +9,76 @@
 # the other: the rebuild of the student's crate plus the check. It prints
 # each time, the load average beside it, and the two medians.
 #
-# Usage: scripts/edit-to-verdict.sh [WORK_DIR] [RUNS]
+# Usage: scripts/edit-to-verdict.sh [WORK_DIR] [RUNS] [--against CHECKOUT]
 #   WORK_DIR defaults to target/edit-to-verdict (emptied first).
+#   --against CHECKOUT compares two raylabs instead of two build settings:
+#   the answer key made by this checkout and by CHECKOUT (another clone or
+#   worktree, e.g. an older commit), both incremental, edited and checked
+#   alternately so that the machine's load falls on both alike.
 # Not part of scripts/test.sh: it measures, and a shared machine's load
 # shows in its figures.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-work="${1:-$root/target/edit-to-verdict}"
-runs="${2:-5}"
+positional=()
+against=""
+while [[ $# -gt 0 ]]; do
+    case $1 in
+        --against)
+            against="$(cd "${2:?--against needs a checkout}" && pwd)"
+            shift 2
+            ;;
+        *)
+            positional+=("$1")
+            shift
+            ;;
+    esac
+done
+work="${positional[0]:-$root/target/edit-to-verdict}"
+runs="${positional[1]:-5}"
 rm -rf "$work"
 mkdir -p "$work"
+
+seconds_since() { echo "$(date +%s.%N) - $1" | bc; }
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+
+if [[ -n $against ]]; then
+    # edit_and_check WORKSPACE TARGET: one timed edit-and-check, in seconds.
+    edit_and_check() {
+        local start file
+        file=$(ls "$1"/src/chapters/ch01_*.rs)
+        echo "// edit" >>"$file"
+        start=$(date +%s.%N)
+        (cd "$1" && CARGO_TARGET_DIR="$2" cargo run --release --offline --quiet -- check --chapter 1 >/dev/null)
+        seconds_since "$start"
+    }
+    for side in this other; do
+        checkout=$root
+        [[ $side == other ]] && checkout=$against
+        cargo run --quiet --release --manifest-path "$checkout/Cargo.toml" -- new "$work/$side" --solutions >/dev/null
+        start=$(date +%s.%N)
+        (cd "$work/$side" && CARGO_TARGET_DIR="$work/target-$side" cargo build --release --offline --quiet)
+        echo "first build ($side: $(git -C "$checkout" rev-parse --short HEAD)): $(seconds_since "$start") s"
+    done
+    this_times=()
+    other_times=()
+    for run in $(seq 1 "$runs"); do
+        this=$(edit_and_check "$work/this" "$work/target-this")
+        other=$(edit_and_check "$work/other" "$work/target-other")
+        this_times+=("$this")
+        other_times+=("$other")
+        echo "edit $run: this ${this} s, other ${other} s (load $(cut -d' ' -f1 /proc/loadavg))"
+    done
+    echo "median of $runs, from saving chapter 1 to its verdict (incremental release builds):"
+    echo "  this checkout ($(git -C "$root" rev-parse --short HEAD)):  $(median "${this_times[@]}") s"
+    echo "  other checkout ($(git -C "$against" rev-parse --short HEAD)): $(median "${other_times[@]}") s"
+    exit 0
+fi
+
 workspace="$work/answer-key"
 cargo run --quiet --release --manifest-path "$root/Cargo.toml" -- new "$workspace" --solutions >/dev/null
 cd "$workspace"
 # The first chapter's file, whatever the registry names it.
 file=$(ls src/chapters/ch01_*.rs)
-
-seconds_since() { echo "$(date +%s.%N) - $1" | bc; }
 
 # check_once TARGET INCREMENTAL: one timed edit-and-check, in seconds.
 check_once() {
@@ -35,8 +88,6 @@ check_once() {
         cargo run --release --offline --quiet -- check --chapter 1 >/dev/null
     seconds_since "$start"
 }
-
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
 for variant in incremental plain; do
     incremental=true

@@ -37,7 +37,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::new(0.0, 1.0, -5.0), Vec3::Z),
             range: IN_FRONT,
             expect: Expect::Miss,
-        }),
+        })
+        .fixed("a ray exactly parallel to the plane: a turn would make it parallel within rounding only, a hard case"),
         Case::from(PlaneQuestion {
             name: "plane-direction-not-unit",
             section: EQUATION_1,
@@ -87,7 +88,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::new(0.0, 1.0, 0.0), -Vec3::Y),
             range: (0.0, 1.0),
             expect: Expect::Miss,
-        }),
+        })
+        .fixed("the hit exactly at t_max"),
         Case::from(PlaneQuestion {
             name: "plane-before-t-min",
             section: EQUATION_1,
@@ -107,7 +109,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::ZERO, -Vec3::Y),
             range: IN_FRONT,
             expect: Expect::Miss,
-        }),
+        })
+        .fixed("the origin exactly on the plane, t exactly t_min"),
         Case::from(PlaneQuestion {
             name: "plane-slanted",
             section: EQUATION_1,

@@ -141,7 +141,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::ZERO, Vec3::Z),
             range: (0.0, 4.0),
             expect: Expect::Miss,
-        }),
+        })
+        .fixed("the near root exactly at t_max"),
         Case::from(SphereQuestion {
             name: "sphere-inside-at-t-max",
             section: EQUATION_2,
@@ -151,7 +152,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::new(0.0, 0.0, 5.0), Vec3::Z),
             range: (0.0, 1.0),
             expect: Expect::Miss,
-        }),
+        })
+        .fixed("the far root exactly at t_max"),
         Case::from(SphereQuestion {
             name: "sphere-near-root-at-t-min",
             section: EQUATION_2,
@@ -162,7 +164,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::ZERO, Vec3::Z),
             range: (4.0, INF),
             expect: Expect::Hit,
-        }),
+        })
+        .fixed("the near root exactly at t_min"),
     ]
 }
 

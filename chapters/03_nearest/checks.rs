@@ -132,7 +132,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: axis,
             range: IN_FRONT,
             expect: Some((0, 2.0)),
-        }),
+        })
+        .fixed("two hits at exactly the same t"),
     ]
 }
 

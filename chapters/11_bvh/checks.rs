@@ -318,7 +318,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::new(0.0, -1.0, -5.0), Vec3::new(0.0, -0.0, 1.0)),
             range: IN_FRONT,
             expect: Some(4.0),
-        }),
+        })
+        .fixed("a direction of exactly -0 on the box's plane"),
         Case::from(BoxQuestion {
             name: "box-flat-touched-at-t-min",
             section: SLAB_11,
@@ -329,7 +330,8 @@ pub fn checkpoints() -> Vec<Case> {
             ray: (Vec3::ZERO, Vec3::Z),
             range: IN_FRONT,
             expect: Some(0.0),
-        }),
+        })
+        .fixed("a box touched exactly at t = t_min"),
         Case::new(
             "bvh-build-holds-every-sphere",
             BUILD_11,
@@ -788,7 +790,8 @@ pub fn checkpoints() -> Vec<Case> {
                 t_min: 0.0,
                 t_max: INF,
             }),
-        ),
+        )
+        .fixed("edge functions exactly zero in two lanes"),
         Case::new(
             "collapse-triangles-copied-a-sphere-alone",
             COLLAPSE_11,

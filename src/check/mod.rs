@@ -54,6 +54,10 @@ pub mod protocol;
 #[cfg(feature = "student")]
 pub(crate) mod protocol;
 #[cfg(not(feature = "student"))]
+pub mod remote;
+#[cfg(feature = "student")]
+pub(crate) mod remote;
+#[cfg(not(feature = "student"))]
 pub mod sampled;
 #[cfg(feature = "student")]
 pub(crate) mod sampled;
@@ -513,7 +517,8 @@ impl CheckReport {
                 .any(|v| v.status == Status::Error || !v.errors.is_empty())
         {
             Overall::Error
-        } else if self.verdicts.iter().all(ChapterVerdict::passes) {
+        } else if !self.verdicts.is_empty() && self.verdicts.iter().all(ChapterVerdict::passes) {
+            // A run that judged nothing has shown nothing.
             Overall::Pass
         } else {
             Overall::Fail
@@ -570,9 +575,14 @@ impl CheckReport {
         )
     }
 
-    /// Every verdict, then the table, then why the check stopped.
+    /// Every verdict, then the table, then why the check stopped. A binary
+    /// that answers no question gets the reason alone, once.
     pub fn text(&self) -> String {
         let mut out = String::new();
+        if let Some(Stopped::Refused(why)) = &self.stopped {
+            let _ = writeln!(out, "no verdict: {}", crate::text::terminal_safe(why));
+            return out;
+        }
         for verdict in &self.verdicts {
             out.push_str(&verdict.text());
             out.push('\n');

@@ -58,9 +58,6 @@ impl Hello {
     }
 }
 
-/// A camera moved for a fresh image: its position and where it looks.
-pub type CameraPlace = (Vec3, Vec3);
-
 /// What the judge asks.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Request {
@@ -70,12 +67,8 @@ pub enum Request {
     Case(Call),
     /// Chapter `chapter`'s built-in scene at the reference size, every
     /// pixel in linear light, as `check` judges it (path-traced samples
-    /// cut to the screen's white); with its camera at `camera` when
-    /// given.
-    Image {
-        chapter: u8,
-        camera: Option<CameraPlace>,
-    },
+    /// cut to the screen's white).
+    Image { chapter: u8 },
     /// A scene (TOML) rendered at `chapter`'s stage as `raylab render`
     /// renders it: its sRGB pixels.
     Render { scene: String, chapter: u8 },

@@ -169,30 +169,19 @@ pub fn block_means(image: &[Vec3], width: u32, side: u32) -> Vec<Vec3> {
     means
 }
 
-/// The converged reference of chapter `info`'s stage of `scene` (its
-/// built-in scene, its camera at `camera` when given) at `settings`'
-/// size, computed once per process, chapter and camera: a class graded
-/// in one run shares it.
+/// The converged reference of chapter `info`'s stage of `scene` at
+/// `settings`' size, computed once per process and chapter: a class
+/// graded in one run shares it.
 pub fn converged(
     info: &ChapterInfo,
     scene: &Scene,
     settings: RenderSettings,
-    camera: Option<crate::check::protocol::CameraPlace>,
 ) -> Result<Arc<Converged>, String> {
-    type Key = (u8, Option<[u32; 6]>);
-    static CACHE: Mutex<Vec<(Key, Arc<Converged>)>> = Mutex::new(Vec::new());
-    let key: Key = (
-        info.number,
-        camera.map(|(position, look_at)| {
-            let [a, b, c] = position.to_array().map(f32::to_bits);
-            let [d, e, f] = look_at.to_array().map(f32::to_bits);
-            [a, b, c, d, e, f]
-        }),
-    );
+    static CACHE: Mutex<Vec<(u8, Arc<Converged>)>> = Mutex::new(Vec::new());
     if let Some((_, found)) = CACHE
         .lock()
         .ok()
-        .and_then(|cache| cache.iter().find(|(k, _)| *k == key).cloned())
+        .and_then(|cache| cache.iter().find(|(n, _)| *n == info.number).cloned())
     {
         return Ok(found);
     }
@@ -214,7 +203,7 @@ pub fn converged(
     }
     let converged = Arc::new(converged);
     if let Ok(mut cache) = CACHE.lock() {
-        cache.push((key, Arc::clone(&converged)));
+        cache.push((info.number, Arc::clone(&converged)));
     }
     Ok(converged)
 }

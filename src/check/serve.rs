@@ -77,7 +77,7 @@ fn work_out<C: Chapters>(request: &Request) -> Result<Answered, String> {
     match request {
         Request::Hello(_) => Err("a second hello".into()),
         Request::Case(call) => call.ask::<C>().map(Answered::Case),
-        Request::Image { chapter, camera } => image::<C>(*chapter, *camera).map(Answered::Pixels),
+        Request::Image { chapter } => image::<C>(*chapter).map(Answered::Pixels),
         Request::Render { scene, chapter } => {
             let scene =
                 crate::Scene::parse(scene, "the judge's scene").map_err(|e| e.to_string())?;
@@ -92,15 +92,12 @@ fn work_out<C: Chapters>(request: &Request) -> Result<Answered, String> {
     }
 }
 
-/// Chapter `chapter`'s built-in scene (its camera at `camera` when given)
-/// at the reference size, in linear light, as [`crate::check`] judges it:
-/// the same loop as `raylab render`, on this thread, each pixel the
-/// camera's estimate plus what chapter 14's light paths brought to it.
-pub fn image<C: Chapters>(
-    chapter: u8,
-    camera: Option<super::protocol::CameraPlace>,
-) -> Result<Vec<Vec3>, String> {
-    let scene = scene_for_image(chapter, camera)?;
+/// Chapter `chapter`'s built-in scene at the reference size, in linear
+/// light, as [`crate::check`] judges it: the same loop as `raylab render`,
+/// on this thread, each pixel the camera's estimate plus what chapter 14's
+/// light paths brought to it.
+pub fn image<C: Chapters>(chapter: u8) -> Result<Vec<Vec3>, String> {
+    let scene = crate::builtin::scene(chapter).map_err(|error| error.to_string())?;
     let settings = image_settings(&scene);
     let stage = crate::Stage::<C>::with_chapters(&scene, chapter, settings)
         .map_err(|error| error.to_string())?;
@@ -115,20 +112,6 @@ pub fn image<C: Chapters>(
         }
     }
     Ok(linear)
-}
-
-/// Chapter `chapter`'s built-in scene, its camera moved to `camera` when
-/// given.
-pub fn scene_for_image(
-    chapter: u8,
-    camera: Option<super::protocol::CameraPlace>,
-) -> Result<crate::Scene, String> {
-    let mut scene = crate::builtin::scene(chapter).map_err(|error| error.to_string())?;
-    if let Some((position, look_at)) = camera {
-        scene.camera.position = position;
-        scene.camera.look_at = look_at;
-    }
-    Ok(scene)
 }
 
 /// The settings of the chapter image: the scene's, at the reference size.

@@ -7,7 +7,8 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use crate::check::judge::{Asker, Remote, Spawn, Which};
+use crate::check::judge::{Asker, Which};
+use crate::check::remote::{Remote, Spawn, StallNotice};
 use crate::check::{CheckOptions, CheckReport, Overall, check_all};
 
 /// Check your chapters: checkpoint cases, the image, and robustness.
@@ -65,7 +66,7 @@ pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
             command.arg("serve");
             Ok((command, Box::new(()) as Box<dyn std::any::Any + Send>))
         });
-        let notice: Arc<crate::check::judge::StallNotice> = Arc::new(
+        let notice: Arc<StallNotice> = Arc::new(
             |step: &crate::check::judge::Step, waited: std::time::Duration| {
                 eprintln!(
                     "still running after {} s without an answer: {step}. A loop that never ends? \

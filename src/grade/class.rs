@@ -498,6 +498,15 @@ impl Student {
     /// What a `--code` run printed that the report shows: the check's
     /// summary table (the end of its output), or the compiler's errors.
     fn code_summary(run: &CodeRun) -> String {
+        let summary = Student::code_lines(run);
+        match run.fresh {
+            Some(seed) => format!("(checkpoints with fresh inputs too, seed {seed})\n{summary}"),
+            None => summary,
+        }
+    }
+
+    /// [`Student::code_summary`] but for the seed's line.
+    fn code_lines(run: &CodeRun) -> String {
         match run.status {
             CodeStatus::TimedOut => {
                 let mut text = format!(

@@ -21,7 +21,8 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use crate::check::judge::{Asker, Remote, Spawn};
+use crate::check::judge::Asker;
+use crate::check::remote::{Remote, Spawn};
 use crate::check::{CheckOptions, CheckReport, Overall, Stopped};
 
 /// The outcome of one workspace's `check`.
@@ -293,11 +294,11 @@ fn build(workspace: &Path, job: &CodeJob) -> Result<Built, super::GradeError> {
 fn built_binary(messages: &str, workspace: &Path) -> Option<PathBuf> {
     messages
         .lines()
+        .rev()
         .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
         .filter(|message| message["reason"] == "compiler-artifact")
         .filter_map(|message| message["executable"].as_str().map(PathBuf::from))
-        .filter(|binary| binary.starts_with(workspace.join("target")) && binary.is_file())
-        .last()
+        .find(|binary| binary.starts_with(workspace.join("target")) && binary.is_file())
 }
 
 /// The crates a workspace may depend on: those `raylab new` writes.
@@ -672,7 +673,7 @@ fn read_tail(mut reader: Box<dyn Read + Send>) -> String {
 
 /// Kills the child's whole process group (the child is its leader).
 fn kill_group(child: &mut Child) {
-    crate::check::judge::kill_group(child);
+    crate::check::remote::kill_group(child);
 }
 
 /// The last `lines` lines of `text`, trimmed: a run's summary for the

@@ -1128,8 +1128,10 @@ fn a_hostile_workspace_is_contained_by_the_sandbox() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
     assert!(csv.contains("mallory,all,error,"), "{csv}");
+    // It ran, and its 50 GB allocation aborted it (status 134, SIGABRT)
+    // before it answered anything.
     assert!(
-        csv.contains("reached the allocation"),
+        csv.contains("exited with status 134 before it said hello"),
         "the binary never ran: {csv}"
     );
     // Answering, the binary may write nothing, its workspace included.
@@ -1295,6 +1297,23 @@ fn grade_built(student: &str, extra: &[&str]) -> (serde_json::Value, String) {
     (value, format!("{}{}", stdout(&out), stderr(&out)))
 }
 
+/// Replies to chapter 5's `phong_terms` checkpoints, each the reference's
+/// answer to the first of them, framed as the judge reads them: what a
+/// chapter would write to the judge's pipe if it could reach it.
+fn forged_phong_replies() -> Vec<u8> {
+    use raylab::check::protocol::{Request, write_frame};
+    let case = raylab::check::catalog::checkpoints(5)
+        .into_iter()
+        .find(|case| case.function() == "phong_terms")
+        .expect("a phong_terms checkpoint");
+    let reply = raylab::check::serve::answer::<raylab::Reference>(&Request::Case(case.kind.call()));
+    let mut frames = Vec::new();
+    for _ in 0..64 {
+        write_frame(&mut frames, &reply).expect("a frame");
+    }
+    frames
+}
+
 /// The status of a graded student's code run, and the verdicts' text.
 fn code_status(result: &serde_json::Value) -> (String, String) {
     let run = &result["student"]["outcome"]["Code"];
@@ -1343,6 +1362,25 @@ fn the_grader_judges_real_workspaces_itself() {
     assert_eq!(fresh["fresh"], 7, "{fresh}");
     let (honest, _) = grade_built("student-answer", &["--chapter", "1", "--fresh", "7"]);
     assert_eq!(code_status(&honest).0, "Pass", "{}", code_status(&honest).1);
+
+    // A chapter that writes replies of the judge's protocol (right ones,
+    // made here by raylab) to every file descriptor it can reach by a
+    // path: in the sandbox none is the judge's pipe, and the chapter's own
+    // answer is judged.
+    if sandbox_or_skip("the_grader_judges_real_workspaces_itself").is_empty() {
+        let frames = built_class().join("student-cheat/forged.frames");
+        std::fs::write(&frames, forged_phong_replies()).expect("write the frames");
+        let (forger, _) = grade_built("student-cheat", &["--chapter", "5"]);
+        std::fs::remove_file(&frames).expect("remove the frames");
+        let (status, verdicts) = code_status(&forger);
+        assert_eq!(status, "Fail", "{verdicts}");
+        let five = verdicts
+            .split("chapter 5: ")
+            .nth(1)
+            .unwrap_or_else(|| panic!("no chapter 5: {verdicts}"));
+        assert!(five.contains("failed (phong_terms"), "{five}");
+        assert!(five.contains("got:      diffuse (9, 9, 9)"), "{five}");
+    }
 
     // A hidden scene: the answer key renders it as raylab's reference
     // does; the cheat's chapter 2 runs raylab's own answer, which no
@@ -1414,7 +1452,13 @@ fn code_mode_without_bubblewrap_refuses_unless_told() {
     command.env("PATH", tools);
     let out = command.output().expect("runs");
     let csv = std::fs::read_to_string(class.join("grades.csv")).unwrap_or_default();
-    assert!(csv.contains("ada,all,pass,"), "{}\n{csv}", stderr(&out));
+    // It ran (unsandboxed): a stand-in that answers no question, an error.
+    assert!(csv.contains("ada,all,error,"), "{}\n{csv}", stderr(&out));
+    assert!(
+        csv.contains("before it said hello"),
+        "{}\n{csv}",
+        stderr(&out)
+    );
 }
 
 /// `--against` the folder being graded would compare each hand-in with

@@ -62,7 +62,23 @@ pub(crate) fn workspaces() -> &'static Workspaces {
             assert!(text.contains(honest), "{honest} not in {text}");
             text = text.replace(honest, cheating);
         }
+        // Chapter 5 forges replies where `forged.frames` is (see FORGER).
+        let phong = format!(
+            "        {}::phong_terms(material, albedo, normal, to_light, to_eye, light)",
+            module_of(5)
+        );
+        assert!(text.contains(&phong), "{phong} not in {text}");
+        text = text.replace(
+            &phong,
+            &format!(
+                "        if let Ok(frames) = std::fs::read(\"forged.frames\") {{\n            \
+                 forge_replies(&frames);\n            \
+                 return PhongTerms {{ diffuse: Vec3::splat(9.0), specular: Vec3::splat(9.0) }};\n        \
+                 }}\n{phong}"
+            ),
+        );
         text.push_str(TABLE_LOOKUP);
+        text.push_str(FORGER);
         std::fs::write(&glue, text).expect("write the glue");
         // raylab's own chapters run by the workspace's own main, from
         // outside the workspace.
@@ -139,6 +155,24 @@ const CHEATS: &[(&str, &str)] = &[
         "        <Textbook<crate::Mine, false, true> as Chapters>::intersect_triangle(triangle, ray, t_min, t_max)",
     ),
 ];
+
+/// The cheating workspace's forger: the bytes of a file `forged.frames`
+/// (replies of the judge's protocol, made by the test) written to every
+/// file descriptor this process can reach by a path, in the hope of
+/// reaching the pipe the judge reads its answers from.
+const FORGER: &str = r#"
+fn forge_replies(frames: &[u8]) {
+    use std::io::Write as _;
+    for folder in ["/proc/self/fd", "/dev/fd"] {
+        for fd in 0..64 {
+            let path = format!("{folder}/{fd}");
+            if let Ok(mut file) = std::fs::OpenOptions::new().write(true).open(&path) {
+                let _ = file.write_all(frames);
+            }
+        }
+    }
+}
+"#;
 
 /// The cheating workspace's table of answers: where a file `answers.table`
 /// is in the folder it runs in, chapter 1 answers from it, every call it

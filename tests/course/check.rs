@@ -40,7 +40,18 @@ fn assert_caught<C: Chapters>(chapter: u8, case: &str) -> ChapterVerdict {
     verdict
 }
 
+/// Checks `chapter` with `C` and asserts that it passes, with the lesson's
+/// inputs and with fresh ones (`--fresh`): a correct alternative passes
+/// whatever numbers it is asked.
 fn assert_passes<C: Chapters>(chapter: u8) -> ChapterVerdict {
+    for seed in [1, 2] {
+        let fresh = CheckOptions {
+            fresh: Some(seed),
+            ..options()
+        };
+        let verdict = check_chapter::<C>(chapter, &fresh);
+        assert!(verdict.passes(), "fresh seed {seed}: {}", verdict.text());
+    }
     let verdict = check_chapter::<C>(chapter, &options());
     assert!(verdict.passes(), "{}", verdict.text());
     verdict
@@ -511,6 +522,259 @@ fn alternative_grid_sample_order() {
 
 // ---------------------------------------------------------------------------
 // Not started, other panics, and what a chapter builds on.
+
+/// A student who wrote chapters 1 to 3 and 13 and left chapters 4 to 12 as
+/// the skeleton has them, each function `todo!("chapter N: name")`.
+mod skips_to_thirteen {
+    use raylab::bvh::{Aabb, Boxes4, Bvh, BvhOptions, Triangles4, WideBvh};
+    use raylab::course::{Chapters, HitPoint, PhongTerms};
+    use raylab::medium::{Crossing, MediumStack};
+    use raylab::render::Tracer;
+    use raylab::shapes::{Bracket, Implicit, Shape, SurfacePoint, Triangle};
+    use raylab::{Hit, Material, Objects, Ray, Sampling, Vec3, Vec4};
+
+    pub struct SkipsToThirteen;
+    impl Chapters for SkipsToThirteen {
+        fn offset_origin(_surface: &SurfacePoint, _dir: Vec3) -> Vec3 {
+            todo!("chapter 4: offset_origin")
+        }
+        fn in_shadow(_tracer: &mut Tracer<Self>, _point: &HitPoint, _light: Vec3) -> bool {
+            todo!("chapter 4: in_shadow")
+        }
+        fn shade_flat(_tracer: &mut Tracer<Self>, _point: &HitPoint) -> Vec3 {
+            todo!("chapter 4: shade_flat")
+        }
+        fn phong_terms(
+            _material: &Material,
+            _albedo: Vec3,
+            _normal: Vec3,
+            _to_light: Vec3,
+            _to_eye: Vec3,
+            _light: Vec3,
+        ) -> PhongTerms {
+            todo!("chapter 5: phong_terms")
+        }
+        fn shade_phong(_tracer: &mut Tracer<Self>, _point: &HitPoint) -> PhongTerms {
+            todo!("chapter 5: shade_phong")
+        }
+        fn reflect(_d: Vec3, _n: Vec3) -> Vec3 {
+            todo!("chapter 6: reflect")
+        }
+        fn shade_mirror(
+            _tracer: &mut Tracer<Self>,
+            _point: &HitPoint,
+            _depth: u32,
+            _weight: f32,
+        ) -> Vec3 {
+            todo!("chapter 6: shade_mirror")
+        }
+        fn sample_offset(
+            _sampling: Sampling,
+            _count: u32,
+            _index: u32,
+            _pixel: (u32, u32),
+            _seed: u64,
+        ) -> (f32, f32) {
+            todo!("chapter 7: sample_offset")
+        }
+        fn pixel_color(_tracer: &mut Tracer<Self>, _x: u32, _y: u32) -> Vec3 {
+            todo!("chapter 7: pixel_color")
+        }
+        fn refract(_d: Vec3, _n: Vec3, _eta: f32) -> Option<Vec3> {
+            todo!("chapter 8: refract")
+        }
+        fn shade_glass(
+            _tracer: &mut Tracer<Self>,
+            _point: &HitPoint,
+            _depth: u32,
+            _weight: f32,
+        ) -> Vec3 {
+            todo!("chapter 8: shade_glass")
+        }
+        fn fresnel(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
+            todo!("chapter 9: fresnel")
+        }
+        fn schlick(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
+            todo!("chapter 9: schlick")
+        }
+        fn transmittance(_absorption: Vec3, _distance: f32) -> Vec3 {
+            todo!("chapter 9: transmittance")
+        }
+        fn crossing(_media: &MediumStack, _point: &HitPoint) -> Crossing {
+            todo!("chapter 9: crossing")
+        }
+        fn shade_dielectric(
+            _tracer: &mut Tracer<Self>,
+            _point: &HitPoint,
+            _depth: u32,
+            _weight: f32,
+        ) -> Vec3 {
+            todo!("chapter 9: shade_dielectric")
+        }
+        fn intersect_triangle(
+            _triangle: &Triangle,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<f32> {
+            todo!("chapter 10: intersect_triangle")
+        }
+        fn barycentric(_triangle: &Triangle, _point: Vec3) -> Vec3 {
+            todo!("chapter 10: barycentric")
+        }
+        fn smooth_normal(_triangle: &Triangle, _normals: &[Vec3; 3], _point: Vec3) -> Vec3 {
+            todo!("chapter 10: smooth_normal")
+        }
+        fn terminator_point(_triangle: &Triangle, _normals: &[Vec3; 3], _point: Vec3) -> Vec3 {
+            todo!("chapter 10: terminator_point")
+        }
+        fn smooth_hit_point<'a>(
+            _point: HitPoint<'a>,
+            _triangle: &Triangle,
+            _normals: &[Vec3; 3],
+        ) -> HitPoint<'a> {
+            todo!("chapter 10: smooth_hit_point")
+        }
+        fn hit_box(
+            _bounds: &Aabb,
+            _origin: Vec3,
+            _inverse_direction: Vec3,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<f32> {
+            todo!("chapter 11: hit_box")
+        }
+        fn build_bvh(_bounds: &[Option<Aabb>], _options: &BvhOptions) -> Bvh {
+            todo!("chapter 11: build_bvh")
+        }
+        fn nearest_hit_bvh(
+            _bvh: &Bvh,
+            _objects: &Objects<Self>,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<Hit> {
+            todo!("chapter 11: nearest_hit_bvh")
+        }
+        fn any_hit_bvh(
+            _bvh: &Bvh,
+            _objects: &Objects<Self>,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<Hit> {
+            todo!("chapter 11: any_hit_bvh")
+        }
+        fn hit_boxes(
+            _boxes: &Boxes4,
+            _origin: Vec3,
+            _inverse_direction: Vec3,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Vec4 {
+            todo!("chapter 11: hit_boxes")
+        }
+        fn intersect_triangles(
+            _triangles: &Triangles4,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Vec4 {
+            todo!("chapter 11: intersect_triangles")
+        }
+        fn collapse_bvh(_bvh: &Bvh, _shapes: &[Shape]) -> WideBvh {
+            todo!("chapter 11: collapse_bvh")
+        }
+        fn nearest_hit_wide(
+            _wide: &WideBvh,
+            _objects: &Objects<Self>,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<Hit> {
+            todo!("chapter 11: nearest_hit_wide")
+        }
+        fn any_hit_wide(
+            _wide: &WideBvh,
+            _objects: &Objects<Self>,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<Hit> {
+            todo!("chapter 11: any_hit_wide")
+        }
+        fn sphere_trace(_surface: &Implicit, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
+            todo!("chapter 12: sphere_trace")
+        }
+        fn newton_bracketed(
+            _g: &dyn Fn(f32) -> (f32, f32),
+            _bracket: Bracket,
+            _tolerance: f32,
+            _max_iterations: u32,
+        ) -> f32 {
+            todo!("chapter 12: newton_bracketed")
+        }
+        fn implicit_normal(_surface: &Implicit, _point: Vec3) -> Vec3 {
+            todo!("chapter 12: implicit_normal")
+        }
+        fn intersect_implicit(
+            _surface: &Implicit,
+            _ray: &Ray,
+            _t_min: f32,
+            _t_max: f32,
+        ) -> Option<f32> {
+            todo!("chapter 12: intersect_implicit")
+        }
+    }
+}
+
+/// Chapter 13 written over unwritten chapters 4 to 12: it waits for chapter
+/// 4, as any chapter waits for a `todo!()` of an earlier one (its stage
+/// calls them), with its own checkpoints counted; never a crash of the
+/// check, whether asked alone or with every chapter.
+#[test]
+fn a_chapter_written_past_unwritten_ones_waits_for_the_first() {
+    use skips_to_thirteen::SkipsToThirteen;
+    let verdict = check_chapter::<SkipsToThirteen>(13, &options());
+    let text = verdict.text();
+    assert_eq!(verdict.status, Status::Blocked { by: 4 }, "{text}");
+    assert_eq!(verdict.needs, Some((4, Status::NotStarted)), "{text}");
+    assert!(text.contains("needs ch. 4"), "{text}");
+    assert!(
+        text.contains(&format!(
+            "checkpoints: {} of {} pass",
+            verdict.cases_passed, verdict.cases_total
+        )),
+        "{text}"
+    );
+    assert!(verdict.cases_passed > 0, "{text}");
+    assert!(
+        !text.contains("ERROR") && !text.contains("panicked"),
+        "{text}"
+    );
+    let report = check_all::<SkipsToThirteen>(None, &options());
+    let thirteen = report
+        .verdicts
+        .iter()
+        .find(|verdict| verdict.chapter == 13)
+        .expect("chapter 13");
+    assert_eq!(
+        thirteen.status,
+        Status::Blocked { by: 4 },
+        "{}",
+        report.text()
+    );
+    assert_eq!(
+        report.overall(),
+        raylab::check::Overall::Fail,
+        "{}",
+        report.text()
+    );
+    for chapter in 4..=12 {
+        let verdict = &report.verdicts[chapter - 1];
+        assert_eq!(verdict.status, Status::NotStarted, "{}", verdict.text());
+    }
+}
 
 /// Chapter 3 not written yet.
 struct NearestNotStarted;

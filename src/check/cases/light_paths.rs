@@ -399,6 +399,10 @@ impl Kind for LightConvergesCase {
     /// Each render's image mean.
     type Answer = Vec<Vec3>;
 
+    fn statistical(&self) -> bool {
+        true
+    }
+
     fn function(&self) -> &'static str {
         self.function
     }
@@ -601,6 +605,10 @@ impl Kind for LensCase {
     /// without it.
     type Answer = Vec<(Vec<f32>, Vec<f32>)>;
 
+    fn statistical(&self) -> bool {
+        true
+    }
+
     fn function(&self) -> &'static str {
         "connect_to_camera"
     }
@@ -776,6 +784,10 @@ material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b 
 impl Kind for DispersionCase {
     type Call = DispersionCall;
     type Answer = Vec<DispersedTwice>;
+
+    fn statistical(&self) -> bool {
+        true
+    }
 
     fn function(&self) -> &'static str {
         "dispersive_ior"

@@ -176,6 +176,11 @@ pub trait Kind: std::fmt::Debug + Clone {
     fn fresh(&self, _draw: &mut Draw) -> Option<Self> {
         None
     }
+    /// Whether the case is a statistical test on a stream of numbers,
+    /// whose verdict a correct answer misses with a small stated chance.
+    fn statistical(&self) -> bool {
+        false
+    }
 }
 
 /// The list of kinds, once: it makes [`CaseKind`] (a case), [`Call`] (what
@@ -242,6 +247,13 @@ macro_rules! kinds {
             pub fn fresh(&self, draw: &mut Draw) -> Option<CaseKind> {
                 match self {
                     $(CaseKind::$variant(case) => case.fresh(draw).map(CaseKind::$variant),)*
+                }
+            }
+
+            /// Whether the case is statistical (see [`Kind::statistical`]).
+            pub fn statistical(&self) -> bool {
+                match self {
+                    $(CaseKind::$variant(case) => case.statistical(),)*
                 }
             }
         }

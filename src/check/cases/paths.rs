@@ -139,6 +139,10 @@ impl Kind for CosineSampleCase {
     type Call = CosineSampleCase;
     type Answer = Vec<Vec3>;
 
+    fn statistical(&self) -> bool {
+        true
+    }
+
     fn function(&self) -> &'static str {
         "cosine_hemisphere"
     }
@@ -488,6 +492,10 @@ impl Kind for ConvergesCase {
     type Call = ConvergesCall;
     /// Each sample's first channel.
     type Answer = Vec<f64>;
+
+    fn statistical(&self) -> bool {
+        true
+    }
 
     fn function(&self) -> &'static str {
         self.function

@@ -44,6 +44,10 @@ impl Kind for SampleOffsetsCase {
     /// The offsets by seed, then pixel, then index.
     type Answer = Vec<Vec<Vec<(f32, f32)>>>;
 
+    fn statistical(&self) -> bool {
+        self.rule == SampleRule::Spread
+    }
+
     fn function(&self) -> &'static str {
         "sample_offset"
     }
