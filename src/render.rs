@@ -948,6 +948,15 @@ impl<'a, C: Chapters> Tracer<'a, C> {
         self.splats.push((index, light));
     }
 
+    /// Starts path number `stream` of a check's own (`raylab check` asks
+    /// chapter 14's `dispersive_ior` at the first surface of many paths):
+    /// its own stream of random numbers, and no wavelength yet.
+    pub fn begin_path(&mut self, stream: u64) {
+        self.random_key = mix64(self.stage.settings.seed ^ mix64(stream ^ CHECK_PATH_STREAM));
+        self.random_index = 0;
+        self.wavelength = None;
+    }
+
     /// Traces light path number `index` of the image (chapter 14), with
     /// its own stream of random numbers, and hands back what it splatted.
     fn light_path(&mut self, index: u64) {
@@ -1231,6 +1240,10 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 /// Mixed into a light path's number to key its random stream, so that no
 /// light path shares its numbers with a camera sample.
 const LIGHT_PATH_STREAM: u64 = 0x4C49_4748_545F_5041;
+
+/// Mixed into the seeds of [`Tracer::begin_path`]'s streams: a check's
+/// paths draw numbers of their own, not a light path's.
+const CHECK_PATH_STREAM: u64 = 0x4348_4543_4B5F_5041;
 
 /// A ray of light leaving a light (chapter 14), and the power it carries.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -13,8 +13,9 @@ use raylab::{Ray, Vec3};
 /// than its pixel shows, and since `f` itself is computed with an error
 /// that grows with the point's size, an absolute tolerance would never be
 /// met far away. When an over-relaxed step leaves a gap (this radius and
-/// the last do not overlap), a surface may be in it: go back to the last
-/// point's safe step and relax no more. Stop after `max_steps`
+/// the last do not overlap: their sum is at most the step, since balls
+/// that only touch leave out the point where they touch), a surface may be
+/// in it: go back to the last point's safe step and relax no more. Stop after `max_steps`
 /// evaluations (a grazing ray may need them all) or past `t_max`.
 pub fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
     let march = surface.march();
@@ -28,7 +29,7 @@ pub fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Op
         let radius = surface.distance(ray.at(t)).abs() / lipschitz;
         if let Some((last_t, last_radius)) = last
             && relaxation > 1.0
-            && last_radius + radius < (t - last_t) * speed
+            && last_radius + radius <= (t - last_t) * speed
         {
             relaxation = 1.0;
             t = last_t + last_radius / speed;
@@ -145,10 +146,11 @@ pub fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
 /// The nearest `t` with `t_min < t < t_max` where `ray` meets `surface`:
 /// sphere tracing to reach it, then Newton's method to pin it down.
 ///
-/// The march runs only where the ray is inside the surface's box
-/// ([`Implicit::span`]), and stops within its cone of the surface, a little
-/// before it: where the safe step `|g| / (L |d|)` fell below the cone's
-/// width `tolerance t`. A ray that crosses the surface at an angle `a` is
+/// The march need only run where the ray is inside the surface's box
+/// ([`Implicit::span`]): a saving, not a rule, since outside it no surface
+/// is near. It stops within its cone of the surface, a little before it:
+/// where the safe step `|g| / (L |d|)` fell below the cone's width
+/// `tolerance t`. A ray that crosses the surface at an angle `a` is
 /// then less than `1 / sin a` cone widths from the root, so creep on by
 /// cone widths, up to 32 of them: the first step where `g(t) = f(o + t d)`
 /// changes sign closes the bracket, and Newton (`newton_bracketed` with

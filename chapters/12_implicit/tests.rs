@@ -294,6 +294,27 @@ fn the_normal_methods_agree_on_a_smooth_surface() {
     }
 }
 
+/// `grade --code --fresh` scales each march, Newton and normal checkpoint
+/// by a power of two: the reference must pass every draw, or a correct
+/// student would fail one.
+#[test]
+fn the_reference_passes_every_fresh_draw_of_the_checkpoints() {
+    use crate::check::Outcome;
+    for seed in 1..=10 {
+        for case in crate::check::catalog::checkpoints(12) {
+            if let Some(fresh) = case.fresh(seed) {
+                assert_eq!(
+                    fresh.run::<Reference>(),
+                    Outcome::Pass,
+                    "{} under seed {seed}: {}",
+                    case.name,
+                    fresh.kind.inputs()
+                );
+            }
+        }
+    }
+}
+
 // The bug gallery and the accepted alternatives of this chapter.
 #[path = "gallery.rs"]
 mod gallery;

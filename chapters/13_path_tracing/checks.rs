@@ -4,6 +4,7 @@
 
 use crate::check::catalog::*;
 
+const EQUATION_13: &str = "The rendering equation";
 const COSINE_13: &str = "Cosine-weighted directions";
 const ROULETTE_13: &str = "Russian roulette";
 const NEE_13: &str = "Next-event estimation";
@@ -135,6 +136,28 @@ pub fn checkpoints() -> Vec<Case> {
             },
         ),
         formula(
+            "mis-a-delta-takes-all",
+            MIS_13,
+            "a delta strategy (a point light: infinite density) against a density of 2: it takes \
+             the whole sample, weight 1",
+            PathFormula::PowerHeuristic {
+                pdf: f32::INFINITY,
+                other: 2.0,
+                expected: 1.0,
+            },
+        ),
+        formula(
+            "mis-against-a-delta",
+            MIS_13,
+            "a density of 2 against a delta strategy: the delta takes the whole sample, so this \
+             one gets 0 (the two weights add to 1)",
+            PathFormula::PowerHeuristic {
+                pdf: 2.0,
+                other: f32::INFINITY,
+                expected: 0.0,
+            },
+        ),
+        formula(
             "roulette-survives",
             ROULETTE_13,
             "a path of weight 0.25 goes on with probability 0.25: for u = 0.1 it survives, and \
@@ -238,8 +261,209 @@ pub fn checkpoints() -> Vec<Case> {
                 seed: 0,
             }),
         ),
+        Case::new(
+            "point-light-in-a-glowing-sphere",
+            MIS_13,
+            "pbrt-v4's analytic scene in a sphere that also glows with radiance 1: the point \
+             light gives 0.5 at every point, so L = 1 + 0.5 + 0.5 L: radiance 3. MIS is on (the \
+             sphere emits), but a point light's sample keeps weight 1: no scattered ray finds it",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: inside_sphere(
+                    0.5,
+                    1.0,
+                    "[[lights]]\nposition = [0.0, 0.0, 0.0]\nintensity = 3.14159265",
+                ),
+                without: &[],
+                samples: 20_000,
+                expected: 3.0,
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "two-point-lights-in-sphere",
+            NEE_13,
+            "pbrt-v4's analytic scene with its light split in two at the centre, of intensities \
+             pi / 4 and 3 pi / 4: a light sample chooses one of them, each with chance 1 / 2, \
+             and divides by that chance, so the two together still give radiance 1",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: inside_sphere(
+                    0.5,
+                    0.0,
+                    "[[lights]]\nposition = [0.0, 0.0, 0.0]\nintensity = 0.78539816\n\
+                     [[lights]]\nposition = [0.0, 0.0, 0.0]\nintensity = 2.35619449",
+                ),
+                without: &[],
+                samples: 20_000,
+                expected: 1.0,
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "light-over-a-roof",
+            NEE_13,
+            "a point light above a black roof, a floor under the roof: every light sample's \
+             shadow ray meets the roof, and the floor is black (exactly 0)",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: LIGHT_OVER_A_ROOF.to_string(),
+                without: &[],
+                samples: 2_000,
+                expected: 0.0,
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "glossy-plate-under-a-sky",
+            MIS_13,
+            "a glossy plate of colour 0.5 (roughness 0.5) seen head-on under a sky of radiance 1: \
+             its normalised lobe about the normal returns all it reflects, radiance 0.5. The \
+             light sample must weigh by the lobe's f and, with MIS, by the lobe's own density, \
+             neither of which is Lambert's here",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: GLOSSY_PLATE_UNDER_A_SKY.to_string(),
+                without: &[],
+                samples: 20_000,
+                expected: 0.5,
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "furnace-mirror-and-glass",
+            NEE_13,
+            "the furnace of albedo 0.5 that emits 1, with a glass ball and a white mirror ball in \
+             it: neither loses light, so every pixel is still 2. A light a mirror's or glass's \
+             ray finds counts fully, as no light sample could aim along that ray",
+            CaseKind::Converges(ConvergesCase {
+                function: "shade_path",
+                scene: inside_sphere(0.5, 1.0, MIRROR_AND_GLASS),
+                without: &[],
+                samples: 20_000,
+                expected: 2.0,
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "absorbing-ball",
+            EQUATION_13,
+            "a ball of radius 1 that absorbs 0.5 per unit (index 1: no bending, no reflection), \
+             seen through its centre against a wall of radiance 1: the light crosses 2 units of \
+             it, exp(-0.5 x 2) = exp(-1) = 0.367879. shade_path dims what a ray sees by the \
+             medium it crossed",
+            CaseKind::Converges(ConvergesCase {
+                function: "shade_path",
+                scene: ABSORBING_BALL.to_string(),
+                without: &[],
+                samples: 256,
+                expected: (-1.0f64).exp(),
+                seed: 0,
+            }),
+        ),
+        Case::new(
+            "furnace-max-depth",
+            ROULETTE_13,
+            "the furnace of albedo 0.5 that emits 1 with max_depth = 2, without light samples \
+             nor roulette: the camera's point and two bounces, 1 + 0.5 + 0.25 = 1.75 (a path \
+             bounces at most max_depth times)",
+            CaseKind::Converges(ConvergesCase {
+                function: "shade_path",
+                scene: inside_sphere(0.5, 1.0, "").replace("max_depth = 64", "max_depth = 2"),
+                without: &["next-event", "russian-roulette"],
+                samples: 256,
+                expected: 1.75,
+                seed: 0,
+            }),
+        ),
     ]
 }
+
+/// A floor under a black roof, a point light above the roof.
+const LIGHT_OVER_A_ROOF: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 0.5, -1.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+width = 8
+height = 8
+samples = 1
+max_depth = 8
+[[lights]]
+position = [0.0, 2.0, 0.0]
+intensity = 10.0
+[[objects]]
+name = "floor"
+quad = { corner = [-10.0, 0.0, -10.0], u = [0.0, 0.0, 20.0], v = [20.0, 0.0, 0.0] }
+material = { color = [0.8, 0.8, 0.8] }
+[[objects]]
+name = "black roof"
+quad = { corner = [-10.0, 1.0, -10.0], u = [20.0, 0.0, 0.0], v = [0.0, 0.0, 20.0] }
+material = { color = [0.0, 0.0, 0.0] }
+"#;
+
+/// A glossy plate facing the camera inside a sphere that glows inward
+/// with radiance 1 and reflects nothing: seen head-on (a 1-degree view),
+/// the plate's normalised lobe lies about its normal, and the plate
+/// returns its colour times the sky.
+const GLOSSY_PLATE_UNDER_A_SKY: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 0.0, -0.5]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 1.0
+[render]
+width = 8
+height = 8
+samples = 1
+max_depth = 64
+[[objects]]
+name = "sky"
+sphere = { center = [0.0, 0.0, 0.0], radius = 1.0 }
+material = { color = [0.0, 0.0, 0.0], emission = [1.0, 1.0, 1.0], two_sided = true }
+[[objects]]
+name = "glossy plate"
+quad = { corner = [-0.6, -0.6, 0.0], u = [0.0, 1.2, 0.0], v = [1.2, 0.0, 0.0] }
+material = { color = [0.5, 0.5, 0.5], reflectivity = 1.0, roughness = 0.5 }
+"#;
+
+/// A glass ball and a white mirror ball inside the furnace, in the
+/// camera's view.
+const MIRROR_AND_GLASS: &str = r#"
+[[objects]]
+name = "glass ball"
+sphere = { center = [-0.2, 0.0, 0.5], radius = 0.25 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.5, fresnel = "exact" }
+[[objects]]
+name = "mirror ball"
+sphere = { center = [0.3, 0.0, 0.5], radius = 0.2 }
+material = { color = [1.0, 1.0, 1.0], reflectivity = 1.0 }
+"#;
+
+/// A ball that absorbs but neither bends nor reflects (index 1), seen
+/// through its centre in a narrow view, against a black wall glowing
+/// with radiance 1.
+const ABSORBING_BALL: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 0.0, 0.0]
+look_at = [0.0, 0.0, 3.0]
+fov_degrees = 0.2
+[render]
+width = 8
+height = 8
+samples = 1
+max_depth = 64
+[[objects]]
+name = "glowing wall"
+sphere = { center = [0.0, 0.0, 0.0], radius = 10.0 }
+material = { color = [0.0, 0.0, 0.0], emission = [1.0, 1.0, 1.0], two_sided = true }
+[[objects]]
+name = "absorbing ball"
+sphere = { center = [0.0, 0.0, 3.0], radius = 1.0 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.0, fresnel = "exact", absorption = [0.5, 0.5, 0.5] }
+"#;
 
 /// A floor lit only by a light under it, shining from both faces up at
 /// the floor's underside: seen from above, black.

@@ -437,3 +437,24 @@ fn the_false_alarm_rate_is_corrected_for_at_least_every_statistical_case() {
         .count();
     assert!((1..=crate::check::cases::STATISTICAL_CASES).contains(&statistical));
 }
+
+/// `grade --code --fresh` runs every checkpoint on other numbers (the
+/// closed scenes on other streams): the reference must pass each draw, or
+/// a correct student would fail one.
+#[test]
+fn the_reference_passes_fresh_draws_of_the_checkpoints() {
+    use crate::check::Outcome;
+    for seed in 1..=2 {
+        for case in crate::check::catalog::checkpoints(13) {
+            if let Some(fresh) = case.fresh(seed) {
+                assert_eq!(
+                    fresh.run::<Reference>(),
+                    Outcome::Pass,
+                    "{} under seed {seed}: {}",
+                    case.name,
+                    fresh.kind.inputs()
+                );
+            }
+        }
+    }
+}

@@ -153,6 +153,19 @@ pub fn checkpoints() -> Vec<Case> {
             },
         ),
         Case::new(
+            "dispersion-draws-a-wavelength",
+            DISPERSION_14,
+            "20,000 paths each meet a dispersive glass (a = 1.6, b = 0.05) twice: at the first \
+             surface each draws a wavelength uniform over 380..780 nm (a chi-square test on 20 \
+             bins), keeps it (tracer.set_wavelength) and returns its index a + b / lambda^2 and \
+             its colour rgb_weight(lambda); at the second, the same index and no colour, (1, 1, 1)",
+            CaseKind::Dispersion(DispersionCase {
+                cauchy: Cauchy { a: 1.6, b: 0.05 },
+                paths: 20_000,
+                seed: 0,
+            }),
+        ),
+        Case::new(
             "prism-minimum-deviation-red",
             DISPERSION_14,
             "a 60-degree prism of SF10 at 650 nm (n = 1.76); turned through every angle of \
@@ -264,8 +277,153 @@ material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b 
                 first_seed: 1,
             }),
         ),
+        converges(
+            "box-lit-inside-seen-from-outside",
+            SPLAT_14,
+            "connect_to_camera",
+            "a closed box lit inside by a point light in a glass ball, seen from outside: the \
+             outside of the box is black (exactly 0). The near wall's lit inside faces away \
+             from the camera (the camera must see the lit side), and the far walls' lit \
+             insides face it with the near wall between (the shadow ray to the camera must be \
+             cast)",
+            BOX_LIT_INSIDE.to_string(),
+            0.0,
+        ),
+        converges(
+            "glossy-floor-under-a-beam-through-glass",
+            SPLAT_14,
+            "connect_to_camera",
+            "a beam of irradiance pi through a ball of index 1 (no bending, no reflection) onto \
+             a glossy floor of colour 0.5 and Phong exponent 2 (roughness 1 / sqrt 2), 60 \
+             degrees from its normal, seen from the mirror direction: the lobe's peak, \
+             0.5 (2 + 2) / (2 pi), times the irradiance pi cos 60: radiance 0.5 (Lambert's \
+             0.5 / pi would give 0.25). The light sent to the camera is the lobe's f toward it",
+            GLOSSY_FLOOR_UNDER_A_BEAM.to_string(),
+            0.5,
+        ),
+        converges(
+            "beam-through-absorbing-glass",
+            LIGHT_PATHS_14,
+            "trace_light_path",
+            "a beam of irradiance pi down through a ball of radius 0.25 that absorbs 2 per unit \
+             (index 1: no bending, no reflection) onto a matte floor of albedo 0.5, seen near \
+             the beam's axis (max_depth = 3: no light bounced back): the light crosses 0.5 \
+             units of the ball, so the floor's radiance is 0.5 exp(-2 x 0.5) = 0.18394. A light \
+             path's power is dimmed by the medium it crosses",
+            BEAM_THROUGH_ABSORBING_GLASS.to_string(),
+            0.5 * (-1.0f64).exp(),
+        ),
     ]
 }
+
+/// A closed box of six matte quads (each a little wider than the box, so
+/// that no ray slips out along an edge) with a point light inside a glass
+/// ball at its centre, and the camera outside it.
+const BOX_LIT_INSIDE: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.3, 0.4, -3.0]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 60.0
+[render]
+width = 8
+height = 8
+samples = 4
+light_paths = 64
+max_depth = 16
+[[lights]]
+position = [0.0, 0.0, 0.0]
+intensity = 10.0
+[[objects]]
+name = "glass ball"
+sphere = { center = [0.0, 0.0, 0.0], radius = 0.25 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.5, fresnel = "exact" }
+[[objects]]
+name = "near wall"
+quad = { corner = [-1.1, -1.1, -1.0], u = [2.2, 0.0, 0.0], v = [0.0, 2.2, 0.0] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "far wall"
+quad = { corner = [-1.1, -1.1, 1.0], u = [2.2, 0.0, 0.0], v = [0.0, 2.2, 0.0] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "left wall"
+quad = { corner = [-1.0, -1.1, -1.1], u = [0.0, 2.2, 0.0], v = [0.0, 0.0, 2.2] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "right wall"
+quad = { corner = [1.0, -1.1, -1.1], u = [0.0, 2.2, 0.0], v = [0.0, 0.0, 2.2] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "floor"
+quad = { corner = [-1.1, -1.0, -1.1], u = [2.2, 0.0, 0.0], v = [0.0, 0.0, 2.2] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "ceiling"
+quad = { corner = [-1.1, 1.0, -1.1], u = [2.2, 0.0, 0.0], v = [0.0, 0.0, 2.2] }
+material = { color = [0.5, 0.5, 0.5] }
+"#;
+
+/// A beam 60 degrees from the vertical through a ball of index 1 onto a
+/// glossy floor, the camera on the mirror direction of the beam, 0.5 from
+/// the lit spot, with a 2-degree view: every pixel sees the lobe's peak
+/// within 0.1%.
+const GLOSSY_FLOOR_UNDER_A_BEAM: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.4330127, 0.25, 0.0]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 2.0
+[render]
+width = 8
+height = 8
+samples = 4
+light_paths = 256
+max_depth = 3
+[[beams]]
+position = [-1.7320508, 1.0, 0.0]
+direction = [0.8660254, -0.5, 0.0]
+radius = 0.05
+intensity = 3.14159265
+[[objects]]
+name = "glossy floor"
+quad = { corner = [-2.0, 0.0, -2.0], u = [0.0, 0.0, 4.0], v = [4.0, 0.0, 0.0] }
+material = { color = [0.5, 0.5, 0.5], reflectivity = 1.0, roughness = 0.70710678 }
+[[objects]]
+name = "clear ball"
+sphere = { center = [-0.8660254, 0.5, 0.0], radius = 0.2 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.0, fresnel = "exact" }
+"#;
+
+/// A beam of radius 0.05 straight down through an absorbing ball of index
+/// 1 onto a floor, the camera looking steeply at the middle of the lit
+/// spot through a 2-degree view that stays within 0.02 of the axis.
+const BEAM_THROUGH_ABSORBING_GLASS: &str = r#"
+background = [0.0, 0.0, 0.0]
+[camera]
+position = [0.0, 0.2, -0.4]
+look_at = [0.0, 0.0, 0.0]
+fov_degrees = 2.0
+[render]
+width = 8
+height = 8
+samples = 4
+light_paths = 256
+max_depth = 3
+[[beams]]
+position = [0.0, 1.0, 0.0]
+direction = [0.0, -1.0, 0.0]
+radius = 0.05
+intensity = 3.14159265
+[[objects]]
+name = "floor"
+quad = { corner = [-2.0, 0.0, -2.0], u = [0.0, 0.0, 4.0], v = [4.0, 0.0, 0.0] }
+material = { color = [0.5, 0.5, 0.5] }
+[[objects]]
+name = "absorbing ball"
+sphere = { center = [0.0, 0.5, 0.0], radius = 0.25 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, ior = 1.0, fresnel = "exact", absorption = [2.0, 2.0, 2.0] }
+"#;
 
 /// A glass ball above a floor, lit from below the floor by a point light:
 /// the light's paths reach the floor's underside only.

@@ -316,3 +316,32 @@ fn cauchy_gives_bk7_its_catalogue_index() {
 // The bug gallery of this chapter.
 #[path = "gallery.rs"]
 mod gallery;
+
+/// `grade --code --fresh` runs the checkpoints on other seeds: the
+/// reference must pass the dispersion case and the two closed scenes that
+/// check the shadow ray to the camera and absorption on other seeds too.
+#[test]
+fn the_reference_passes_fresh_draws_of_the_new_checkpoints() {
+    use crate::check::Outcome;
+    let new = [
+        "dispersion-draws-a-wavelength",
+        "box-lit-inside-seen-from-outside",
+        "glossy-floor-under-a-beam-through-glass",
+        "beam-through-absorbing-glass",
+    ];
+    for seed in 1..=2 {
+        for case in crate::check::catalog::checkpoints(14) {
+            if !new.contains(&case.name) {
+                continue;
+            }
+            let fresh = case.fresh(seed).expect("a statistical case draws anew");
+            assert_eq!(
+                fresh.run::<Reference>(),
+                Outcome::Pass,
+                "{} under seed {seed}: {}",
+                case.name,
+                fresh.kind.inputs()
+            );
+        }
+    }
+}

@@ -24,10 +24,12 @@ pub use super::cases::{
     inside_sphere, inside_sphere_glowing_outward,
 };
 pub use super::cases::{
+    DispersionCase, LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase,
+};
+pub use super::cases::{
     ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
     surface_of,
 };
-pub use super::cases::{LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase};
 #[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};
 #[cfg(feature = "student")]

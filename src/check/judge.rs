@@ -952,6 +952,7 @@ mod tests {
                         | super::super::CaseKind::LightConverges(_)
                         | super::super::CaseKind::Lens(_)
                         | super::super::CaseKind::CosineSample(_)
+                        | super::super::CaseKind::Dispersion(_)
                 );
                 let seeds: &[u64] = if statistical {
                     &[1]

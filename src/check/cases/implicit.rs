@@ -324,7 +324,10 @@ impl NewtonFunction {
 /// `newton_bracketed(g, bracket, tolerance, max_iterations)`: expected
 /// `expect` within `within`, and in at most `most_evaluations` calls of
 /// `g` when that is given (a method that stops when its step is below the
-/// tolerance, not at `max_iterations`).
+/// tolerance, not at `max_iterations`). Every case also checks the method's
+/// state, not only its answer: each point where `g` is evaluated lies in
+/// the bracket as the points before it have shrunk it (the half without
+/// the sign change dropped after each), so the bracket only shrinks.
 #[derive(Debug, Clone)]
 pub struct NewtonCase {
     pub function: NewtonFunction,
@@ -356,6 +359,34 @@ pub struct NewtonAnswer {
     pub root: f32,
     pub calls: u64,
     pub at: Vec<f32>,
+}
+
+impl NewtonCase {
+    /// The first point of `at` outside the bracket as the points before it
+    /// shrank it, and that bracket: the bracket starts as the case's, and
+    /// each point where `g` has the sign of `g(low)` becomes its low end,
+    /// each where it has the other sign its high end (the ends count as
+    /// inside; a zero of `g` moves neither, as the method stops there).
+    /// The signs are the student's own: `g` in `f32`, as it was called.
+    fn outside_the_bracket(&self, at: &[f32]) -> Option<(f32, (f32, f32))> {
+        let (mut low, mut high) = self.bracket;
+        let low_positive = self.function.narrow(low).0 > 0.0;
+        for &t in at {
+            if !(low <= t && t <= high) {
+                return Some((t, (low, high)));
+            }
+            let value = self.function.narrow(t).0;
+            if value == 0.0 {
+                continue;
+            }
+            if (value > 0.0) == low_positive {
+                low = t;
+            } else {
+                high = t;
+            }
+        }
+        None
+    }
 }
 
 impl Kind for NewtonCase {
@@ -407,8 +438,25 @@ impl Kind for NewtonCase {
 
     fn judge(&self, answer: NewtonAnswer, _robust: bool) -> Outcome {
         let NewtonAnswer {
-            root: got, calls, ..
+            root: got,
+            calls,
+            at,
         } = answer;
+        if let Some((t, (low, high))) = self.outside_the_bracket(&at) {
+            return verdict(
+                false,
+                "every point where g is evaluated inside the bracket, which only shrinks: \
+                 after each, the half without the sign change is dropped"
+                    .into(),
+                format!(
+                    "g evaluated at {} when the points before it had shrunk the bracket to \
+                     [{}, {}]",
+                    num(t),
+                    num(low),
+                    num(high)
+                ),
+            );
+        }
         let expected = format!("{} (within {})", num64(self.expect), num64(self.within));
         let close = got.is_finite() && (f64::from(got) - self.expect).abs() <= self.within;
         match self.most_evaluations {
@@ -468,9 +516,9 @@ impl Kind for NewtonCase {
 }
 
 /// `implicit_normal(surface, point)` with the surface's normal method:
-/// expected the exact gradient's direction (analytic, tetrahedron), or the
-/// central difference evaluated in `f64` with the same step, within
-/// `within` radians.
+/// expected the exact gradient's direction (analytic), or the method's
+/// differences evaluated in `f64` with the same step (central, either
+/// tetrahedron), unit and within `within` radians.
 #[derive(Debug, Clone)]
 pub struct ImplicitNormalCase {
     pub surface: Implicit,
@@ -508,23 +556,27 @@ impl Kind for ImplicitNormalCase {
 
     fn judge(&self, got: Vec3, _robust: bool) -> Outcome {
         let march = self.surface.march();
-        // The tetrahedron's corners have a third moment, so its error is of
-        // order h (which way it leans depends on which tetrahedron): it is
-        // judged against the gradient itself, with its case's wider angle.
-        let method = match march.normal {
-            NormalMethod::Tetrahedron => NormalMethod::Analytic,
-            method => method,
-        };
-        let expected = exact::difference_normal(
+        let (tree, point, step) = (
             self.surface.tree(),
             wide(self.point),
-            method,
             f64::from(march.normal_step),
         );
+        let expected = exact::difference_normal(tree, point, march.normal, step);
         let g = wide(got);
-        let pass = got.is_finite()
-            && (g.length() - 1.0).abs() <= 1e-4
-            && exact::angle(g, expected) <= self.within;
+        // The tetrahedron's corners have a third moment, so its error is of
+        // order h and leans one way or the other depending on which
+        // tetrahedron: the lesson's corners `k` or the opposite ones `-k`
+        // (their sum is minus the lesson's with the step `-h`), and
+        // either is right.
+        let angle = match march.normal {
+            NormalMethod::Tetrahedron => {
+                let opposite =
+                    -exact::difference_normal(tree, point, NormalMethod::Tetrahedron, -step);
+                exact::angle(g, expected).min(exact::angle(g, opposite))
+            }
+            _ => exact::angle(g, expected),
+        };
+        let pass = got.is_finite() && (g.length() - 1.0).abs() <= 1e-4 && angle <= self.within;
         verdict(
             pass,
             format!(

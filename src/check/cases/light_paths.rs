@@ -729,3 +729,211 @@ impl Kind for LensCase {
 /// it over its footprint on the screen, and it grows by 4% from the axis
 /// to the disk's edge; half a per cent covers that.
 pub const LENS_ALLOWANCE: f64 = 5e-3;
+
+/// `dispersive_ior` at the first dispersive surface of `paths` paths and
+/// again at a second one: on the first, each path draws a wavelength
+/// uniform over the visible range, keeps it (`tracer.wavelength()`), and
+/// returns the Cauchy index of that wavelength with its colour
+/// (`rgb_weight`); on the second, the same index and no colour (white).
+/// The wavelengths' spread is a chi-square test on 20 equal bins of
+/// 380..780 nm, at [`FALSE_ALARM`]; the rest is exact for each path.
+#[derive(Debug, Clone)]
+pub struct DispersionCase {
+    pub cauchy: Cauchy,
+    pub paths: u32,
+    /// The paths' streams' seed: 0 for the lesson's, `grade --fresh`'s
+    /// otherwise.
+    pub seed: u64,
+}
+
+/// A [`DispersionCase`]'s call: Cauchy's coefficients as numbers.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub struct DispersionCall {
+    pub a: f32,
+    pub b: f32,
+    pub paths: u32,
+    pub seed: u64,
+}
+
+/// What one path's two calls of `dispersive_ior` gave, and the wavelength
+/// the path kept after the first.
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
+pub struct DispersedTwice {
+    pub first: (f32, Vec3),
+    pub kept: Option<f32>,
+    pub second: (f32, Vec3),
+}
+
+/// Bins of the wavelength test.
+const WAVELENGTH_BINS: usize = 20;
+
+/// A scene for the stage the dispersion case's tracer comes from: the
+/// stage's objects play no part.
+const DISPERSION_STAGE: &str = r#"
+[camera]
+position = [0.0, 0.0, -2.0]
+look_at = [0.0, 0.0, 0.0]
+[render]
+width = 4
+height = 4
+[[objects]]
+sphere = { center = [0.0, 0.0, 0.0], radius = 1.0 }
+material = { color = [1.0, 1.0, 1.0], transparency = 1.0, cauchy = { a = 1.6, b = 0.05 } }
+"#;
+
+impl Kind for DispersionCase {
+    type Call = DispersionCall;
+    type Answer = Vec<DispersedTwice>;
+
+    fn statistical(&self) -> bool {
+        true
+    }
+
+    fn function(&self) -> &'static str {
+        "dispersive_ior"
+    }
+
+    fn inputs(&self) -> String {
+        format!(
+            "dispersive_ior(tracer, Cauchy {{ a: {}, b: {} }}) twice on each of {} new paths{}",
+            num(self.cauchy.a),
+            num(self.cauchy.b),
+            self.paths,
+            if self.seed == 0 {
+                String::new()
+            } else {
+                format!(", stream seed {}", self.seed)
+            }
+        )
+    }
+
+    fn call(&self) -> DispersionCall {
+        DispersionCall {
+            a: self.cauchy.a,
+            b: self.cauchy.b,
+            paths: self.paths,
+            seed: self.seed,
+        }
+    }
+
+    fn ask<C: Chapters>(call: &DispersionCall) -> Result<Vec<DispersedTwice>, String> {
+        if call.paths > MOST_DISPERSED_PATHS {
+            return Err(format!(
+                "{} paths asked, more than {MOST_DISPERSED_PATHS}",
+                call.paths
+            ));
+        }
+        let mut scene = parse(DISPERSION_STAGE)?;
+        if call.seed != 0 {
+            scene.render.seed = call.seed;
+        }
+        let stage = Stage::<C>::with_chapters(&scene, 14, scene.render)
+            .map_err(|error| error.to_string())?;
+        let mut tracer = stage.tracer(None);
+        let cauchy = Cauchy {
+            a: call.a,
+            b: call.b,
+        };
+        Ok((0..call.paths)
+            .map(|path| {
+                tracer.begin_path(u64::from(path));
+                let first = C::dispersive_ior(&mut tracer, &cauchy);
+                let kept = tracer.wavelength();
+                let second = C::dispersive_ior(&mut tracer, &cauchy);
+                DispersedTwice {
+                    first: (first.ior, first.tint),
+                    kept,
+                    second: (second.ior, second.tint),
+                }
+            })
+            .collect())
+    }
+
+    fn judge(&self, draws: Vec<DispersedTwice>, _robust: bool) -> Outcome {
+        if draws.len() != self.paths as usize {
+            return super::intersections::wrong_length(self.paths as usize, draws.len());
+        }
+        let (low, high) = crate::spectrum::VISIBLE;
+        let (a, b) = (f64::from(self.cauchy.a), f64::from(self.cauchy.b));
+        let close_to = |got: Vec3, want: Vec3| (got - want).abs().max_element() <= 1e-4;
+        let mut observed = vec![0f64; WAVELENGTH_BINS];
+        for (path, draw) in draws.iter().enumerate() {
+            let Some(nanometres) = draw.kept.filter(|nm| (low..=high).contains(nm)) else {
+                return verdict(
+                    false,
+                    format!(
+                        "path {path}: a wavelength in {low}..{high} nm kept by the path \
+                         (tracer.set_wavelength) after the first dispersive surface"
+                    ),
+                    match draw.kept {
+                        Some(nm) => format!("the path kept {} nm", num(nm)),
+                        None => "no wavelength kept".into(),
+                    },
+                );
+            };
+            let index = exact::cauchy(a, b, f64::from(nanometres));
+            if !close(f64::from(draw.first.0), index, CHECKPOINT_TOLERANCE) {
+                return verdict(
+                    false,
+                    format!(
+                        "path {path}: the index of the wavelength it kept, {} nm: {}",
+                        num(nanometres),
+                        num64(index)
+                    ),
+                    format!("index {}", num(draw.first.0)),
+                );
+            }
+            let colour = crate::spectrum::rgb_weight(nanometres);
+            if !close_to(draw.first.1, colour) {
+                return verdict(
+                    false,
+                    format!(
+                        "path {path}: the colour of its wavelength, {} nm: {}",
+                        num(nanometres),
+                        vec(colour)
+                    ),
+                    format!("colour {}", vec(draw.first.1)),
+                );
+            }
+            if draw.second.0 != draw.first.0 || !close_to(draw.second.1, Vec3::ONE) {
+                return verdict(
+                    false,
+                    format!(
+                        "path {path}: at its second dispersive surface the same index, {}, and \
+                         no colour again, (1, 1, 1)",
+                        num(draw.first.0)
+                    ),
+                    format!(
+                        "index {} and colour {}",
+                        num(draw.second.0),
+                        vec(draw.second.1)
+                    ),
+                );
+            }
+            let share = f64::from((nanometres - low) / (high - low));
+            let bin = ((share * WAVELENGTH_BINS as f64) as usize).min(WAVELENGTH_BINS - 1);
+            observed[bin] += 1.0;
+        }
+        let expected = vec![f64::from(self.paths) / WAVELENGTH_BINS as f64; WAVELENGTH_BINS];
+        let (statistic, p_value) = super::paths::pearson(&observed, &expected);
+        verdict(
+            p_value >= FALSE_ALARM,
+            format!(
+                "wavelengths uniform over {low}..{high} nm: a chi-square p-value above \
+                 {FALSE_ALARM:.0e}"
+            ),
+            format!("chi-square {statistic:.1}, p-value {p_value:.2e}"),
+        )
+    }
+
+    /// Other streams: the same test on other numbers.
+    fn fresh(&self, draw: &mut Draw) -> Option<DispersionCase> {
+        Some(DispersionCase {
+            seed: draw.word() | 1,
+            ..self.clone()
+        })
+    }
+}
+
+/// The most paths a dispersion case may ask for.
+const MOST_DISPERSED_PATHS: u32 = 1 << 20;

@@ -32,7 +32,7 @@ pub use implicit::{
 pub use inputs::{num, num64, vec};
 pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
 pub use light_paths::{
-    LENS_ALLOWANCE, LensCase, LightConvergesCase, LightFormula, LightFormulaCase,
+    DispersionCase, LENS_ALLOWANCE, LensCase, LightConvergesCase, LightFormula, LightFormulaCase,
     PRISM_TOLERANCE_DEGREES, PrismCase, linear_image,
 };
 pub use paths::{
@@ -316,6 +316,7 @@ kinds! {
     LightConverges(LightConvergesCase),
     Lens(LensCase),
     Prism(PrismCase),
+    Dispersion(DispersionCase),
 }
 
 /// What a `BvhBuild` case asks of the tree's shape, beyond its being valid.
