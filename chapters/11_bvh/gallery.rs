@@ -8,8 +8,7 @@
 //! plainer wide walk) pass; and the tree changes no pixel.
 
 use raylab::bvh::{
-    Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh,
-    WideNode,
+    Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
 };
 use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
@@ -637,7 +636,8 @@ fn plain_fold(bvh: &Bvh, shapes: &[Shape], rules: FoldRules) -> WideBvh {
             node.boxes.set(lane, lane_box);
             if child.is_leaf() {
                 node.first[lane] = wide.leaves.len() as u32;
-                for group in bvh.primitives[child.primitive_range()].chunks(rules.objects_per_leaf4) {
+                for group in bvh.primitives[child.primitive_range()].chunks(rules.objects_per_leaf4)
+                {
                     let mut leaf = Leaf4 {
                         triangles: Triangles4::NAN,
                         objects: [u32::MAX; WIDTH],
@@ -1227,7 +1227,10 @@ fn build_with(bounds: &[Option<Aabb>], options: &BvhOptions, rules: BuildRules) 
             Some(_) => bvh.primitives.push(object as u32),
             None => bvh.unbounded.push(object as u32),
         }
-        let boxed = boxed.map_or(Aabb::EMPTY, |bounds| if rules.pads { pad(bounds) } else { bounds });
+        let boxed = boxed.map_or(
+            Aabb::EMPTY,
+            |bounds| if rules.pads { pad(bounds) } else { bounds },
+        );
         boxes.push(boxed);
     }
     let centroids: Vec<Vec3> = boxes.iter().map(|b| 0.5 * b.min + 0.5 * b.max).collect();
@@ -1265,9 +1268,9 @@ fn build_with(bounds: &[Option<Aabb>], options: &BvhOptions, rules: BuildRules) 
         };
         let left_count = match cut {
             Cutting::Halves => objects.len() / 2,
-            Cutting::Below { axis, position } => {
-                reorder(objects, |o| f64::from(centroids[o as usize][axis]) < position)
-            }
+            Cutting::Below { axis, position } => reorder(objects, |o| {
+                f64::from(centroids[o as usize][axis]) < position
+            }),
             Cutting::BinsBefore {
                 axis,
                 low,
@@ -1573,8 +1576,14 @@ fn nearest_walk<C: Chapters>(
         _ => t_max,
     };
     let enter = |node: usize, best: Option<Hit>| {
-        C::hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, closest(best))
-            .map(|entry| (node, entry))
+        C::hit_box(
+            &bvh.nodes[node].bounds,
+            ray.origin,
+            inverse,
+            t_min,
+            closest(best),
+        )
+        .map(|entry| (node, entry))
     };
     let mut stack: Vec<(usize, f32)> = Vec::new();
     if !bvh.nodes.is_empty() {
@@ -1849,9 +1858,8 @@ fn boxes_with(
         exit = raylab::bvh::lesser_of(far, exit);
     }
     if slip != BoxesSlip::Unwidened {
-        let slack = |t: Vec4| {
-            raylab::bvh::lesser_of(2.0 * super::GAMMA_3 * t.abs(), Vec4::splat(f32::MAX))
-        };
+        let slack =
+            |t: Vec4| raylab::bvh::lesser_of(2.0 * super::GAMMA_3 * t.abs(), Vec4::splat(f32::MAX));
         (entry, exit) = (entry - slack(entry), exit + slack(exit));
     }
     let entry = raylab::bvh::greater_of(Vec4::splat(t_min), entry);
@@ -2088,8 +2096,9 @@ fn wide_any_walk<C: Chapters>(
                         break 'walk;
                     }
                 }
-                let holds_a_triangle = (0..WIDTH)
-                    .any(|lane| leaf.objects[lane] != u32::MAX && leaf.one_by_one & (1 << lane) == 0);
+                let holds_a_triangle = (0..WIDTH).any(|lane| {
+                    leaf.objects[lane] != u32::MAX && leaf.one_by_one & (1 << lane) == 0
+                });
                 if rules.spheres_only_in_sphere_leaves && holds_a_triangle {
                     continue;
                 }
@@ -2106,7 +2115,9 @@ fn wide_any_walk<C: Chapters>(
         }
         let node = &wide.nodes[first as usize];
         let entries = C::hit_boxes(&node.boxes, ray.origin, inverse, t_min, t_max);
-        for lane in (0..WIDTH).filter(|&lane| !entries[lane].is_nan() && node.used_lanes().test(lane)) {
+        for lane in
+            (0..WIDTH).filter(|&lane| !entries[lane].is_nan() && node.used_lanes().test(lane))
+        {
             if stack.len() < rules.stack_cap {
                 stack.push((node.first[lane], node.count[lane]));
             }
