@@ -572,7 +572,9 @@ fn a_point_light_weighed_by_mis_is_caught() {
 
 #[test]
 fn a_point_light_not_divided_by_its_chance_is_caught() {
-    assert_caught::<PointLightUndivided>("two-point-lights-in-sphere");
+    // The glowing sphere is a second light: the point light is chosen
+    // with chance 1/2, and undivided it gives 0.25, not 0.5 (radiance 2.5).
+    assert_caught::<PointLightUndivided>("point-light-in-a-glowing-sphere");
 }
 
 #[test]
