@@ -24,7 +24,7 @@ pub type Spawn = dyn Fn() -> std::io::Result<(std::process::Command, Box<dyn std
     + Sync;
 
 /// A notice that a step takes long: called once per step, after
-/// [`Remote::stall_after`].
+/// `Remote::stall_after`.
 pub type StallNotice = dyn Fn(&Step, Duration) + Send + Sync;
 
 /// How much of what a student's process writes to its standard error is

@@ -352,7 +352,7 @@ pub struct BvhHitsCase {
     pub any: bool,
     pub wide: bool,
     /// Also judges the walk's steps as the lesson gives them, seen through
-    /// the objects it asks (see [`steps_problem`]).
+    /// the objects it asks (see `steps_problem`).
     pub steps: bool,
 }
 
@@ -483,8 +483,8 @@ impl Kind for BvhHitsCase {
         Ok((walked, steps.then_some(WalkedTrees { bvh, wide: None })))
     }
 
-    /// The same rule at both levels (see [`judge_walks`]), and, for a case
-    /// that judges them, the walk's steps (see [`steps_problem`]).
+    /// The same rule at both levels (see `judge_walks`), and, for a case
+    /// that judges them, the walk's steps (see `steps_problem`).
     fn judge(&self, (walked, trees): Self::Answer, _robust: bool) -> Outcome {
         let answers = judge_walks(&self.rays, self.any, &walked);
         if answers != Outcome::Pass || !self.steps {

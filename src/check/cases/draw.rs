@@ -133,8 +133,8 @@ impl Draw {
         DMat3::from_cols(columns[0], columns[1], columns[2])
     }
 
-    /// A motion of the whole case: rotation, scale in [`MOTION_SCALE`],
-    /// shift within [`MOTION_SHIFT`] on each axis.
+    /// A motion of the whole case: rotation, scale in `MOTION_SCALE`,
+    /// shift within `MOTION_SHIFT` on each axis.
     pub fn motion(&mut self) -> Motion {
         let turn = self.rotation();
         self.motion_with(turn)

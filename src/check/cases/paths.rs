@@ -128,7 +128,7 @@ pub fn pearson(observed: &[f64], expected: &[f64]) -> (f64, f64) {
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CosineSampleCase {
     pub samples: u32,
-    /// The stream's seed ([`seeded_stream`]): 0, or `grade --fresh`'s.
+    /// The stream's seed (`seeded_stream`): 0, or `grade --fresh`'s.
     pub seed: u64,
 }
 
