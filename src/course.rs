@@ -487,6 +487,40 @@ pub trait Chapters: Sized + Send + Sync + 'static {
     }
 }
 
+/// The reference's answer to each of [`Chapters`]' functions, by the
+/// function's name: what a variant that does not override one falls back
+/// on (src/check/planted.rs).
+#[cfg(not(feature = "student"))]
+pub(crate) mod reference {
+    pub(crate) use crate::chapters::ch01_plane::intersect_plane;
+    pub(crate) use crate::chapters::ch02_sphere::intersect_sphere;
+    pub(crate) use crate::chapters::ch03_nearest::nearest_hit;
+    pub(crate) use crate::chapters::ch04_shadows::{in_shadow, offset_origin, shade_flat};
+    pub(crate) use crate::chapters::ch05_phong::{phong_terms, shade_phong};
+    pub(crate) use crate::chapters::ch06_reflection::{reflect, shade_mirror};
+    pub(crate) use crate::chapters::ch07_antialiasing::{pixel_color, sample_offset};
+    pub(crate) use crate::chapters::ch08_refraction::{refract, shade_glass};
+    pub(crate) use crate::chapters::ch09_glass::{
+        crossing, fresnel, schlick, shade_dielectric, transmittance,
+    };
+    pub(crate) use crate::chapters::ch10_triangles::{
+        barycentric, intersect_triangle, smooth_hit_point, smooth_normal, terminator_point,
+    };
+    pub(crate) use crate::chapters::ch11_bvh::{
+        any_hit_bvh, any_hit_wide, build_bvh, collapse_bvh, hit_box, hit_boxes,
+        intersect_triangles, nearest_hit_bvh, nearest_hit_wide,
+    };
+    pub(crate) use crate::chapters::ch12_implicit::{
+        implicit_normal, intersect_implicit, newton_bracketed, sphere_trace,
+    };
+    pub(crate) use crate::chapters::ch13_path_tracing::{
+        cosine_hemisphere, cosine_pdf, next_event, power_heuristic, russian_roulette, shade_path,
+    };
+    pub(crate) use crate::chapters::ch14_caustics::{
+        cauchy_ior, connect_to_camera, dispersive_ior, splat_weight, trace_light_path,
+    };
+}
+
 /// The chapters `C` with the textbook tests in place of `C`'s where asked:
 /// chapter 2's quadratic formula when `SPHERE` (the comparison setting
 /// `sphere_formula = "textbook"`), chapter 10's Moller-Trumbore test when

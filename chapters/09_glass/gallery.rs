@@ -4,6 +4,7 @@
 //! checker will plant (each a `Chapters` variant that must show).
 
 use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::course::{Chapters, HitPoint};
 use raylab::medium::{Crossing, MediumStack};
 use raylab::render::Tracer;
@@ -210,11 +211,14 @@ material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, transparency
 
 /// Every ray the one pixel of `scene` casts at stage 9 with chapters `C`,
 /// and the pixel's linear colour.
-fn cast<C: Chapters>(scene: &Scene) -> (Vec<CastRay>, Vec3) {
-    let stage = Stage::<C>::with_chapters(scene, 9, scene.render).expect("valid settings");
-    let mut recorder = RayRecorder::default();
-    let color = stage.tracer(Some(&mut recorder)).pixel(0, 0);
-    (recorder.rays, color)
+fn cast<C: Plant>(scene: &Scene) -> (Vec<CastRay>, Vec3) {
+    planted::with::<C, _>(|| {
+        let stage =
+            Stage::<Planted>::with_chapters(scene, 9, scene.render).expect("valid settings");
+        let mut recorder = RayRecorder::default();
+        let color = stage.tracer(Some(&mut recorder)).pixel(0, 0);
+        (recorder.rays, color)
+    })
 }
 
 /// The `sin` of the angle between `dir` and the vertical.
@@ -308,7 +312,8 @@ thread_local! {
 
 /// The reference, recording each crossing it computes.
 struct RecordCrossings;
-impl Chapters for RecordCrossings {
+plant! {
+    RecordCrossings;
     fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
         let crossing = raylab::chapters::ch09_glass::crossing(media, point);
         CROSSINGS.with(|c| {
@@ -528,18 +533,20 @@ fn scene_files_refuse_bad_fresnel_and_absorption_with_clear_errors() {
 
 // ------------------------------------------- the bug gallery of chapter 9
 
-fn image<C: Chapters>(scene: &Scene) -> Vec<u8> {
-    let settings = RenderSettings {
-        width: REFERENCE_WIDTH,
-        height: REFERENCE_HEIGHT,
-        ..scene.render
-    };
-    raylab::render_with::<C>(scene, 9, &settings, None)
-        .expect("valid settings")
-        .rgb
+fn image<C: Plant>(scene: &Scene) -> Vec<u8> {
+    planted::with::<C, _>(|| {
+        let settings = RenderSettings {
+            width: REFERENCE_WIDTH,
+            height: REFERENCE_HEIGHT,
+            ..scene.render
+        };
+        raylab::render_with::<Planted>(scene, 9, &settings, None)
+            .expect("valid settings")
+            .rgb
+    })
 }
 
-fn changes_chapter_9<C: Chapters>(what: &str) {
+fn changes_chapter_9<C: Plant>(what: &str) {
     let scene = raylab::builtin::scene(9).expect("built-in scene");
     assert!(
         image::<C>(&scene) != image::<raylab::Reference>(&scene),
@@ -551,7 +558,8 @@ fn changes_chapter_9<C: Chapters>(what: &str) {
 /// cosine is not: entering glass it takes the transmitted angle of a ray
 /// *leaving* glass, and finds total internal reflection past 41.8 degrees.
 struct SchlickSwapped;
-impl Chapters for SchlickSwapped {
+plant! {
+    SchlickSwapped;
     fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
         raylab::schlick(cos_i, n2, n1)
     }
@@ -560,7 +568,8 @@ impl Chapters for SchlickSwapped {
 /// Bug: Schlick leaving a denser medium with `cos t = sqrt(1 - sin^2 t)`
 /// and no test for total internal reflection: NaN past the critical angle.
 struct SchlickNoTir;
-impl Chapters for SchlickNoTir {
+plant! {
+    SchlickNoTir;
     fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
         let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
         let c = if n1 <= n2 {
@@ -576,7 +585,8 @@ impl Chapters for SchlickNoTir {
 /// Bug: air assumed outside every solid (chapter 8's rule kept): water in
 /// glass is crossed with 1 / 1.33 instead of 1.5 / 1.33.
 struct AirOutside;
-impl Chapters for AirOutside {
+plant! {
+    AirOutside;
     fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing {
         let right = raylab::chapters::ch09_glass::crossing(media, point);
         let ior = point.material.ior;
@@ -622,35 +632,39 @@ fn bug_air_assumed_outside_every_solid() {
 // --------------------------- every chapter 9 function draws in its image
 
 struct NoFresnel;
-impl Chapters for NoFresnel {
-    fn fresnel(_: f32, _: f32, _: f32) -> f32 {
+plant! {
+    NoFresnel;
+    fn fresnel(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
         0.0
     }
 }
 
 struct NoSchlick;
-impl Chapters for NoSchlick {
-    fn schlick(_: f32, _: f32, _: f32) -> f32 {
+plant! {
+    NoSchlick;
+    fn schlick(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
         0.0
     }
 }
 
 struct Clear;
-impl Chapters for Clear {
-    fn transmittance(_: Vec3, _: f32) -> Vec3 {
+plant! {
+    Clear;
+    fn transmittance(_absorption: Vec3, _distance: f32) -> Vec3 {
         Vec3::ONE
     }
 }
 
 struct Chapter8Glass;
-impl Chapters for Chapter8Glass {
+plant! {
+    Chapter8Glass;
     fn shade_dielectric(
-        tracer: &mut Tracer<Self>,
+        tracer: &mut Tracer<Planted>,
         point: &HitPoint,
         depth: u32,
         weight: f32,
     ) -> Vec3 {
-        Self::shade_glass(tracer, point, depth, weight)
+        Planted::shade_glass(tracer, point, depth, weight)
     }
 }
 
@@ -721,17 +735,19 @@ fn schlick_gaps() {
 /// Asserts that `raylab check` fails chapter 9 of the chapters `C` on the
 /// case named `case` (the bug gallery of the course, as for chapters 1-8 in
 /// tests/course/check.rs).
-fn caught_by_check<C: Chapters>(case: &str) {
-    let options = raylab::check::CheckOptions {
-        failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),
-        write_images: false,
-        forbid_answer_key: false,
-        fresh: None,
-    };
-    let verdict = raylab::check::check_chapter::<C>(9, &options);
-    let text = verdict.text();
-    assert_eq!(verdict.status, raylab::check::Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
+fn caught_by_check<C: Plant>(case: &str) {
+    planted::with::<C, _>(|| {
+        let options = raylab::check::CheckOptions {
+            failures_dir: std::env::temp_dir().join("raylab-chapter-9-tests"),
+            write_images: false,
+            forbid_answer_key: false,
+            fresh: None,
+        };
+        let verdict = raylab::check::check_chapter::<Planted>(9, &options);
+        let text = verdict.text();
+        assert_eq!(verdict.status, raylab::check::Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+    })
 }
 
 #[test]

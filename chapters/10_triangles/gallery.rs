@@ -5,6 +5,7 @@
 
 use glam::Vec2;
 use raylab::chapters::CHAPTERS;
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::check::{ChapterVerdict, CheckOptions, Level, Status, check_chapter};
 use raylab::course::{Chapters, HitPoint, Textbook};
 use raylab::render::{RayKind, Tracer};
@@ -24,20 +25,22 @@ fn options() -> CheckOptions {
 
 /// Checks chapter 10 with `C` and asserts that it fails on case `case`,
 /// with the earlier chapters (the reference's) not to blame.
-fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
-    let verdict = check_chapter::<C>(CHAPTER, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    assert!(
-        text.contains(&format!(
-            "hint:     read {}/chapters/10_triangles/lesson.md",
-            env!("CARGO_MANIFEST_DIR")
-        )),
-        "{text}"
-    );
-    assert_eq!(verdict.needs, None, "{text}");
-    verdict
+fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(CHAPTER, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+        assert!(
+            text.contains(&format!(
+                "hint:     read {}/chapters/10_triangles/lesson.md",
+                env!("CARGO_MANIFEST_DIR")
+            )),
+            "{text}"
+        );
+        assert_eq!(verdict.needs, None, "{text}");
+        verdict
+    })
 }
 
 /// The reference's Moller-Trumbore with the inside test written by the
@@ -86,7 +89,8 @@ fn inclusive(beta: f32, gamma: f32) -> bool {
 /// of closed opaque models do for speed. The lesson's first ray meets its
 /// triangle's back.
 struct BackFaceCulled;
-impl Chapters for BackFaceCulled {
+plant! {
+    BackFaceCulled;
     fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         moller_trumbore(triangle, ray, t_min, t_max, true, inclusive)
     }
@@ -100,7 +104,8 @@ fn gallery_one_sided_triangle() {
 /// Edges excluded (`beta > 0`, `beta + gamma < 1`): each triangle leaves its
 /// boundary to the neighbour, which leaves it too.
 struct StrictEdges;
-impl Chapters for StrictEdges {
+plant! {
+    StrictEdges;
     fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         moller_trumbore(triangle, ray, t_min, t_max, false, |beta, gamma| {
             beta > 0.0 && gamma > 0.0 && beta + gamma < 1.0
@@ -115,8 +120,9 @@ fn gallery_edges_belong_to_no_triangle() {
 
 /// The interval's lower end ignored (`t > 0` instead of `t > t_min`).
 struct IgnoresTMin;
-impl Chapters for IgnoresTMin {
-    fn intersect_triangle(triangle: &Triangle, ray: &Ray, _: f32, t_max: f32) -> Option<f32> {
+plant! {
+    IgnoresTMin;
+    fn intersect_triangle(triangle: &Triangle, ray: &Ray, _t_min: f32, t_max: f32) -> Option<f32> {
         Reference::intersect_triangle(triangle, ray, 0.0, t_max)
     }
 }
@@ -129,7 +135,8 @@ fn gallery_triangle_ignoring_t_min() {
 /// Barycentric coordinates with beta and gamma swapped: symmetric points
 /// (the lesson's, the centroid) cannot tell, a corner can.
 struct BarycentricSwapped;
-impl Chapters for BarycentricSwapped {
+plant! {
+    BarycentricSwapped;
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
         let weights = Reference::barycentric(triangle, point);
         Vec3::new(weights.x, weights.z, weights.y)
@@ -144,9 +151,10 @@ fn gallery_barycentric_beta_and_gamma_swapped() {
 /// The blend of the vertex normals not made unit again: right at a corner,
 /// too short everywhere between.
 struct NormalNotRenormalised;
-impl Chapters for NormalNotRenormalised {
+plant! {
+    NormalNotRenormalised;
     fn smooth_normal(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
-        let w = Self::barycentric(triangle, point);
+        let w = Planted::barycentric(triangle, point);
         w.x * normals[0] + w.y * normals[1] + w.z * normals[2]
     }
 }
@@ -159,9 +167,10 @@ fn gallery_smooth_normal_not_renormalised() {
 /// Hanika's lift with its sign wrong: the point is pushed down, further
 /// below the neighbours, instead of up onto the curved surface.
 struct TerminatorSignError;
-impl Chapters for TerminatorSignError {
+plant! {
+    TerminatorSignError;
     fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
-        let weights = Self::barycentric(triangle, point).to_array();
+        let weights = Planted::barycentric(triangle, point).to_array();
         let mut moved = point;
         for ((corner, normal), weight) in triangle.corners().iter().zip(normals).zip(weights) {
             let height = (point - *corner).dot(*normal);
@@ -181,15 +190,16 @@ fn gallery_terminator_moves_points_down() {
 /// `smooth_hit_point` that uses the vertex normals as given, without
 /// turning them to the side the ray arrived on.
 struct NormalsNotTurned;
-impl Chapters for NormalsNotTurned {
+plant! {
+    NormalsNotTurned;
     fn smooth_hit_point<'a>(
         point: HitPoint<'a>,
         triangle: &Triangle,
         normals: &[Vec3; 3],
     ) -> HitPoint<'a> {
         let mut smooth = point;
-        smooth.normal = Self::smooth_normal(triangle, normals, point.surface.point);
-        smooth.surface.point = Self::terminator_point(triangle, normals, point.surface.point);
+        smooth.normal = Planted::smooth_normal(triangle, normals, point.surface.point);
+        smooth.surface.point = Planted::terminator_point(triangle, normals, point.surface.point);
         smooth
     }
 }
@@ -202,7 +212,8 @@ fn gallery_vertex_normals_not_turned_toward_the_ray() {
 /// `smooth_hit_point` that lifts the point of a transparent surface too:
 /// its refracted ray would start above the surface it has to cross.
 struct LiftsGlass;
-impl Chapters for LiftsGlass {
+plant! {
+    LiftsGlass;
     fn smooth_hit_point<'a>(
         point: HitPoint<'a>,
         triangle: &Triangle,
@@ -216,8 +227,8 @@ impl Chapters for LiftsGlass {
         };
         let facing = normals.map(|normal| side * normal);
         let mut smooth = point;
-        smooth.normal = Self::smooth_normal(triangle, &facing, point.surface.point);
-        smooth.surface.point = Self::terminator_point(triangle, &facing, point.surface.point);
+        smooth.normal = Planted::smooth_normal(triangle, &facing, point.surface.point);
+        smooth.surface.point = Planted::terminator_point(triangle, &facing, point.surface.point);
         smooth
     }
 }
@@ -233,16 +244,18 @@ fn gallery_transparent_points_lifted() {
 
 /// Asserts that `C` passes chapter 10's checkpoints and fails its hard
 /// case `case` first: a clause only rounding or degenerate input can show.
-fn assert_caught_by_hard_case<C: Chapters>(case: &str) {
-    let verdict = check_chapter::<C>(CHAPTER, &options());
-    let text = verdict.text();
-    assert!(verdict.passes(), "{text}");
-    let failure = verdict
-        .robustness
-        .as_ref()
-        .and_then(|robustness| robustness.first_failure.as_ref())
-        .expect("a hard case fails");
-    assert_eq!(failure.name, case, "{text}");
+fn assert_caught_by_hard_case<C: Plant>(case: &str) {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(CHAPTER, &options());
+        let text = verdict.text();
+        assert!(verdict.passes(), "{text}");
+        let failure = verdict
+            .robustness
+            .as_ref()
+            .and_then(|robustness| robustness.first_failure.as_ref())
+            .expect("a hard case fails");
+        assert_eq!(failure.name, case, "{text}");
+    })
 }
 
 /// One sentence of the watertight test broken, by [`watertight`].
@@ -357,7 +370,8 @@ macro_rules! slipped {
     ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn intersect_triangle(
                 triangle: &Triangle,
                 ray: &Ray,
@@ -484,7 +498,8 @@ fn contract_no_absolute_epsilon_swallows_a_tiny_triangle() {
 /// Barycentric coordinates whose alpha has a sign slip, `1 - beta +
 /// gamma`: right at the corners, where beta or gamma is 0 or 1 alone.
 struct AlphaSignSlip;
-impl Chapters for AlphaSignSlip {
+plant! {
+    AlphaSignSlip;
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
         let weights = Reference::barycentric(triangle, point);
         Vec3::new(1.0 - weights.y + weights.z, weights.y, weights.z)
@@ -500,7 +515,8 @@ fn contract_the_weights_sum_to_one() {
 /// weight a projection on its own edge): right on the lesson's right
 /// triangle, wrong on any other.
 struct EdgesAssumedPerpendicular;
-impl Chapters for EdgesAssumedPerpendicular {
+plant! {
+    EdgesAssumedPerpendicular;
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
         let [a, b, c] = triangle.corners();
         let (e1, e2, to_point) = (b - a, c - a, point - a);
@@ -518,7 +534,8 @@ fn contract_barycentric_of_a_skewed_triangle() {
 /// The lesson's two equations solved on x and y only: right wherever the
 /// triangle's shadow on the xy plane is a triangle, NaN on a wall.
 struct BarycentricInXyOnly;
-impl Chapters for BarycentricInXyOnly {
+plant! {
+    BarycentricInXyOnly;
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
         let [a, b, c] = triangle.corners().map(|corner| corner.truncate());
         let (e1, e2, to_point) = (b - a, c - a, point.truncate() - a);
@@ -540,8 +557,9 @@ fn contract_barycentric_in_any_plane() {
 /// The three vertex normals averaged with equal weights, wherever the
 /// point is.
 struct NormalsBlendedEqually;
-impl Chapters for NormalsBlendedEqually {
-    fn smooth_normal(_: &Triangle, normals: &[Vec3; 3], _: Vec3) -> Vec3 {
+plant! {
+    NormalsBlendedEqually;
+    fn smooth_normal(_triangle: &Triangle, normals: &[Vec3; 3], _point: Vec3) -> Vec3 {
         (normals[0] + normals[1] + normals[2]).normalize()
     }
 }
@@ -614,7 +632,8 @@ macro_rules! lifted {
     ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3 {
                 lift(triangle, normals, point, $slip)
             }
@@ -736,13 +755,14 @@ macro_rules! smoothed {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn smooth_hit_point<'a>(
                 point: HitPoint<'a>,
                 triangle: &Triangle,
                 normals: &[Vec3; 3],
             ) -> HitPoint<'a> {
-                smooth_hit::<Self>(point, triangle, normals, $rules)
+                smooth_hit::<Planted>(point, triangle, normals, $rules)
             }
         }
     )*};
@@ -799,7 +819,7 @@ fn contract_any_transparency_keeps_the_point() {
 
 #[test]
 fn the_rules_copy_passes() {
-    let verdict = check_chapter::<SmoothAsTheLessonSays>(CHAPTER, &options());
+    let verdict = planted::check_chapter::<SmoothAsTheLessonSays>(CHAPTER, &options());
     assert!(verdict.robust(), "{}", verdict.text());
 }
 
@@ -807,13 +827,14 @@ fn the_rules_copy_passes() {
 /// facet's normal: a grazing ray's mirror image about the blended normal
 /// goes into the surface, and sees the inside of the mesh.
 struct MirrorNeverFallsBack;
-impl Chapters for MirrorNeverFallsBack {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    MirrorNeverFallsBack;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         let k_r = point.material.reflectivity;
         let mut color = (1.0 - k_r) * local.diffuse + local.specular;
         if depth < tracer.max_depth() && tracer.worth_casting(weight, k_r) {
-            let dir = Self::reflect(point.ray.dir, point.normal);
+            let dir = Planted::reflect(point.ray.dir, point.normal);
             let reflected = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
             color += k_r * tracer.trace(RayKind::Reflection, &reflected, depth + 1, weight * k_r);
         }
@@ -853,7 +874,8 @@ fn alternative_moller_trumbore_is_correct_but_not_robust() {
 /// watertight, which the closed mesh, not one formula's known failures,
 /// shows.
 struct CramersRule;
-impl Chapters for CramersRule {
+plant! {
+    CramersRule;
     fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let [a, b, c] = triangle.corners();
         let (e1, e2, s) = (b - a, c - a, ray.origin - a);
@@ -871,7 +893,7 @@ impl Chapters for CramersRule {
 
 #[test]
 fn alternative_cramers_rule_is_correct_but_lets_rays_out_of_a_closed_mesh() {
-    let verdict = check_chapter::<CramersRule>(CHAPTER, &options());
+    let verdict = planted::check_chapter::<CramersRule>(CHAPTER, &options());
     let text = verdict.text();
     assert!(verdict.passes(), "{text}");
     let failure = verdict
@@ -893,7 +915,8 @@ fn alternative_cramers_rule_is_correct_but_lets_rays_out_of_a_closed_mesh() {
 /// the determinant instead of a multiplication by its inverse): both the
 /// same "correct, not yet robust" answer to every checkpoint.
 struct MollerTrumboreByDivision;
-impl Chapters for MollerTrumboreByDivision {
+plant! {
+    MollerTrumboreByDivision;
     fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         moller_trumbore(triangle, ray, t_min, t_max, false, inclusive)
     }
@@ -901,14 +924,15 @@ impl Chapters for MollerTrumboreByDivision {
 
 #[test]
 fn alternative_moller_trumbore_by_division_passes_the_checkpoints() {
-    let verdict = check_chapter::<MollerTrumboreByDivision>(CHAPTER, &options());
+    let verdict = planted::check_chapter::<MollerTrumboreByDivision>(CHAPTER, &options());
     assert!(verdict.passes(), "{}", verdict.text());
 }
 
 /// Barycentric coordinates as ratios of signed areas (cross products along
 /// the normal) instead of the lesson's two-equation solve.
 struct BarycentricByAreas;
-impl Chapters for BarycentricByAreas {
+plant! {
+    BarycentricByAreas;
     fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 {
         let [a, b, c] = triangle.corners();
         let normal = (b - a).cross(c - a);
@@ -919,7 +943,7 @@ impl Chapters for BarycentricByAreas {
 
 #[test]
 fn alternative_barycentric_by_areas() {
-    let verdict = check_chapter::<BarycentricByAreas>(CHAPTER, &options());
+    let verdict = planted::check_chapter::<BarycentricByAreas>(CHAPTER, &options());
     assert!(verdict.passes(), "{}", verdict.text());
 }
 

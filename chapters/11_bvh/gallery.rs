@@ -11,6 +11,7 @@ use raylab::bvh::{
     Aabb, Boxes4, Bvh, BvhNode, BvhOptions, Leaf4, SplitRule, Triangles4, WIDTH, WideBvh, WideNode,
 };
 use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
 use raylab::course::{Chapters, Hit, Objects};
 use raylab::shapes::{Shape, Triangle};
@@ -27,27 +28,31 @@ fn options() -> CheckOptions {
 
 /// Checks chapter 11 with `C` and asserts that it fails on case `case`,
 /// with nothing earlier to blame.
-fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
-    let verdict = check_chapter::<C>(11, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    assert!(
-        text.contains(&format!(
-            "hint:     read {}/chapters/11_bvh/lesson.md",
-            env!("CARGO_MANIFEST_DIR")
-        )),
-        "{text}"
-    );
-    assert_eq!(verdict.needs, None, "{text}");
-    verdict
+fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(11, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+        assert!(
+            text.contains(&format!(
+                "hint:     read {}/chapters/11_bvh/lesson.md",
+                env!("CARGO_MANIFEST_DIR")
+            )),
+            "{text}"
+        );
+        assert_eq!(verdict.needs, None, "{text}");
+        verdict
+    })
 }
 
 /// Checks chapter 11 with `C` and asserts that it passes both levels.
-fn assert_robust<C: Chapters>() -> ChapterVerdict {
-    let verdict = check_chapter::<C>(11, &options());
-    assert!(verdict.robust(), "{}", verdict.text());
-    verdict
+fn assert_robust<C: Plant>() -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(11, &options());
+        assert!(verdict.robust(), "{}", verdict.text());
+        verdict
+    })
 }
 
 #[test]
@@ -68,7 +73,8 @@ fn the_reference_passes_chapter_11_at_both_levels() {
 /// picks the NaN's partner wrongly and the exit becomes `-inf`: the ray
 /// running along the box's face misses it.
 struct SlabNanPoisoned;
-impl Chapters for SlabNanPoisoned {
+plant! {
+    SlabNanPoisoned;
     fn hit_box(
         bounds: &Aabb,
         origin: Vec3,
@@ -108,10 +114,11 @@ fn gallery_slab_test_poisoned_by_nan() {
 /// as soon as a leaf holds a hit. A leaf whose box is entered first can
 /// hold an object hit farther than one in a box entered later.
 struct StopsAtFirstLeafHit;
-impl Chapters for StopsAtFirstLeafHit {
+plant! {
+    StopsAtFirstLeafHit;
     fn nearest_hit_bvh(
         bvh: &Bvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -132,7 +139,7 @@ impl Chapters for StopsAtFirstLeafHit {
         }
         let inverse = ray.dir.recip();
         let enter = |node: usize, closest: f32| {
-            Self::hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, closest)
+            Planted::hit_box(&bvh.nodes[node].bounds, ray.origin, inverse, t_min, closest)
         };
         let mut stack = Vec::new();
         if !bvh.nodes.is_empty() && enter(0, closest).is_some() {
@@ -171,7 +178,8 @@ fn gallery_walk_stops_at_the_first_leaf_with_a_hit() {
 /// Bug: planes go into the tree, each with an enormous (finite) box in
 /// place of `None`, so that the build accepts them.
 struct PlanesInTheTree;
-impl Chapters for PlanesInTheTree {
+plant! {
+    PlanesInTheTree;
     fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
         let everywhere = Aabb::new(Vec3::splat(-1e30), Vec3::splat(1e30));
         let boxed: Vec<Option<Aabb>> = bounds
@@ -192,10 +200,11 @@ fn gallery_build_puts_planes_in_the_tree() {
 /// outside the tree: a plane tied with a sphere listed before it wins,
 /// where chapter 3 keeps the sphere.
 struct TieToWhoeverIsAskedFirst;
-impl Chapters for TieToWhoeverIsAskedFirst {
+plant! {
+    TieToWhoeverIsAskedFirst;
     fn nearest_hit_bvh(
         bvh: &Bvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -224,10 +233,11 @@ fn gallery_tie_to_whoever_is_asked_first() {
 /// (200 spheres around one centre make one leaf). The image cannot see it:
 /// a render walks the wide tree.
 struct FirstHitInALeaf;
-impl Chapters for FirstHitInALeaf {
+plant! {
+    FirstHitInALeaf;
     fn nearest_hit_bvh(
         bvh: &Bvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -256,7 +266,7 @@ fn gallery_first_hit_in_a_leaf_ends_the_leaf() {
             .into_iter()
             .find(|case| case.name == name)
             .expect("the case exists");
-        let outcome = case.run::<FirstHitInALeaf>();
+        let outcome = planted::with::<FirstHitInALeaf, _>(|| case.run::<Planted>());
         assert!(
             matches!(outcome, raylab::check::Outcome::Fail { .. }),
             "{name}: {outcome:?}"
@@ -269,7 +279,8 @@ fn gallery_first_hit_in_a_leaf_ends_the_leaf() {
 /// ray along a box's edge, whose exact entry equals its exact exit, can
 /// come out with the entry rounded past the exit, and miss.
 struct Unwidened;
-impl Chapters for Unwidened {
+plant! {
+    Unwidened;
     fn hit_box(
         bounds: &Aabb,
         origin: Vec3,
@@ -294,7 +305,7 @@ impl Chapters for Unwidened {
 
 #[test]
 fn unwidened_slab_test_is_correct_but_not_robust() {
-    let verdict = check_chapter::<Unwidened>(11, &options());
+    let verdict = planted::check_chapter::<Unwidened>(11, &options());
     assert!(verdict.passes(), "{}", verdict.text());
     let robustness = verdict.robustness.as_ref().expect("level 2 ran");
     let first = robustness.first_failure.as_ref().map(|f| f.name);
@@ -308,7 +319,8 @@ fn unwidened_slab_test_is_correct_but_not_robust() {
 
 /// Always the midpoint split, whatever the options ask.
 struct MidpointBuild;
-impl Chapters for MidpointBuild {
+plant! {
+    MidpointBuild;
     fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
         let midpoint = BvhOptions {
             split: SplitRule::Midpoint,
@@ -327,10 +339,11 @@ fn alternative_midpoint_split_passes() {
 /// stack against the best hit so far; ties broken by index as chapter 3
 /// breaks them (asked up to and including the best `t`).
 struct LeftFirstWalk;
-impl Chapters for LeftFirstWalk {
+plant! {
+    LeftFirstWalk;
     fn nearest_hit_bvh(
         bvh: &Bvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -360,7 +373,8 @@ fn alternative_left_first_walk_passes() {
 /// `WIDTH - 1`, say): that lane never enters, and the children it holds
 /// are never visited.
 struct LastLaneLeftOut;
-impl Chapters for LastLaneLeftOut {
+plant! {
+    LastLaneLeftOut;
     fn hit_boxes(boxes: &Boxes4, origin: Vec3, inverse: Vec3, t_min: f32, t_max: f32) -> Vec4 {
         let mut entries = Reference::hit_boxes(boxes, origin, inverse, t_min, t_max);
         entries[WIDTH - 1] = f32::NAN;
@@ -377,7 +391,8 @@ fn gallery_hit_boxes_leaves_a_lane_out() {
 /// the direction's sign: a ray moving toward `-x` gets its exit as its
 /// entry, and its entry as its exit.
 struct NearPlaneAlwaysMin;
-impl Chapters for NearPlaneAlwaysMin {
+plant! {
+    NearPlaneAlwaysMin;
     fn hit_boxes(boxes: &Boxes4, origin: Vec3, inverse: Vec3, t_min: f32, t_max: f32) -> Vec4 {
         let (mut entry, mut exit) = (Vec4::NEG_INFINITY, Vec4::INFINITY);
         for axis in 0..3 {
@@ -400,7 +415,8 @@ fn gallery_hit_boxes_near_plane_ignores_the_direction() {
 /// Bug: the four-triangle test leaves its last lane out: a leaf's fourth
 /// triangle is never hit.
 struct LastTriangleLeftOut;
-impl Chapters for LastTriangleLeftOut {
+plant! {
+    LastTriangleLeftOut;
     fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
         let mut t = Reference::intersect_triangles(triangles, ray, t_min, t_max);
         t[WIDTH - 1] = f32::NAN;
@@ -416,7 +432,8 @@ fn gallery_intersect_triangles_leaves_a_lane_out() {
 /// Bug: each lane is chapter 11's NaN-poisoned slab test (the crossings
 /// sorted by comparing them): a ray along a box's face misses it.
 struct LanesNanPoisoned;
-impl Chapters for LanesNanPoisoned {
+plant! {
+    LanesNanPoisoned;
     fn hit_boxes(boxes: &Boxes4, origin: Vec3, inverse: Vec3, t_min: f32, t_max: f32) -> Vec4 {
         Vec4::from_array(std::array::from_fn(|lane| {
             SlabNanPoisoned::hit_box(&boxes.get(lane), origin, inverse, t_min, t_max)
@@ -434,7 +451,8 @@ fn gallery_hit_boxes_poisoned_by_nan() {
 /// recomputed in `f64`: the others' `t` move by an ulp, and are no longer
 /// chapter 10's.
 struct FallbackForEveryLane;
-impl Chapters for FallbackForEveryLane {
+plant! {
+    FallbackForEveryLane;
     fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
         let one = |lane: usize, fallback: Fallback| {
             f64_edges_triangle(&triangles.get(lane), ray, t_min, t_max, fallback)
@@ -514,7 +532,8 @@ fn gallery_every_lane_recomputed_in_f64() {
 /// that adds the right one is missing): every object under the right one
 /// is lost from the wide tree.
 struct FoldDropsAChild;
-impl Chapters for FoldDropsAChild {
+plant! {
+    FoldDropsAChild;
     fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
         plain_fold(bvh, shapes, FoldRules::DROPS_THE_RIGHT_CHILD)
     }
@@ -528,7 +547,8 @@ fn gallery_fold_drops_a_child() {
 /// Bug: the fold takes each binary node's two children and opens none: a
 /// binary tree in wide clothing, two of four lanes used.
 struct FoldOpensNothing;
-impl Chapters for FoldOpensNothing {
+plant! {
+    FoldOpensNothing;
     fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
         plain_fold(bvh, shapes, FoldRules::OPENS_NOTHING)
     }
@@ -542,7 +562,8 @@ fn gallery_fold_opens_no_child() {
 /// Correct: the fold opens the first inner child it finds rather than the
 /// largest. Another tree, as valid, and as full.
 struct FoldOpensTheFirst;
-impl Chapters for FoldOpensTheFirst {
+plant! {
+    FoldOpensTheFirst;
     fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
         plain_fold(bvh, shapes, FoldRules::CORRECT)
     }
@@ -678,7 +699,8 @@ fn plain_fold(bvh: &Bvh, shapes: &[Shape], rules: FoldRules) -> WideBvh {
 /// Bug: every object of a leaf goes into a triangle lane; a sphere's
 /// lane keeps NaN corners and is never asked.
 struct SphereNotAskedAlone;
-impl Chapters for SphereNotAskedAlone {
+plant! {
+    SphereNotAskedAlone;
     fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
         let mut wide = Reference::collapse_bvh(bvh, shapes);
         for leaf in &mut wide.leaves {
@@ -696,10 +718,11 @@ fn gallery_fold_forgets_to_ask_a_sphere() {
 /// Bug: the wide walk returns as soon as a leaf holds a hit, although a
 /// box entered later can hold a nearer one.
 struct WideStopsAtFirstLeafHit;
-impl Chapters for WideStopsAtFirstLeafHit {
+plant! {
+    WideStopsAtFirstLeafHit;
     fn nearest_hit_wide(
         wide: &WideBvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -723,10 +746,11 @@ fn gallery_wide_walk_stops_at_the_first_leaf_with_a_hit() {
 /// the same `t` whichever was asked first: the plane, outside the tree,
 /// beats the sphere listed before it.
 struct WideTieToWhoeverIsAskedFirst;
-impl Chapters for WideTieToWhoeverIsAskedFirst {
+plant! {
+    WideTieToWhoeverIsAskedFirst;
     fn nearest_hit_wide(
         wide: &WideBvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -749,10 +773,11 @@ fn gallery_wide_tie_to_whoever_is_asked_first() {
 /// Bug: the wide any-hit walk tests the leaves' triangles and forgets the
 /// lanes marked one by one: spheres cast no shadow.
 struct AnyHitWideForgetsSpheres;
-impl Chapters for AnyHitWideForgetsSpheres {
+plant! {
+    AnyHitWideForgetsSpheres;
     fn any_hit_wide(
         wide: &WideBvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -774,10 +799,11 @@ fn gallery_any_hit_wide_forgets_the_spheres() {
 /// top, each box tested once when its node is opened, ties broken by
 /// index.
 struct PlainWideWalk;
-impl Chapters for PlainWideWalk {
+plant! {
+    PlainWideWalk;
     fn nearest_hit_wide(
         wide: &WideBvh,
-        objects: &Objects<Self>,
+        objects: &Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -938,16 +964,18 @@ fn plain_wide_walk<C: Chapters>(
 
 /// Asserts that `C` passes chapter 11's checkpoints and fails its hard
 /// case `case` first: a clause only rounding or a deep tree can show.
-fn assert_caught_by_hard_case<C: Chapters>(case: &str) {
-    let verdict = check_chapter::<C>(11, &options());
-    let text = verdict.text();
-    assert!(verdict.passes(), "{text}");
-    let failure = verdict
-        .robustness
-        .as_ref()
-        .and_then(|robustness| robustness.first_failure.as_ref())
-        .expect("a hard case fails");
-    assert_eq!(failure.name, case, "{text}");
+fn assert_caught_by_hard_case<C: Plant>(case: &str) {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(11, &options());
+        let text = verdict.text();
+        assert!(verdict.passes(), "{text}");
+        let failure = verdict
+            .robustness
+            .as_ref()
+            .and_then(|robustness| robustness.first_failure.as_ref())
+            .expect("a hard case fails");
+        assert_eq!(failure.name, case, "{text}");
+    })
 }
 
 /// One sentence of the slab test broken, by [`slab`].
@@ -1062,7 +1090,8 @@ macro_rules! slabs {
     ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn hit_box(
                 bounds: &Aabb,
                 origin: Vec3,
@@ -1435,7 +1464,8 @@ macro_rules! builds {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh {
                 build_with(bounds, options, $rules)
             }
@@ -1622,10 +1652,11 @@ macro_rules! walks {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn nearest_hit_bvh(
                 bvh: &Bvh,
-                objects: &Objects<Self>,
+                objects: &Objects<Planted>,
                 ray: &Ray,
                 t_min: f32,
                 t_max: f32,
@@ -1773,10 +1804,11 @@ macro_rules! any_walks {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn any_hit_bvh(
                 bvh: &Bvh,
-                objects: &Objects<Self>,
+                objects: &Objects<Planted>,
                 ray: &Ray,
                 t_min: f32,
                 t_max: f32,
@@ -1876,7 +1908,8 @@ macro_rules! four_boxes {
     ($($(#[$doc:meta])* $name:ident = $slip:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn hit_boxes(
                 boxes: &Boxes4,
                 origin: Vec3,
@@ -1905,7 +1938,8 @@ fn contract_hit_boxes_lane_by_lane() {
 
 /// A triangle lane the ray misses answers `inf`, not NaN.
 struct TriangleMissIsInfinity;
-impl Chapters for TriangleMissIsInfinity {
+plant! {
+    TriangleMissIsInfinity;
     fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
         let t = Reference::intersect_triangles(triangles, ray, t_min, t_max);
         Vec4::select(t.is_nan_mask(), Vec4::INFINITY, t)
@@ -1915,15 +1949,17 @@ impl Chapters for TriangleMissIsInfinity {
 /// The four lanes answer beyond `t_max`: a walk that offers every lane's
 /// hit and keeps the nearest finds the same hits.
 struct LanesIgnoreTMax;
-impl Chapters for LanesIgnoreTMax {
-    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, _: f32) -> Vec4 {
+plant! {
+    LanesIgnoreTMax;
+    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, _t_max: f32) -> Vec4 {
         Reference::intersect_triangles(triangles, ray, t_min, f32::INFINITY)
     }
 }
 
 /// The lanes' interval closed at both ends, `t_min <= t <= t_max`.
 struct LanesClosedInterval;
-impl Chapters for LanesClosedInterval {
+plant! {
+    LanesClosedInterval;
     fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
         Reference::intersect_triangles(triangles, ray, t_min.next_down(), t_max.next_up())
     }
@@ -1932,7 +1968,8 @@ impl Chapters for LanesClosedInterval {
 /// No lane's edge functions recomputed in `f64`: a zero that rounding made
 /// counts as inside.
 struct LanesWithoutTheFallback;
-impl Chapters for LanesWithoutTheFallback {
+plant! {
+    LanesWithoutTheFallback;
     fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4 {
         Vec4::from_array(std::array::from_fn(|lane| {
             f64_edges_triangle(&triangles.get(lane), ray, t_min, t_max, Fallback::Never)
@@ -1954,7 +1991,8 @@ macro_rules! folds {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh {
                 plain_fold(bvh, shapes, $rules)
             }
@@ -1984,10 +2022,11 @@ macro_rules! wide_walks {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn nearest_hit_wide(
                 wide: &WideBvh,
-                objects: &Objects<Self>,
+                objects: &Objects<Planted>,
                 ray: &Ray,
                 t_min: f32,
                 t_max: f32,
@@ -2133,10 +2172,11 @@ macro_rules! wide_any_walks {
     ($($(#[$doc:meta])* $name:ident = $rules:expr;)*) => {$(
         $(#[$doc])*
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn any_hit_wide(
                 wide: &WideBvh,
-                objects: &Objects<Self>,
+                objects: &Objects<Planted>,
                 ray: &Ray,
                 t_min: f32,
                 t_max: f32,
@@ -2175,39 +2215,40 @@ fn contract_wide_any_hit() {
 // Not started, and the picture.
 
 struct NotWritten;
-impl Chapters for NotWritten {
-    fn hit_box(_: &Aabb, _: Vec3, _: Vec3, _: f32, _: f32) -> Option<f32> {
+plant! {
+    NotWritten;
+    fn hit_box(_bounds: &Aabb, _origin: Vec3, _inverse: Vec3, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!("chapter 11: hit_box")
     }
-    fn build_bvh(_: &[Option<Aabb>], _: &BvhOptions) -> Bvh {
+    fn build_bvh(_bounds: &[Option<Aabb>], _options: &BvhOptions) -> Bvh {
         todo!("chapter 11: build_bvh")
     }
-    fn nearest_hit_bvh(_: &Bvh, _: &Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<Hit> {
+    fn nearest_hit_bvh(_bvh: &Bvh, _objects: &Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<Hit> {
         todo!("chapter 11: nearest_hit_bvh")
     }
-    fn any_hit_bvh(_: &Bvh, _: &Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<Hit> {
+    fn any_hit_bvh(_bvh: &Bvh, _objects: &Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<Hit> {
         todo!("chapter 11: any_hit_bvh")
     }
-    fn hit_boxes(_: &Boxes4, _: Vec3, _: Vec3, _: f32, _: f32) -> Vec4 {
+    fn hit_boxes(_boxes: &Boxes4, _origin: Vec3, _inverse_direction: Vec3, _t_min: f32, _t_max: f32) -> Vec4 {
         todo!("chapter 11: hit_boxes")
     }
-    fn intersect_triangles(_: &Triangles4, _: &Ray, _: f32, _: f32) -> Vec4 {
+    fn intersect_triangles(_triangles: &Triangles4, _ray: &Ray, _t_min: f32, _t_max: f32) -> Vec4 {
         todo!("chapter 11: intersect_triangles")
     }
-    fn collapse_bvh(_: &Bvh, _: &[Shape]) -> WideBvh {
+    fn collapse_bvh(_bvh: &Bvh, _shapes: &[Shape]) -> WideBvh {
         todo!("chapter 11: collapse_bvh")
     }
-    fn nearest_hit_wide(_: &WideBvh, _: &Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<Hit> {
+    fn nearest_hit_wide(_wide: &WideBvh, _objects: &Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<Hit> {
         todo!("chapter 11: nearest_hit_wide")
     }
-    fn any_hit_wide(_: &WideBvh, _: &Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<Hit> {
+    fn any_hit_wide(_wide: &WideBvh, _objects: &Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<Hit> {
         todo!("chapter 11: any_hit_wide")
     }
 }
 
 #[test]
 fn unwritten_chapter_11_is_not_started() {
-    let verdict = check_chapter::<NotWritten>(11, &options());
+    let verdict = planted::check_chapter::<NotWritten>(11, &options());
     assert_eq!(verdict.status, Status::NotStarted, "{}", verdict.text());
     assert_eq!(
         verdict.not_written,

@@ -5,6 +5,7 @@
 //! correct alternatives (the other tetrahedron, a march over the whole ray
 //! rather than the surface's box) pass.
 
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
 use raylab::course::Chapters;
 use raylab::shapes::{Bracket, Implicit, NormalMethod};
@@ -21,33 +22,39 @@ fn options() -> CheckOptions {
 
 /// Checks chapter 12 with `C` and asserts that it fails on checkpoint
 /// `case`, with nothing earlier to blame.
-fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
-    let verdict = check_chapter::<C>(12, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    assert_eq!(verdict.needs, None, "{text}");
-    verdict
+fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(12, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+        assert_eq!(verdict.needs, None, "{text}");
+        verdict
+    })
 }
 
 /// Checks chapter 12 with `C` and asserts that it passes every checkpoint
 /// and its image but fails the hard case `case` first: correct, not yet
 /// robust.
-fn assert_caught_by_hard_case<C: Chapters>(case: &str) {
-    let verdict = check_chapter::<C>(12, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Pass, "{text}");
-    let robustness = verdict.robustness.as_ref().expect("level 2 ran");
-    let first = robustness
-        .first_failure
-        .as_ref()
-        .map(|failure| failure.name);
-    assert_eq!(first, Some(case), "{text}");
+fn assert_caught_by_hard_case<C: Plant>(case: &str) {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(12, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Pass, "{text}");
+        let robustness = verdict.robustness.as_ref().expect("level 2 ran");
+        let first = robustness
+            .first_failure
+            .as_ref()
+            .map(|failure| failure.name);
+        assert_eq!(first, Some(case), "{text}");
+    })
 }
 
-fn assert_passes_both_levels<C: Chapters>() {
-    let verdict = check_chapter::<C>(12, &options());
-    assert!(verdict.robust(), "{}", verdict.text());
+fn assert_passes_both_levels<C: Plant>() {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(12, &options());
+        assert!(verdict.robust(), "{}", verdict.text());
+    })
 }
 
 #[test]
@@ -179,7 +186,8 @@ fn march(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32, slip: MarchSlip)
 macro_rules! march_variant {
     ($name:ident, $slip:ident) => {
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
                 march(surface, ray, t_min, t_max, MarchSlip::$slip)
             }
@@ -259,7 +267,7 @@ fn a_cone_without_the_directions_length_is_caught() {
 /// (the hard case `intersect-far-small-sphere`).
 #[test]
 fn an_absolute_tolerance_fails_the_image() {
-    let verdict = check_chapter::<AbsoluteTolerance>(12, &options());
+    let verdict = planted::check_chapter::<AbsoluteTolerance>(12, &options());
     let text = verdict.text();
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), None, "{text}");
@@ -271,7 +279,7 @@ fn an_absolute_tolerance_fails_the_image() {
         .expect("the case");
     assert!(
         matches!(
-            far.run::<AbsoluteTolerance>(),
+            planted::with::<AbsoluteTolerance, _>(|| far.run::<Planted>()),
             raylab::check::Outcome::Fail { .. }
         ),
         "the far sphere is missed"
@@ -307,7 +315,8 @@ fn a_march_on_through_nan_is_caught_by_a_hard_case() {
 /// cone: a hit at `t = t_min`, which the range excludes (a march started
 /// at a box's entry, or at the surface a ray leaves).
 struct StopsWhereItStarts;
-impl Chapters for StopsWhereItStarts {
+plant! {
+    StopsWhereItStarts;
     fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let radius = surface.distance(ray.at(t_min)).abs() / surface.lipschitz();
         if radius < surface.march().tolerance * t_min * ray.dir.length() {
@@ -417,7 +426,8 @@ fn newton(
 macro_rules! newton_variant {
     ($name:ident, $slip:ident) => {
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn newton_bracketed(
                 g: &dyn Fn(f32) -> (f32, f32),
                 bracket: Bracket,
@@ -448,7 +458,8 @@ fn the_newton_copy_without_a_slip_is_the_reference() {
 
 /// Newton's step taken wherever it goes, the bracket ignored.
 struct NewtonWithoutBracket;
-impl Chapters for NewtonWithoutBracket {
+plant! {
+    NewtonWithoutBracket;
     fn newton_bracketed(
         g: &dyn Fn(f32) -> (f32, f32),
         bracket: Bracket,
@@ -524,7 +535,8 @@ fn bisection_after_the_first_step_is_caught() {
 /// A forward difference with a step of `1e-7`, where `f32` spaces the
 /// values 6e-8 apart: the difference is mostly rounding.
 struct ForwardDifferenceTinyStep;
-impl Chapters for ForwardDifferenceTinyStep {
+plant! {
+    ForwardDifferenceTinyStep;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal == NormalMethod::Analytic {
             return Reference::implicit_normal(surface, point);
@@ -568,7 +580,8 @@ fn tetrahedron(surface: &Implicit, point: Vec3, h: f32) -> Vec3 {
 
 /// Central differences whatever the settings name.
 struct AlwaysCentral;
-impl Chapters for AlwaysCentral {
+plant! {
+    AlwaysCentral;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         central(surface, point, surface.march().normal_step)
     }
@@ -581,7 +594,8 @@ fn central_differences_for_every_method_are_caught() {
 
 /// The analytic gradient whatever the settings name.
 struct AlwaysAnalytic;
-impl Chapters for AlwaysAnalytic {
+plant! {
+    AlwaysAnalytic;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         surface.gradient(point).normalize_or_zero()
     }
@@ -594,7 +608,8 @@ fn the_gradient_for_every_method_is_caught() {
 
 /// Central differences with `h = 0.001`, whatever `normal_step` says.
 struct CentralFixedStep;
-impl Chapters for CentralFixedStep {
+plant! {
+    CentralFixedStep;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal != NormalMethod::Central {
             return Reference::implicit_normal(surface, point);
@@ -610,7 +625,8 @@ fn central_differences_with_a_step_of_their_own_are_caught() {
 
 /// The tetrahedron with `h = 0.001`, whatever `normal_step` says.
 struct TetrahedronFixedStep;
-impl Chapters for TetrahedronFixedStep {
+plant! {
+    TetrahedronFixedStep;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal != NormalMethod::Tetrahedron {
             return Reference::implicit_normal(surface, point);
@@ -626,7 +642,8 @@ fn a_tetrahedron_with_a_step_of_its_own_is_caught() {
 
 /// Central differences where the tetrahedron is asked.
 struct TetrahedronAsCentral;
-impl Chapters for TetrahedronAsCentral {
+plant! {
+    TetrahedronAsCentral;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal != NormalMethod::Tetrahedron {
             return Reference::implicit_normal(surface, point);
@@ -643,7 +660,8 @@ fn central_differences_for_the_tetrahedron_are_caught() {
 /// The analytic gradient as it comes, not made unit (a distance's gradient
 /// is unit already; a bound's is not).
 struct GradientNotMadeUnit;
-impl Chapters for GradientNotMadeUnit {
+plant! {
+    GradientNotMadeUnit;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal != NormalMethod::Analytic {
             return Reference::implicit_normal(surface, point);
@@ -660,7 +678,8 @@ fn a_gradient_not_made_unit_is_caught() {
 /// The other tetrahedron, corners `-k`: the same gradient, other roundings,
 /// and at a wide step a blur that leans the other way.
 struct OtherTetrahedron;
-impl Chapters for OtherTetrahedron {
+plant! {
+    OtherTetrahedron;
     fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 {
         if surface.march().normal != NormalMethod::Tetrahedron {
             return Reference::implicit_normal(surface, point);
@@ -765,14 +784,15 @@ fn intersect<C: Chapters>(
 macro_rules! intersect_variant {
     ($name:ident, $slip:ident) => {
         struct $name;
-        impl Chapters for $name {
+        plant! {
+            $name;
             fn intersect_implicit(
                 surface: &Implicit,
                 ray: &Ray,
                 t_min: f32,
                 t_max: f32,
             ) -> Option<f32> {
-                intersect::<Self>(surface, ray, t_min, t_max, IntersectSlip::$slip)
+                intersect::<Planted>(surface, ray, t_min, t_max, IntersectSlip::$slip)
             }
         }
     };

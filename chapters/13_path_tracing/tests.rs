@@ -9,6 +9,7 @@ use crate::chapters::Reference;
 use crate::check::cases::{cosine_fit, mean_and_error, pearson, welch_rejections, z_threshold};
 use crate::check::catalog::{ConvergesCase, inside_sphere};
 use crate::render::Stage;
+use raylab::check::planted::{self, Plant, Planted, plant};
 
 /// The furnace of albedo `albedo` and emission `emission` with `without`
 /// left out: its mean and standard error over `samples` camera samples.
@@ -346,35 +347,38 @@ fn the_glossy_lobe_never_returns_more_light_than_arrives() {
 
 /// The mean and variance of each pixel's first channel over `samples`
 /// samples of chapter 13's scene at `size` x `size`, with seed `seed`.
-fn pixel_statistics<C: Chapters>(size: u32, samples: u32, seed: u64) -> Vec<(f64, f64, f64)> {
-    let mut scene = crate::builtin::scene(13).expect("the built-in scene");
-    scene.render.width = size;
-    scene.render.height = size;
-    scene.render.seed = seed;
-    scene.render.samples = samples;
-    let stage = Stage::<C>::with_chapters(&scene, 13, scene.render).expect("stage");
-    let mut tracer = stage.tracer(None);
-    let mut statistics = Vec::new();
-    for y in 0..size {
-        for x in 0..size {
-            let values: Vec<f64> = (0..samples)
-                .map(|index| {
-                    let (dx, dy) = tracer.sample_offset(index, (x, y));
-                    f64::from(tracer.sample(x as f32 + dx, y as f32 + dy).x)
-                })
-                .collect();
-            let (mean, error) = mean_and_error(&values);
-            statistics.push((mean, error * error, f64::from(samples)));
+fn pixel_statistics<C: Plant>(size: u32, samples: u32, seed: u64) -> Vec<(f64, f64, f64)> {
+    planted::with::<C, _>(|| {
+        let mut scene = crate::builtin::scene(13).expect("the built-in scene");
+        scene.render.width = size;
+        scene.render.height = size;
+        scene.render.seed = seed;
+        scene.render.samples = samples;
+        let stage = Stage::<Planted>::with_chapters(&scene, 13, scene.render).expect("stage");
+        let mut tracer = stage.tracer(None);
+        let mut statistics = Vec::new();
+        for y in 0..size {
+            for x in 0..size {
+                let values: Vec<f64> = (0..samples)
+                    .map(|index| {
+                        let (dx, dy) = tracer.sample_offset(index, (x, y));
+                        f64::from(tracer.sample(x as f32 + dx, y as f32 + dy).x)
+                    })
+                    .collect();
+                let (mean, error) = mean_and_error(&values);
+                statistics.push((mean, error * error, f64::from(samples)));
+            }
         }
-    }
-    statistics
+        statistics
+    })
 }
 
 /// A variant that counts what a light emits again when a scattered ray
 /// finds it, though next-event estimation counted it already.
 struct EmissionTwice;
-impl Chapters for EmissionTwice {
-    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    EmissionTwice;
+    fn shade_path(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         let twice =
             matches!(tracer.arrival(), Arrival::Scattered { .. }) && tracer.effects().next_event;
         shade_path(tracer, point, depth, weight) + if twice { point.emitted() } else { Vec3::ZERO }

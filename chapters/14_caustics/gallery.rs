@@ -10,6 +10,7 @@
 //! functions' contract (docs/course.md lists them).
 
 use raylab::bsdf::{Dispersed, Lobe};
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_chapter};
 use raylab::course::{Chapters, HitPoint};
 use raylab::render::{Arrival, Tracer};
@@ -27,13 +28,15 @@ fn options() -> CheckOptions {
 
 /// Checks chapter 14 with `C` and asserts that it fails on case `case`,
 /// with nothing earlier to blame.
-fn assert_caught<C: Chapters>(case: &str) -> ChapterVerdict {
-    let verdict = check_chapter::<C>(14, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    assert_eq!(verdict.needs, None, "{text}");
-    verdict
+fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(14, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+        assert_eq!(verdict.needs, None, "{text}");
+        verdict
+    })
 }
 
 #[test]
@@ -43,7 +46,8 @@ fn the_reference_passes_chapter_14_at_both_levels() {
 }
 
 struct NoSurfaceCosine;
-impl Chapters for NoSurfaceCosine {
+plant! {
+    NoSurfaceCosine;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         if cos_surface > 0.0 {
             super::splat_weight(1.0, cos_camera, distance, pixel_area)
@@ -59,7 +63,8 @@ fn a_splat_weight_without_the_surface_cosine_is_caught() {
 }
 
 struct CameraCosineOnce;
-impl Chapters for CameraCosineOnce {
+plant! {
+    CameraCosineOnce;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         let seen = distance * distance * pixel_area * cos_camera;
         if seen > 0.0 && cos_surface > 0.0 {
@@ -76,7 +81,8 @@ fn a_pixel_seen_without_its_cos_cubed_is_caught() {
 }
 
 struct Nanometres;
-impl Chapters for Nanometres {
+plant! {
+    Nanometres;
     fn cauchy_ior(cauchy: &Cauchy, nanometres: f32) -> f32 {
         cauchy.a + cauchy.b / (nanometres * nanometres)
     }
@@ -91,11 +97,12 @@ fn an_index_with_the_wavelength_in_nanometres_is_caught() {
 /// it came straight from the light: chapter 13's light samples bring that
 /// light already.
 struct EveryDiffusePoint;
-impl Chapters for EveryDiffusePoint {
-    fn connect_to_camera(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+plant! {
+    EveryDiffusePoint;
+    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
         super::connect_to_camera(tracer, point, lobe, power)
     }
-    fn trace_light_path(tracer: &mut Tracer<Self>) {
+    fn trace_light_path(tracer: &mut Tracer<Planted>) {
         let Some(emitted) = tracer.emit() else {
             return;
         };
@@ -105,7 +112,7 @@ impl Chapters for EveryDiffusePoint {
         };
         let lobe = Lobe::choose(&hit.point, tracer.random());
         if lobe.has_density() {
-            Self::connect_to_camera(tracer, &hit.point, &lobe, emitted.power);
+            Planted::connect_to_camera(tracer, &hit.point, &lobe, emitted.power);
         }
         super::trace_light_path(tracer);
     }
@@ -119,8 +126,9 @@ fn light_paths_that_bring_direct_light_again_are_caught() {
 /// A light path that ends where it first lights a diffuse point: the light
 /// that point sends on, the wall's light from the wall, is lost.
 struct FirstPointOnly;
-impl Chapters for FirstPointOnly {
-    fn trace_light_path(tracer: &mut Tracer<Self>) {
+plant! {
+    FirstPointOnly;
+    fn trace_light_path(tracer: &mut Tracer<Planted>) {
         let Some(emitted) = tracer.emit() else {
             return;
         };
@@ -132,10 +140,10 @@ impl Chapters for FirstPointOnly {
             };
             let lobe = Lobe::choose(&hit.point, tracer.random());
             if lobe.has_density() {
-                Self::connect_to_camera(tracer, &hit.point, &lobe, power);
+                Planted::connect_to_camera(tracer, &hit.point, &lobe, power);
                 return;
             }
-            let Some(scattered) = lobe.scatter::<Self>(tracer, &hit.point) else {
+            let Some(scattered) = lobe.scatter::<Planted>(tracer, &hit.point) else {
                 return;
             };
             power *= scattered.weight;
@@ -157,8 +165,9 @@ fn a_light_path_that_stops_at_its_first_diffuse_point_is_caught() {
 /// A camera path that counts the light it finds through glass from its
 /// first, diffuse point, as chapter 13 did, though light paths bring it.
 pub(super) struct CausticsTwice;
-impl Chapters for CausticsTwice {
-    fn shade_path(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    CausticsTwice;
+    fn shade_path(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         let twice = tracer.arrival() == Arrival::Caustic;
         raylab::chapters::ch13_path_tracing::shade_path(tracer, point, depth, weight)
             + if twice { point.emitted() } else { Vec3::ZERO }
@@ -172,8 +181,9 @@ fn a_caustic_counted_by_both_paths_is_caught() {
 
 /// A lit point joined to the camera whichever side the camera is on.
 struct BothSides;
-impl Chapters for BothSides {
-    fn connect_to_camera(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+plant! {
+    BothSides;
+    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
         let camera = *tracer.camera();
         let Some((x, y)) = camera.project(point.surface.point) else {
             return;
@@ -187,7 +197,7 @@ impl Chapters for BothSides {
         if scattered == Vec3::ZERO || tracer.blocked_from_camera(point) {
             return;
         }
-        let weight = Self::splat_weight(
+        let weight = Planted::splat_weight(
             point.normal.dot(direction).abs(),
             camera.forward().dot(-direction),
             distance,
@@ -209,8 +219,9 @@ fn a_point_joined_to_the_camera_from_its_unlit_side_is_caught() {
 /// prism carries white, and the spectrum on the wall is a white smear.
 /// The furnace cannot see it (white stays white); the image can.
 struct TintForgotten;
-impl Chapters for TintForgotten {
-    fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+plant! {
+    TintForgotten;
+    fn dispersive_ior(tracer: &mut Tracer<Planted>, cauchy: &Cauchy) -> Dispersed {
         Dispersed {
             tint: Vec3::ONE,
             ..raylab::chapters::ch14_caustics::dispersive_ior(tracer, cauchy)
@@ -229,21 +240,24 @@ fn a_wavelength_without_its_colour_is_caught() {
 
 /// Checks chapter 14 with `C` and asserts that it passes every checkpoint
 /// and its image but fails the hard case `case` first.
-fn assert_caught_by_hard_case<C: Chapters>(case: &str) {
-    let verdict = check_chapter::<C>(14, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Pass, "{text}");
-    let robustness = verdict.robustness.as_ref().expect("level 2 ran");
-    let first = robustness
-        .first_failure
-        .as_ref()
-        .map(|failure| failure.name);
-    assert_eq!(first, Some(case), "{text}");
+fn assert_caught_by_hard_case<C: Plant>(case: &str) {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(14, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Pass, "{text}");
+        let robustness = verdict.robustness.as_ref().expect("level 2 ran");
+        let first = robustness
+            .first_failure
+            .as_ref()
+            .map(|failure| failure.name);
+        assert_eq!(first, Some(case), "{text}");
+    })
 }
 
 /// The distance not squared.
 struct DistanceNotSquared;
-impl Chapters for DistanceNotSquared {
+plant! {
+    DistanceNotSquared;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         super::splat_weight(cos_surface, cos_camera, distance.sqrt(), pixel_area)
     }
@@ -251,7 +265,8 @@ impl Chapters for DistanceNotSquared {
 
 /// The formula as written, with no test of what the pixel sees.
 struct SplatAsWritten;
-impl Chapters for SplatAsWritten {
+plant! {
+    SplatAsWritten;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         cos_surface / (distance * distance * pixel_area * cos_camera.powi(3))
     }
@@ -260,7 +275,8 @@ impl Chapters for SplatAsWritten {
 /// Zeros tested, signs not: behind the camera or the surface, a negative
 /// weight.
 struct SplatZerosOnly;
-impl Chapters for SplatZerosOnly {
+plant! {
+    SplatZerosOnly;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         if cos_camera == 0.0 || distance == 0.0 || cos_surface == 0.0 {
             return 0.0;
@@ -271,7 +287,8 @@ impl Chapters for SplatZerosOnly {
 
 /// Both cosines' signs tested, the distance not: at the pinhole, `1 / 0`.
 struct SplatAtThePinhole;
-impl Chapters for SplatAtThePinhole {
+plant! {
+    SplatAtThePinhole;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         if cos_camera <= 0.0 || cos_surface <= 0.0 {
             return 0.0;
@@ -282,7 +299,8 @@ impl Chapters for SplatAtThePinhole {
 
 /// The camera's side tested, the surface's not.
 struct SplatSurfaceSideUntested;
-impl Chapters for SplatSurfaceSideUntested {
+plant! {
+    SplatSurfaceSideUntested;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         let seen = distance * distance * pixel_area * cos_camera.powi(3);
         if !(seen > 0.0) {
@@ -294,7 +312,8 @@ impl Chapters for SplatSurfaceSideUntested {
 
 /// Every sign tested as `<= 0`, which a NaN passes.
 struct SplatNanPasses;
-impl Chapters for SplatNanPasses {
+plant! {
+    SplatNanPasses;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         let seen = distance * distance * pixel_area * cos_camera.powi(3);
         if seen <= 0.0 || cos_surface <= 0.0 {
@@ -316,7 +335,8 @@ fn each_clause_of_the_splat_weight_is_caught() {
 
 /// `b / lambda`: the wavelength not squared.
 struct WavelengthNotSquared;
-impl Chapters for WavelengthNotSquared {
+plant! {
+    WavelengthNotSquared;
     fn cauchy_ior(cauchy: &Cauchy, nanometres: f32) -> f32 {
         cauchy.a + cauchy.b / (nanometres / 1000.0)
     }
@@ -329,8 +349,9 @@ fn an_index_with_the_wavelength_not_squared_is_caught() {
 
 /// The reference's `connect_to_camera` without its shadow ray.
 struct NoShadowToTheCamera;
-impl Chapters for NoShadowToTheCamera {
-    fn connect_to_camera(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+plant! {
+    NoShadowToTheCamera;
+    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
         let camera = *tracer.camera();
         let Some((x, y)) = camera.project(point.surface.point) else {
             return;
@@ -345,7 +366,7 @@ impl Chapters for NoShadowToTheCamera {
         if scattered == Vec3::ZERO {
             return;
         }
-        let weight = Self::splat_weight(
+        let weight = Planted::splat_weight(
             point.normal.dot(direction),
             camera.forward().dot(-direction),
             distance,
@@ -358,8 +379,9 @@ impl Chapters for NoShadowToTheCamera {
 /// The reference's `connect_to_camera` with Lambert's `albedo / pi` for
 /// the lobe's `f`.
 struct LambertsFToTheCamera;
-impl Chapters for LambertsFToTheCamera {
-    fn connect_to_camera(tracer: &mut Tracer<Self>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+plant! {
+    LambertsFToTheCamera;
+    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
         let diffuse = Lobe::Diffuse {
             albedo: point.albedo,
         };
@@ -438,8 +460,9 @@ fn light_path<C: Chapters>(tracer: &mut Tracer<C>, slip: LightPathSlip) {
 macro_rules! light_path_variant {
     ($name:ident, $slip:ident) => {
         struct $name;
-        impl Chapters for $name {
-            fn trace_light_path(tracer: &mut Tracer<Self>) {
+        plant! {
+            $name;
+            fn trace_light_path(tracer: &mut Tracer<Planted>) {
                 light_path(tracer, LightPathSlip::$slip)
             }
         }
@@ -453,7 +476,7 @@ light_path_variant!(LightSurvivorNotBoosted, SurvivorNotBoosted);
 
 #[test]
 fn each_clause_of_trace_light_path_is_caught() {
-    let verdict = check_chapter::<LightPathCopy>(14, &options());
+    let verdict = planted::check_chapter::<LightPathCopy>(14, &options());
     assert!(verdict.robust(), "{}", verdict.text());
     assert_caught::<PowerNotScattered>("point-light-in-glass");
     assert_caught::<LightSurvivorNotBoosted>("point-light-in-glass");
@@ -516,8 +539,9 @@ fn dispersed<C: Chapters>(
 macro_rules! dispersion_variant {
     ($name:ident, $slip:ident) => {
         struct $name;
-        impl Chapters for $name {
-            fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+        plant! {
+            $name;
+            fn dispersive_ior(tracer: &mut Tracer<Planted>, cauchy: &Cauchy) -> Dispersed {
                 dispersed(tracer, cauchy, DispersionSlip::$slip)
             }
         }
@@ -532,13 +556,13 @@ dispersion_variant!(IndexOfAnotherWavelength, IndexOfAnotherWavelength);
 
 #[test]
 fn each_clause_of_dispersive_ior_is_caught() {
-    let verdict = check_chapter::<DispersionCopy>(14, &options());
+    let verdict = planted::check_chapter::<DispersionCopy>(14, &options());
     assert!(verdict.robust(), "{}", verdict.text());
     let variants: [fn(u8, &CheckOptions) -> ChapterVerdict; 4] = [
-        check_chapter::<WavelengthNotKept>,
-        check_chapter::<TintEverySurface>,
-        check_chapter::<WavelengthNotUniform>,
-        check_chapter::<IndexOfAnotherWavelength>,
+        planted::check_chapter::<WavelengthNotKept>,
+        planted::check_chapter::<TintEverySurface>,
+        planted::check_chapter::<WavelengthNotUniform>,
+        planted::check_chapter::<IndexOfAnotherWavelength>,
     ];
     for check in variants {
         let verdict = check(14, &options());

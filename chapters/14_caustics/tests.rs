@@ -10,6 +10,7 @@ use crate::check::cases::{
 };
 use crate::check::catalog::Case;
 use crate::render::Stage;
+use raylab::check::planted::{self, Plant, Planted, plant};
 
 use crate::chapters::ch14_caustics::checks::{GLASS_BALL, closed_sphere};
 
@@ -45,21 +46,23 @@ fn converges(scene: String, without: &'static [&'static str], expected: f64) -> 
     converges_with::<Reference>(scene, without, expected)
 }
 
-fn converges_with<C: Chapters>(
+fn converges_with<C: Plant>(
     scene: String,
     without: &'static [&'static str],
     expected: f64,
 ) -> (DVec3, DVec3) {
-    LightConvergesCase {
-        function: "trace_light_path",
-        scene,
-        without,
-        repetitions: 24,
-        expected: [expected; 3],
-        first_seed: 1,
-    }
-    .estimate::<C>()
-    .expect("the scene renders")
+    planted::with::<C, _>(|| {
+        LightConvergesCase {
+            function: "trace_light_path",
+            scene,
+            without,
+            repetitions: 24,
+            expected: [expected; 3],
+            first_seed: 1,
+        }
+        .estimate::<Planted>()
+        .expect("the scene renders")
+    })
 }
 
 fn assert_converges_to(found: (DVec3, DVec3), expected: f64, what: &str) {
@@ -167,31 +170,34 @@ fn the_prism_deviates_least_where_snell_says() {
 /// `repetitions` renders of `scene` by chapter `chapter`'s stage, each with
 /// its own seed from `first_seed` on: a pixel's value is the sum of camera
 /// samples and light paths, so its spread is read across renders.
-fn render_statistics<C: Chapters>(
+fn render_statistics<C: Plant>(
     scene: &crate::Scene,
     chapter: u8,
     repetitions: u32,
     first_seed: u64,
 ) -> Vec<(f64, f64, f64)> {
-    let mut scene = scene.clone();
-    let images: Vec<Vec<f64>> = (0..u64::from(repetitions))
-        .map(|repetition| {
-            scene.render.seed = first_seed + repetition;
-            let stage = Stage::<C>::with_chapters(&scene, chapter, scene.render).expect("stage");
-            linear_image(&stage)
-                .iter()
-                .map(|pixel| f64::from(pixel.x))
-                .collect()
-        })
-        .collect();
-    let count = f64::from(repetitions);
-    (0..images[0].len())
-        .map(|pixel| {
-            let values: Vec<f64> = images.iter().map(|image| image[pixel]).collect();
-            let (mean, error) = crate::check::cases::mean_and_error(&values);
-            (mean, error * error, count)
-        })
-        .collect()
+    planted::with::<C, _>(|| {
+        let mut scene = scene.clone();
+        let images: Vec<Vec<f64>> = (0..u64::from(repetitions))
+            .map(|repetition| {
+                scene.render.seed = first_seed + repetition;
+                let stage =
+                    Stage::<Planted>::with_chapters(&scene, chapter, scene.render).expect("stage");
+                linear_image(&stage)
+                    .iter()
+                    .map(|pixel| f64::from(pixel.x))
+                    .collect()
+            })
+            .collect();
+        let count = f64::from(repetitions);
+        (0..images[0].len())
+            .map(|pixel| {
+                let values: Vec<f64> = images.iter().map(|image| image[pixel]).collect();
+                let (mean, error) = crate::check::cases::mean_and_error(&values);
+                (mean, error * error, count)
+            })
+            .collect()
+    })
 }
 
 /// The lens's screen lit through the ball by a lamp, a ball of radius 0.4
@@ -247,7 +253,8 @@ fn a_caustic_from_light_paths_is_the_caustic_camera_paths_find() {
 /// A variant whose splat weight forgets the surface's cosine: the screen,
 /// seen at 65 degrees from its normal, comes out 2.4 times too bright.
 struct NoSurfaceCosine;
-impl Chapters for NoSurfaceCosine {
+plant! {
+    NoSurfaceCosine;
     fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
         splat_weight(cos_surface, cos_camera, distance, pixel_area) / cos_surface
     }
@@ -280,8 +287,9 @@ fn a_glass_of_constant_index_gives_the_image_of_its_index_wavelengths_and_all() 
 /// dispersive surface, not the first only: through a ball, the colour
 /// squared, whose mean is not white.
 struct TintAtEverySurface;
-impl Chapters for TintAtEverySurface {
-    fn dispersive_ior(tracer: &mut Tracer<Self>, cauchy: &Cauchy) -> Dispersed {
+plant! {
+    TintAtEverySurface;
+    fn dispersive_ior(tracer: &mut Tracer<Planted>, cauchy: &Cauchy) -> Dispersed {
         let dispersed = dispersive_ior(tracer, cauchy);
         let nanometres = tracer.wavelength().unwrap_or(550.0);
         Dispersed {

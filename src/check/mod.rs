@@ -50,6 +50,9 @@ pub mod judge;
 pub(crate) mod judge;
 mod panics;
 #[cfg(not(feature = "student"))]
+#[doc(hidden)]
+pub mod planted;
+#[cfg(not(feature = "student"))]
 pub mod protocol;
 #[cfg(feature = "student")]
 pub(crate) mod protocol;

@@ -5,24 +5,27 @@
 //! lesson code that never runs, or runs somewhere else.
 
 use raylab::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
 use raylab::render::Tracer;
 use raylab::{Material, Plane, Ray, RenderSettings, Sampling, Sphere, SurfacePoint, Vec3};
 
-fn image<C: Chapters>(chapter: u8) -> Vec<u8> {
-    let scene = raylab::builtin::scene(chapter).expect("built-in scene");
-    let settings = RenderSettings {
-        width: REFERENCE_WIDTH,
-        height: REFERENCE_HEIGHT,
-        ..scene.render
-    };
-    raylab::render_with::<C>(&scene, chapter, &settings, None)
-        .expect("valid settings")
-        .rgb
+fn image<C: Plant>(chapter: u8) -> Vec<u8> {
+    planted::with::<C, _>(|| {
+        let scene = raylab::builtin::scene(chapter).expect("built-in scene");
+        let settings = RenderSettings {
+            width: REFERENCE_WIDTH,
+            height: REFERENCE_HEIGHT,
+            ..scene.render
+        };
+        raylab::render_with::<Planted>(&scene, chapter, &settings, None)
+            .expect("valid settings")
+            .rgb
+    })
 }
 
 /// Asserts that the variant `C` changes chapter `chapter`'s image.
-fn changes<C: Chapters>(chapter: u8, what: &str) {
+fn changes<C: Plant>(chapter: u8, what: &str) {
     assert_ne!(
         image::<C>(chapter),
         image::<raylab::Reference>(chapter),
@@ -31,22 +34,25 @@ fn changes<C: Chapters>(chapter: u8, what: &str) {
 }
 
 struct NoPlane;
-impl Chapters for NoPlane {
-    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+plant! {
+    NoPlane;
+    fn intersect_plane(_plane: &Plane, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         None
     }
 }
 
 struct NoSphere;
-impl Chapters for NoSphere {
-    fn intersect_sphere(_: &Sphere, _: &Ray, _: f32, _: f32) -> Option<f32> {
+plant! {
+    NoSphere;
+    fn intersect_sphere(_sphere: &Sphere, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         None
     }
 }
 
 struct ListOrder;
-impl Chapters for ListOrder {
-    fn nearest_hit(objects: &Objects<Self>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+plant! {
+    ListOrder;
+    fn nearest_hit(objects: &Objects<Planted>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         objects.first_hit(ray, t_min, t_max)
     }
 }
@@ -57,7 +63,8 @@ impl Chapters for ListOrder {
 /// sphere test and an axis-aligned floor at y = 0, exact in `f32`, show no
 /// acne in this scene; lesson 4 shows it with the textbook formula.)
 struct WrongSide;
-impl Chapters for WrongSide {
+plant! {
+    WrongSide;
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         let right = raylab::Reference::offset_origin(surface, dir);
         surface.point - (right - surface.point)
@@ -65,21 +72,24 @@ impl Chapters for WrongSide {
 }
 
 struct NeverInShadow;
-impl Chapters for NeverInShadow {
-    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+plant! {
+    NeverInShadow;
+    fn in_shadow(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _light: Vec3) -> bool {
         false
     }
 }
 
 struct Unlit;
-impl Chapters for Unlit {
-    fn shade_flat(_: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+plant! {
+    Unlit;
+    fn shade_flat(_tracer: &mut Tracer<Planted>, point: &HitPoint) -> Vec3 {
         point.albedo
     }
 }
 
 struct NoDiffuse;
-impl Chapters for NoDiffuse {
+plant! {
+    NoDiffuse;
     fn phong_terms(
         material: &Material,
         albedo: Vec3,
@@ -98,8 +108,9 @@ impl Chapters for NoDiffuse {
 }
 
 struct AmbientOnly;
-impl Chapters for AmbientOnly {
-    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+plant! {
+    AmbientOnly;
+    fn shade_phong(tracer: &mut Tracer<Planted>, point: &HitPoint) -> PhongTerms {
         PhongTerms {
             diffuse: point.albedo * point.material.ambient * tracer.ambient_light(),
             specular: Vec3::ZERO,
@@ -108,45 +119,51 @@ impl Chapters for AmbientOnly {
 }
 
 struct StraightOn;
-impl Chapters for StraightOn {
-    fn reflect(d: Vec3, _: Vec3) -> Vec3 {
+plant! {
+    StraightOn;
+    fn reflect(d: Vec3, _n: Vec3) -> Vec3 {
         d
     }
 }
 
 struct NoMirror;
-impl Chapters for NoMirror {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, _: u32, _: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    NoMirror;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, _depth: u32, _weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         local.diffuse + local.specular
     }
 }
 
 struct CentreSamples;
-impl Chapters for CentreSamples {
-    fn sample_offset(_: Sampling, _: u32, _: u32, _: (u32, u32), _: u64) -> (f32, f32) {
+plant! {
+    CentreSamples;
+    fn sample_offset(_sampling: Sampling, _count: u32, _index: u32, _pixel: (u32, u32), _seed: u64) -> (f32, f32) {
         (0.5, 0.5)
     }
 }
 
 struct OneSample;
-impl Chapters for OneSample {
-    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+plant! {
+    OneSample;
+    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3 {
         tracer.sample(x as f32 + 0.5, y as f32 + 0.5)
     }
 }
 
 struct AlwaysTotal;
-impl Chapters for AlwaysTotal {
-    fn refract(_: Vec3, _: Vec3, _: f32) -> Option<Vec3> {
+plant! {
+    AlwaysTotal;
+    fn refract(_d: Vec3, _n: Vec3, _eta: f32) -> Option<Vec3> {
         None
     }
 }
 
 struct Opaque;
-impl Chapters for Opaque {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        Self::shade_mirror(tracer, point, depth, weight)
+plant! {
+    Opaque;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        Planted::shade_mirror(tracer, point, depth, weight)
     }
 }
 

@@ -5,6 +5,7 @@
 //! must pass. Each variant overrides one function of the reference and
 //! keeps the rest, so the planted bug reaches everything that calls it.
 
+use raylab::check::planted::{self, Plant, Planted, plant};
 use raylab::check::{ChapterVerdict, CheckOptions, Status, check_all, check_chapter};
 use raylab::course::{Chapters, HitPoint, PhongTerms, TextbookSphere};
 use raylab::render::{RayKind, Tracer};
@@ -21,40 +22,44 @@ fn options() -> CheckOptions {
 }
 
 /// Checks `chapter` with `C` and asserts that it fails on case `case`.
-fn assert_caught<C: Chapters>(chapter: u8, case: &str) -> ChapterVerdict {
-    let verdict = check_chapter::<C>(chapter, &options());
-    let text = verdict.text();
-    assert_eq!(verdict.status, Status::Fail, "{text}");
-    assert_eq!(verdict.failing_case(), Some(case), "{text}");
-    // The lesson where raylab's checkout has it: a student reads it from
-    // their own workspace, where `chapters/...` names nothing.
-    assert!(
-        text.contains(&format!(
-            "hint:     read {}/chapters/",
-            env!("CARGO_MANIFEST_DIR")
-        )),
-        "{text}"
-    );
-    // The earlier chapters are the reference's: nothing else to blame.
-    assert_eq!(verdict.needs, None, "{text}");
-    verdict
+fn assert_caught<C: Plant>(chapter: u8, case: &str) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(chapter, &options());
+        let text = verdict.text();
+        assert_eq!(verdict.status, Status::Fail, "{text}");
+        assert_eq!(verdict.failing_case(), Some(case), "{text}");
+        // The lesson where raylab's checkout has it: a student reads it from
+        // their own workspace, where `chapters/...` names nothing.
+        assert!(
+            text.contains(&format!(
+                "hint:     read {}/chapters/",
+                env!("CARGO_MANIFEST_DIR")
+            )),
+            "{text}"
+        );
+        // The earlier chapters are the reference's: nothing else to blame.
+        assert_eq!(verdict.needs, None, "{text}");
+        verdict
+    })
 }
 
 /// Checks `chapter` with `C` and asserts that it passes, with the lesson's
 /// inputs and with fresh ones (`--fresh`): a correct alternative passes
 /// whatever numbers it is asked.
-fn assert_passes<C: Chapters>(chapter: u8) -> ChapterVerdict {
-    for seed in [1, 2] {
-        let fresh = CheckOptions {
-            fresh: Some(seed),
-            ..options()
-        };
-        let verdict = check_chapter::<C>(chapter, &fresh);
-        assert!(verdict.passes(), "fresh seed {seed}: {}", verdict.text());
-    }
-    let verdict = check_chapter::<C>(chapter, &options());
-    assert!(verdict.passes(), "{}", verdict.text());
-    verdict
+fn assert_passes<C: Plant>(chapter: u8) -> ChapterVerdict {
+    planted::with::<C, _>(|| {
+        for seed in [1, 2] {
+            let fresh = CheckOptions {
+                fresh: Some(seed),
+                ..options()
+            };
+            let verdict = check_chapter::<Planted>(chapter, &fresh);
+            assert!(verdict.passes(), "fresh seed {seed}: {}", verdict.text());
+        }
+        let verdict = check_chapter::<Planted>(chapter, &options());
+        assert!(verdict.passes(), "{}", verdict.text());
+        verdict
+    })
 }
 
 // ---------------------------------------------------------------------------
@@ -62,8 +67,9 @@ fn assert_passes<C: Chapters>(chapter: u8) -> ChapterVerdict {
 
 /// Chapter 4: the shadow test always says "lit".
 struct AlwaysLit;
-impl Chapters for AlwaysLit {
-    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+plant! {
+    AlwaysLit;
+    fn in_shadow(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _light: Vec3) -> bool {
         false
     }
 }
@@ -75,7 +81,8 @@ fn gallery_shadow_test_always_lit() {
 
 /// Chapter 2: the quadratic written for unit directions (`a = 1`).
 struct DropsA;
-impl Chapters for DropsA {
+plant! {
+    DropsA;
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let oc = ray.origin - sphere.center();
         let b = 2.0 * ray.dir.dot(oc);
@@ -99,7 +106,8 @@ fn gallery_quadratic_drops_a() {
 /// Chapter 2: the sub-cases mixed up: from outside it takes the far root,
 /// from inside the negative one.
 struct RootMixUp;
-impl Chapters for RootMixUp {
+plant! {
+    RootMixUp;
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let oc = ray.origin - sphere.center();
         let a = ray.dir.dot(ray.dir);
@@ -126,7 +134,8 @@ fn gallery_sphere_root_mix_up() {
 
 /// Chapter 8: the refracted direction comes out with length n1 / n2.
 struct RefractedNotUnit;
-impl Chapters for RefractedNotUnit {
+plant! {
+    RefractedNotUnit;
     fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
         raylab::refract(d, n, eta).map(|t| t * eta)
     }
@@ -140,13 +149,14 @@ fn gallery_refracted_direction_not_normalised() {
 /// Chapter 6: the mirror mix normalised by 1 / (1 + k) instead of
 /// `(1 - k) local + k reflected`.
 struct OnePlusK;
-impl Chapters for OnePlusK {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    OnePlusK;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         let k = point.material.reflectivity;
         let mut seen = Vec3::ZERO;
         if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
-            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let dir = Planted::reflect(point.ray.dir, point.surface.normal);
             let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
             seen = tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
         }
@@ -162,8 +172,9 @@ fn gallery_reflection_weighted_one_over_one_plus_k() {
 /// Chapter 7: "anti-aliasing" by blurring: the mean of the neighbouring
 /// pixels' centres.
 struct Blur;
-impl Chapters for Blur {
-    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+plant! {
+    Blur;
+    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for dy in -1..=1 {
             for dx in -1..=1 {
@@ -176,7 +187,7 @@ impl Chapters for Blur {
 
 #[test]
 fn gallery_blur_is_not_anti_aliasing() {
-    let verdict = check_chapter::<Blur>(7, &options());
+    let verdict = planted::check_chapter::<Blur>(7, &options());
     assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
     let case = verdict.failing_case().unwrap_or_default();
     assert!(
@@ -189,8 +200,9 @@ fn gallery_blur_is_not_anti_aliasing() {
 /// Chapter 4: shadow acne: the shadow ray starts on the surface itself,
 /// with no offset, and counts hits from t = 0.
 struct Acne;
-impl Chapters for Acne {
-    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+plant! {
+    Acne;
+    fn in_shadow(tracer: &mut Tracer<Planted>, point: &HitPoint, light: Vec3) -> bool {
         let origin = point.surface.point;
         tracer.blocked(&Ray::new(origin, light - origin), 0.0, 1.0, point)
     }
@@ -206,12 +218,13 @@ fn gallery_shadow_acne() {
 /// Chapter 4: the ambient term without the ambient light, `albedo * k_a`:
 /// right under white ambient light only.
 struct AmbientLightLeftOut;
-impl Chapters for AmbientLightLeftOut {
-    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+plant! {
+    AmbientLightLeftOut;
+    fn shade_flat(tracer: &mut Tracer<Planted>, point: &HitPoint) -> Vec3 {
         let material = &point.material;
         let mut color = point.albedo * material.ambient;
         for light in tracer.lights() {
-            if !point.faces(light.position) || Self::in_shadow(tracer, point, light.position) {
+            if !point.faces(light.position) || Planted::in_shadow(tracer, point, light.position) {
                 continue;
             }
             color += point.albedo * material.diffuse * light.radiance();
@@ -228,13 +241,14 @@ fn gallery_ambient_light_left_out() {
 /// Chapter 6: the reflected ray traced at the mirror's own depth: only the
 /// weights end the recursion, `max_depth` never does.
 struct DepthNotCounted;
-impl Chapters for DepthNotCounted {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    DepthNotCounted;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         let k = point.material.reflectivity;
         let mut color = (1.0 - k) * local.diffuse + local.specular;
         if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
-            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let dir = Planted::reflect(point.ray.dir, point.surface.normal);
             let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
             color += k * tracer.trace(RayKind::Reflection, &ray, depth, weight * k);
         }
@@ -250,7 +264,8 @@ fn gallery_reflection_depth_not_counted() {
 /// Chapter 7: the random numbers hashed from the pixel and the sample only:
 /// every seed gives the same samples.
 struct SeedIgnored;
-impl Chapters for SeedIgnored {
+plant! {
+    SeedIgnored;
     fn sample_offset(
         sampling: Sampling,
         count: u32,
@@ -286,8 +301,9 @@ fn srgb_decode(encoded: f32) -> f32 {
 
 /// Chapter 7: the samples averaged as sRGB codes, not in linear light.
 struct SrgbAverage;
-impl Chapters for SrgbAverage {
-    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+plant! {
+    SrgbAverage;
+    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3 {
         let samples = tracer.samples();
         let mut sum = Vec3::ZERO;
         for index in 0..samples {
@@ -311,7 +327,8 @@ fn gallery_samples_averaged_in_srgb() {
 
 /// Chapter 5: the normal flipped in the Phong terms.
 struct FlippedNormal;
-impl Chapters for FlippedNormal {
+plant! {
+    FlippedNormal;
     fn phong_terms(
         material: &Material,
         albedo: Vec3,
@@ -381,8 +398,9 @@ fn glass<C: Chapters>(
 
 /// Chapter 8: eta = n2 / n1 instead of n1 / n2.
 struct EtaSwapped;
-impl Chapters for EtaSwapped {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    EtaSwapped;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         glass(tracer, point, depth, weight, true, false)
     }
 }
@@ -395,8 +413,9 @@ fn gallery_eta_swapped() {
 /// Chapter 8: total internal reflection drawn black (the transmitted share
 /// lost instead of joining the reflected one).
 struct TirBlack;
-impl Chapters for TirBlack {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    TirBlack;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         glass(tracer, point, depth, weight, false, true)
     }
 }
@@ -409,8 +428,9 @@ fn gallery_total_internal_reflection_as_black() {
 /// The glass mix above with neither bug is the reference's: the gallery's
 /// two chapter 8 bugs are caught for what they change, nothing else.
 struct GlassRewritten;
-impl Chapters for GlassRewritten {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    GlassRewritten;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         glass(tracer, point, depth, weight, false, false)
     }
 }
@@ -425,7 +445,18 @@ fn the_glass_mix_without_the_bugs_passes() {
 
 #[test]
 fn alternative_textbook_sphere_is_correct_but_not_robust() {
-    let verdict = assert_passes::<TextbookSphere<Reference>>(2);
+    // Not a planted variant: raylab's own comparison wrapper, checked as
+    // it is.
+    for seed in [1, 2] {
+        let fresh = CheckOptions {
+            fresh: Some(seed),
+            ..options()
+        };
+        let verdict = check_chapter::<TextbookSphere<Reference>>(2, &fresh);
+        assert!(verdict.passes(), "fresh seed {seed}: {}", verdict.text());
+    }
+    let verdict = check_chapter::<TextbookSphere<Reference>>(2, &options());
+    assert!(verdict.passes(), "{}", verdict.text());
     assert!(!verdict.robust(), "{}", verdict.text());
     assert!(
         verdict.text().contains("correct, not yet robust"),
@@ -437,7 +468,8 @@ fn alternative_textbook_sphere_is_correct_but_not_robust() {
 /// Chapter 1 written with signed distances: the origin is `s0` from the
 /// plane, each unit of `t` moves `s1` more, so the hit is at `-s0 / s1`.
 struct PlaneBySignedDistance;
-impl Chapters for PlaneBySignedDistance {
+plant! {
+    PlaneBySignedDistance;
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let start = (ray.origin - plane.point()).dot(plane.normal());
         let rate = ray.dir.dot(plane.normal());
@@ -457,7 +489,8 @@ fn alternative_plane_by_signed_distance() {
 /// Chapter 4 with another offset rule: twice the length of the error
 /// vector along the normal (at least twice the reference's push).
 struct OffsetTwiceTheError;
-impl Chapters for OffsetTwiceTheError {
+plant! {
+    OffsetTwiceTheError;
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         let side = if dir.dot(surface.normal) >= 0.0 {
             1.0
@@ -476,8 +509,9 @@ fn alternative_offset_rule() {
 /// Chapter 7 summing the samples last to first: another order, the same
 /// mean up to rounding.
 struct ReverseSum;
-impl Chapters for ReverseSum {
-    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+plant! {
+    ReverseSum;
+    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3 {
         let samples = tracer.samples();
         let mut sum = Vec3::ZERO;
         for index in (0..samples).rev() {
@@ -496,7 +530,8 @@ fn alternative_sample_sum_order() {
 /// Chapter 7's grid samples numbered column by column instead of row by
 /// row (the lesson asks for the cell centres, in no particular order).
 struct GridColumnMajor;
-impl Chapters for GridColumnMajor {
+plant! {
+    GridColumnMajor;
     fn sample_offset(
         sampling: Sampling,
         count: u32,
@@ -527,21 +562,23 @@ fn alternative_grid_sample_order() {
 /// the skeleton has them, each function `todo!("chapter N: name")`.
 mod skips_to_thirteen {
     use raylab::bvh::{Aabb, Boxes4, Bvh, BvhOptions, Triangles4, WideBvh};
-    use raylab::course::{Chapters, HitPoint, PhongTerms};
+    use raylab::check::planted::{Planted, plant};
+    use raylab::course::{HitPoint, PhongTerms};
     use raylab::medium::{Crossing, MediumStack};
     use raylab::render::Tracer;
     use raylab::shapes::{Bracket, Implicit, Shape, SurfacePoint, Triangle};
     use raylab::{Hit, Material, Objects, Ray, Sampling, Vec3, Vec4};
 
     pub struct SkipsToThirteen;
-    impl Chapters for SkipsToThirteen {
+    plant! {
+        SkipsToThirteen;
         fn offset_origin(_surface: &SurfacePoint, _dir: Vec3) -> Vec3 {
             todo!("chapter 4: offset_origin")
         }
-        fn in_shadow(_tracer: &mut Tracer<Self>, _point: &HitPoint, _light: Vec3) -> bool {
+        fn in_shadow(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _light: Vec3) -> bool {
             todo!("chapter 4: in_shadow")
         }
-        fn shade_flat(_tracer: &mut Tracer<Self>, _point: &HitPoint) -> Vec3 {
+        fn shade_flat(_tracer: &mut Tracer<Planted>, _point: &HitPoint) -> Vec3 {
             todo!("chapter 4: shade_flat")
         }
         fn phong_terms(
@@ -554,14 +591,14 @@ mod skips_to_thirteen {
         ) -> PhongTerms {
             todo!("chapter 5: phong_terms")
         }
-        fn shade_phong(_tracer: &mut Tracer<Self>, _point: &HitPoint) -> PhongTerms {
+        fn shade_phong(_tracer: &mut Tracer<Planted>, _point: &HitPoint) -> PhongTerms {
             todo!("chapter 5: shade_phong")
         }
         fn reflect(_d: Vec3, _n: Vec3) -> Vec3 {
             todo!("chapter 6: reflect")
         }
         fn shade_mirror(
-            _tracer: &mut Tracer<Self>,
+            _tracer: &mut Tracer<Planted>,
             _point: &HitPoint,
             _depth: u32,
             _weight: f32,
@@ -577,14 +614,14 @@ mod skips_to_thirteen {
         ) -> (f32, f32) {
             todo!("chapter 7: sample_offset")
         }
-        fn pixel_color(_tracer: &mut Tracer<Self>, _x: u32, _y: u32) -> Vec3 {
+        fn pixel_color(_tracer: &mut Tracer<Planted>, _x: u32, _y: u32) -> Vec3 {
             todo!("chapter 7: pixel_color")
         }
         fn refract(_d: Vec3, _n: Vec3, _eta: f32) -> Option<Vec3> {
             todo!("chapter 8: refract")
         }
         fn shade_glass(
-            _tracer: &mut Tracer<Self>,
+            _tracer: &mut Tracer<Planted>,
             _point: &HitPoint,
             _depth: u32,
             _weight: f32,
@@ -604,7 +641,7 @@ mod skips_to_thirteen {
             todo!("chapter 9: crossing")
         }
         fn shade_dielectric(
-            _tracer: &mut Tracer<Self>,
+            _tracer: &mut Tracer<Planted>,
             _point: &HitPoint,
             _depth: u32,
             _weight: f32,
@@ -649,7 +686,7 @@ mod skips_to_thirteen {
         }
         fn nearest_hit_bvh(
             _bvh: &Bvh,
-            _objects: &Objects<Self>,
+            _objects: &Objects<Planted>,
             _ray: &Ray,
             _t_min: f32,
             _t_max: f32,
@@ -658,7 +695,7 @@ mod skips_to_thirteen {
         }
         fn any_hit_bvh(
             _bvh: &Bvh,
-            _objects: &Objects<Self>,
+            _objects: &Objects<Planted>,
             _ray: &Ray,
             _t_min: f32,
             _t_max: f32,
@@ -687,7 +724,7 @@ mod skips_to_thirteen {
         }
         fn nearest_hit_wide(
             _wide: &WideBvh,
-            _objects: &Objects<Self>,
+            _objects: &Objects<Planted>,
             _ray: &Ray,
             _t_min: f32,
             _t_max: f32,
@@ -696,7 +733,7 @@ mod skips_to_thirteen {
         }
         fn any_hit_wide(
             _wide: &WideBvh,
-            _objects: &Objects<Self>,
+            _objects: &Objects<Planted>,
             _ray: &Ray,
             _t_min: f32,
             _t_max: f32,
@@ -735,7 +772,7 @@ mod skips_to_thirteen {
 #[test]
 fn a_chapter_written_past_unwritten_ones_waits_for_the_first() {
     use skips_to_thirteen::SkipsToThirteen;
-    let verdict = check_chapter::<SkipsToThirteen>(13, &options());
+    let verdict = planted::check_chapter::<SkipsToThirteen>(13, &options());
     let text = verdict.text();
     assert_eq!(verdict.status, Status::Blocked { by: 4 }, "{text}");
     assert_eq!(verdict.needs, Some((4, Status::NotStarted)), "{text}");
@@ -752,7 +789,7 @@ fn a_chapter_written_past_unwritten_ones_waits_for_the_first() {
         !text.contains("ERROR") && !text.contains("panicked"),
         "{text}"
     );
-    let report = check_all::<SkipsToThirteen>(None, &options());
+    let report = planted::check_all::<SkipsToThirteen>(None, &options());
     let thirteen = report
         .verdicts
         .iter()
@@ -778,19 +815,20 @@ fn a_chapter_written_past_unwritten_ones_waits_for_the_first() {
 
 /// Chapter 3 not written yet.
 struct NearestNotStarted;
-impl Chapters for NearestNotStarted {
-    fn nearest_hit(_: &raylab::Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<raylab::Hit> {
+plant! {
+    NearestNotStarted;
+    fn nearest_hit(_objects: &raylab::Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<raylab::Hit> {
         todo!()
     }
 }
 
 #[test]
 fn a_todo_chapter_is_not_started_and_blocks_the_next() {
-    let verdict = check_chapter::<NearestNotStarted>(3, &options());
+    let verdict = planted::check_chapter::<NearestNotStarted>(3, &options());
     assert_eq!(verdict.status, Status::NotStarted, "{}", verdict.text());
     assert!(verdict.text().contains("nearest_hit"), "{}", verdict.text());
     // Chapter 4's own cases pass, but its image needs chapter 3.
-    let next = check_chapter::<NearestNotStarted>(4, &options());
+    let next = planted::check_chapter::<NearestNotStarted>(4, &options());
     assert_eq!(next.status, Status::Blocked { by: 3 }, "{}", next.text());
     assert!(
         next.text().contains("builds on chapter 3"),
@@ -801,8 +839,9 @@ fn a_todo_chapter_is_not_started_and_blocks_the_next() {
 
 /// A chapter 1 that panics for another reason.
 struct PlanePanics;
-impl Chapters for PlanePanics {
-    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+plant! {
+    PlanePanics;
+    fn intersect_plane(_plane: &Plane, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         let empty: Vec<f32> = Vec::new();
         empty
             .first()
@@ -814,7 +853,7 @@ impl Chapters for PlanePanics {
 
 #[test]
 fn another_panic_is_a_failure_with_its_message() {
-    let verdict = check_chapter::<PlanePanics>(1, &options());
+    let verdict = planted::check_chapter::<PlanePanics>(1, &options());
     assert_eq!(verdict.status, Status::Fail);
     assert!(
         verdict.text().contains("a panic: no roots at all"),
@@ -825,185 +864,186 @@ fn another_panic_is_a_failure_with_its_message() {
 
 /// Every function still `todo!()`: a fresh student workspace.
 struct NothingWritten;
-impl Chapters for NothingWritten {
-    fn intersect_plane(_: &Plane, _: &Ray, _: f32, _: f32) -> Option<f32> {
+plant! {
+    NothingWritten;
+    fn intersect_plane(_plane: &Plane, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
-    fn intersect_sphere(_: &Sphere, _: &Ray, _: f32, _: f32) -> Option<f32> {
+    fn intersect_sphere(_sphere: &Sphere, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
-    fn nearest_hit(_: &raylab::Objects<Self>, _: &Ray, _: f32, _: f32) -> Option<raylab::Hit> {
+    fn nearest_hit(_objects: &raylab::Objects<Planted>, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<raylab::Hit> {
         todo!()
     }
-    fn offset_origin(_: &SurfacePoint, _: Vec3) -> Vec3 {
+    fn offset_origin(_surface: &SurfacePoint, _dir: Vec3) -> Vec3 {
         todo!()
     }
-    fn in_shadow(_: &mut Tracer<Self>, _: &HitPoint, _: Vec3) -> bool {
+    fn in_shadow(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _light: Vec3) -> bool {
         todo!()
     }
-    fn shade_flat(_: &mut Tracer<Self>, _: &HitPoint) -> Vec3 {
+    fn shade_flat(_tracer: &mut Tracer<Planted>, _point: &HitPoint) -> Vec3 {
         todo!()
     }
-    fn phong_terms(_: &Material, _: Vec3, _: Vec3, _: Vec3, _: Vec3, _: Vec3) -> PhongTerms {
+    fn phong_terms(_material: &Material, _albedo: Vec3, _normal: Vec3, _to_light: Vec3, _to_eye: Vec3, _light: Vec3) -> PhongTerms {
         todo!()
     }
-    fn shade_phong(_: &mut Tracer<Self>, _: &HitPoint) -> PhongTerms {
+    fn shade_phong(_tracer: &mut Tracer<Planted>, _point: &HitPoint) -> PhongTerms {
         todo!()
     }
-    fn reflect(_: Vec3, _: Vec3) -> Vec3 {
+    fn reflect(_d: Vec3, _n: Vec3) -> Vec3 {
         todo!()
     }
-    fn shade_mirror(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+    fn shade_mirror(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _depth: u32, _weight: f32) -> Vec3 {
         todo!()
     }
-    fn sample_offset(_: Sampling, _: u32, _: u32, _: (u32, u32), _: u64) -> (f32, f32) {
+    fn sample_offset(_sampling: Sampling, _count: u32, _index: u32, _pixel: (u32, u32), _seed: u64) -> (f32, f32) {
         todo!()
     }
-    fn pixel_color(_: &mut Tracer<Self>, _: u32, _: u32) -> Vec3 {
+    fn pixel_color(_tracer: &mut Tracer<Planted>, _x: u32, _y: u32) -> Vec3 {
         todo!()
     }
-    fn refract(_: Vec3, _: Vec3, _: f32) -> Option<Vec3> {
+    fn refract(_d: Vec3, _n: Vec3, _eta: f32) -> Option<Vec3> {
         todo!()
     }
-    fn shade_glass(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+    fn shade_glass(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _depth: u32, _weight: f32) -> Vec3 {
         todo!()
     }
-    fn fresnel(_: f32, _: f32, _: f32) -> f32 {
+    fn fresnel(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
         todo!()
     }
-    fn schlick(_: f32, _: f32, _: f32) -> f32 {
+    fn schlick(_cos_i: f32, _n1: f32, _n2: f32) -> f32 {
         todo!()
     }
-    fn transmittance(_: Vec3, _: f32) -> Vec3 {
+    fn transmittance(_absorption: Vec3, _distance: f32) -> Vec3 {
         todo!()
     }
-    fn crossing(_: &raylab::medium::MediumStack, _: &HitPoint) -> raylab::medium::Crossing {
+    fn crossing(_media: &raylab::medium::MediumStack, _point: &HitPoint) -> raylab::medium::Crossing {
         todo!()
     }
-    fn shade_dielectric(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+    fn shade_dielectric(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _depth: u32, _weight: f32) -> Vec3 {
         todo!()
     }
-    fn intersect_triangle(_: &Triangle, _: &Ray, _: f32, _: f32) -> Option<f32> {
+    fn intersect_triangle(_triangle: &Triangle, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
-    fn barycentric(_: &Triangle, _: Vec3) -> Vec3 {
+    fn barycentric(_triangle: &Triangle, _point: Vec3) -> Vec3 {
         todo!()
     }
-    fn smooth_normal(_: &Triangle, _: &[Vec3; 3], _: Vec3) -> Vec3 {
+    fn smooth_normal(_triangle: &Triangle, _normals: &[Vec3; 3], _point: Vec3) -> Vec3 {
         todo!()
     }
-    fn terminator_point(_: &Triangle, _: &[Vec3; 3], _: Vec3) -> Vec3 {
+    fn terminator_point(_triangle: &Triangle, _normals: &[Vec3; 3], _point: Vec3) -> Vec3 {
         todo!()
     }
-    fn smooth_hit_point<'a>(_: HitPoint<'a>, _: &Triangle, _: &[Vec3; 3]) -> HitPoint<'a> {
+    fn smooth_hit_point<'a>(_point: HitPoint<'a>, _triangle: &Triangle, _normals: &[Vec3; 3]) -> HitPoint<'a> {
         todo!()
     }
-    fn hit_box(_: &raylab::bvh::Aabb, _: Vec3, _: Vec3, _: f32, _: f32) -> Option<f32> {
+    fn hit_box(_bounds: &raylab::bvh::Aabb, _origin: Vec3, _inverse_direction: Vec3, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
-    fn build_bvh(_: &[Option<raylab::bvh::Aabb>], _: &raylab::bvh::BvhOptions) -> raylab::bvh::Bvh {
+    fn build_bvh(_bounds: &[Option<raylab::bvh::Aabb>], _options: &raylab::bvh::BvhOptions) -> raylab::bvh::Bvh {
         todo!()
     }
     fn nearest_hit_bvh(
-        _: &raylab::bvh::Bvh,
-        _: &raylab::Objects<Self>,
-        _: &Ray,
-        _: f32,
-        _: f32,
+        _bvh: &raylab::bvh::Bvh,
+        _objects: &raylab::Objects<Planted>,
+        _ray: &Ray,
+        _t_min: f32,
+        _t_max: f32,
     ) -> Option<raylab::Hit> {
         todo!()
     }
     fn any_hit_bvh(
-        _: &raylab::bvh::Bvh,
-        _: &raylab::Objects<Self>,
-        _: &Ray,
-        _: f32,
-        _: f32,
+        _bvh: &raylab::bvh::Bvh,
+        _objects: &raylab::Objects<Planted>,
+        _ray: &Ray,
+        _t_min: f32,
+        _t_max: f32,
     ) -> Option<raylab::Hit> {
         todo!()
     }
-    fn hit_boxes(_: &raylab::bvh::Boxes4, _: Vec3, _: Vec3, _: f32, _: f32) -> raylab::Vec4 {
+    fn hit_boxes(_boxes: &raylab::bvh::Boxes4, _origin: Vec3, _inverse_direction: Vec3, _t_min: f32, _t_max: f32) -> raylab::Vec4 {
         todo!()
     }
-    fn intersect_triangles(_: &raylab::bvh::Triangles4, _: &Ray, _: f32, _: f32) -> raylab::Vec4 {
+    fn intersect_triangles(_triangles: &raylab::bvh::Triangles4, _ray: &Ray, _t_min: f32, _t_max: f32) -> raylab::Vec4 {
         todo!()
     }
-    fn collapse_bvh(_: &raylab::bvh::Bvh, _: &[raylab::Shape]) -> raylab::bvh::WideBvh {
+    fn collapse_bvh(_bvh: &raylab::bvh::Bvh, _shapes: &[raylab::Shape]) -> raylab::bvh::WideBvh {
         todo!()
     }
     fn nearest_hit_wide(
-        _: &raylab::bvh::WideBvh,
-        _: &raylab::Objects<Self>,
-        _: &Ray,
-        _: f32,
-        _: f32,
+        _wide: &raylab::bvh::WideBvh,
+        _objects: &raylab::Objects<Planted>,
+        _ray: &Ray,
+        _t_min: f32,
+        _t_max: f32,
     ) -> Option<raylab::Hit> {
         todo!()
     }
     fn any_hit_wide(
-        _: &raylab::bvh::WideBvh,
-        _: &raylab::Objects<Self>,
-        _: &Ray,
-        _: f32,
-        _: f32,
+        _wide: &raylab::bvh::WideBvh,
+        _objects: &raylab::Objects<Planted>,
+        _ray: &Ray,
+        _t_min: f32,
+        _t_max: f32,
     ) -> Option<raylab::Hit> {
         todo!()
     }
-    fn sphere_trace(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
+    fn sphere_trace(_surface: &raylab::shapes::Implicit, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
     fn newton_bracketed(
-        _: &dyn Fn(f32) -> (f32, f32),
-        _: raylab::shapes::Bracket,
-        _: f32,
-        _: u32,
+        _g: &dyn Fn(f32) -> (f32, f32),
+        _bracket: raylab::shapes::Bracket,
+        _tolerance: f32,
+        _max_iterations: u32,
     ) -> f32 {
         todo!()
     }
-    fn implicit_normal(_: &raylab::shapes::Implicit, _: Vec3) -> Vec3 {
+    fn implicit_normal(_surface: &raylab::shapes::Implicit, _point: Vec3) -> Vec3 {
         todo!()
     }
-    fn intersect_implicit(_: &raylab::shapes::Implicit, _: &Ray, _: f32, _: f32) -> Option<f32> {
+    fn intersect_implicit(_surface: &raylab::shapes::Implicit, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
         todo!()
     }
-    fn cosine_hemisphere(_: f32, _: f32) -> Vec3 {
+    fn cosine_hemisphere(_u: f32, _v: f32) -> Vec3 {
         todo!()
     }
-    fn cosine_pdf(_: f32) -> f32 {
+    fn cosine_pdf(_cos_theta: f32) -> f32 {
         todo!()
     }
-    fn power_heuristic(_: f32, _: f32) -> f32 {
+    fn power_heuristic(_pdf: f32, _other: f32) -> f32 {
         todo!()
     }
-    fn russian_roulette(_: f32, _: f32) -> Option<f32> {
+    fn russian_roulette(_weight: f32, _u: f32) -> Option<f32> {
         todo!()
     }
-    fn next_event(_: &mut Tracer<Self>, _: &HitPoint, _: &raylab::bsdf::Lobe) -> Vec3 {
+    fn next_event(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _lobe: &raylab::bsdf::Lobe) -> Vec3 {
         todo!()
     }
-    fn shade_path(_: &mut Tracer<Self>, _: &HitPoint, _: u32, _: f32) -> Vec3 {
+    fn shade_path(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _depth: u32, _weight: f32) -> Vec3 {
         todo!()
     }
-    fn splat_weight(_: f32, _: f32, _: f32, _: f32) -> f32 {
+    fn splat_weight(_cos_surface: f32, _cos_camera: f32, _distance: f32, _pixel_area: f32) -> f32 {
         todo!()
     }
-    fn connect_to_camera(_: &mut Tracer<Self>, _: &HitPoint, _: &raylab::bsdf::Lobe, _: Vec3) {
+    fn connect_to_camera(_tracer: &mut Tracer<Planted>, _point: &HitPoint, _lobe: &raylab::bsdf::Lobe, _power: Vec3) {
         todo!()
     }
-    fn trace_light_path(_: &mut Tracer<Self>) {
+    fn trace_light_path(_tracer: &mut Tracer<Planted>) {
         todo!()
     }
-    fn cauchy_ior(_: &raylab::scene::Cauchy, _: f32) -> f32 {
+    fn cauchy_ior(_cauchy: &raylab::scene::Cauchy, _nanometres: f32) -> f32 {
         todo!()
     }
-    fn dispersive_ior(_: &mut Tracer<Self>, _: &raylab::scene::Cauchy) -> raylab::bsdf::Dispersed {
+    fn dispersive_ior(_tracer: &mut Tracer<Planted>, _cauchy: &raylab::scene::Cauchy) -> raylab::bsdf::Dispersed {
         todo!()
     }
 }
 
 #[test]
 fn a_fresh_workspace_is_every_chapter_not_started() {
-    let report = check_all::<NothingWritten>(None, &options());
+    let report = planted::check_all::<NothingWritten>(None, &options());
     let statuses: Vec<Status> = report.verdicts.iter().map(|v| v.status).collect();
     let chapters = usize::from(raylab::chapters::LAST_CHAPTER);
     assert_eq!(
@@ -1043,7 +1083,7 @@ fn a_failing_image_is_written_with_its_heatmap() {
     };
     // A bug only the picture shows (no checkpoint of chapter 1 is further
     // than t = 10): the floor clipped beyond t = 100.
-    let verdict = check_chapter::<FarClip>(1, &options);
+    let verdict = planted::check_chapter::<FarClip>(1, &options);
     assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
     assert_eq!(verdict.failing_case(), None, "{}", verdict.text());
     let written = verdict
@@ -1093,7 +1133,7 @@ fn foreign_files_in_the_failures_folder_are_kept() {
     };
     let own = folder.path().join("chapter-1.png");
     std::fs::write(&own, "a student's own picture").expect("write");
-    let verdict = check_chapter::<FarClip>(1, &options);
+    let verdict = planted::check_chapter::<FarClip>(1, &options);
     assert_eq!(verdict.status, Status::Error, "{}", verdict.text());
     assert!(
         verdict.text().contains("chapter-1.png"),
@@ -1117,7 +1157,8 @@ fn foreign_files_in_the_failures_folder_are_kept() {
 
 /// Chapter 1 that drops hits beyond t = 100.
 struct FarClip;
-impl Chapters for FarClip {
+plant! {
+    FarClip;
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         Reference::intersect_plane(plane, ray, t_min, t_max.min(100.0))
     }
@@ -1125,8 +1166,9 @@ impl Chapters for FarClip {
 
 /// Chapter 1: a plane test that ignores `t_min` (tests `t > 0` instead).
 struct IgnoresTMin;
-impl Chapters for IgnoresTMin {
-    fn intersect_plane(plane: &Plane, ray: &Ray, _: f32, t_max: f32) -> Option<f32> {
+plant! {
+    IgnoresTMin;
+    fn intersect_plane(plane: &Plane, ray: &Ray, _t_min: f32, t_max: f32) -> Option<f32> {
         Reference::intersect_plane(plane, ray, 0.0, t_max)
     }
 }
@@ -1196,7 +1238,8 @@ fn salted_offset(
 }
 
 struct OwnHash;
-impl Chapters for OwnHash {
+plant! {
+    OwnHash;
     fn sample_offset(
         s: Sampling,
         count: u32,
@@ -1209,7 +1252,8 @@ impl Chapters for OwnHash {
 }
 
 struct ColumnFirst;
-impl Chapters for ColumnFirst {
+plant! {
+    ColumnFirst;
     fn sample_offset(
         s: Sampling,
         count: u32,
@@ -1224,7 +1268,8 @@ impl Chapters for ColumnFirst {
 /// The classic slip: the jitter is drawn once per pixel (as if for sample
 /// 0) and every cell reuses it, a shifted grid rather than a jittered one.
 struct JitterReused;
-impl Chapters for JitterReused {
+plant! {
+    JitterReused;
     fn sample_offset(
         s: Sampling,
         count: u32,
@@ -1264,7 +1309,8 @@ fn another_hash_and_another_order_of_cells_pass_every_sampled_chapter() {
 /// the mask has a zero bit give the same samples (0, 2 and 8 among them),
 /// although seeds 0 and 1 still differ.
 struct SeedBitsLost;
-impl Chapters for SeedBitsLost {
+plant! {
+    SeedBitsLost;
     fn sample_offset(
         s: Sampling,
         count: u32,
@@ -1284,7 +1330,8 @@ fn gallery_seed_bits_lost() {
 /// A hash of 32-bit words fed `seed as u32`: seeds 2^32 and 0 render the
 /// same noise.
 struct SeedUpperHalfLost;
-impl Chapters for SeedUpperHalfLost {
+plant! {
+    SeedUpperHalfLost;
     fn sample_offset(
         s: Sampling,
         count: u32,
@@ -1313,7 +1360,8 @@ fn gallery_jitter_reused_for_every_cell() {
 fn two_dozen_correct_samplers_pass_the_sampled_chapters() {
     static SALT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     struct Salted;
-    impl Chapters for Salted {
+    plant! {
+        Salted;
         fn sample_offset(
             s: Sampling,
             count: u32,
@@ -1328,7 +1376,7 @@ fn two_dozen_correct_samplers_pass_the_sampled_chapters() {
     for chapter in [7, 9] {
         for salt in 0..24 {
             SALT.store(salt * 7919 + 1, std::sync::atomic::Ordering::Relaxed);
-            let verdict = check_chapter::<Salted>(chapter, &options());
+            let verdict = planted::check_chapter::<Salted>(chapter, &options());
             assert!(verdict.passes(), "salt {salt}: {}", verdict.text());
         }
     }
@@ -1338,9 +1386,10 @@ fn two_dozen_correct_samplers_pass_the_sampled_chapters() {
 /// student's line and the object that does not exist, not raylab's
 /// `Objects` that was asked for it.
 struct OneObjectTooMany;
-impl Chapters for OneObjectTooMany {
+plant! {
+    OneObjectTooMany;
     fn nearest_hit(
-        objects: &raylab::Objects<Self>,
+        objects: &raylab::Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -1358,7 +1407,7 @@ impl Chapters for OneObjectTooMany {
 
 #[test]
 fn a_panic_in_the_students_loop_names_the_students_line() {
-    let verdict = check_chapter::<OneObjectTooMany>(3, &options());
+    let verdict = planted::check_chapter::<OneObjectTooMany>(3, &options());
     let text = verdict.text();
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert!(text.contains("does not exist: there are"), "{text}");
@@ -1377,7 +1426,8 @@ fn a_panic_in_the_students_loop_names_the_students_line() {
 /// passes, but a denominator that is 0 only up to rounding divides into a
 /// huge `t` off the plane.
 struct PlaneParallelOnlyAtZero;
-impl Chapters for PlaneParallelOnlyAtZero {
+plant! {
+    PlaneParallelOnlyAtZero;
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let denominator = ray.dir.dot(plane.normal());
         if denominator == 0.0 {
@@ -1392,7 +1442,8 @@ impl Chapters for PlaneParallelOnlyAtZero {
 /// bound, `gamma_3` for the dot product and `2u` for the stored normal,
 /// with no margin: tighter than the reference's `8u`, and still robust.
 struct PlaneParallelTightBound;
-impl Chapters for PlaneParallelTightBound {
+plant! {
+    PlaneParallelTightBound;
     // The lesson's `!(|D . N| > bound)`: "not greater, or NaN".
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
@@ -1412,7 +1463,8 @@ impl Chapters for PlaneParallelTightBound {
 /// `sum |D_i| |N_i|`: never smaller (Cauchy-Schwarz), so it calls at least
 /// as many rays parallel, and still finds every hit the hard cases ask for.
 struct PlaneParallelBoundByLengths;
-impl Chapters for PlaneParallelBoundByLengths {
+plant! {
+    PlaneParallelBoundByLengths;
     // The lesson's `!(|D . N| > bound)`: "not greater, or NaN".
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
@@ -1429,7 +1481,8 @@ impl Chapters for PlaneParallelBoundByLengths {
 /// Chapter 2: `t_min` taken as a closed bound: a root exactly at `t_min`
 /// is the hit.
 struct SphereTMinClosed;
-impl Chapters for SphereTMinClosed {
+plant! {
+    SphereTMinClosed;
     fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let (near, far) = sphere.roots(ray)?;
         [near, far].into_iter().find(|&t| t >= t_min && t < t_max)
@@ -1438,9 +1491,10 @@ impl Chapters for SphereTMinClosed {
 
 /// Chapter 3: the objects walked last to first: on a tie the last listed wins.
 struct NearestTieLastWins;
-impl Chapters for NearestTieLastWins {
+plant! {
+    NearestTieLastWins;
     fn nearest_hit(
-        objects: &raylab::course::Objects<Self>,
+        objects: &raylab::course::Objects<Planted>,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -1460,8 +1514,9 @@ impl Chapters for NearestTieLastWins {
 /// Chapter 4: the shadow ray's direction made unit, but still stopped at
 /// `t = 1`: one unit from the point, not at the light.
 struct ShadowUnitDirection;
-impl Chapters for ShadowUnitDirection {
-    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+plant! {
+    ShadowUnitDirection;
+    fn in_shadow(tracer: &mut Tracer<Planted>, point: &HitPoint, light: Vec3) -> bool {
         let origin = tracer.offset_origin(&point.surface, light - point.surface.point);
         let ray = Ray::new(origin, (light - origin).normalize());
         tracer.blocked(&ray, 0.0, 1.0, point)
@@ -1471,8 +1526,9 @@ impl Chapters for ShadowUnitDirection {
 /// Chapter 4: the unnormalised shadow ray stopped at the light's distance
 /// (`t_max = |L - P|`), which is in lengths of the direction past the light.
 struct ShadowDistanceAsTMax;
-impl Chapters for ShadowDistanceAsTMax {
-    fn in_shadow(tracer: &mut Tracer<Self>, point: &HitPoint, light: Vec3) -> bool {
+plant! {
+    ShadowDistanceAsTMax;
+    fn in_shadow(tracer: &mut Tracer<Planted>, point: &HitPoint, light: Vec3) -> bool {
         let origin = tracer.offset_origin(&point.surface, light - point.surface.point);
         let ray = Ray::new(origin, light - origin);
         tracer.blocked(&ray, 0.0, (light - origin).length(), point)
@@ -1513,16 +1569,18 @@ fn flat<C: Chapters>(
 
 /// Chapter 4: a light "in front" only of the geometric normal's side.
 struct FlatGeometricNormal;
-impl Chapters for FlatGeometricNormal {
-    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+plant! {
+    FlatGeometricNormal;
+    fn shade_flat(tracer: &mut Tracer<Planted>, point: &HitPoint) -> Vec3 {
         flat(tracer, point, true, false)
     }
 }
 
 /// Chapter 4: a light's intensity without its colour.
 struct FlatLightColourLost;
-impl Chapters for FlatLightColourLost {
-    fn shade_flat(tracer: &mut Tracer<Self>, point: &HitPoint) -> Vec3 {
+plant! {
+    FlatLightColourLost;
+    fn shade_flat(tracer: &mut Tracer<Planted>, point: &HitPoint) -> Vec3 {
         flat(tracer, point, false, true)
     }
 }
@@ -1531,7 +1589,8 @@ impl Chapters for FlatLightColourLost {
 /// no test that the light is in front: a light behind still makes a
 /// highlight where its mirror image points at the eye.
 struct SpecularFromBehind;
-impl Chapters for SpecularFromBehind {
+plant! {
+    SpecularFromBehind;
     fn phong_terms(
         material: &Material,
         albedo: Vec3,
@@ -1553,19 +1612,20 @@ impl Chapters for SpecularFromBehind {
 
 /// Chapter 5: the Phong sum lit by each light's intensity, its colour lost.
 struct PhongLightColourLost;
-impl Chapters for PhongLightColourLost {
-    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+plant! {
+    PhongLightColourLost;
+    fn shade_phong(tracer: &mut Tracer<Planted>, point: &HitPoint) -> PhongTerms {
         let material = &point.material;
         let mut sum = PhongTerms {
             diffuse: point.albedo * material.ambient * tracer.ambient_light(),
             specular: Vec3::ZERO,
         };
         for light in tracer.lights() {
-            if !point.faces(light.position) || Self::in_shadow(tracer, point, light.position) {
+            if !point.faces(light.position) || Planted::in_shadow(tracer, point, light.position) {
                 continue;
             }
             let to_light = (light.position - point.surface.point).normalize();
-            let terms = Self::phong_terms(
+            let terms = Planted::phong_terms(
                 material,
                 point.albedo,
                 point.normal,
@@ -1582,13 +1642,14 @@ impl Chapters for PhongLightColourLost {
 
 /// Chapter 6: the highlight scaled by `1 - k_r` with the diffuse light.
 struct MirrorHighlightScaled;
-impl Chapters for MirrorHighlightScaled {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    MirrorHighlightScaled;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         let k = point.material.reflectivity;
         let mut color = (1.0 - k) * (local.diffuse + local.specular);
         if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
-            let dir = Self::reflect(point.ray.dir, point.surface.normal);
+            let dir = Planted::reflect(point.ray.dir, point.surface.normal);
             let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
             color += k * tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
         }
@@ -1598,8 +1659,9 @@ impl Chapters for MirrorHighlightScaled {
 
 /// Chapter 7: four samples a pixel, whatever the scene asks.
 struct FourSamplesAlways;
-impl Chapters for FourSamplesAlways {
-    fn pixel_color(tracer: &mut Tracer<Self>, x: u32, y: u32) -> Vec3 {
+plant! {
+    FourSamplesAlways;
+    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for index in 0..4 {
             let (dx, dy) = tracer.sample_offset(index, (x, y));
@@ -1671,16 +1733,18 @@ fn glass_clauses<C: Chapters>(
 
 /// Chapter 8: the highlight scaled by `1 - k_r - k_t`.
 struct GlassHighlightScaled;
-impl Chapters for GlassHighlightScaled {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    GlassHighlightScaled;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         glass_clauses(tracer, point, depth, weight, true, false)
     }
 }
 
 /// Chapter 8: the refracted ray not one bounce deeper than its parent.
 struct RefractedDepthNotCounted;
-impl Chapters for RefractedDepthNotCounted {
-    fn shade_glass(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+plant! {
+    RefractedDepthNotCounted;
+    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
         glass_clauses(tracer, point, depth, weight, false, true)
     }
 }
@@ -1689,7 +1753,8 @@ impl Chapters for RefractedDepthNotCounted {
 /// inside it) taken to cross nothing: the pair of media is (current,
 /// current) instead of (the solid, outside).
 struct UnseenSolidIgnored;
-impl Chapters for UnseenSolidIgnored {
+plant! {
+    UnseenSolidIgnored;
     fn crossing(media: &raylab::medium::MediumStack, point: &HitPoint) -> raylab::medium::Crossing {
         let crossing = Reference::crossing(media, point);
         if !crossing.entering && !media.contains(point.object) {
@@ -1709,7 +1774,8 @@ impl Chapters for UnseenSolidIgnored {
 /// Chapter 11: the slab test's closed interval taken as open
 /// (`entry < exit`): a box touched at a single `t` is missed.
 struct BoxIntervalOpen;
-impl Chapters for BoxIntervalOpen {
+plant! {
+    BoxIntervalOpen;
     fn hit_box(
         bounds: &raylab::bvh::Aabb,
         origin: Vec3,
@@ -1782,13 +1848,14 @@ fn contract_mirror_highlight_in_full() {
 /// Chapter 6 on a smooth mesh: the mirror image about the facet's normal,
 /// as if the blended vertex normal were only for the Phong terms.
 struct FacetMirror;
-impl Chapters for FacetMirror {
-    fn shade_mirror(tracer: &mut Tracer<Self>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
-        let local = Self::shade_phong(tracer, point);
+plant! {
+    FacetMirror;
+    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3 {
+        let local = Planted::shade_phong(tracer, point);
         let k = point.material.reflectivity;
         let mut color = (1.0 - k) * local.diffuse + local.specular;
         if depth < tracer.max_depth() && tracer.worth_casting(weight, k) {
-            let dir = Self::reflect(point.ray.dir, facet_normal(point).normal);
+            let dir = Planted::reflect(point.ray.dir, facet_normal(point).normal);
             let ray = Ray::new(tracer.offset_origin(&point.surface, dir), dir);
             color += k * tracer.trace(RayKind::Reflection, &ray, depth + 1, weight * k);
         }
@@ -1798,14 +1865,15 @@ impl Chapters for FacetMirror {
 
 /// Chapter 9 on a smooth mesh: bent and reflected about the facet's normal.
 struct FacetGlass;
-impl Chapters for FacetGlass {
+plant! {
+    FacetGlass;
     fn shade_dielectric(
-        tracer: &mut Tracer<Self>,
+        tracer: &mut Tracer<Planted>,
         point: &HitPoint,
         depth: u32,
         weight: f32,
     ) -> Vec3 {
-        raylab::chapters::ch09_glass::shade_dielectric::<Self>(
+        raylab::chapters::ch09_glass::shade_dielectric::<Planted>(
             tracer,
             &facet_normal(point),
             depth,
@@ -1843,27 +1911,29 @@ fn contract_smooth_glass_follows_the_shading_normal() {
 /// Chapter 5: the facing test on the plane's own normal, not the one
 /// turned toward the eye: a floor seen and lit from below stays dark.
 struct PhongGeometricNormal;
-impl Chapters for PhongGeometricNormal {
-    fn shade_phong(tracer: &mut Tracer<Self>, point: &HitPoint) -> PhongTerms {
+plant! {
+    PhongGeometricNormal;
+    fn shade_phong(tracer: &mut Tracer<Planted>, point: &HitPoint) -> PhongTerms {
         let mut unturned = *point;
         unturned.normal = point.surface.normal;
-        raylab::chapters::ch05_phong::shade_phong::<Self>(tracer, &unturned)
+        raylab::chapters::ch05_phong::shade_phong::<Planted>(tracer, &unturned)
     }
 }
 
 /// Chapter 9: the highlight scaled by the local share `1 - k_r - k_t`.
 struct DielectricHighlightScaled;
-impl Chapters for DielectricHighlightScaled {
+plant! {
+    DielectricHighlightScaled;
     fn shade_dielectric(
-        tracer: &mut Tracer<Self>,
+        tracer: &mut Tracer<Planted>,
         point: &HitPoint,
         depth: u32,
         weight: f32,
     ) -> Vec3 {
         let full =
-            raylab::chapters::ch09_glass::shade_dielectric::<Self>(tracer, point, depth, weight);
+            raylab::chapters::ch09_glass::shade_dielectric::<Planted>(tracer, point, depth, weight);
         let passed_on = point.material.reflectivity + point.material.transparency;
-        full - passed_on * Self::shade_phong(tracer, point).specular
+        full - passed_on * Planted::shade_phong(tracer, point).specular
     }
 }
 
@@ -1874,14 +1944,15 @@ struct DielectricOneBounceTooMany;
 thread_local! {
     static EXTENDING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
-impl Chapters for DielectricOneBounceTooMany {
+plant! {
+    DielectricOneBounceTooMany;
     fn shade_dielectric(
-        tracer: &mut Tracer<Self>,
+        tracer: &mut Tracer<Planted>,
         point: &HitPoint,
         depth: u32,
         weight: f32,
     ) -> Vec3 {
-        let shade = raylab::chapters::ch09_glass::shade_dielectric::<Self>;
+        let shade = raylab::chapters::ch09_glass::shade_dielectric::<Planted>;
         if depth == tracer.max_depth() && depth > 0 && !EXTENDING.get() {
             EXTENDING.set(true);
             let color = shade(tracer, point, depth - 1, weight);
@@ -1895,7 +1966,8 @@ impl Chapters for DielectricOneBounceTooMany {
 
 /// Chapter 9: an infinite distance taken as no distance at all.
 struct InfinityKeepsEverything;
-impl Chapters for InfinityKeepsEverything {
+plant! {
+    InfinityKeepsEverything;
     fn transmittance(absorption: Vec3, distance: f32) -> Vec3 {
         if distance.is_infinite() {
             Vec3::ONE
@@ -1908,7 +1980,8 @@ impl Chapters for InfinityKeepsEverything {
 /// Chapter 4: an infinite point stepped off like a finite one, to
 /// f32::MAX (the guard for non-finite points left out).
 struct InfinityStepsToMax;
-impl Chapters for InfinityStepsToMax {
+plant! {
+    InfinityStepsToMax;
     fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 {
         if surface.point.is_finite() {
             Reference::offset_origin(surface, dir)
@@ -1923,7 +1996,8 @@ impl Chapters for InfinityStepsToMax {
 /// Chapter 5: the highlight's cosine clamped with `f32::max`, which turns
 /// a NaN into 0.
 struct PhongNanClamped;
-impl Chapters for PhongNanClamped {
+plant! {
+    PhongNanClamped;
     fn phong_terms(
         material: &Material,
         albedo: Vec3,
@@ -1942,7 +2016,7 @@ impl Chapters for PhongNanClamped {
 
 #[test]
 fn contract_plane_parallel_up_to_rounding() {
-    let verdict = check_chapter::<PlaneParallelOnlyAtZero>(1, &options());
+    let verdict = planted::check_chapter::<PlaneParallelOnlyAtZero>(1, &options());
     let text = verdict.text();
     assert!(verdict.passes(), "{text}");
     assert!(!verdict.robust(), "{text}");
@@ -1956,19 +2030,21 @@ fn contract_plane_parallel_up_to_rounding() {
 
 #[test]
 fn alternative_plane_parallel_bounds_are_robust() {
-    let verdict = check_chapter::<PlaneParallelTightBound>(1, &options());
+    let verdict = planted::check_chapter::<PlaneParallelTightBound>(1, &options());
     assert!(verdict.robust(), "{}", verdict.text());
-    let verdict = check_chapter::<PlaneParallelBoundByLengths>(1, &options());
+    let verdict = planted::check_chapter::<PlaneParallelBoundByLengths>(1, &options());
     assert!(verdict.robust(), "{}", verdict.text());
 }
 
 /// A hard case catches `C` in `chapter`: correct, not robust.
-fn assert_not_robust<C: Chapters>(chapter: u8, case: &str) {
-    let verdict = check_chapter::<C>(chapter, &options());
-    let text = verdict.text();
-    assert!(verdict.passes(), "{text}");
-    assert!(!verdict.robust(), "{text}");
-    assert!(text.contains(case), "{text}");
+fn assert_not_robust<C: Plant>(chapter: u8, case: &str) {
+    planted::with::<C, _>(|| {
+        let verdict = check_chapter::<Planted>(chapter, &options());
+        let text = verdict.text();
+        assert!(verdict.passes(), "{text}");
+        assert!(!verdict.robust(), "{text}");
+        assert!(text.contains(case), "{text}");
+    })
 }
 
 #[test]
