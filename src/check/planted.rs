@@ -2,13 +2,13 @@
 //!
 //! A variant of the reference (a bug in a gallery, an alternative the lesson
 //! allows) overrides a few of [`Chapters`]' functions. Written as a type
-//! implementing `Chapters`, each variant is a new instantiation of the whole
-//! renderer and judge, and a few hundred of them made the test build the
-//! slowest step of CI. Here a variant is a table of the functions it
-//! overrides ([`Plants`]); [`Planted`] is one `Chapters` that answers every
-//! call from the table installed for the running check, and from the
-//! reference where the table has no entry. So a variant costs the compiler
-//! only its own functions.
+//! implementing `Chapters`, each variant would be a new instantiation of the
+//! whole renderer and judge: a few hundred of them cost the test build ten
+//! times its time (docs/course.md). Here a variant is a table of the
+//! functions it overrides ([`Plants`]); [`Planted`] is one `Chapters` that
+//! answers every call from the table installed for the running check, and
+//! from the reference where the table has no entry. So a variant costs the
+//! compiler only its own functions.
 //!
 //! A variant's functions call the others through `Planted::` (what `Self::`
 //! meant in a type of its own), so an override reaches every caller, as
@@ -116,8 +116,10 @@ thread_local! {
 /// called by another's, on a worker thread of a check, must not wait for
 /// the check to end.
 pub fn calling<P: Plant, R>(body: impl FnOnce() -> R) -> R {
-    let table: &'static Plants = Box::leak(Box::new(P::plants()));
-    let before = CALLING.replace(table);
+    // On the stack: only this thread reads it, and only until `body`
+    // returns (a variant's function may be called once a ray).
+    let table = P::plants();
+    let before = CALLING.replace(&table);
     struct Restore(*const Plants);
     impl Drop for Restore {
         fn drop(&mut self) {
@@ -135,8 +137,9 @@ fn installed() -> Option<&'static Plants> {
     } else {
         calling
     };
-    // SAFETY: `with` and `calling` store only pointers to tables they
-    // leaked, which are never freed.
+    // SAFETY: `with` installs only tables it leaked, never freed; `calling`
+    // sets this thread's table only while the table lives, and every
+    // caller copies a function pointer out at once.
     unsafe { table.as_ref() }
 }
 
