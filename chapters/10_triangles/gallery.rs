@@ -6,7 +6,7 @@
 use glam::Vec2;
 use raylab::chapters::CHAPTERS;
 use raylab::check::planted::{self, Plant, Planted, plant};
-use raylab::check::{ChapterVerdict, CheckOptions, Level, Status, check_chapter};
+use raylab::check::{ChapterVerdict, CheckOptions, Level, check_chapter};
 use raylab::course::{Chapters, HitPoint, Textbook};
 use raylab::render::{RayKind, Tracer};
 use raylab::shapes::Triangle;
@@ -26,21 +26,7 @@ fn options() -> CheckOptions {
 /// Checks chapter 10 with `C` and asserts that it fails on case `case`,
 /// with the earlier chapters (the reference's) not to blame.
 fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(CHAPTER, &options());
-        let text = verdict.text();
-        assert_eq!(verdict.status, Status::Fail, "{text}");
-        assert_eq!(verdict.failing_case(), Some(case), "{text}");
-        assert!(
-            text.contains(&format!(
-                "hint:     read {}/chapters/10_triangles/lesson.md",
-                env!("CARGO_MANIFEST_DIR")
-            )),
-            "{text}"
-        );
-        assert_eq!(verdict.needs, None, "{text}");
-        verdict
-    })
+    planted::assert_caught::<C>(CHAPTER, case, &options())
 }
 
 /// The reference's Moller-Trumbore with the inside test written by the
@@ -245,17 +231,7 @@ fn gallery_transparent_points_lifted() {
 /// Asserts that `C` passes chapter 10's checkpoints and fails its hard
 /// case `case` first: a clause only rounding or degenerate input can show.
 fn assert_caught_by_hard_case<C: Plant>(case: &str) {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(CHAPTER, &options());
-        let text = verdict.text();
-        assert!(verdict.passes(), "{text}");
-        let failure = verdict
-            .robustness
-            .as_ref()
-            .and_then(|robustness| robustness.first_failure.as_ref())
-            .expect("a hard case fails");
-        assert_eq!(failure.name, case, "{text}");
-    })
+    planted::assert_caught_by_hard_case::<C>(CHAPTER, case, &options());
 }
 
 /// One sentence of the watertight test broken, by [`watertight`].

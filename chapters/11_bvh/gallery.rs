@@ -29,21 +29,7 @@ fn options() -> CheckOptions {
 /// Checks chapter 11 with `C` and asserts that it fails on case `case`,
 /// with nothing earlier to blame.
 fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(11, &options());
-        let text = verdict.text();
-        assert_eq!(verdict.status, Status::Fail, "{text}");
-        assert_eq!(verdict.failing_case(), Some(case), "{text}");
-        assert!(
-            text.contains(&format!(
-                "hint:     read {}/chapters/11_bvh/lesson.md",
-                env!("CARGO_MANIFEST_DIR")
-            )),
-            "{text}"
-        );
-        assert_eq!(verdict.needs, None, "{text}");
-        verdict
-    })
+    planted::assert_caught::<C>(11, case, &options())
 }
 
 /// Checks chapter 11 with `C` and asserts that it passes both levels.
@@ -965,17 +951,7 @@ fn plain_wide_walk<C: Chapters>(
 /// Asserts that `C` passes chapter 11's checkpoints and fails its hard
 /// case `case` first: a clause only rounding or a deep tree can show.
 fn assert_caught_by_hard_case<C: Plant>(case: &str) {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(11, &options());
-        let text = verdict.text();
-        assert!(verdict.passes(), "{text}");
-        let failure = verdict
-            .robustness
-            .as_ref()
-            .and_then(|robustness| robustness.first_failure.as_ref())
-            .expect("a hard case fails");
-        assert_eq!(failure.name, case, "{text}");
-    })
+    planted::assert_caught_by_hard_case::<C>(11, case, &options());
 }
 
 /// One sentence of the slab test broken, by [`slab`].

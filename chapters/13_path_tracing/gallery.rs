@@ -30,14 +30,7 @@ fn options() -> CheckOptions {
 /// Checks chapter 13 with `C` and asserts that it fails on checkpoint
 /// `case`, with nothing earlier to blame.
 fn assert_caught<C: Plant>(case: &str) -> ChapterVerdict {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(13, &options());
-        let text = verdict.text();
-        assert_eq!(verdict.status, Status::Fail, "{text}");
-        assert_eq!(verdict.failing_case(), Some(case), "{text}");
-        assert_eq!(verdict.needs, None, "{text}");
-        verdict
-    })
+    planted::assert_caught::<C>(13, case, &options())
 }
 
 fn assert_passes<C: Plant>() {
@@ -289,17 +282,7 @@ fn averaging_after_tone_mapping_fails_the_image() {
 /// Checks chapter 13 with `C` and asserts that it passes every checkpoint
 /// and its image but fails the hard case `case` first.
 fn assert_caught_by_hard_case<C: Plant>(case: &str) {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(13, &options());
-        let text = verdict.text();
-        assert_eq!(verdict.status, Status::Pass, "{text}");
-        let robustness = verdict.robustness.as_ref().expect("level 2 ran");
-        let first = robustness
-            .first_failure
-            .as_ref()
-            .map(|failure| failure.name);
-        assert_eq!(first, Some(case), "{text}");
-    })
+    planted::assert_caught_by_hard_case::<C>(13, case, &options());
 }
 
 /// A direction below the surface now and then (one draw in 64, the

@@ -130,6 +130,36 @@ pub fn calling<P: Plant, R>(body: impl FnOnce() -> R) -> R {
     body()
 }
 
+/// Checks chapter `chapter` with the variant `P` and panics unless it
+/// fails on the checkpoint `case`, its hint naming the lesson, with no
+/// earlier chapter to blame: how a gallery shows that a case catches the
+/// bug it was written for.
+pub fn assert_caught<P: Plant>(chapter: u8, case: &str, options: &CheckOptions) -> ChapterVerdict {
+    let verdict = check_chapter::<P>(chapter, options);
+    let text = verdict.text();
+    assert_eq!(verdict.status, crate::check::Status::Fail, "{text}");
+    assert_eq!(verdict.failing_case(), Some(case), "{text}");
+    assert!(text.contains("hint:     read "), "{text}");
+    assert!(text.contains("lesson.md"), "{text}");
+    assert_eq!(verdict.needs, None, "{text}");
+    verdict
+}
+
+/// Checks chapter `chapter` with the variant `P` and panics unless it
+/// passes every checkpoint and its image but fails the hard case `case`
+/// first: correct, not yet robust.
+pub fn assert_caught_by_hard_case<P: Plant>(chapter: u8, case: &str, options: &CheckOptions) {
+    let verdict = check_chapter::<P>(chapter, options);
+    let text = verdict.text();
+    assert!(verdict.passes(), "{text}");
+    let robustness = verdict.robustness.as_ref().expect("level 2 ran");
+    let first = robustness
+        .first_failure
+        .as_ref()
+        .map(|failure| failure.name);
+    assert_eq!(first, Some(case), "{text}");
+}
+
 fn installed() -> Option<&'static Plants> {
     let calling = CALLING.get();
     let table = if calling.is_null() {
@@ -391,5 +421,13 @@ mod tests {
         let nearest = || Planted::nearest_hit(&objects, &ray, 0.0, f32::INFINITY);
         assert!(with::<Reference, _>(nearest).is_some());
         assert_eq!(with::<NoSphere, _>(nearest), None);
+    }
+
+    /// The galleries' assertion can fail: the reference is caught by no
+    /// case, so asserting that it is panics.
+    #[test]
+    #[should_panic(expected = "left: Pass")]
+    fn the_reference_is_not_caught() {
+        assert_caught::<Reference>(1, "plane-hit-head-on", &CheckOptions::default());
     }
 }

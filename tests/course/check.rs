@@ -23,24 +23,7 @@ fn options() -> CheckOptions {
 
 /// Checks `chapter` with `C` and asserts that it fails on case `case`.
 fn assert_caught<C: Plant>(chapter: u8, case: &str) -> ChapterVerdict {
-    planted::with::<C, _>(|| {
-        let verdict = check_chapter::<Planted>(chapter, &options());
-        let text = verdict.text();
-        assert_eq!(verdict.status, Status::Fail, "{text}");
-        assert_eq!(verdict.failing_case(), Some(case), "{text}");
-        // The lesson where raylab's checkout has it: a student reads it from
-        // their own workspace, where `chapters/...` names nothing.
-        assert!(
-            text.contains(&format!(
-                "hint:     read {}/chapters/",
-                env!("CARGO_MANIFEST_DIR")
-            )),
-            "{text}"
-        );
-        // The earlier chapters are the reference's: nothing else to blame.
-        assert_eq!(verdict.needs, None, "{text}");
-        verdict
-    })
+    planted::assert_caught::<C>(chapter, case, &options())
 }
 
 /// Checks `chapter` with `C` and asserts that it passes, with the lesson's
