@@ -1129,6 +1129,24 @@ pub fn checkpoints() -> Vec<Case> {
             wide: true,
         }),
         Case::from(BvhHitsQuestion {
+            name: "wide-lane-tie-goes-to-the-first-listed",
+            section: WIDE_WALK_11,
+            says: "the triangle (-1, -1, 4), (1, -1, 4), (0, 1, 4) (object 0, in a Leaf4's lane) and \
+                   the plane z = 4 (object 1, asked first): along +z from the origin both meet the \
+                   ray at exactly t = 4, the lane after the plane. Chapter 3 keeps the first \
+                   listed: expected object 0 at t = 4",
+            shapes: vec![
+                triangle([-1.0, -1.0, 4.0], [1.0, -1.0, 4.0], [0.0, 1.0, 4.0]),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            ],
+            options: ONE_PER_LEAF,
+            rays: vec![from_origin(Vec3::Z)],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        })
+        .fixed("an exact tie between a triangle and a plane, which a fresh draw would break"),
+        Case::from(BvhHitsQuestion {
             name: "wide-any-hit-finds-the-blocker",
             section: WIDE_WALK_11,
             says: "the spheres of bvh-any-hit-finds-the-blocker through any_hit_wide: a shadow ray \
@@ -1426,6 +1444,15 @@ pub fn robustness() -> Vec<Case> {
         })
         .collect();
     let past_the_stack = Ray::new(Vec3::new(-10.0, 0.9, 0.9), Vec3::X);
+    // In the wide tree the rest of a chain lands in a node's last lane, and
+    // an any-hit walk pushes lanes in order: mirrored, the chain is walked
+    // first and the peeled spheres wait.
+    let mirrored: Vec<Shape> = (0..70)
+        .map(|k| {
+            let radius = if k == 3 { 2.0 } else { 1.0 };
+            sphere(Vec3::new(-(3.0f32.powi(k)), 0.0, 0.0), radius)
+        })
+        .collect();
     robust(vec![
         Case::from(BvhHitsQuestion {
             name: "bvh-thousand-spheres",
@@ -1596,6 +1623,30 @@ pub fn robustness() -> Vec<Case> {
             any_hit: false,
             wide: false,
         }),
+        Case::from(BvhHitsQuestion {
+            name: "bvh-coplanar-tie-far-from-the-origin",
+            section: ROUNDING_11,
+            says: "the triangle (-10, -10, 4), (10, -10, 4), (0, 10, 4) (object 0, in the tree, \
+                   its box flat) and the plane z = 4 (object 1, asked first), met by a ray from \
+                   (-14, -4, -1000) along (0.042, 0.012, 3). Both lie in one plane, and the \
+                   roundings of three formulas decide: the plane at t = 334.66666, the triangle \
+                   one ulp nearer at 334.66663, the box's entry, as rounded, one ulp past the \
+                   plane at 334.6667. Only the entry's widening lets the walk open the box at a \
+                   best of 334.66666: expected object 0 at t = 334.66663",
+            shapes: vec![
+                triangle([-10.0, -10.0, 4.0], [10.0, -10.0, 4.0], [0.0, 10.0, 4.0]),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            ],
+            options: ONE_PER_LEAF,
+            rays: vec![Ray::new(
+                Vec3::new(-14.0, -4.0, -1000.0),
+                Vec3::new(0.042, 0.012, 3.0),
+            )],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: false,
+        })
+        .fixed("a hit decided by the roundings of three formulas, which a fresh draw would change"),
         Case::new(
             "boxes-rays-along-edges",
             BOXES4_11,
@@ -1828,7 +1879,7 @@ pub fn robustness() -> Vec<Case> {
             section: WIDE_WALK_11,
             says: "the same spheres and ray through the wide tree, each node leaving up to three \
                    children waiting: expected object 3 at t = 35.4573",
-            shapes: spilled.clone(),
+            shapes: spilled,
             options: ONE_PER_LEAF,
             rays: vec![past_the_stack],
             range: IN_FRONT,
@@ -1838,10 +1889,14 @@ pub fn robustness() -> Vec<Case> {
         Case::from(BvhHitsQuestion {
             name: "wide-any-hit-stack-spills-over",
             section: WIDE_WALK_11,
-            says: "the same through any_hit_wide: expected a hit",
-            shapes: spilled,
+            says: "the same spheres mirrored (centres at x = -3^k) and the ray mirrored, from \
+                   (10, 0.9, 0.9) along -x, through any_hit_wide. Each cut peels the sphere \
+                   farthest out into the first lane and the rest of the chain lands in the last, \
+                   pushed last and so walked first: three peeled spheres wait at each of the wide \
+                   tree's levels, object 3 past the fixed array's 64 entries: expected a hit",
+            shapes: mirrored,
             options: ONE_PER_LEAF,
-            rays: vec![past_the_stack],
+            rays: vec![Ray::new(Vec3::new(10.0, 0.9, 0.9), -Vec3::X)],
             range: IN_FRONT,
             any_hit: true,
             wide: true,

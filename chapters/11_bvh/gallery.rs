@@ -977,6 +977,9 @@ enum SlabSlip {
     CrossingsSortedTheOtherWay,
     /// A slack of `1e-6 / |t|`, which grows as `t` shrinks.
     SlackGrowsAsTShrinks,
+    /// Only the exit widened: the entry as rounded, which can land past a
+    /// hit that ties the best so far.
+    ExitOnlyWidened,
 }
 
 /// Chapter 11's `hit_box` as the reference writes it, with `slip`.
@@ -1042,7 +1045,12 @@ fn slab(
         };
         if slack < f32::MAX { slack } else { f32::MAX }
     };
-    let (entry, exit) = (entry - slack(entry), exit + slack(exit));
+    let entry = if slip == SlabSlip::ExitOnlyWidened {
+        entry
+    } else {
+        entry - slack(entry)
+    };
+    let exit = exit + slack(exit);
     let raised = if t_min > entry { t_min } else { entry };
     let lowered = if t_max < exit && slip != SlabSlip::TMaxIgnored {
         t_max
@@ -1092,6 +1100,7 @@ slabs! {
     ZeroDirectionSkipsTheAxis = SlabSlip::ZeroDirectionSkipsTheAxis;
     CrossingsSortedTheOtherWay = SlabSlip::CrossingsSortedTheOtherWay;
     SlackGrowsAsTShrinks = SlabSlip::SlackGrowsAsTShrinks;
+    ExitOnlyWidened = SlabSlip::ExitOnlyWidened;
 }
 
 #[test]
@@ -1125,6 +1134,7 @@ fn contract_a_nan_crossing_constrains_nothing() {
 #[test]
 fn contract_the_widening_is_2_gamma_3_of_each_end() {
     assert_caught::<SlackGrowsAsTShrinks>("box-entry-close-to-the-origin");
+    assert_caught_by_hard_case::<ExitOnlyWidened>("bvh-coplanar-tie-far-from-the-origin");
 }
 
 /// How a variant of `build_bvh` chooses the axis of a cut.
@@ -2024,6 +2034,10 @@ wide_walks! {
     WideSpheresOnlyWithoutTriangleHits =
         WideRules { spheres_only_without_triangle_hits: true, ..WideRules::CORRECT };
     WideStackDropsWhatOverflows = WideRules { stack_cap: 64, ..WideRules::CORRECT };
+    /// A triangle lane's hit kept only when strictly nearer than the best
+    /// so far, so a tie goes to whoever was asked first.
+    WideLaneTieToWhoeverIsAskedFirst =
+        WideRules { lanes_tie_by_index: false, ..WideRules::CORRECT };
 }
 
 #[test]
@@ -2031,6 +2045,7 @@ fn contract_the_wide_walk_skips_asks_and_orders_as_the_binary_one() {
     assert_caught::<WideNeverSkipsAWaitingChild>("wide-skips-waiting-children-beyond-the-best");
     assert_caught::<WideAsksToTMax>("wide-asks-up-to-the-best");
     assert_caught::<WidePlanesLast>("wide-planes-first");
+    assert_caught::<WideLaneTieToWhoeverIsAskedFirst>("wide-lane-tie-goes-to-the-first-listed");
 }
 
 #[test]
@@ -2172,6 +2187,7 @@ wide_any_walks! {
     /// A leaf's spheres asked only where it holds no triangle.
     WideAnyHitSpheresOnlyInSphereLeaves =
         WideAnyRules { spheres_only_in_sphere_leaves: true, ..WideAnyRules::CORRECT };
+    WideAnyHitStackDropsWhatOverflows = WideAnyRules { stack_cap: 64, ..WideAnyRules::CORRECT };
 }
 
 #[test]
@@ -2185,6 +2201,9 @@ fn contract_wide_any_hit() {
     assert_caught::<WideAnyHitPlanesLast>("wide-any-hit-stops-at-its-first-hit");
     assert_caught::<WideAnyHitWalksOn>("wide-any-hit-stops-at-its-first-hit");
     assert_caught::<WideAnyHitSpheresOnlyInSphereLeaves>("wide-any-hit-mixed-leaf");
+    assert_caught_by_hard_case::<WideAnyHitStackDropsWhatOverflows>(
+        "wide-any-hit-stack-spills-over",
+    );
 }
 
 // ---------------------------------------------------------------------------
