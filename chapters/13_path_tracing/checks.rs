@@ -542,6 +542,26 @@ pub fn robustness() -> Vec<Case> {
                 seed: 0,
             }),
         ),
+        Case::new(
+            "lamp-on-the-wall-seen-from-inside",
+            HARD_13,
+            "a point light exactly on the wall of a closed sphere of albedo 0.5, seen from \
+             inside: not strictly inside the sphere, it is hidden by it, as any light outside \
+             is, whatever the shadow ray's rounding says about a wall met at t = 1 exactly: \
+             the sphere is black (exactly 0)",
+            CaseKind::Converges(ConvergesCase {
+                function: "next_event",
+                scene: inside_sphere(
+                    0.5,
+                    0.0,
+                    "[[lights]]\nposition = [0.0, 0.0, 1.0]\nintensity = 3.14159265",
+                ),
+                without: &[],
+                samples: 4_000,
+                expected: 0.0,
+                seed: 0,
+            }),
+        ),
         formula(
             "roulette-nan-weight",
             HARD_13,

@@ -497,6 +497,10 @@ enum LightSlip {
     NoCosine,
     /// Weight 1 with MIS on.
     NoMisWeight,
+    /// Only the cosine asked, not whether the point faces the light: the
+    /// sphere a point is inside no longer hides a light outside it, and the
+    /// shadow ray alone must, where rounding decides.
+    FacesUntested,
 }
 
 /// The reference's `next_event` with `slip` made.
@@ -511,7 +515,7 @@ fn light_sample<C: Chapters>(
         return Vec3::ZERO;
     };
     let cosine = point.normal.dot(light.direction);
-    if cosine <= 0.0 || !point.faces(light.position) {
+    if cosine <= 0.0 || (slip != FacesUntested && !point.faces(light.position)) {
         return Vec3::ZERO;
     }
     let value = lobe.value(point, light.direction);
@@ -566,6 +570,7 @@ light_variant!(PointLightUndivided, PointLightUndivided);
 light_variant!(NoShadowRay, NoShadowRay);
 light_variant!(NoCosine, NoCosine);
 light_variant!(NoMisWeight, NoMisWeight);
+light_variant!(FacesUntested, FacesUntested);
 
 #[test]
 fn a_copy_of_next_event_passes() {
@@ -592,6 +597,11 @@ fn a_point_light_not_divided_by_its_chance_is_caught() {
     // The glowing sphere is a second light: the point light is chosen
     // with chance 1/2, and undivided it gives 0.25, not 0.5 (radiance 2.5).
     assert_caught::<PointLightUndivided>("point-light-in-a-glowing-sphere");
+}
+
+#[test]
+fn next_event_that_only_asks_the_cosine_is_caught() {
+    assert_caught_by_hard_case::<FacesUntested>("lamp-on-the-wall-seen-from-inside");
 }
 
 #[test]
