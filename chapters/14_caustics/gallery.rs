@@ -359,6 +359,42 @@ plant! {
     }
 }
 
+/// The reference's `connect_to_camera` splatting at `(y, x)`: the row
+/// taken for the column. The camera sees the screen at a slant, so the
+/// spot's image is an ellipse, and turned a quarter it lights other pixels.
+struct SplatAxesSwapped;
+plant! {
+    SplatAxesSwapped;
+    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3) {
+        let camera = *tracer.camera();
+        let Some((x, y)) = camera.project(point.surface.point) else {
+            return;
+        };
+        if !point.faces(camera.origin()) {
+            return;
+        }
+        let to_camera = camera.origin() - point.surface.point;
+        let distance = to_camera.length();
+        let direction = to_camera / distance;
+        let scattered = lobe.value(point, direction);
+        if scattered == Vec3::ZERO || tracer.blocked_from_camera(point) {
+            return;
+        }
+        let weight = Planted::splat_weight(
+            point.normal.dot(direction),
+            camera.forward().dot(-direction),
+            distance,
+            camera.pixel_area(),
+        );
+        tracer.splat(y, x, power * scattered * weight);
+    }
+}
+
+#[test]
+fn a_lit_point_splatted_on_another_pixel_is_caught() {
+    assert_caught::<SplatAxesSwapped>("ball-lens");
+}
+
 /// The reference's `connect_to_camera` with Lambert's `albedo / pi` for
 /// the lobe's `f`.
 struct LambertsFToTheCamera;
