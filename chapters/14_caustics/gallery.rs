@@ -574,6 +574,21 @@ dispersion_variant!(WavelengthNotUniform, NotUniform);
 dispersion_variant!(IndexOfAnotherWavelength, IndexOfAnotherWavelength);
 
 #[test]
+fn wavelengths_drawn_unevenly_tint_the_white_furnace() {
+    // `dispersion-draws-a-wavelength` comes first and fails it too; asked
+    // alone, the furnace sees the colours' average tilted to the blue.
+    let case = raylab::check::catalog::checkpoints(14)
+        .into_iter()
+        .find(|case| case.name == "spectral-white-furnace")
+        .expect("the case exists");
+    let outcome = planted::with::<WavelengthNotUniform, _>(|| case.run::<Planted>());
+    assert!(
+        matches!(outcome, raylab::check::Outcome::Fail { .. }),
+        "{outcome:?}"
+    );
+}
+
+#[test]
 fn each_clause_of_dispersive_ior_is_caught() {
     let verdict = planted::check_chapter::<DispersionCopy>(14, &options());
     assert!(verdict.robust(), "{}", verdict.text());
