@@ -268,6 +268,10 @@ enum Slip {
     /// A determinant below an absolute `1e-9` taken for an edge-on
     /// triangle.
     AbsoluteEpsilon,
+    /// Edge c a's line of the `f64` recomputation with its corners the
+    /// other way round, `cross(c, a)`: `-v`. The `f32` line is right, so
+    /// only a ray with an edge function exactly 0 takes this path.
+    RecomputedCaBackwards,
 }
 
 /// Chapter 10's watertight test as the reference writes it, with `slip`.
@@ -300,7 +304,11 @@ fn watertight(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32, slip: Slip
         };
         edges = [
             cross(cx, cy, bx, by),
-            cross(ax, ay, cx, cy),
+            if slip == Slip::RecomputedCaBackwards {
+                cross(cx, cy, ax, ay)
+            } else {
+                cross(ax, ay, cx, cy)
+            },
             cross(bx, by, ax, ay),
         ];
     }
@@ -378,6 +386,9 @@ slipped! {
     TMaxIgnored = Slip::TMaxIgnored;
     NanPassesTheRange = Slip::NanPassesTheRange;
     AbsoluteEpsilon = Slip::AbsoluteEpsilon;
+    /// A typo in the rarely run `f64` recomputation: edge c a written in
+    /// the order of its name, `c'x a'y - c'y a'x`, which is `-v`.
+    RecomputedCaBackwards = Slip::RecomputedCaBackwards;
 }
 
 #[test]
@@ -459,6 +470,18 @@ fn contract_the_interval_is_open_at_both_ends() {
     assert_caught::<TMinIncluded>("triangle-at-t-min");
     assert_caught::<TMaxIncluded>("triangle-at-t-max");
     assert_caught::<TMaxIgnored>("triangle-beyond-t-max");
+}
+
+/// A ray parallel to the triangle's plane never reaches it. The
+/// reference rejects it by the edge functions alone: they sum to the
+/// determinant, 0, so unless all three are 0 their signs are mixed (and
+/// `t` would be infinite). The lesson's parallel ray runs along edge a b,
+/// whose corners shear onto the same point: `w` is exactly 0, the `f64`
+/// recomputation runs, and with its `v` negated the edge functions
+/// (2, 2, 0) agree, the determinant is 4, and the ray hits at `t = 0.25`.
+#[test]
+fn contract_a_parallel_ray_misses() {
+    assert_caught::<RecomputedCaBackwards>("triangle-parallel-ray");
 }
 
 #[test]
