@@ -506,3 +506,78 @@ fn at_most_three_files_outside_a_chapter_folder_name_the_chapter() {
     assert_eq!(files_naming("42_lens", &planted).len(), 4);
     assert!(!names_chapter("ch142_lens 42_lenses x42_lens", "42_lens"));
 }
+
+/// Runs `git` in `repo`, failing the test with its stderr.
+fn git(repo: &Path, args: &[&str]) {
+    let output = std::process::Command::new("git")
+        .args(["-c", "user.name=t", "-c", "user.email=t@t", "-c", "commit.gpgsign=false"])
+        .args(args)
+        .current_dir(repo)
+        .output()
+        .expect("git runs");
+    assert!(
+        output.status.success(),
+        "git {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+/// Writes `files` (path, text) into `repo` and commits them as `message`.
+fn commit(repo: &Path, files: &[&str], message: &str) {
+    for file in files {
+        let path = repo.join(file);
+        std::fs::create_dir_all(path.parent().expect("a file has a folder")).expect("mkdir");
+        let before = std::fs::read_to_string(&path).unwrap_or_default();
+        std::fs::write(&path, format!("{before}{message}\n")).expect("write");
+    }
+    git(repo, &["add", "-A"]);
+    git(repo, &["commit", "-q", "-m", message]);
+}
+
+#[test]
+fn the_footprint_script_counts_what_a_chapters_commits_touched_outside_its_folder() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let repo = dir.path();
+    git(repo, &["init", "-q"]);
+    commit(repo, &["chapters/01_first/chapter.rs", "src/lib.rs"], "chapter 1");
+    commit(
+        repo,
+        &["chapters/02_second/chapter.rs", "chapters/mod.rs", "docs/course.md"],
+        "chapter 2",
+    );
+    commit(repo, &["src/render.rs", "snapshots/chapter-2.png", "README.md"], "its tool");
+    commit(repo, &["chapters/03_third/chapter.rs", "src/course.rs"], "chapter 3");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/chapter-footprint.sh");
+    let run = |args: &[&str]| {
+        let output = std::process::Command::new("bash")
+            .arg(&script)
+            .args(args)
+            .current_dir(repo)
+            .output()
+            .expect("bash runs");
+        (
+            output.status.success(),
+            String::from_utf8_lossy(&output.stdout).into_owned(),
+            String::from_utf8_lossy(&output.stderr).into_owned(),
+        )
+    };
+    // Chapter 2's commits end where chapter 3's begin; its folder, docs,
+    // snapshots and READMEs aside.
+    let (ok, out, err) = run(&["2"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "chapters/mod.rs\nsrc/render.rs\n2 files outside chapters/02_*/ in 2 commits\n"
+    );
+    // The last chapter's run to HEAD; `--until` ends the range earlier.
+    let (ok, out, err) = run(&["3"]);
+    assert!(ok, "{err}");
+    assert_eq!(out, "src/course.rs\n1 files outside chapters/03_*/ in 1 commits\n");
+    let (ok, out, err) = run(&["2", "--until", "HEAD~2"]);
+    assert!(ok, "{err}");
+    assert_eq!(out, "chapters/mod.rs\n1 files outside chapters/02_*/ in 1 commits\n");
+    // A chapter no commit adds is an error, not an empty footprint.
+    let (ok, _, err) = run(&["9"]);
+    assert!(!ok);
+    assert!(err.contains("no commit adds a file of chapter 9"), "{err}");
+}
