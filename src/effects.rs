@@ -3,7 +3,7 @@
 
 use crate::Scene;
 use crate::chapters::CHAPTERS;
-use crate::scene::FresnelModel;
+use crate::scene::{FresnelModel, Switch};
 
 /// How a hit point is coloured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -214,16 +214,16 @@ impl Effects {
     /// leaving out one layer leaves out every layer above it (without
     /// reflection, chapter 8's stage shades as chapter 5's).
     pub fn without(self, off: crate::scene::SwitchedOff) -> Effects {
-        let lit = self.lighting != Lighting::Unlit && !off.contains("lighting");
-        let phong = lit && self.lighting == Lighting::Phong && !off.contains("phong");
+        let lit = self.lighting != Lighting::Unlit && !off.contains(Switch::Lighting);
+        let phong = lit && self.lighting == Lighting::Phong && !off.contains(Switch::Phong);
         let all_lighting = lit && (self.lighting != Lighting::Phong || phong);
-        let reflection = self.reflection && all_lighting && !off.contains("reflection");
+        let reflection = self.reflection && all_lighting && !off.contains(Switch::Reflection);
         let refraction = self.refraction
             && all_lighting
             && (reflection || !self.reflection)
-            && !off.contains("refraction");
-        let nested_media = self.nested_media && refraction && !off.contains("nested-media");
-        let triangles = self.triangles && !off.contains("triangles");
+            && !off.contains(Switch::Refraction);
+        let nested_media = self.nested_media && refraction && !off.contains(Switch::NestedMedia);
+        let triangles = self.triangles && !off.contains(Switch::Triangles);
         // Path tracing lights with the lights, mirrors with chapter 6's
         // reflection and bends light with chapters 8 and 9's glass: it is
         // the top of the stack.
@@ -232,12 +232,12 @@ impl Effects {
             && (reflection || !self.reflection)
             && (refraction || !self.refraction)
             && (nested_media || !self.nested_media)
-            && !off.contains("path-tracing");
-        let next_event = path_tracing && self.next_event && !off.contains("next-event");
+            && !off.contains(Switch::PathTracing);
+        let next_event = path_tracing && self.next_event && !off.contains(Switch::NextEvent);
         Effects {
-            planes: self.planes && !off.contains("planes"),
-            spheres: self.spheres && !off.contains("spheres"),
-            nearest_hit: self.nearest_hit && !off.contains("nearest-hit"),
+            planes: self.planes && !off.contains(Switch::Planes),
+            spheres: self.spheres && !off.contains(Switch::Spheres),
+            nearest_hit: self.nearest_hit && !off.contains(Switch::NearestHit),
             lighting: match self.lighting {
                 _ if !lit => Lighting::Unlit,
                 Lighting::Phong if !phong => Lighting::Flat,
@@ -246,7 +246,7 @@ impl Effects {
             shadows: self.shadows && lit,
             specular: self.specular && phong,
             reflection,
-            antialiasing: self.antialiasing && !off.contains("antialiasing"),
+            antialiasing: self.antialiasing && !off.contains(Switch::Antialiasing),
             refraction,
             nested_media,
             // Fresnel's split and absorption are chapter 9's glass, which
@@ -254,19 +254,23 @@ impl Effects {
             fresnel: self.fresnel && nested_media,
             absorption: self.absorption && nested_media,
             triangles,
-            smooth_shading: self.smooth_shading && triangles && !off.contains("smooth-shading"),
-            bvh: self.bvh && !off.contains("bvh"),
-            implicit: self.implicit && !off.contains("implicit"),
+            smooth_shading: self.smooth_shading
+                && triangles
+                && !off.contains(Switch::SmoothShading),
+            bvh: self.bvh && !off.contains(Switch::Bvh),
+            implicit: self.implicit && !off.contains(Switch::Implicit),
             path_tracing,
             next_event,
-            mis: next_event && self.mis && !off.contains("mis"),
-            roulette: path_tracing && self.roulette && !off.contains("russian-roulette"),
-            light_tracing: path_tracing && self.light_tracing && !off.contains("light-tracing"),
+            mis: next_event && self.mis && !off.contains(Switch::Mis),
+            roulette: path_tracing && self.roulette && !off.contains(Switch::RussianRoulette),
+            light_tracing: path_tracing
+                && self.light_tracing
+                && !off.contains(Switch::LightTracing),
             // Dispersion bends light through chapter 9's glass.
             dispersion: path_tracing
                 && nested_media
                 && self.dispersion
-                && !off.contains("dispersion"),
+                && !off.contains(Switch::Dispersion),
         }
     }
 

@@ -449,36 +449,98 @@ pub struct RenderSettings {
     pub light_paths: u32,
 }
 
-/// The effects a stage can be asked to leave out, each by its name in
-/// `raylab chapters` (see [`SwitchedOff::NAMES`]): the ones whose absence
-/// the renderer knows how to draw (a stage without reflection shades as
-/// chapter 5 did; without the tree it tests every object).
+/// An effect a stage can be asked to leave out: one the renderer knows
+/// how to draw without (a stage without reflection shades as chapter 5
+/// did; without the tree it tests every object). A variant, not a string,
+/// so that a misspelt switch is a compile error rather than never off.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Switch {
+    Planes,
+    Spheres,
+    NearestHit,
+    Lighting,
+    Phong,
+    Reflection,
+    Antialiasing,
+    Refraction,
+    NestedMedia,
+    Triangles,
+    SmoothShading,
+    Bvh,
+    Implicit,
+    PathTracing,
+    NextEvent,
+    Mis,
+    RussianRoulette,
+    LightTracing,
+    Dispersion,
+}
+
+impl Switch {
+    /// Every switch, in chapter order (each at its own discriminant).
+    pub const ALL: [Switch; 19] = [
+        Switch::Planes,
+        Switch::Spheres,
+        Switch::NearestHit,
+        Switch::Lighting,
+        Switch::Phong,
+        Switch::Reflection,
+        Switch::Antialiasing,
+        Switch::Refraction,
+        Switch::NestedMedia,
+        Switch::Triangles,
+        Switch::SmoothShading,
+        Switch::Bvh,
+        Switch::Implicit,
+        Switch::PathTracing,
+        Switch::NextEvent,
+        Switch::Mis,
+        Switch::RussianRoulette,
+        Switch::LightTracing,
+        Switch::Dispersion,
+    ];
+
+    /// Its name in scenes, on the command line and in `raylab chapters`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Switch::Planes => "planes",
+            Switch::Spheres => "spheres",
+            Switch::NearestHit => "nearest-hit",
+            Switch::Lighting => "lighting",
+            Switch::Phong => "phong",
+            Switch::Reflection => "reflection",
+            Switch::Antialiasing => "antialiasing",
+            Switch::Refraction => "refraction",
+            Switch::NestedMedia => "nested-media",
+            Switch::Triangles => "triangles",
+            Switch::SmoothShading => "smooth-shading",
+            Switch::Bvh => "bvh",
+            Switch::Implicit => "implicit",
+            Switch::PathTracing => "path-tracing",
+            Switch::NextEvent => "next-event",
+            Switch::Mis => "mis",
+            Switch::RussianRoulette => "russian-roulette",
+            Switch::LightTracing => "light-tracing",
+            Switch::Dispersion => "dispersion",
+        }
+    }
+}
+
+/// A set of [`Switch`]es: the effects a stage is asked to leave out.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SwitchedOff(u32);
 
 impl SwitchedOff {
-    /// Every effect that can be switched off, in chapter order.
-    pub const NAMES: [&'static str; 19] = [
-        "planes",
-        "spheres",
-        "nearest-hit",
-        "lighting",
-        "phong",
-        "reflection",
-        "antialiasing",
-        "refraction",
-        "nested-media",
-        "triangles",
-        "smooth-shading",
-        "bvh",
-        "implicit",
-        "path-tracing",
-        "next-event",
-        "mis",
-        "russian-roulette",
-        "light-tracing",
-        "dispersion",
-    ];
+    /// Every effect that can be switched off, by name, in chapter order.
+    pub const NAMES: [&'static str; 19] = {
+        let mut names = [""; 19];
+        let mut index = 0;
+        while index < 19 {
+            names[index] = Switch::ALL[index].name();
+            index += 1;
+        }
+        names
+    };
 
     /// The set of the effects named, or the name that is not one.
     pub fn parse<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<SwitchedOff, String> {
@@ -500,12 +562,9 @@ impl SwitchedOff {
         SwitchedOff(self.0 | other.0)
     }
 
-    /// Whether the effect `name` (one of [`SwitchedOff::NAMES`]) is off.
-    pub fn contains(self, name: &str) -> bool {
-        Self::NAMES
-            .iter()
-            .position(|known| *known == name)
-            .is_some_and(|index| self.0 & (1 << index) != 0)
+    /// Whether `switch` is off.
+    pub fn contains(self, switch: Switch) -> bool {
+        self.0 & (1 << switch as u32) != 0
     }
 
     /// The names of the effects off, in chapter order.

@@ -275,6 +275,22 @@ fn a_stage_without_its_chapter_s_effects_is_the_chapter_before() {
 }
 
 #[test]
+fn each_switch_is_off_exactly_when_its_name_is_given() {
+    use raylab::scene::{Switch, SwitchedOff};
+    for switch in Switch::ALL {
+        let off = SwitchedOff::parse([switch.name()]).expect("its own name parses");
+        for other in Switch::ALL {
+            assert_eq!(
+                off.contains(other),
+                other == switch,
+                "{switch:?} off, {other:?}"
+            );
+        }
+        assert_eq!(off.names(), [switch.name()]);
+    }
+}
+
+#[test]
 fn an_unknown_effect_is_refused_with_the_names_that_exist() {
     let error = raylab::scene::SwitchedOff::parse(["reflections"]).expect_err("no such effect");
     assert!(
