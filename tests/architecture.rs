@@ -510,7 +510,14 @@ fn at_most_three_files_outside_a_chapter_folder_name_the_chapter() {
 /// Runs `git` in `repo`, failing the test with its stderr.
 fn git(repo: &Path, args: &[&str]) {
     let output = std::process::Command::new("git")
-        .args(["-c", "user.name=t", "-c", "user.email=t@t", "-c", "commit.gpgsign=false"])
+        .args([
+            "-c",
+            "user.name=t",
+            "-c",
+            "user.email=t@t",
+            "-c",
+            "commit.gpgsign=false",
+        ])
         .args(args)
         .current_dir(repo)
         .output()
@@ -539,14 +546,30 @@ fn the_footprint_script_counts_what_a_chapters_commits_touched_outside_its_folde
     let dir = tempfile::tempdir().expect("a temporary folder");
     let repo = dir.path();
     git(repo, &["init", "-q"]);
-    commit(repo, &["chapters/01_first/chapter.rs", "src/lib.rs"], "chapter 1");
     commit(
         repo,
-        &["chapters/02_second/chapter.rs", "chapters/mod.rs", "docs/course.md"],
+        &["chapters/01_first/chapter.rs", "src/lib.rs"],
+        "chapter 1",
+    );
+    commit(
+        repo,
+        &[
+            "chapters/02_second/chapter.rs",
+            "chapters/mod.rs",
+            "docs/course.md",
+        ],
         "chapter 2",
     );
-    commit(repo, &["src/render.rs", "snapshots/chapter-2.png", "README.md"], "its tool");
-    commit(repo, &["chapters/03_third/chapter.rs", "src/course.rs"], "chapter 3");
+    commit(
+        repo,
+        &["src/render.rs", "snapshots/chapter-2.png", "README.md"],
+        "its tool",
+    );
+    commit(
+        repo,
+        &["chapters/03_third/chapter.rs", "src/course.rs"],
+        "chapter 3",
+    );
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/chapter-footprint.sh");
     let run = |args: &[&str]| {
         let output = std::process::Command::new("bash")
@@ -572,10 +595,16 @@ fn the_footprint_script_counts_what_a_chapters_commits_touched_outside_its_folde
     // The last chapter's run to HEAD; `--until` ends the range earlier.
     let (ok, out, err) = run(&["3"]);
     assert!(ok, "{err}");
-    assert_eq!(out, "src/course.rs\n1 files outside chapters/03_*/ in 1 commits\n");
+    assert_eq!(
+        out,
+        "src/course.rs\n1 files outside chapters/03_*/ in 1 commits\n"
+    );
     let (ok, out, err) = run(&["2", "--until", "HEAD~2"]);
     assert!(ok, "{err}");
-    assert_eq!(out, "chapters/mod.rs\n1 files outside chapters/02_*/ in 1 commits\n");
+    assert_eq!(
+        out,
+        "chapters/mod.rs\n1 files outside chapters/02_*/ in 1 commits\n"
+    );
     // A chapter no commit adds is an error, not an empty footprint.
     let (ok, _, err) = run(&["9"]);
     assert!(!ok);
