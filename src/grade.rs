@@ -169,11 +169,8 @@ pub enum GradeError {
     Output(#[from] crate::output::OutputError),
     #[error("there is no student {name} in {}", folder.display())]
     NoSuchStudent { name: String, folder: PathBuf },
-    #[error(
-        "the result of {name} was graded another way (another raylab, --code or not, other \
-         criteria): merge results of one grading"
-    )]
-    MergeMismatch { name: String },
+    #[error("the result of {name} was graded another way: {why}; merge results of one grading")]
+    MergeMismatch { name: String, why: String },
     #[error("two results for {name}")]
     MergeTwice { name: String },
     #[error("hidden scene {}: {why}", file.display())]

@@ -286,23 +286,18 @@ fn grade_class(
             crate::grade::class::merge(
                 &args.folder,
                 read_results(results)?,
-                args.code,
-                args.criteria.criteria(),
-                (args.fresh, args.chapter),
+                &grade_options(args, against)?,
                 skip,
                 &mut buffered,
             )?
         } else if args.code {
             crate::grade::class::grade_class_code(
                 &args.folder,
-                &crate::grade::code::CodeJob {
-                    timeout: Duration::from_secs(args.timeout),
-                    sandbox: sandbox.as_ref(),
-                    fresh: args.fresh,
-                    chapter: args.chapter,
-                    profile: args.build_profile,
-                    scenes: &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
-                },
+                &code_job(
+                    args,
+                    sandbox.as_ref(),
+                    &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
+                ),
                 skip,
                 &mut |student| {
                     eprintln!(
@@ -379,24 +374,12 @@ fn grade_one_of_class(
             )?)
         };
         scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
-        crate::grade::class::Job::Code(crate::grade::code::CodeJob {
-            timeout: Duration::from_secs(args.timeout),
-            sandbox: sandbox.as_ref(),
-            fresh: args.fresh,
-            chapter: args.chapter,
-            profile: args.build_profile,
-            scenes: &scenes,
-        })
+        crate::grade::class::Job::Code(code_job(args, sandbox.as_ref(), &scenes))
     } else {
         crate::grade::class::Job::Renders(&mut references)
     };
-    let graded = crate::grade::class::grade_student(
-        &args.folder,
-        name,
-        job,
-        args.criteria.criteria(),
-        &[result],
-    )?;
+    let options = grade_options(args, against)?;
+    let graded = crate::grade::class::grade_student(&args.folder, name, job, &options, &[result])?;
     let json = serde_json::to_vec(&graded).context("cannot write the result as JSON")?;
     crate::output::write_files(&[(result, &json)])?;
     println!(
@@ -410,6 +393,46 @@ fn grade_one_of_class(
     } else {
         EXIT_FAILED_CHECK
     })
+}
+
+/// The job of `grade --code` that `args` describe, with its hidden
+/// `scenes` loaded.
+fn code_job<'a>(
+    args: &GradeArgs,
+    sandbox: Option<&'a crate::grade::sandbox::Sandbox>,
+    scenes: &'a [crate::grade::hidden::HiddenScene],
+) -> crate::grade::code::CodeJob<'a> {
+    crate::grade::code::CodeJob {
+        timeout: Duration::from_secs(args.timeout),
+        sandbox,
+        fresh: args.fresh,
+        chapter: args.chapter,
+        profile: args.build_profile,
+        scenes,
+    }
+}
+
+/// How `args` grade: what each `--student` job stores in its result and
+/// `--merge` compares. The sandbox is named, not found: a merge runs no
+/// code.
+fn grade_options(
+    args: &GradeArgs,
+    against: Option<&Path>,
+) -> Result<crate::grade::class::GradeOptions> {
+    if !args.code {
+        return Ok(crate::grade::class::GradeOptions::renders(
+            args.criteria.criteria(),
+            against,
+        )?);
+    }
+    let job = code_job(args, None, &[]);
+    let mut options = crate::grade::class::GradeOptions::code(
+        &job,
+        &crate::grade::hidden::texts(&args.scenes)?,
+        args.scene_chapter,
+    );
+    options.sandboxed = Some(!args.no_sandbox);
+    Ok(options)
 }
 
 /// The result files (`*.json`) in `folder`, each read within a bound.

@@ -36,6 +36,24 @@ pub struct SceneOutcome {
 /// at `chapter`. A scene that names an OBJ file is refused: the render
 /// runs in a sandbox that sees only the scene.
 pub fn load(paths: &[PathBuf], chapter: u8) -> Result<Vec<HiddenScene>, GradeError> {
+    let mut scenes = Vec::new();
+    for (file, name, text) in texts(paths)? {
+        let origin = format!("hidden scene {}", file.display());
+        let scene = crate::Scene::parse(&text, &origin)?;
+        let rendered = crate::render(&scene, chapter, &scene.render, None)?;
+        scenes.push(HiddenScene {
+            name,
+            text,
+            chapter,
+            reference: rendered.into(),
+        });
+    }
+    Ok(scenes)
+}
+
+/// The files of `paths` as [`load`] takes them, each with its name for the
+/// report and its text, read and refused as there, but not rendered.
+pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeError> {
     let mut files = Vec::new();
     for path in paths {
         if path.is_dir() {
@@ -54,10 +72,9 @@ pub fn load(paths: &[PathBuf], chapter: u8) -> Result<Vec<HiddenScene>, GradeErr
             files.push(path.clone());
         }
     }
-    let mut scenes = Vec::new();
+    let mut texts = Vec::new();
     for file in files {
         let text = crate::input::read_scene_text(&file)?;
-        let origin = format!("hidden scene {}", file.display());
         if !crate::Scene::obj_files(&text, Path::new("")).is_empty() {
             return Err(GradeError::HiddenScene {
                 file,
@@ -66,20 +83,13 @@ pub fn load(paths: &[PathBuf], chapter: u8) -> Result<Vec<HiddenScene>, GradeErr
                     .into(),
             });
         }
-        let scene = crate::Scene::parse(&text, &origin)?;
-        let rendered = crate::render(&scene, chapter, &scene.render, None)?;
         let name = file
             .file_name()
             .map(crate::text::visible_name)
             .unwrap_or_else(|| file.display().to_string());
-        scenes.push(HiddenScene {
-            name,
-            text,
-            chapter,
-            reference: rendered.into(),
-        });
+        texts.push((file, name, text));
     }
-    Ok(scenes)
+    Ok(texts)
 }
 
 /// Renders each of `scenes` with the student's chapters, asked through

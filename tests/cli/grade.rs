@@ -832,6 +832,42 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
         "the merged report differs from one run's"
     );
 
+    // Jobs graded with other options do not merge: every option is in the
+    // result file, and the error names the one that differs.
+    let stricter = raylab(
+        &["grade", "class", "--merge", "results", "--threshold", "5"],
+        dir.path(),
+    );
+    assert_eq!(stricter.status.code(), Some(2), "{}", stderr(&stricter));
+    assert!(
+        stderr(&stricter).contains("graded with other --threshold/--allow"),
+        "{}",
+        stderr(&stricter)
+    );
+    let references = dir.path().join("references");
+    std::fs::create_dir(&references).expect("mkdir");
+    save(
+        &references.join("chapter-1.png"),
+        &render(1, 48, 36, |_| {}),
+    );
+    let against = raylab(
+        &[
+            "grade",
+            "class",
+            "--merge",
+            "results",
+            "--against",
+            "references",
+        ],
+        dir.path(),
+    );
+    assert_eq!(against.status.code(), Some(2), "{}", stderr(&against));
+    assert!(
+        stderr(&against).contains("graded with other --against"),
+        "{}",
+        stderr(&against)
+    );
+
     // Without cy's result, cy is refused; a result twice is an error.
     let result_of = |student: &str| {
         std::fs::read_dir(&results)
@@ -1359,7 +1395,7 @@ fn the_grader_judges_real_workspaces_itself() {
     assert_eq!(status, "Pass", "{verdicts}");
     let (status, verdicts) = code_status(&fresh);
     assert_eq!(status, "Fail", "{verdicts}");
-    assert_eq!(fresh["fresh"], 7, "{fresh}");
+    assert_eq!(fresh["options"]["fresh"], 7, "{fresh}");
     let (honest, _) = grade_built("student-answer", &["--chapter", "1", "--fresh", "7"]);
     assert_eq!(code_status(&honest).0, "Pass", "{}", code_status(&honest).1);
 
