@@ -943,6 +943,24 @@ pub fn checkpoints() -> Vec<Case> {
             expect: [Some(4.0), Some(4.0), None, None],
         }),
         Case::from(BoxesQuestion {
+            name: "boxes-entry-close-to-the-origin",
+            section: BOXES4_11,
+            says: "the four boxes of boxes-four-at-once and a ray from (-5, 0, 0) along (4096, 0, \
+                   0), 0 < t < 10: the entries of boxes-four-at-once divided by 4096. Expected \
+                   [4/4096, 7/4096, NaN, 0] = [0.0009765625, 0.0017089844, NaN, 0]. The widening \
+                   moves each by 2 gamma_3 of itself (about 4e-10): a slack that grew as t shrank \
+                   would not",
+            boxes: [
+                CUBE,
+                cuboid([2.0, -1.0, -1.0], [3.0, 1.0, 1.0]),
+                cuboid([-1.0, 2.0, -1.0], [1.0, 3.0, 1.0]),
+                cuboid([-6.0, -1.0, -1.0], [-4.0, 1.0, 1.0]),
+            ],
+            ray: (Vec3::new(-5.0, 0.0, 0.0), Vec3::new(4096.0, 0.0, 0.0)),
+            range: (0.0, 10.0),
+            expect: [Some(4.0 / 4096.0), Some(7.0 / 4096.0), None, Some(0.0)],
+        }),
+        Case::from(BoxesQuestion {
             name: "boxes-flat-touched-at-t-min",
             section: BOXES4_11,
             says: "a ray from the origin along (0, 0, 1), 0 <= t <= 10, and four boxes: lane 0 the \
@@ -1661,6 +1679,26 @@ pub fn robustness() -> Vec<Case> {
                 four_at_once: true,
             }),
         ),
+        Case::from(BvhHitsQuestion {
+            name: "wide-coplanar-tie-far-from-the-origin",
+            section: WIDE_WALK_11,
+            says: "the triangle, plane and ray of bvh-coplanar-tie-far-from-the-origin through the \
+                   wide tree: the four-box test's entry also rounds one ulp past the plane's hit, \
+                   and only its widening opens the box: expected object 0 at t = 334.66663",
+            shapes: vec![
+                triangle([-10.0, -10.0, 4.0], [10.0, -10.0, 4.0], [0.0, 10.0, 4.0]),
+                Plane::new(Vec3::new(0.0, 0.0, 4.0), -Vec3::Z).into(),
+            ],
+            options: ONE_PER_LEAF,
+            rays: vec![Ray::new(
+                Vec3::new(-14.0, -4.0, -1000.0),
+                Vec3::new(0.042, 0.012, 3.0),
+            )],
+            range: IN_FRONT,
+            any_hit: false,
+            wide: true,
+        })
+        .fixed("a hit decided by the roundings of three formulas, which a fresh draw would change"),
         Case::new(
             "triangles-closed-mesh-in-fours",
             TRIANGLES4_11,

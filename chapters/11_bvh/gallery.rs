@@ -1847,6 +1847,11 @@ enum BoxesSlip {
     IntervalOpen,
     /// No widening.
     Unwidened,
+    /// A slack of `2 gamma_3 / |t|`, which grows as `t` shrinks.
+    SlackDividedByT,
+    /// The entry moved up by its slack, as the exit is: narrowed, not
+    /// widened.
+    EntryRaised,
 }
 
 /// Chapter 11's `hit_boxes` as the reference writes it, with `slip`.
@@ -1876,9 +1881,20 @@ fn boxes_with(
         exit = raylab::bvh::lesser_of(far, exit);
     }
     if slip != BoxesSlip::Unwidened {
-        let slack =
-            |t: Vec4| raylab::bvh::lesser_of(2.0 * super::GAMMA_3 * t.abs(), Vec4::splat(f32::MAX));
-        (entry, exit) = (entry - slack(entry), exit + slack(exit));
+        let slack = |t: Vec4| {
+            let slack = if slip == BoxesSlip::SlackDividedByT {
+                2.0 * super::GAMMA_3 / t.abs()
+            } else {
+                2.0 * super::GAMMA_3 * t.abs()
+            };
+            raylab::bvh::lesser_of(slack, Vec4::splat(f32::MAX))
+        };
+        let entry_slack = if slip == BoxesSlip::EntryRaised {
+            -slack(entry)
+        } else {
+            slack(entry)
+        };
+        (entry, exit) = (entry - entry_slack, exit + slack(exit));
     }
     let entry = raylab::bvh::greater_of(Vec4::splat(t_min), entry);
     let exit = raylab::bvh::lesser_of(Vec4::splat(t_max), exit);
@@ -1913,6 +1929,8 @@ four_boxes! {
     BoxMissIsInfinity = BoxesSlip::MissIsInfinity;
     LanesIntervalOpen = BoxesSlip::IntervalOpen;
     LanesUnwidened = BoxesSlip::Unwidened;
+    LanesSlackDividedByT = BoxesSlip::SlackDividedByT;
+    LanesEntryRaised = BoxesSlip::EntryRaised;
 }
 
 #[test]
@@ -1920,6 +1938,8 @@ fn contract_hit_boxes_lane_by_lane() {
     assert_caught::<BoxMissIsInfinity>("boxes-four-at-once");
     assert_caught::<LanesIntervalOpen>("boxes-flat-touched-at-t-min");
     assert_caught_by_hard_case::<LanesUnwidened>("boxes-rays-along-edges");
+    assert_caught::<LanesSlackDividedByT>("boxes-entry-close-to-the-origin");
+    assert_caught_by_hard_case::<LanesEntryRaised>("wide-coplanar-tie-far-from-the-origin");
 }
 
 /// A triangle lane the ray misses answers `inf`, not NaN.
