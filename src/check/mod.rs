@@ -48,6 +48,7 @@ pub(crate) mod exact;
 pub mod judge;
 #[cfg(feature = "student")]
 pub(crate) mod judge;
+pub(crate) mod no_programs;
 mod panics;
 #[cfg(not(feature = "student"))]
 #[doc(hidden)]

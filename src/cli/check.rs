@@ -118,6 +118,9 @@ fn stall_notice() -> std::time::Duration {
 /// chapters print goes to standard error.
 pub fn serve<C: crate::Chapters>() -> Result<i32> {
     let (questions, answers) = private_pipes().context("cannot take the judge's pipes")?;
+    // A program started from a chapter would answer outside the count of
+    // raylab's answers that this process keeps.
+    crate::check::no_programs::forbid_starting_programs()?;
     // No comparison is asked for: raylab's comparison wrappers are answers
     // like the others.
     crate::answer_key::set_strict(true);

@@ -1362,8 +1362,9 @@ fn code_status(result: &serde_json::Value) -> (String, String) {
 /// `grade --code` of real workspaces: the grader judges, their binaries
 /// answer. The answer key passes (and renders a hidden scene as raylab's
 /// reference does), the skeleton is not started, chapters that run
-/// raylab's own answers fail, and a chapter answering from a table
-/// prepared in advance passes the lesson's inputs but not `--fresh` ones.
+/// raylab's own answers fail, a chapter answering from a table
+/// prepared in advance passes the lesson's inputs but not `--fresh` ones,
+/// and one that has another program print the table gets nothing.
 #[cfg(unix)]
 #[test]
 fn the_grader_judges_real_workspaces_itself() {
@@ -1396,6 +1397,20 @@ fn the_grader_judges_real_workspaces_itself() {
     let (status, verdicts) = code_status(&fresh);
     assert_eq!(status, "Fail", "{verdicts}");
     assert_eq!(fresh["options"]["fresh"], 7, "{fresh}");
+    // The same table printed by a program the chapter starts: the
+    // answering process may start none, so it has no table, and fails.
+    let cheat = built_class().join("student-cheat");
+    std::fs::write(
+        cheat.join("answers.printed"),
+        crate::workspace::harvested_table(),
+    )
+    .expect("write the table");
+    std::fs::write(cheat.join("answers.program"), "cat answers.printed").expect("write");
+    let (spawned, _) = grade_built("student-cheat", &["--chapter", "1"]);
+    std::fs::remove_file(cheat.join("answers.printed")).expect("remove the table");
+    std::fs::remove_file(cheat.join("answers.program")).expect("remove the program");
+    let (status, verdicts) = code_status(&spawned);
+    assert_eq!(status, "Fail", "{verdicts}");
     let (honest, _) = grade_built("student-answer", &["--chapter", "1", "--fresh", "7"]);
     assert_eq!(code_status(&honest).0, "Pass", "{}", code_status(&honest).1);
 
