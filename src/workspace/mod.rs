@@ -431,6 +431,7 @@ raylab renders and checks your code. {state}
 cargo run --release -- render --chapter 1      # writes chapter-1.png with your code
 cargo run --release -- check --chapter 1       # the verdict: cases, image, robustness
 cargo test                                     # the same checks, one test per chapter
+cargo test chapter_01                          # chapter 1's alone
 cargo run --release -- trace --chapter 1 --pixel 320,240   # every ray of one pixel, with your code
 cargo run --release -- web                     # the browser page of your chapters, in web/
 ```
@@ -498,7 +499,9 @@ fn check_tests(package: &str) -> String {
             .map_or(info.folder, |(_, name)| name);
         let _ = write!(
             out,
-            "\n#[test]\nfn chapter_{}_{name}() {{\n    raylab::check::assert_chapter(env!(\"CARGO_BIN_EXE_{package}\"), {});\n}}\n",
+            // Two digits, so that `cargo test chapter_01` is chapter 1
+            // alone (`chapter_1` would name chapters 10 to 19 too).
+            "\n#[test]\nfn chapter_{:02}_{name}() {{\n    raylab::check::assert_chapter(env!(\"CARGO_BIN_EXE_{package}\"), {});\n}}\n",
             info.number, info.number
         );
     }
