@@ -17,7 +17,8 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// into an HTML report; or, with --code, students' workspaces.
 ///
 /// One student: DIR holds one PNG per chapter, named `chapter-N.png` (N
-/// from 1 to 11, lower case, no leading zero), each rendered from the
+/// a chapter's number as `raylab chapters` lists them, lower case, no
+/// leading zero), each rendered from the
 /// chapter's built-in scene with default settings (`raylab render
 /// --chapter N`, any --width/--height from 16 up to 1920x1080 pixels in
 /// all: a reference is rendered at the hand-in's size). A class: DIR holds one
