@@ -48,6 +48,8 @@ pub(crate) mod exact;
 pub mod judge;
 #[cfg(feature = "student")]
 pub(crate) mod judge;
+// Only the command line's `serve` calls it, and the page has no command line.
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) mod no_programs;
 mod panics;
 #[cfg(not(feature = "student"))]
