@@ -163,7 +163,7 @@ pub fn grade_class_code(
         // lines its summary shows, so that its memory does not grow with
         // every student's failures.
         if let Outcome::Code(run) = &mut student.outcome {
-            run.stdout = last_lines(&run.stdout, SUMMARY_LINES);
+            run.stdout = verdict_summary(&run.stdout);
             run.stderr = last_lines(&run.stderr, SUMMARY_LINES);
         }
     }
@@ -574,6 +574,23 @@ impl ChapterStatus<'_> {
 /// How many lines of a `check`'s output the report and the CSV keep.
 const SUMMARY_LINES: usize = 40;
 
+/// The last [`SUMMARY_LINES`] lines of a check's verdicts `text`, its
+/// chapters not started left out first: the table at its end lists them
+/// anyway, and thirteen of them would push a failing chapter's call,
+/// expected and got out of the lines kept.
+fn verdict_summary(text: &str) -> String {
+    let blocks: Vec<&str> = text
+        .split("\n\n")
+        .filter(|block| {
+            !block
+                .lines()
+                .nth(1)
+                .is_some_and(|line| line.starts_with("  not started:"))
+        })
+        .collect();
+    last_lines(&blocks.join("\n\n"), SUMMARY_LINES)
+}
+
 impl Student {
     /// Everything graded passes.
     pub fn passes(&self) -> bool {
@@ -627,7 +644,7 @@ impl Student {
                     "timed out after {} s; every process of the run was killed",
                     run.timeout.as_secs()
                 );
-                let out = last_lines(&run.stdout, SUMMARY_LINES);
+                let out = verdict_summary(&run.stdout);
                 if !out.is_empty() {
                     text.push_str("\noutput so far:\n");
                     text.push_str(&out);
@@ -639,10 +656,10 @@ impl Student {
             }
             CodeStatus::Error => format!(
                 "{}\n{}",
-                last_lines(&run.stdout, SUMMARY_LINES),
+                verdict_summary(&run.stdout),
                 last_lines(&run.stderr, 10)
             ),
-            _ => last_lines(&run.stdout, SUMMARY_LINES),
+            _ => verdict_summary(&run.stdout),
         }
     }
 }
@@ -1150,6 +1167,39 @@ fn csv_field(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A failing chapter's details survive a class of not-started ones:
+    /// the table lists those, and their blocks go first.
+    #[test]
+    fn the_summary_keeps_a_failing_chapters_details_over_not_started_ones() {
+        let mut text = String::from(
+            "chapter 1: Ray-plane intersection - FAIL\n  checkpoints: 12 of 17 pass\n  \
+             checkpoint 10 of 17 failed (intersect_plane: plane-beyond-t-max):\n    \
+             call:     intersect_plane(...)\n    expected: no hit (None)\n    got:      t = 1\n\n",
+        );
+        for chapter in 2..=14 {
+            text.push_str(&format!(
+                "chapter {chapter}: Title - not started\n  not started: f still todo!() (the \
+                 lesson: l.md)\n\n"
+            ));
+        }
+        text.push_str("chapter  status       cases   robustness     image\n");
+        for chapter in 1..=14 {
+            text.push_str(&format!(
+                "{chapter:<8} not started  -       -              -\n"
+            ));
+        }
+        assert!(!last_lines(&text, SUMMARY_LINES).contains("expected: no hit"));
+        let summary = verdict_summary(&text);
+        assert!(summary.contains("expected: no hit (None)"), "{summary}");
+        assert!(summary.contains("got:      t = 1"), "{summary}");
+        assert!(
+            summary.ends_with("14       not started  -       -              -"),
+            "{summary}"
+        );
+        assert!(!summary.contains("still todo!()"), "{summary}");
+        assert_eq!(verdict_summary(&summary), summary);
+    }
 
     #[test]
     fn csv_fields_are_quoted_and_formulas_defused() {
