@@ -130,7 +130,8 @@ macro_rules! declare_chapters {
        |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
         $(
             // Each chapter's module is its folder: the code a student reads
-            // in `chapter.rs`, re-exported, and the checker's cases beside it.
+            // in `chapter.rs`, re-exported. The checker's cases beside it,
+            // `checks.rs`, are the judge's (`check::by_chapter`).
             #[path = $folder]
             #[doc = include_str!(concat!(env!("OUT_DIR"), "/lessons/", $folder, ".md"))]
             pub mod $module {
@@ -143,7 +144,6 @@ macro_rules! declare_chapters {
                 #[cfg(feature = "student")]
                 pub(crate) use code::*;
                 $($(#[doc(hidden)] pub use $kept;)*)?
-                pub mod checks;
             }
         )*
 
@@ -167,6 +167,20 @@ macro_rules! declare_chapters {
 }
 
 for_each_chapter!(declare_chapters);
+
+// Beside the registry, because the registry is what it reads: the effects
+// know no chapter.
+impl Effects {
+    /// Everything chapters `1..=chapter` teach: each chapter of the
+    /// registry, in order, switches on what it adds.
+    pub fn for_chapter(chapter: u8) -> Effects {
+        let mut effects = Effects::NONE;
+        for info in CHAPTERS.iter().filter(|info| info.number <= chapter) {
+            (info.switch_on)(&mut effects);
+        }
+        effects
+    }
+}
 
 /// The last chapter: rendering "with everything".
 pub const LAST_CHAPTER: u8 = CHAPTERS.len() as u8;

@@ -13,7 +13,6 @@
 //! reach the scene, and call the other chapters' functions as the running
 //! `Chapters` wrote them.
 
-use crate::bsdf::{Dispersed, Lobe};
 use crate::bvh::{Aabb, Boxes4, Bvh, BvhOptions, Triangles4, WideBvh};
 use crate::chapters::{
     ch01_plane, ch02_sphere, ch03_nearest, ch04_shadows, ch05_phong, ch06_reflection,
@@ -23,17 +22,11 @@ use crate::chapters::{
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
 use crate::scene::Cauchy;
+use crate::seam::{Dispersed, Lobe};
 use crate::shapes::{Bracket, Implicit, Plane, Shape, Sphere, SurfacePoint, Triangle};
 use crate::{Material, Ray, Sampling, Vec3, Vec4};
 
-/// Which object a ray met, and where along the ray.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hit {
-    /// Index of the object in the list that was searched.
-    pub object: usize,
-    /// Ray parameter of the hit, in units of the ray's direction.
-    pub t: f32,
-}
+pub use crate::seam::{Hit, HitPoint};
 
 /// The diffuse and specular light at one point (ambient counts as diffuse).
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
@@ -812,120 +805,6 @@ impl<'a, C: Chapters> Objects<'a, C> {
     pub fn nearest_hit_by_loop(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         crate::answer_key::answered("Objects::nearest_hit_by_loop");
         ch03_nearest::nearest_hit(self, ray, t_min, t_max)
-    }
-}
-
-/// What a shading function knows about the point it colours.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HitPoint<'a> {
-    /// The object hit (an index into the tracer's objects).
-    pub object: usize,
-    /// The solid the object is part of, for chapter 9's media: the scene's
-    /// object it belongs to, so that every triangle of a glass mesh is one
-    /// solid, entered by one triangle and left by another.
-    pub solid: usize,
-    /// The ray that arrived here.
-    pub ray: Ray,
-    /// Where, exactly, with its error bound and the geometric normal.
-    pub surface: SurfacePoint,
-    pub material: &'a Material,
-    /// The material's colour at this point (its checker applied).
-    pub albedo: Vec3,
-    /// Unit vector from the point toward where the ray came from.
-    pub to_eye: Vec3,
-    /// The unit normal turned toward the side the ray arrived on: the side
-    /// that is lit.
-    pub normal: Vec3,
-    /// The sphere this point is on, when the ray arrived from inside it.
-    inside_sphere: Option<Sphere>,
-}
-
-impl<'a> HitPoint<'a> {
-    /// The light the point's material gives off toward the eye: its
-    /// emission seen from the front, or from either side when it is two
-    /// sided; nothing from behind a one-sided emitter.
-    #[inline]
-    pub fn emitted(&self) -> Vec3 {
-        let seen_from_front = self.surface.normal.dot(self.to_eye) > 0.0;
-        if self.material.two_sided || seen_from_front {
-            self.material.emission
-        } else {
-            Vec3::ZERO
-        }
-    }
-
-    /// The point where `ray` met `shape` (object number `object`) at `t`.
-    #[inline]
-    pub fn new(
-        object: usize,
-        shape: &Shape,
-        material: &'a Material,
-        ray: &Ray,
-        t: f32,
-    ) -> HitPoint<'a> {
-        let surface = shape.surface_point(ray, t);
-        let to_eye = -ray.dir.normalize();
-        let from_outside = surface.normal.dot(to_eye) >= 0.0;
-        HitPoint {
-            object,
-            solid: object,
-            ray: *ray,
-            surface,
-            material,
-            albedo: material.albedo_at(shape, surface.point),
-            to_eye,
-            normal: if from_outside {
-                surface.normal
-            } else {
-                -surface.normal
-            },
-            inside_sphere: if from_outside {
-                None
-            } else {
-                shape.as_sphere().copied()
-            },
-        }
-    }
-
-    /// The point with `normal` as its surface's geometric normal (chapter
-    /// 12's, for an implicit surface), turned toward the eye as
-    /// [`HitPoint::new`] turns it.
-    pub fn with_normal(mut self, normal: Vec3) -> HitPoint<'a> {
-        self.surface.normal = normal;
-        self.normal = if normal.dot(self.to_eye) >= 0.0 {
-            normal
-        } else {
-            -normal
-        };
-        self
-    }
-
-    /// The point as part of the solid `solid` (a triangle of a mesh is part
-    /// of the mesh: see [`HitPoint::solid`]).
-    pub fn with_solid(mut self, solid: usize) -> HitPoint<'a> {
-        self.solid = solid;
-        self
-    }
-
-    /// The point with another `material` (chapter 14: a dispersive glass
-    /// with the index of the path's wavelength).
-    pub fn with_material<'b>(&self, material: &'b Material) -> HitPoint<'b>
-    where
-        'a: 'b,
-    {
-        HitPoint { material, ..*self }
-    }
-
-    /// Whether a light at `light` can shine on the side of the surface the
-    /// ray arrived on, before any shadow test: it must be in front of that
-    /// side, and, seen from inside a sphere, inside the same sphere (the
-    /// sphere itself hides every light outside it, no ray needed).
-    #[inline]
-    pub fn faces(&self, light: Vec3) -> bool {
-        self.normal.dot(light - self.surface.point) > 0.0
-            && self
-                .inside_sphere
-                .is_none_or(|sphere| sphere.contains(light))
     }
 }
 

@@ -1,8 +1,8 @@
 //! The effects a render simulates: what each chapter's stage switches on,
-//! and which of those a given scene can show.
+//! and which of those a given scene can show. What each stage switches on
+//! is the registry's (`Effects::for_chapter`, in `chapters/mod.rs`).
 
 use crate::Scene;
-use crate::chapters::CHAPTERS;
 use crate::scene::{FresnelModel, Switch};
 
 /// How a hit point is coloured.
@@ -111,16 +111,6 @@ impl Effects {
         light_tracing: false,
         dispersion: false,
     };
-
-    /// Everything chapters `1..=chapter` teach: each chapter of the
-    /// registry, in order, switches on what it adds.
-    pub fn for_chapter(chapter: u8) -> Effects {
-        let mut effects = Effects::NONE;
-        for info in CHAPTERS.iter().filter(|info| info.number <= chapter) {
-            (info.switch_on)(&mut effects);
-        }
-        effects
-    }
 
     /// Drops the effects that `scene`, rendered with `samples` per pixel,
     /// cannot show: shadow rays need a light, the specular term a light and

@@ -44,7 +44,6 @@ extern crate self as raylab;
 pub mod chapters;
 
 pub mod answer_key;
-pub mod bsdf;
 pub mod builtin;
 pub mod bvh;
 pub mod bvh_reports;
@@ -74,6 +73,7 @@ pub mod ray_tree;
 pub mod record;
 pub mod render;
 pub mod scene;
+pub mod seam;
 pub mod shapes;
 pub mod spectrum;
 pub mod text;
@@ -93,9 +93,10 @@ pub use chapters::{fresnel, reflect, refract, schlick};
 pub(crate) use chapters::{fresnel, reflect, refract, schlick};
 pub use course::{Chapters, Hit, HitPoint, Objects, first_hit, nearest_hit};
 pub use ray::{Ray, unit_vector};
+pub use record::{RayRecorder, record_rays};
+pub use render::bsdf;
 pub use render::{
-    CastRay, RayCounts, RayKind, RayLog, RayRecorder, RenderError, Rendered, Stage, Tracer,
-    record_rays, render, render_with,
+    CastRay, RayCounts, RayKind, RayLog, RenderError, Rendered, Stage, Tracer, render, render_with,
 };
 pub use scene::{Material, RenderSettings, Sampling, Scene, SceneError};
 pub use shapes::{Plane, Shape, Sphere, SurfacePoint};

@@ -100,8 +100,34 @@ impl RayLog for BudgetedRecorder<'_> {
     }
 }
 
+/// A [`RayLog`] that keeps every ray cast, in order (for `raylab crosscheck`).
+#[derive(Debug, Clone, Default)]
+pub struct RayRecorder {
+    pub rays: Vec<CastRay>,
+}
+
+impl RayLog for RayRecorder {
+    fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
+        self.rays.push(CastRay {
+            kind,
+            ray: *ray,
+            t_min,
+            t_max,
+        });
+    }
+}
+
+/// Every ray that rendering the whole image at `stage` casts, in a fixed
+/// order: row by row from the top, pixel by pixel, and within a pixel in the
+/// order the chapters cast them, whatever the number of threads. Unbounded:
+/// `raylab crosscheck` uses [`record_rays_within`].
+pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
+    // No scene can cast u64::MAX rays, so the budget is never reached.
+    record_rays_within(stage, u64::MAX).unwrap_or_default()
+}
+
 /// Every ray that rendering the whole image with `tracer` casts, in the
-/// order of [`crate::record_rays`] (row by row from the top, pixel by
+/// order of [`record_rays`] (row by row from the top, pixel by
 /// pixel), or [`TooManyRays`] as soon as more than `budget` have been cast.
 /// Memory stays at about `budget` rays whatever the scene: recorders stop
 /// keeping rays, and rows stop at the next pixel, once the count passes it.

@@ -964,7 +964,7 @@ fn the_lesson_promises_the_first_two_cases() {
         .iter()
         .find(|info| info.number == CHAPTER)
         .expect("chapter 10 is registered");
-    let cases = raylab::check::catalog::checkpoints(info.number);
+    let cases = raylab::check::by_chapter::checkpoints(info.number);
     let names: Vec<&str> = cases.iter().take(2).map(|case| case.name).collect();
     assert_eq!(
         names,
@@ -1004,7 +1004,7 @@ fn the_lesson_promises_the_first_two_cases() {
         .collect();
     for case in cases
         .iter()
-        .chain(&raylab::check::catalog::robustness(info.number))
+        .chain(&raylab::check::by_chapter::robustness(info.number))
     {
         assert!(
             headings.contains(&case.section),

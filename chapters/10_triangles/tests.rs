@@ -118,7 +118,7 @@ fn secondary_rays(
 ) -> Vec<Vec3> {
     let stage = raylab::render::Stage::new(scene, 10, scene.render).expect("stage 10");
     assert!(stage.effects.smooth_shading);
-    let mut recorder = raylab::render::RayRecorder::default();
+    let mut recorder = raylab::RayRecorder::default();
     {
         let mut tracer = stage.tracer(Some(&mut recorder));
         let hit = raylab::nearest_hit(stage.shapes(), ray, 0.0, f32::INFINITY).expect("a hit");
@@ -250,7 +250,7 @@ fn the_contracts_checkpoints_pass_with_fresh_inputs() {
         "smooth-hit-winding-against-the-normals",
         "smooth-hit-half-transparent",
     ];
-    let cases = crate::check::catalog::checkpoints(10);
+    let cases = crate::check::by_chapter::checkpoints(10);
     for name in names {
         let case = cases
             .iter()

@@ -248,7 +248,7 @@ fn gallery_first_hit_in_a_leaf_ends_the_leaf() {
         "bvh-huge-coordinates",
         "bvh-coincident-centroids",
     ] {
-        let case = raylab::check::catalog::robustness(11)
+        let case = raylab::check::by_chapter::robustness(11)
             .into_iter()
             .find(|case| case.name == name)
             .expect("the case exists");

@@ -321,7 +321,7 @@ fn the_contracts_checkpoints_pass_with_fresh_inputs() {
         "wide-mixed-leaf",
         "wide-any-hit-mixed-leaf",
     ];
-    let cases = crate::check::catalog::checkpoints(11);
+    let cases = crate::check::by_chapter::checkpoints(11);
     for name in names {
         let case = cases
             .iter()

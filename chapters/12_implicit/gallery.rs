@@ -255,7 +255,7 @@ fn an_absolute_tolerance_fails_the_image() {
     assert_eq!(verdict.status, Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), None, "{text}");
     assert!(verdict.image.is_some_and(|image| !image.passed), "{text}");
-    let hard = raylab::check::catalog::robustness(12);
+    let hard = raylab::check::by_chapter::robustness(12);
     let far = hard
         .iter()
         .find(|case| case.name == "intersect-far-small-sphere")

@@ -301,7 +301,7 @@ fn the_normal_methods_agree_on_a_smooth_surface() {
 fn the_reference_passes_every_fresh_draw_of_the_checkpoints() {
     use crate::check::Outcome;
     for seed in 1..=10 {
-        for case in crate::check::catalog::checkpoints(12) {
+        for case in crate::check::by_chapter::checkpoints(12) {
             if let Some(fresh) = case.fresh(seed) {
                 assert_eq!(
                     fresh.run::<Reference>(),

@@ -429,9 +429,9 @@ mod gallery;
 #[test]
 fn the_false_alarm_rate_is_corrected_for_at_least_every_statistical_case() {
     use crate::check::catalog::CaseKind;
-    let statistical = crate::check::catalog::checkpoints(13)
+    let statistical = crate::check::by_chapter::checkpoints(13)
         .into_iter()
-        .chain(crate::check::catalog::robustness(13))
+        .chain(crate::check::by_chapter::robustness(13))
         .filter(|case| {
             matches!(
                 case.kind,
@@ -449,7 +449,7 @@ fn the_false_alarm_rate_is_corrected_for_at_least_every_statistical_case() {
 fn the_reference_passes_fresh_draws_of_the_checkpoints() {
     use crate::check::Outcome;
     for seed in 1..=2 {
-        for case in crate::check::catalog::checkpoints(13) {
+        for case in crate::check::by_chapter::checkpoints(13) {
             if let Some(fresh) = case.fresh(seed) {
                 assert_eq!(
                     fresh.run::<Reference>(),

@@ -577,7 +577,7 @@ dispersion_variant!(IndexOfAnotherWavelength, IndexOfAnotherWavelength);
 fn wavelengths_drawn_unevenly_tint_the_white_furnace() {
     // `dispersion-draws-a-wavelength` comes first and fails it too; asked
     // alone, the furnace sees the colours' average tilted to the blue.
-    let case = raylab::check::catalog::checkpoints(14)
+    let case = raylab::check::by_chapter::checkpoints(14)
         .into_iter()
         .find(|case| case.name == "spectral-white-furnace")
         .expect("the case exists");

@@ -12,7 +12,7 @@ use crate::check::catalog::Case;
 use crate::render::Stage;
 use raylab::check::planted::{self, Plant, Planted, plant};
 
-use crate::chapters::ch14_caustics::checks::{GLASS_BALL, closed_sphere};
+use crate::check::by_chapter::ch14_caustics::checks::{GLASS_BALL, closed_sphere};
 
 /// pbrt-v4's analytic scene (a point light of intensity pi at the centre
 /// of a sphere of albedo 0.5: radiance 1 everywhere) with the light inside
@@ -338,7 +338,7 @@ fn the_reference_passes_fresh_draws_of_the_new_checkpoints() {
         "beam-through-absorbing-glass",
     ];
     for seed in 1..=2 {
-        for case in crate::check::catalog::checkpoints(14) {
+        for case in crate::check::by_chapter::checkpoints(14) {
             if !new.contains(&case.name) {
                 continue;
             }

@@ -25,7 +25,7 @@ use super::protocol::{Answered, Hello, Reply, Request};
 use super::remote::{Remote, Spawn};
 use super::{
     CaseFailure, ChapterVerdict, CheckOptions, CheckReport, ImageCheck, Robustness, Status,
-    Stopped, catalog, sampled,
+    Stopped, by_chapter, sampled,
 };
 use crate::Chapters;
 use crate::chapters::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
@@ -187,7 +187,7 @@ fn owner(panic: &Panic) -> Option<u8> {
 /// statistical case is replaced by its copy instead: its stream has no
 /// bite of its own, and asking twice would double its false alarms.
 fn checkpoints(number: u8, fresh: Option<u64>) -> Vec<Case> {
-    let cases = catalog::checkpoints(number);
+    let cases = by_chapter::checkpoints(number);
     let Some(seed) = fresh else {
         return cases;
     };
@@ -483,7 +483,7 @@ fn run_robustness(
     asker: &mut dyn Asker,
     collected: &mut Collected,
 ) -> Robustness {
-    let hard = catalog::robustness(info.number);
+    let hard = by_chapter::robustness(info.number);
     let (passed, failures) = run_cases(info, &hard, asker, collected);
     Robustness {
         passed,
@@ -930,7 +930,7 @@ mod tests {
     fn fresh_checkpoints_keep_their_meaning_and_cover_every_function() {
         let mut wrong = Vec::new();
         for info in CHAPTERS {
-            let cases = catalog::checkpoints(info.number);
+            let cases = by_chapter::checkpoints(info.number);
             for function in info.functions {
                 let drawn = cases
                     .iter()
@@ -992,9 +992,9 @@ mod tests {
     fn every_case_crosses_the_wire_and_the_reference_passes_it() {
         use super::super::protocol::{read_frame, write_frame};
         for info in CHAPTERS {
-            for case in catalog::checkpoints(info.number)
+            for case in by_chapter::checkpoints(info.number)
                 .iter()
-                .chain(&catalog::robustness(info.number))
+                .chain(&by_chapter::robustness(info.number))
             {
                 let mut wire = Vec::new();
                 write_frame(&mut wire, &Request::Case(case.kind.call())).unwrap();

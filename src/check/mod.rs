@@ -32,6 +32,7 @@
 // itself: out of a student workspace's reach, as the reference chapters
 // are, so that no chapter can read an expected value (a workspace's build
 // names only `assert_chapter`).
+
 #[cfg(not(feature = "student"))]
 pub mod cases;
 #[cfg(feature = "student")]
@@ -71,6 +72,72 @@ pub(crate) mod sampled;
 pub mod serve;
 #[cfg(feature = "student")]
 pub(crate) mod serve;
+
+/// Declares each chapter's cases, its folder's `checks.rs`, as a module of
+/// the judge: they live beside the chapter's code so that a chapter is its
+/// folder, but they are a tool (they use the judge's builders and oracle),
+/// and the engine's chapter modules must not reach up to them.
+macro_rules! declare_by_chapter {
+    (($($visibility:tt)*) $($number:literal $module:ident $folder:literal $title:literal $adds:literal
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
+        /// Each chapter's two lists of cases, its folder's `checks.rs`, and
+        /// the table of them by chapter number, from the registry.
+        #[path = "../../chapters"]
+        $($visibility)* mod by_chapter {
+            use super::Case;
+
+            $(
+                #[path = $folder]
+                #[doc(hidden)]
+                pub mod $module {
+                    pub mod checks;
+                }
+            )*
+
+            /// Chapter `number`'s checkpoints (level 1); none for an unknown chapter.
+            /// Building them may use raylab's answers (a point on a sphere, by
+            /// its intersection): that is raylab's own use, not the student's.
+            pub fn checkpoints(number: u8) -> Vec<Case> {
+                crate::answer_key::raylab_own(|| match number {
+                    $($number => $module::checks::checkpoints(),)*
+                    _ => Vec::new(),
+                })
+            }
+
+            /// Chapter `number`'s hard cases (level 2); none for an unknown chapter.
+            /// Chapter `number`'s hint for an image that fails when every
+            /// checkpoint passes (each chapter's `IMAGE_HINT`).
+            pub fn image_hint(number: u8) -> &'static str {
+                match number {
+                    $($number => $module::checks::IMAGE_HINT,)*
+                    _ => "",
+                }
+            }
+
+            /// Whatever level a chapter's file gave them, these are hard
+            /// cases: judged and reported as robustness.
+            pub fn robustness(number: u8) -> Vec<Case> {
+                super::catalog::robust(crate::answer_key::raylab_own(|| match number {
+                    $($number => $module::checks::robustness(),)*
+                    _ => Vec::new(),
+                }))
+            }
+        }
+    };
+}
+
+// Public where the judge's modules are: a student workspace's build names
+// none of the cases (see below).
+#[cfg(not(feature = "student"))]
+macro_rules! chapter_checks {
+    ($($line:tt)*) => { declare_by_chapter! { (pub) $($line)* } };
+}
+#[cfg(feature = "student")]
+macro_rules! chapter_checks {
+    ($($line:tt)*) => { declare_by_chapter! { (pub(crate)) $($line)* } };
+}
+
+crate::for_each_chapter!(chapter_checks);
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -317,7 +384,7 @@ impl ChapterVerdict {
                     out,
                     "    hint:     every checkpoint passes, so look at the heatmap {}; the \
                      lesson: {}",
-                    catalog::image_hint(self.chapter),
+                    by_chapter::image_hint(self.chapter),
                     self.lesson
                 );
             }
@@ -616,9 +683,9 @@ mod tests {
     #[test]
     fn the_reference_passes_every_checkpoint_and_hard_case() {
         for info in CHAPTERS {
-            for case in catalog::checkpoints(info.number)
+            for case in by_chapter::checkpoints(info.number)
                 .iter()
-                .chain(&catalog::robustness(info.number))
+                .chain(&by_chapter::robustness(info.number))
             {
                 assert_eq!(
                     case.run::<crate::Reference>(),
@@ -635,7 +702,7 @@ mod tests {
     #[test]
     fn hard_cases_are_reported_as_robustness() {
         for info in CHAPTERS {
-            let hard = catalog::robustness(info.number);
+            let hard = by_chapter::robustness(info.number);
             assert!(
                 hard.iter().all(|case| case.level == Level::Robustness),
                 "chapter {}",
@@ -664,9 +731,9 @@ mod tests {
         let mut names: Vec<&str> = CHAPTERS
             .iter()
             .flat_map(|info| {
-                catalog::checkpoints(info.number)
+                by_chapter::checkpoints(info.number)
                     .into_iter()
-                    .chain(catalog::robustness(info.number))
+                    .chain(by_chapter::robustness(info.number))
                     .map(|case| case.name)
             })
             .collect();

@@ -1338,7 +1338,7 @@ fn grade_built(student: &str, extra: &[&str]) -> (serde_json::Value, String) {
 /// chapter would write to the judge's pipe if it could reach it.
 fn forged_phong_replies() -> Vec<u8> {
     use raylab::check::protocol::{Request, write_frame};
-    let case = raylab::check::catalog::checkpoints(5)
+    let case = raylab::check::by_chapter::checkpoints(5)
         .into_iter()
         .find(|case| case.function() == "phong_terms")
         .expect("a phong_terms checkpoint");

@@ -762,7 +762,7 @@ fn raylabs_own_check_refuses_to_run_inside_a_workspace() {
 /// The reference chapters' modules are out of a workspace's reach, and so
 /// are the judge's cases and its checks: a chapter that calls
 /// `raylab::chapters::ch02_sphere::intersect_sphere`, reads
-/// `raylab::check::catalog::checkpoints` (where the expected answers are)
+/// `raylab::check::by_chapter::checkpoints` (where the expected answers are)
 /// or runs `raylab::check::check_chapter` in its own process does not
 /// compile (raylab's `student` feature makes them private).
 #[test]
@@ -782,7 +782,7 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
         )
         .replace(
             "        ch06_reflection::reflect(d, n)",
-            "        { let _ = raylab::check::catalog::checkpoints(6); ch06_reflection::reflect(d, n) }",
+            "        { let _ = raylab::check::by_chapter::checkpoints(6); ch06_reflection::reflect(d, n) }",
         )
         .replace(
             "        ch08_refraction::refract(d, n, eta)",

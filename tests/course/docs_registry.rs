@@ -98,9 +98,9 @@ fn the_course_page_names_every_chapter_gallery() {
 fn every_case_names_a_section_of_its_lesson() {
     for info in CHAPTERS {
         let lesson = read(&info.lesson_path());
-        for case in raylab::check::catalog::checkpoints(info.number)
+        for case in raylab::check::by_chapter::checkpoints(info.number)
             .into_iter()
-            .chain(raylab::check::catalog::robustness(info.number))
+            .chain(raylab::check::by_chapter::robustness(info.number))
         {
             assert!(
                 lesson
@@ -133,9 +133,9 @@ fn the_contract_section_names_every_function_and_only_real_cases() {
     let all: Vec<(u8, &str)> = CHAPTERS
         .iter()
         .flat_map(|info| {
-            raylab::check::catalog::checkpoints(info.number)
+            raylab::check::by_chapter::checkpoints(info.number)
                 .into_iter()
-                .chain(raylab::check::catalog::robustness(info.number))
+                .chain(raylab::check::by_chapter::robustness(info.number))
                 .map(move |case| (info.number, case.name))
         })
         .collect();

@@ -13,35 +13,7 @@ use crate::medium::MediumStack;
 use crate::render::{Arrival, RayKind, Tracer};
 use crate::scene::{FresnelModel, Material};
 
-/// One way a surface scatters light, chosen at random among its material's
-/// at each visit: glass with probability `transparency`, a mirror (glossy
-/// when it has a roughness) with `reflectivity`, Lambert's diffuse
-/// reflection otherwise. Choosing a lobe with the probability that is its
-/// share of the material, and then following it alone, estimates the whole
-/// material's scattering without bias.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Lobe {
-    /// Lambert: `albedo / pi` in every direction above the surface.
-    Diffuse { albedo: Vec3 },
-    /// Glossy metal: the normalised Phong lobe about the mirror direction,
-    /// `albedo (n + 2) / (2 pi) cos^n(alpha)` (Lafortune and Willems 1994),
-    /// which never returns more light than arrives.
-    Glossy { albedo: Vec3, exponent: f32 },
-    /// A perfect mirror tinted by `albedo`: one direction.
-    Mirror { albedo: Vec3 },
-    /// Chapter 9's glass: reflected or refracted by Fresnel's odds.
-    Glass,
-}
-
-/// The index of refraction a path sees in a dispersive glass, for its
-/// wavelength, and the colour its light is multiplied by there (chapter
-/// 14's `dispersive_ior`): the colour of the wavelength on the surface
-/// where the path drew it, white on the later ones.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Dispersed {
-    pub ior: f32,
-    pub tint: Vec3,
-}
+pub use crate::seam::{Dispersed, Lobe};
 
 /// One direction a lobe scattered into, and what it is worth.
 #[derive(Debug, Clone, Copy)]

@@ -1,508 +1,16 @@
-//! The image loop, and the tracer the chapters drive.
-//!
-//! This file walks the pixels and hands each to the chapters; the chapters
-//! decide everything else. For each ray, [`Tracer::trace`] finds what it
-//! hits (chapter 3's nearest hit, or list order before it) and asks the
-//! highest chapter of the stage to colour the point:
-//!
-//! ```text
-//! stage 1-3   the material's colour
-//! stage 4     chapter 4's flat light and shadows       (shade_flat)
-//! stage 5     chapter 5's Phong sum                     (shade_phong)
-//! stage 6-7   chapter 6's mirror mix, recursive         (shade_mirror)
-//! stage 8     chapter 8's glass mix, recursive          (shade_glass)
-//! stage 9     chapter 9's Fresnel glass, nested media   (shade_dielectric)
-//! ```
-//!
-//! From chapter 9 on, the tracer also knows the media the current ray
-//! travels through ([`crate::medium::MediumStack`]): chapter 9 traces a ray
-//! inside other media with [`Tracer::trace_in`].
-//!
-//! A pixel is one ray through its centre, or from chapter 7 on chapter 7's
-//! own sample loop ([`Chapters::pixel_color`]).
+//! The tracer the chapters drive: how a ray is traced and its point
+//! handed to the highest chapter of the stage, the state a path carries
+//! (its media, how it arrived, its wavelength, its random stream), and
+//! chapter 14's light paths. The image loop that makes one tracer a row is
+//! the parent module's.
 
-use std::marker::PhantomData;
-use std::time::Instant;
-
-use rayon::prelude::*;
-
-use crate::bvh::{Bvh, BvhOptions, WideBvh};
-use crate::camera::Camera;
-use crate::chapters::LAST_CHAPTER;
-use crate::chapters::Reference;
-use crate::course::{Chapters, Hit, HitPoint, Objects};
-use crate::effects::{Effects, Lighting};
-use crate::medium::MediumStack;
-use crate::output::linear_to_srgb8;
-use crate::scene::{Light, MAX_DEPTH, RenderSettings, SphereFormula, TerminatorRule, TriangleTest};
-use crate::shapes::SurfacePoint;
-use crate::{Ray, Scene, Shape, Vec3};
-
-/// The kinds of ray a render casts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RayKind {
-    Primary,
-    Shadow,
-    Reflection,
-    Refraction,
-    /// A ray scattered at random off a diffuse or glossy surface (chapter 13).
-    Bounce,
-    /// A ray of a path traced from a light (chapter 14).
-    Light,
-    /// A ray from a point a light path lit toward the camera (chapter 14):
-    /// unless something blocks it, the point's light reaches the image.
-    ToCamera,
-}
-
-/// Something that wants to see every ray the tracer casts (for
-/// `raylab crosscheck` and `raylab trace`); counting is built into the
-/// tracer. For each ray, in the order the tracer computes them: `cast`,
-/// then `met` with what it found, then (for every kind but shadow rays,
-/// once the point is shaded, after the rays its shading cast) `returned`
-/// with the colour it brings back.
-pub trait RayLog {
-    /// A ray of `kind` is about to be traced, looking for hits in `(t_min, t_max)`.
-    fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32);
-    /// The share of the pixel the ray just cast carries (every kind but
-    /// shadow rays): 1 for a camera ray, and what the chapters passed to
-    /// [`Tracer::trace`] for a bounce (a mirror's reflectivity, glass's
-    /// Fresnel split, times the parent's share).
-    fn weighted(&mut self, _weight: f32) {}
-    /// What the ray just cast met: the nearest hit, or for a shadow ray
-    /// the blocker found; `None` when nothing is in its range.
-    fn met(&mut self, _hit: Option<Hit>) {}
-    /// The colour the innermost ray still being shaded brings back.
-    fn returned(&mut self, _color: Vec3) {}
-}
-
-/// How many rays of each kind a render cast, and how many went wrong.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct RayCounts {
-    pub primary: u64,
-    pub shadow: u64,
-    pub reflection: u64,
-    pub refraction: u64,
-    /// Rays scattered at random off diffuse and glossy surfaces (chapter 13).
-    pub bounce: u64,
-    /// Rays of the paths traced from the lights (chapter 14).
-    pub light: u64,
-    /// Rays from the points light paths lit toward the camera (chapter 14).
-    pub to_camera: u64,
-    /// Paths traced from the lights (chapter 14).
-    pub light_paths: u64,
-    /// Of the points light paths joined to the camera, those whose light
-    /// landed on a pixel (chapter 14).
-    pub splats: u64,
-    /// Shadow rays that hit the primitive they started on, where the exact
-    /// segment does not (acne). Only the first blocker in scene order is
-    /// examined, so this may undercount.
-    pub self_shadow_hits: u64,
-    /// Pixels with at least one such shadow ray: the acne a student sees.
-    /// Only [`render`] fills it in (a tracer sees rays, not pixels).
-    pub self_shadowed_pixels: u64,
-    /// Samples whose colour was NaN or infinite (written as black).
-    pub non_finite_samples: u64,
-    /// Path-traced samples brighter than [`FIREFLY_FACTOR`] times the
-    /// brightest thing a camera ray can see (chapter 13's fireflies): kept
-    /// in the image as they are, counted here.
-    pub bright_samples: u64,
-    /// Rays marched against an implicit surface (chapter 12), once per
-    /// ray and surface, by the evaluations each march made.
-    pub march_histogram: crate::shapes::MarchHistogram,
-    /// Evaluations of implicit functions, for marching and normals.
-    pub implicit_evaluations: u64,
-    /// Of those, the ones spent on normals (chapter 12's differences).
-    pub normal_evaluations: u64,
-}
-
-impl RayCounts {
-    pub fn total(&self) -> u64 {
-        self.primary
-            + self.shadow
-            + self.reflection
-            + self.refraction
-            + self.bounce
-            + self.light
-            + self.to_camera
-    }
-
-    /// Rays marched against an implicit surface, once per ray and surface.
-    pub fn implicit_marches(&self) -> u64 {
-        self.march_histogram.marches()
-    }
-
-    fn add(mut self, other: RayCounts) -> RayCounts {
-        self.primary += other.primary;
-        self.shadow += other.shadow;
-        self.reflection += other.reflection;
-        self.refraction += other.refraction;
-        self.bounce += other.bounce;
-        self.light += other.light;
-        self.to_camera += other.to_camera;
-        self.light_paths += other.light_paths;
-        self.splats += other.splats;
-        self.bright_samples += other.bright_samples;
-        self.self_shadow_hits += other.self_shadow_hits;
-        self.self_shadowed_pixels += other.self_shadowed_pixels;
-        self.non_finite_samples += other.non_finite_samples;
-        self.march_histogram = self.march_histogram.add(&other.march_histogram);
-        self.implicit_evaluations += other.implicit_evaluations;
-        self.normal_evaluations += other.normal_evaluations;
-        self
-    }
-
-    fn count(&mut self, kind: RayKind) {
-        match kind {
-            RayKind::Primary => self.primary += 1,
-            RayKind::Shadow => self.shadow += 1,
-            RayKind::Reflection => self.reflection += 1,
-            RayKind::Refraction => self.refraction += 1,
-            RayKind::Bounce => self.bounce += 1,
-            RayKind::Light => self.light += 1,
-            RayKind::ToCamera => self.to_camera += 1,
-        }
-    }
-}
-
-/// One ray as the tracer cast it: what [`RayRecorder`] keeps.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CastRay {
-    pub kind: RayKind,
-    pub ray: Ray,
-    /// The tracer looked for hits with `t_min < t < t_max`.
-    pub t_min: f32,
-    pub t_max: f32,
-}
-
-/// A [`RayLog`] that keeps every ray cast, in order (for `raylab crosscheck`).
-#[derive(Debug, Clone, Default)]
-pub struct RayRecorder {
-    pub rays: Vec<CastRay>,
-}
-
-impl RayLog for RayRecorder {
-    fn cast(&mut self, kind: RayKind, ray: &Ray, t_min: f32, t_max: f32) {
-        self.rays.push(CastRay {
-            kind,
-            ray: *ray,
-            t_min,
-            t_max,
-        });
-    }
-}
-
-pub use crate::scene::RayOffset;
-
-impl RayOffset {
-    /// Where a secondary ray leaving `surface` in direction `dir` starts,
-    /// with the chapters `C`'s offset when the rule is [`RayOffset::Scaled`].
-    pub fn origin_with<C: Chapters>(self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
-        match self {
-            RayOffset::Scaled => C::offset_origin(surface, dir),
-            RayOffset::Fixed(epsilon) => surface.point + epsilon * dir.normalize_or_zero(),
-        }
-    }
-
-    /// [`RayOffset::origin_with`] the reference chapters.
-    pub fn origin(self, surface: &SurfacePoint, dir: Vec3) -> Vec3 {
-        self.origin_with::<Reference>(surface, dir)
-    }
-}
-
-/// Why a render cannot start.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum RenderError {
-    #[error("invalid render settings: {0}")]
-    Settings(crate::scene::SettingsError),
-    #[error("there is no chapter {0}; chapters are 1 to {LAST_CHAPTER}")]
-    NoSuchChapter(u8),
-    #[error("rows {start} to {end} are not rows of an image {height} pixels high")]
-    Rows { start: u32, end: u32, height: u32 },
-}
-
-/// A scene prepared for one chapter's stage: what every thread shares.
-pub struct Stage<'a, C: Chapters = Reference> {
-    scene: &'a Scene,
-    /// The shapes this stage can intersect (chapter 1 knows no spheres).
-    shapes: Vec<Shape>,
-    /// For each of `shapes`, its object in the scene (for its material and
-    /// name).
-    owners: Vec<u32>,
-    /// Chapter 11's tree over `shapes`, when the stage uses one.
-    bvh: Option<Bvh>,
-    /// The same tree folded into nodes of four children, which the rays walk.
-    wide: Option<WideBvh>,
-    offset: RayOffset,
-    camera: Camera,
-    /// The primitives of `shapes` whose material emits, which next-event
-    /// estimation aims at with the point lights (chapter 13).
-    emitters: Vec<u32>,
-    /// A path-traced sample above this is counted as a firefly.
-    firefly_bound: f32,
-    /// Chapter 14's light paths, traced on first use.
-    light_image: std::sync::OnceLock<LightImage>,
-    pub effects: Effects,
-    pub settings: RenderSettings,
-    chapters: PhantomData<C>,
-}
-
-impl<'a> Stage<'a, Reference> {
-    /// `scene` at `chapter`'s stage with `settings`, rendered by raylab's
-    /// own chapters ([`Stage::with_chapters`]).
-    pub fn new(
-        scene: &'a Scene,
-        chapter: u8,
-        settings: RenderSettings,
-    ) -> Result<Stage<'a, Reference>, RenderError> {
-        Stage::with_chapters(scene, chapter, settings)
-    }
-}
-
-impl<'a, C: Chapters> Stage<'a, C> {
-    /// `scene` at `chapter`'s stage with `settings`, rendered by the
-    /// chapters `C`, simulating only the effects the scene can show. The
-    /// settings are checked here, so no caller can ask for an empty image or
-    /// unbounded recursion.
-    pub fn with_chapters(
-        scene: &'a Scene,
-        chapter: u8,
-        settings: RenderSettings,
-    ) -> Result<Stage<'a, C>, RenderError> {
-        if !(1..=LAST_CHAPTER).contains(&chapter) {
-            return Err(RenderError::NoSuchChapter(chapter));
-        }
-        settings.validate().map_err(RenderError::Settings)?;
-        let stage = Effects::for_chapter(chapter).without(settings.without);
-        let samples = if stage.antialiasing {
-            settings.samples
-        } else {
-            1
-        };
-        let effects = stage.needed_by(scene, samples);
-        let (shapes, owners): (Vec<Shape>, Vec<u32>) = scene
-            .shapes
-            .iter()
-            .zip(&scene.owners)
-            .filter(|(shape, _)| match shape {
-                Shape::Plane(_) => effects.planes,
-                Shape::Sphere(_) => effects.spheres,
-                Shape::Triangle(_) => effects.triangles,
-                Shape::Implicit(_) => effects.implicit,
-            })
-            .map(|(shape, owner)| match shape {
-                Shape::Implicit(surface) => (surface.with_march(settings.march()).into(), *owner),
-                Shape::Plane(_) | Shape::Sphere(_) | Shape::Triangle(_) => (shape.clone(), *owner),
-            })
-            .unzip();
-        let bvh = effects.bvh.then(|| {
-            let bounds: Vec<_> = shapes.iter().map(Shape::bounds).collect();
-            C::build_bvh(&bounds, &BvhOptions::default())
-        });
-        let wide = bvh.as_ref().map(|bvh| C::collapse_bvh(bvh, &shapes));
-        let emitters: Vec<u32> = owners
-            .iter()
-            .enumerate()
-            .filter(|(index, owner)| {
-                scene.objects[**owner as usize].material.emission != Vec3::ZERO
-                    && area_of(&shapes[*index]).is_some()
-            })
-            .map(|(index, _)| index as u32)
-            .collect();
-        let brightest = scene
-            .materials()
-            .map(|material| material.emission.max_element())
-            .fold(scene.background.max_element().max(1.0), f32::max);
-        Ok(Stage {
-            scene,
-            shapes,
-            owners,
-            bvh,
-            wide,
-            emitters,
-            firefly_bound: FIREFLY_FACTOR * brightest,
-            light_image: std::sync::OnceLock::new(),
-            offset: settings.offset(),
-            camera: Camera::new(&scene.camera, settings.width, settings.height),
-            effects,
-            settings,
-            chapters: PhantomData,
-        })
-    }
-
-    /// Samples per pixel actually taken (1 before chapter 7).
-    pub fn samples(&self) -> u32 {
-        if self.effects.antialiasing {
-            self.settings.samples
-        } else {
-            1
-        }
-    }
-
-    /// The shapes this stage intersects.
-    pub fn shapes(&self) -> &[Shape] {
-        &self.shapes
-    }
-
-    /// The objects this stage intersects, as the chapters `C` intersect them.
-    pub fn objects(&self) -> Objects<'_, C> {
-        Objects::new(&self.shapes)
-    }
-
-    /// Chapter 11's tree over [`Stage::shapes`], when this stage uses one.
-    pub fn bvh(&self) -> Option<&Bvh> {
-        self.bvh.as_ref()
-    }
-
-    /// Chapter 11's tree folded into nodes of four children, which this
-    /// stage's rays walk, when it uses a tree.
-    pub fn wide_bvh(&self) -> Option<&WideBvh> {
-        self.wide.as_ref()
-    }
-
-    /// The nearest hit among [`Stage::shapes`] with `t_min < t < t_max`, as
-    /// this stage finds it: through chapter 11's wide tree when it has one, else
-    /// by chapter 3's loop. (The cross-check races this against Embree.)
-    pub fn nearest_hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let objects = self.objects();
-        match &self.wide {
-            Some(wide) => C::nearest_hit_wide(wide, &objects, ray, t_min, t_max),
-            None => C::nearest_hit(&objects, ray, t_min, t_max),
-        }
-    }
-
-    /// The name of `object` (an index into [`Stage::shapes`]) in the scene,
-    /// or `None` when there is no such object.
-    pub fn name(&self, object: usize) -> Option<&str> {
-        let owner = *self.owners.get(object)? as usize;
-        self.scene.objects.get(owner).map(|o| o.name.as_str())
-    }
-
-    pub fn camera(&self) -> &Camera {
-        &self.camera
-    }
-
-    /// What chapter 14's light paths bring to each pixel, traced on first
-    /// use (once per stage, by whichever thread asks first); `None` when the
-    /// stage traces no light paths.
-    pub fn light_image(&self) -> Option<&LightImage> {
-        self.effects
-            .light_tracing
-            .then(|| self.light_image.get_or_init(|| self.trace_light_paths()))
-    }
-
-    /// How many light paths the image traces (chapter 14): `light_paths`
-    /// per pixel, none where the stage traces none.
-    pub fn light_path_count(&self) -> u64 {
-        if !self.effects.light_tracing {
-            return 0;
-        }
-        let (width, height) = (self.settings.width, self.settings.height);
-        u64::from(width) * u64::from(height) * u64::from(self.settings.light_paths)
-    }
-
-    /// Traces light paths `paths` of the image, showing each ray to
-    /// `recorder` in the order it is cast (for `raylab crosscheck`); what
-    /// they splat is not kept.
-    pub fn record_light_paths(&self, paths: std::ops::Range<u64>, recorder: &mut dyn RayLog) {
-        let mut tracer = self.tracer(Some(recorder));
-        for index in paths {
-            tracer.light_path(index);
-            tracer.splats.clear();
-        }
-    }
-
-    /// Traces `light_paths` paths per pixel of the image from the lights,
-    /// by the chapters' `trace_light_path`, and adds up what they splat,
-    /// each path's light divided by the number of paths. Path `i` draws
-    /// from its own random stream and the sums are made in path order, so
-    /// the image is the same on any number of threads.
-    fn trace_light_paths(&self) -> LightImage {
-        let (width, height) = (self.settings.width, self.settings.height);
-        let total = self.light_path_count();
-        let chunks = total.div_ceil(LIGHT_CHUNK);
-        // raylab's own stage (a check's converged reference) stays its own
-        // on rayon's threads, where no student's code started the work.
-        let own = crate::answer_key::inside_own();
-        let chunk = |number: u64| {
-            crate::answer_key::own_if(own, || {
-                let mut tracer = self.tracer(None);
-                for index in number * LIGHT_CHUNK..((number + 1) * LIGHT_CHUNK).min(total) {
-                    tracer.light_path(index);
-                }
-                (std::mem::take(&mut tracer.splats), tracer.counts())
-            })
-        };
-        let mut sums = vec![glam::DVec3::ZERO; width as usize * height as usize];
-        let mut counts = RayCounts::default();
-        let scale = 1.0 / total as f64;
-        let mut first = 0;
-        while first < chunks {
-            let last = (first + LIGHT_BATCH).min(chunks);
-            // The browser page's workers are threads of their own.
-            #[cfg(not(target_arch = "wasm32"))]
-            let traced: Vec<_> = (first..last).into_par_iter().map(chunk).collect();
-            #[cfg(target_arch = "wasm32")]
-            let traced: Vec<_> = (first..last).map(chunk).collect();
-            for (splats, chunk_counts) in traced {
-                for (index, light) in splats {
-                    sums[index as usize] += light.as_dvec3() * scale;
-                }
-                counts = counts.add(chunk_counts);
-            }
-            first = last;
-        }
-        LightImage {
-            pixels: sums.iter().map(|sum| sum.as_vec3()).collect(),
-            counts,
-        }
-    }
-
-    /// A tracer for one thread's share of the work, counting its rays and
-    /// showing each to `recorder` if there is one.
-    pub fn tracer<'s>(&'s self, recorder: Option<&'s mut dyn RayLog>) -> Tracer<'s, C> {
-        Tracer {
-            stage: self,
-            objects: self.objects(),
-            counts: RayCounts::default(),
-            recorder,
-            media: MediumStack::EMPTY,
-            arrival: Arrival::Camera,
-            first_point_scatters: false,
-            wavelength: None,
-            from_light: false,
-            splats: Vec::new(),
-            random_key: 0,
-            random_index: 0,
-            sample_bound: f32::INFINITY,
-            normal_evaluations: std::cell::Cell::new(0),
-        }
-    }
-}
+use super::*;
 
 /// A path-traced sample brighter than this many times the brightest light
 /// or background a camera ray could see is counted as a firefly: no
 /// surface lit by those lights returns that much without an estimate that
 /// divided by a tiny density.
 pub const FIREFLY_FACTOR: f32 = 10.0;
-
-/// How the ray being shaded came to be cast (chapter 13), which decides how
-/// much of the light it finds on an emitter counts.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Arrival {
-    /// A camera ray.
-    Camera,
-    /// A mirror's or glass's one direction: no light sample could have
-    /// found the same light.
-    Specular,
-    /// Scattered at random from a diffuse or glossy surface with this
-    /// density, per unit solid angle.
-    Scattered { pdf: f32 },
-    /// A mirror's or glass's ray on a path whose point nearest the camera
-    /// is diffuse or glossy, while chapter 14's light paths run: a light
-    /// this ray finds is a caustic seen by the camera, which the light
-    /// paths bring to the image. Counted by both, it would count twice.
-    Caustic,
-}
 
 /// A point chosen on a light, as seen from a point being shaded (chapter
 /// 13's next-event estimation).
@@ -544,7 +52,7 @@ pub const DEPTH_LIMIT: u32 = MAX_DEPTH;
 pub struct Tracer<'a, C: Chapters = Reference> {
     stage: &'a Stage<'a, C>,
     objects: Objects<'a, C>,
-    counts: RayCounts,
+    pub(super) counts: RayCounts,
     recorder: Option<&'a mut dyn RayLog>,
     /// The media the ray being traced travels through (chapter 9): empty
     /// (air) for camera rays, set by [`Tracer::trace_in`] for the others.
@@ -563,7 +71,7 @@ pub struct Tracer<'a, C: Chapters = Reference> {
     /// What the current light paths brought to which pixel (chapter 14):
     /// the pixel's index and the light, before dividing by the number of
     /// paths.
-    splats: Vec<(u32, Vec3)>,
+    pub(super) splats: Vec<(u32, Vec3)>,
     /// The current sample's stream of random numbers (chapter 13): a key
     /// from the seed and the sample's position, and how many were drawn.
     random_key: u64,
@@ -586,6 +94,26 @@ pub struct Traced {
 }
 
 impl<'a, C: Chapters> Tracer<'a, C> {
+    /// A fresh tracer of `stage` (see [`Stage::tracer`]).
+    pub(super) fn new(stage: &'a Stage<'a, C>, recorder: Option<&'a mut dyn RayLog>) -> Self {
+        Tracer {
+            stage,
+            objects: stage.objects(),
+            counts: RayCounts::default(),
+            recorder,
+            media: MediumStack::EMPTY,
+            arrival: Arrival::Camera,
+            first_point_scatters: false,
+            wavelength: None,
+            from_light: false,
+            splats: Vec::new(),
+            random_key: 0,
+            random_index: 0,
+            sample_bound: f32::INFINITY,
+            normal_evaluations: std::cell::Cell::new(0),
+        }
+    }
+
     /// The rays cast so far, by kind.
     pub fn counts(&self) -> RayCounts {
         RayCounts {
@@ -959,7 +487,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
 
     /// Traces light path number `index` of the image (chapter 14), with
     /// its own stream of random numbers, and hands back what it splatted.
-    fn light_path(&mut self, index: u64) {
+    pub(super) fn light_path(&mut self, index: u64) {
         self.random_key = mix64(self.stage.settings.seed ^ mix64(index ^ LIGHT_PATH_STREAM));
         self.random_index = 0;
         self.arrival = Arrival::Camera;
@@ -1276,7 +804,7 @@ pub const LIGHT_CHUNK: u64 = 1024;
 /// Chunks traced together (in parallel) before their splats are added to
 /// the image in chunk order: the memory a batch holds stays bounded, and
 /// the sum is the same on any number of threads.
-const LIGHT_BATCH: u64 = 64;
+pub(super) const LIGHT_BATCH: u64 = 64;
 
 /// SplitMix64's finaliser: every output bit depends on every input bit.
 fn mix64(mut z: u64) -> u64 {
@@ -1300,7 +828,7 @@ fn facing_cosine(material: &crate::Material, normal: Vec3, direction: Vec3) -> f
 
 /// The area of `shape`, for the shapes a light can be: `None` for a plane
 /// (no finite area) and an implicit surface (none known in closed form).
-fn area_of(shape: &Shape) -> Option<f32> {
+pub(super) fn area_of(shape: &Shape) -> Option<f32> {
     match shape {
         Shape::Triangle(triangle) => {
             let [a, b, c] = triangle.corners();
@@ -1339,234 +867,4 @@ fn point_on(shape: &Shape, u: f32, v: f32) -> Option<(Vec3, Vec3, f32)> {
         }
         Shape::Plane(_) | Shape::Implicit(_) => None,
     }
-}
-
-/// Every ray that rendering the whole image at `stage` casts, in a fixed
-/// order: row by row from the top, pixel by pixel, and within a pixel in the
-/// order the chapters cast them, whatever the number of threads. Unbounded:
-/// `raylab crosscheck` uses [`crate::record::record_rays_within`].
-pub fn record_rays<C: Chapters>(stage: &Stage<'_, C>) -> Vec<CastRay> {
-    // No scene can cast u64::MAX rays, so the budget is never reached.
-    crate::record::record_rays_within(stage, u64::MAX).unwrap_or_default()
-}
-
-/// What a render tells of each row it finishes: a terminal's progress bar.
-#[cfg(not(target_arch = "wasm32"))]
-pub type Progress = indicatif::ProgressBar;
-
-/// In the browser page the workers report their rows themselves: no render
-/// is given a progress bar there.
-#[cfg(target_arch = "wasm32")]
-pub enum Progress {}
-
-#[cfg(target_arch = "wasm32")]
-impl Progress {
-    fn inc(&self, _rows: u64) {
-        match *self {}
-    }
-}
-
-/// A finished render.
-#[derive(Debug, Clone)]
-pub struct Rendered {
-    pub width: u32,
-    pub height: u32,
-    /// sRGB-encoded pixels, row by row from the top, 3 bytes each.
-    pub rgb: Vec<u8>,
-    /// The effects that were simulated.
-    pub effects: Effects,
-    pub rays: RayCounts,
-    pub seconds: f64,
-}
-
-impl Rendered {
-    /// The stable fingerprint of the image (see [`crate::output::image_hash`]).
-    pub fn hash(&self) -> u64 {
-        crate::output::image_hash(self.width, self.height, &self.rgb)
-    }
-}
-
-/// Renders `scene` at `chapter`'s stage with `settings` and raylab's own
-/// chapters, on the current rayon thread pool. Each pixel depends only on
-/// the scene, the settings and its position, so the image is the same on
-/// any number of threads.
-pub fn render(
-    scene: &Scene,
-    chapter: u8,
-    settings: &RenderSettings,
-    progress: Option<&Progress>,
-) -> Result<Rendered, RenderError> {
-    render_with::<Reference>(scene, chapter, settings, progress)
-}
-
-/// [`render`] with the chapters `C` (a student's, say). The comparison
-/// settings `sphere_formula = "textbook"` and `triangle_test =
-/// "moller-trumbore"` swap in the textbook tests.
-pub fn render_with<C: Chapters>(
-    scene: &Scene,
-    chapter: u8,
-    settings: &RenderSettings,
-    progress: Option<&Progress>,
-) -> Result<Rendered, RenderError> {
-    use crate::course::Textbook;
-    fn run<C: Chapters>(
-        scene: &Scene,
-        chapter: u8,
-        settings: &RenderSettings,
-        progress: Option<&Progress>,
-    ) -> Result<Rendered, RenderError> {
-        render_stage(
-            &Stage::<C>::with_chapters(scene, chapter, *settings)?,
-            progress,
-        )
-    }
-    let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
-    match (settings.sphere_formula, textbook_triangle) {
-        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, progress),
-        (SphereFormula::Textbook, false) => {
-            run::<Textbook<C, true, false>>(scene, chapter, settings, progress)
-        }
-        (SphereFormula::Stable, true) => {
-            run::<Textbook<C, false, true>>(scene, chapter, settings, progress)
-        }
-        (SphereFormula::Textbook, true) => {
-            run::<Textbook<C, true, true>>(scene, chapter, settings, progress)
-        }
-    }
-}
-
-/// Renders a prepared stage.
-pub fn render_stage<C: Chapters>(
-    stage: &Stage<'_, C>,
-    progress: Option<&Progress>,
-) -> Result<Rendered, RenderError> {
-    let start = Instant::now();
-    let (width, height) = (stage.settings.width, stage.settings.height);
-    // Before the rows, which all read it.
-    let light_counts = stage.light_image().map(|light| light.counts);
-    let mut rgb = vec![0u8; width as usize * height as usize * 3];
-    let rays = rgb
-        .par_chunks_mut(width as usize * 3)
-        .enumerate()
-        .map(|(y, row)| {
-            let counts = render_row(stage, y as u32, row);
-            if let Some(bar) = progress {
-                bar.inc(1);
-            }
-            counts
-        })
-        .reduce(RayCounts::default, RayCounts::add)
-        .add(light_counts.unwrap_or_default());
-    Ok(Rendered {
-        width,
-        height,
-        rgb,
-        effects: stage.effects,
-        rays,
-        seconds: start.elapsed().as_secs_f64(),
-    })
-}
-
-/// Rows `rows` of the image of `scene` at `chapter`'s stage, as
-/// [`render_with`] renders them (sRGB, 3 bytes a pixel), and the rays they
-/// cast: the same bytes whichever rows are asked for and in what order, so
-/// that any split of an image (the browser's workers) puts the same image
-/// back together. Rows past the image are refused.
-pub fn render_rows<C: Chapters>(
-    scene: &Scene,
-    chapter: u8,
-    settings: &RenderSettings,
-    rows: std::ops::Range<u32>,
-) -> Result<(Vec<u8>, RayCounts), RenderError> {
-    row_renderer::<C>(scene, chapter, settings)?.render_rows(rows)
-}
-
-/// A stage prepared once (its tree built) to render rows again and again.
-pub trait RowRenderer {
-    /// As [`render_rows`].
-    fn render_rows(&self, rows: std::ops::Range<u32>) -> Result<(Vec<u8>, RayCounts), RenderError>;
-}
-
-impl<C: Chapters> RowRenderer for Stage<'_, C> {
-    fn render_rows(&self, rows: std::ops::Range<u32>) -> Result<(Vec<u8>, RayCounts), RenderError> {
-        let (width, height) = (self.settings.width, self.settings.height);
-        if rows.end > height || rows.start > rows.end {
-            return Err(RenderError::Rows {
-                start: rows.start,
-                end: rows.end,
-                height,
-            });
-        }
-        let row_bytes = width as usize * 3;
-        let mut rgb = vec![0u8; row_bytes * rows.len()];
-        // The light paths' rays are counted once, with the first row.
-        let mut counts = match self.light_image() {
-            Some(light) if rows.start == 0 => light.counts,
-            _ => RayCounts::default(),
-        };
-        for (row, y) in rgb.chunks_exact_mut(row_bytes).zip(rows) {
-            counts = counts.add(render_row(self, y, row));
-        }
-        Ok((rgb, counts))
-    }
-}
-
-/// The stage [`render_with`] renders, as a [`RowRenderer`]: the chapters
-/// `C`, or the textbook tests the settings ask for in their place.
-pub fn row_renderer<'a, C: Chapters>(
-    scene: &'a Scene,
-    chapter: u8,
-    settings: &RenderSettings,
-) -> Result<Box<dyn RowRenderer + 'a>, RenderError> {
-    use crate::course::Textbook;
-    fn boxed<'a, C: Chapters>(
-        scene: &'a Scene,
-        chapter: u8,
-        settings: &RenderSettings,
-    ) -> Result<Box<dyn RowRenderer + 'a>, RenderError> {
-        Ok(Box::new(Stage::<C>::with_chapters(
-            scene, chapter, *settings,
-        )?))
-    }
-    let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
-    match (settings.sphere_formula, textbook_triangle) {
-        (SphereFormula::Stable, false) => boxed::<C>(scene, chapter, settings),
-        (SphereFormula::Textbook, false) => {
-            boxed::<Textbook<C, true, false>>(scene, chapter, settings)
-        }
-        (SphereFormula::Stable, true) => {
-            boxed::<Textbook<C, false, true>>(scene, chapter, settings)
-        }
-        (SphereFormula::Textbook, true) => {
-            boxed::<Textbook<C, true, true>>(scene, chapter, settings)
-        }
-    }
-}
-
-/// Row `y` of `stage`'s image into `row` (sRGB, 3 bytes a pixel), and the
-/// rays it cast.
-fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayCounts {
-    let mut tracer = stage.tracer(None);
-    let light = stage.light_image();
-    let (evaluations, marches) = (
-        crate::shapes::evaluations(),
-        crate::shapes::march_histogram(),
-    );
-    let mut self_shadowed_pixels = 0;
-    for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
-        let self_shadowed_before = tracer.counts.self_shadow_hits;
-        let mut color = tracer.pixel(x as u32, y);
-        if let Some(light) = light {
-            color += light.pixels[(y * stage.settings.width) as usize + x];
-        }
-        if tracer.counts.self_shadow_hits > self_shadowed_before {
-            self_shadowed_pixels += 1;
-        }
-        pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
-    }
-    let mut counts = tracer.counts();
-    counts.self_shadowed_pixels = self_shadowed_pixels;
-    counts.implicit_evaluations = crate::shapes::evaluations() - evaluations;
-    counts.march_histogram = crate::shapes::march_histogram().since(&marches);
-    counts
 }
