@@ -4,62 +4,11 @@
 //! chapter 11's lesson; this module only
 //! holds the shapes of the data those functions share with the renderer.
 
+// A shape gives its own bounds, so the box is the shapes' (which then
+// need nothing of the tree); the tree's code names it here too.
+pub use crate::shapes::Aabb;
 use crate::shapes::Triangle;
 use crate::{Vec3, Vec4};
-
-/// An axis-aligned box: every point `p` with `min <= p <= max`, axis by axis.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Aabb {
-    pub min: Vec3,
-    pub max: Vec3,
-}
-
-impl Aabb {
-    /// The box that contains nothing: `min` above `max` on every axis, so
-    /// that growing it by any point or box gives that point or box.
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::splat(f32::INFINITY),
-        max: Vec3::splat(f32::NEG_INFINITY),
-    };
-
-    pub fn new(min: Vec3, max: Vec3) -> Aabb {
-        Aabb { min, max }
-    }
-
-    /// The smallest box holding both.
-    pub fn union(self, other: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
-    }
-
-    /// The smallest box holding this one and `point`.
-    pub fn grow(self, point: Vec3) -> Aabb {
-        Aabb {
-            min: self.min.min(point),
-            max: self.max.max(point),
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        !(self.min.cmple(self.max).all())
-    }
-
-    pub fn centroid(&self) -> Vec3 {
-        0.5 * (self.min + self.max)
-    }
-
-    /// Half the surface area (what the surface-area heuristic compares; the
-    /// factor 2 cancels), 0 for the empty box.
-    pub fn half_area(&self) -> f32 {
-        if self.is_empty() {
-            return 0.0;
-        }
-        let size = self.max - self.min;
-        size.x * size.y + size.y * size.z + size.z * size.x
-    }
-}
 
 /// One node of a [`Bvh`], in a flat array.
 ///

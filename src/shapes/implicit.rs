@@ -13,7 +13,7 @@
 //! `|f(p) - f(q)| <= L |p - q|` is at most `L` times the distance to its
 //! zero set, so a step of `f(p) / L` never crosses the surface.
 
-use crate::bvh::Aabb;
+use super::bounds::Aabb;
 use crate::{Ray, Vec3};
 
 /// The deepest tree a scene may give: deeper trees cost a call per level at

@@ -10,11 +10,13 @@
 //! [`Shape::intersect_with`] asks the running course (the `Chapters`
 //! trait) rather than the shape itself.
 
+mod bounds;
 mod implicit;
 mod plane;
 mod sphere;
 mod triangle;
 
+pub use bounds::Aabb;
 /// The deepest tree an implicit surface may have.
 pub use implicit::MAX_DEPTH as MAX_IMPLICIT_DEPTH;
 pub use implicit::{
@@ -61,19 +63,16 @@ pub struct SurfacePoint {
 impl Shape {
     /// The smallest axis-aligned box around the shape, `None` for a shape
     /// no box holds (a plane): chapter 11 keeps those outside its tree.
-    pub fn bounds(&self) -> Option<crate::bvh::Aabb> {
+    pub fn bounds(&self) -> Option<Aabb> {
         match self {
             Shape::Plane(_) => None,
             Shape::Sphere(sphere) => {
                 let reach = Vec3::splat(sphere.radius());
-                Some(crate::bvh::Aabb::new(
-                    sphere.center() - reach,
-                    sphere.center() + reach,
-                ))
+                Some(Aabb::new(sphere.center() - reach, sphere.center() + reach))
             }
             Shape::Triangle(triangle) => {
                 let [a, b, c] = triangle.corners();
-                Some(crate::bvh::Aabb::new(a.min(b).min(c), a.max(b).max(c)))
+                Some(Aabb::new(a.min(b).min(c), a.max(b).max(c)))
             }
             Shape::Implicit(surface) => surface.bounds(),
         }
