@@ -23,15 +23,15 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The largest scene file read, in bytes (16 MiB: about 300,000 objects of
-/// TOML, three times [`crate::scene::MAX_OBJECTS`]).
+/// TOML, three times [`crate::limits::MAX_OBJECTS`]).
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The widest or tallest image read, in pixels (the largest side a render
 /// may have).
-pub const MAX_IMAGE_SIDE: u32 = crate::scene::MAX_SIDE;
+pub const MAX_IMAGE_SIDE: u32 = crate::limits::MAX_SIDE;
 
 /// The most pixels an image read may have (the most a render may have).
-pub const MAX_IMAGE_PIXELS: u64 = crate::scene::MAX_PIXELS;
+pub const MAX_IMAGE_PIXELS: u64 = crate::limits::MAX_PIXELS;
 
 /// The most bytes decoding one image may take: 8 a pixel.
 pub const MAX_DECODED_BYTES: u64 = 8 * MAX_IMAGE_PIXELS;

@@ -63,6 +63,7 @@ pub mod embree;
 pub mod grade;
 pub mod implicit_probe;
 pub mod input;
+pub mod limits;
 pub mod medium;
 pub mod mesh;
 pub mod output;

@@ -118,7 +118,7 @@ impl MeshTransform {
     /// would flatten the model to a point, a negative scale would turn it
     /// inside out), and the translation within the scene's shape limit.
     pub fn validate(&self) -> Result<(), TransformError> {
-        let limit = crate::scene::MAX_SHAPE_COORDINATE;
+        let limit = crate::limits::MAX_SHAPE_COORDINATE;
         if !self.translate.is_finite() || self.translate.abs().max_element() > limit {
             return Err(TransformError::Translate {
                 translate: self.translate,
@@ -169,7 +169,7 @@ impl MeshTransform {
 pub enum TransformError {
     #[error(
         "translate = {translate}: each coordinate must be a number within {:e} of the origin",
-        crate::scene::MAX_SHAPE_COORDINATE
+        crate::limits::MAX_SHAPE_COORDINATE
     )]
     Translate { translate: Vec3 },
     #[error("scale = {scale}: must be a positive number")]

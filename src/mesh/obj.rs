@@ -18,7 +18,7 @@ use std::path::Path;
 use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, MAX_OBJ_BYTES, Mesh, MeshError, MeshTransform};
 use crate::Vec3;
 use crate::input::{Links, read_bounded};
-use crate::scene::MAX_SHAPE_COORDINATE;
+use crate::limits::MAX_SHAPE_COORDINATE;
 
 /// Loads the OBJ model at `path`, placed by `transform`.
 ///
@@ -26,7 +26,7 @@ use crate::scene::MAX_SHAPE_COORDINATE;
 /// link to one is followed), at most [`super::MAX_OBJ_BYTES`]. It must be
 /// UTF-8 text. Refused, with the file and line named: a number that does
 /// not parse or is not finite, a vertex farther than
-/// [`crate::scene::MAX_SHAPE_COORDINATE`] from the origin after the
+/// [`crate::limits::MAX_SHAPE_COORDINATE`] from the origin after the
 /// transform, a face of fewer than three corners, an index of 0 or out of
 /// range (indices refer to elements defined on earlier lines; negative ones
 /// count back from the latest), more than [`super::MAX_MESH_TRIANGLES`]
