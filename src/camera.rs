@@ -1,7 +1,33 @@
 //! The pinhole camera: which ray goes through which point of the image.
 
-use crate::scene::CameraSpec;
+use serde::Deserialize;
+
+use crate::number;
 use crate::{Ray, Vec3, unit_vector};
+
+/// Where the camera stands and what it looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSpec {
+    #[serde(deserialize_with = "number::vec3")]
+    pub position: Vec3,
+    #[serde(deserialize_with = "number::vec3")]
+    pub look_at: Vec3,
+    #[serde(default = "up")]
+    #[serde(deserialize_with = "number::vec3")]
+    pub up: Vec3,
+    /// Vertical field of view, in degrees.
+    #[serde(default = "default_fov")]
+    #[serde(deserialize_with = "number::f32")]
+    pub fov_degrees: f32,
+}
+
+fn up() -> Vec3 {
+    Vec3::Y
+}
+fn default_fov() -> f32 {
+    45.0
+}
 
 /// A pinhole camera fitted to an image of `width x height` pixels.
 #[derive(Debug, Clone, Copy)]

@@ -66,6 +66,7 @@ pub mod input;
 pub mod limits;
 pub mod medium;
 pub mod mesh;
+mod number;
 pub mod output;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod plots;

@@ -60,7 +60,7 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
 fn module_layer(module: &str) -> Option<Layer> {
     Some(match module {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
-        | "bvh" | "cleanup" | "spectrum" | "limits" => Layer::Foundation,
+        | "bvh" | "cleanup" | "spectrum" | "limits" | "number" => Layer::Foundation,
         "course" | "bsdf" | "answer_key" | "render" | "record" | "effects" | "builtin"
         | "chapters" => Layer::Engine,
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
