@@ -61,7 +61,7 @@ fn module_layer(module: &str) -> Option<Layer> {
     Some(match module {
         "ray" | "shapes" | "scene" | "mesh" | "camera" | "output" | "input" | "text" | "medium"
         | "bvh" | "cleanup" | "spectrum" | "limits" | "number" => Layer::Foundation,
-        "course" | "bsdf" | "answer_key" | "render" | "record" | "effects" | "builtin"
+        "course" | "seam" | "answer_key" | "render" | "record" | "effects" | "builtin"
         | "chapters" => Layer::Engine,
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
         | "embree" | "plots" | "implicit_probe" | "ray_tree" | "web" => Layer::Tool,
@@ -95,19 +95,18 @@ fn read(path: &str) -> String {
         .unwrap_or_else(|error| panic!("{path}: {error}"))
 }
 
-/// `text` without comments, string and character literals (replaced by
-/// spaces, so line numbers stay), and without its `#[cfg(test)]` modules.
+/// `text` without comments, string and character literals and its
+/// `#[cfg(test)]` modules (each replaced by spaces, so line numbers stay):
+/// the production code of the whole file, before and after its tests.
 fn code_only(text: &str) -> String {
-    let text = match text.find("#[cfg(test)]\nmod ") {
-        Some(at) => &text[..at],
-        None => text,
-    };
+    without_test_modules(&without_literals(text))
+}
+
+/// `text` with comments, strings and raw strings blanked.
+fn without_literals(text: &str) -> String {
     let bytes = text.as_bytes();
     let mut out = String::with_capacity(text.len());
     let mut at = 0;
-    let blank = |slice: &str, out: &mut String| {
-        out.extend(slice.chars().map(|c| if c == '\n' { '\n' } else { ' ' }))
-    };
     while at < bytes.len() {
         let rest = &text[at..];
         let end = if rest.starts_with("//") {
@@ -132,8 +131,62 @@ fn code_only(text: &str) -> String {
             at += c;
             continue;
         };
-        blank(&rest[..end], &mut out);
+        out.push_str(&blank(&rest[..end]));
         at += end;
+    }
+    out
+}
+
+/// Spaces for every character of `slice` but its line breaks.
+fn blank(slice: &str) -> String {
+    slice
+        .chars()
+        .map(|c| if c == '\n' { '\n' } else { ' ' })
+        .collect()
+}
+
+/// `code` (literals already blanked, so every brace is code) with each
+/// inline `#[cfg(test)] mod name { ... }` blanked to its matching brace.
+fn without_test_modules(code: &str) -> String {
+    let mut out = code.to_string();
+    let mut from = 0;
+    while let Some(found) = out[from..].find("#[cfg(test)]") {
+        let start = from + found;
+        let after = &out[start + "#[cfg(test)]".len()..];
+        let item = after.trim_start();
+        let item = item.strip_prefix("pub(crate)").unwrap_or(item).trim_start();
+        let is_inline_module = item.strip_prefix("mod ").is_some_and(|rest| {
+            let name_end = rest
+                .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .unwrap_or(rest.len());
+            rest[name_end..].trim_start().starts_with('{')
+        });
+        if !is_inline_module {
+            from = start + 1;
+            continue;
+        }
+        let open = start
+            + out[start..]
+                .find('{')
+                .expect("an inline module has a brace");
+        let mut depth = 0usize;
+        let mut end = out.len();
+        for (offset, c) in out[open..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = open + offset + 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        let blanked = blank(&out[start..end]);
+        out.replace_range(start..end, &blanked);
+        from = end;
     }
     out
 }
@@ -326,6 +379,13 @@ fn planted_upward_imports_are_named() {
             "{path}: {found:?}"
         );
     }
+    // Code after a test module is code.
+    let after_tests = "#[cfg(test)]\nmod tests {\n    fn f() { {} }\n}\nuse crate::cli::Cli;\n";
+    let found = violations("src/scene.rs", Layer::Foundation, after_tests, &roots);
+    assert!(
+        found.len() == 1 && found[0].contains("src/scene.rs:5"),
+        "{found:?}"
+    );
     // Comments, strings and tests are not code.
     let quiet = "// crate::cli\nconst S: &str = \"crate::cli::X\";\nconst R: &str = r#\"raylab::cli\"#;\n\
                  #[cfg(test)]\nmod tests { use crate::cli; }\n";
@@ -609,4 +669,367 @@ fn the_footprint_script_counts_what_a_chapters_commits_touched_outside_its_folde
     let (ok, _, err) = run(&["9"]);
     assert!(!ok);
     assert!(err.contains("no commit adds a file of chapter 9"), "{err}");
+}
+
+/// The modules that may import each other in a circle, and why: the
+/// `Chapters` trait (`course`) has the chapters' code (`chapters`) as its
+/// defaults, that code casts its rays through the tracer (`render`), and the
+/// tracer is generic over the trait (`Tracer<Self>`). It is the seam
+/// between the course and the engine, and the one deliberate circle.
+const SEAM: &[&str] = &["chapters", "course", "render"];
+
+/// Where a file sits in the module tree: its top-level module and, below
+/// that, the child module it is part of (`src/check/judge.rs` is `check`'s
+/// child `judge`; a chapter's `chapter.rs` is `chapters`' child
+/// `chNN_name`; its `checks.rs` is the judge's, `check::by_chapter`).
+/// `None` for test code and for the crate root, which only re-exports.
+fn module_of(path: &str) -> Option<(String, Option<String>)> {
+    // Test code and the crate root have no layer: no module to place.
+    layer_of(path).ok()??;
+    if let Some(rest) = path.strip_prefix("chapters/") {
+        return match rest.split_once('/') {
+            None => Some(("chapters".into(), None)),
+            Some((_, "checks.rs")) => Some(("check".into(), Some("by_chapter".into()))),
+            Some((folder, _)) => Some(("chapters".into(), Some(format!("ch{folder}")))),
+        };
+    }
+    let rest = path.strip_prefix("src/")?;
+    let mut parts = rest.split('/');
+    let top = parts.next()?.trim_end_matches(".rs").to_string();
+    let child = parts
+        .next()
+        .map(|child| child.trim_end_matches(".rs").to_string())
+        .filter(|child| child != "mod");
+    Some((top, child))
+}
+
+/// One import: the file and line that names another module.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+struct Import {
+    from: String,
+    to: String,
+    at: String,
+}
+
+/// The first two names of each path of `code` that starts with one of
+/// `prefixes` (`crate::a::b`, `crate::a::{b, c}`, `crate::{a, b::c}`), with
+/// the byte offset of the path.
+fn named_paths(code: &str, prefixes: &[&str]) -> Vec<(usize, String, Option<String>)> {
+    let word = |text: &str| -> String {
+        text.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+            .next()
+            .unwrap_or("")
+            .to_string()
+    };
+    let group = |text: &str| -> Vec<String> {
+        let inner = &text[..text.find('}').unwrap_or(text.len())];
+        inner
+            .split(',')
+            .map(|item| item.trim().to_string())
+            .collect()
+    };
+    let mut found = Vec::new();
+    for prefix in prefixes {
+        for (at, _) in code.match_indices(prefix) {
+            let before = code[..at].chars().next_back();
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                continue;
+            }
+            let after = &code[at + prefix.len()..];
+            let items = match after.strip_prefix('{') {
+                Some(inner) => group(inner),
+                None => vec![after.to_string()],
+            };
+            for item in items {
+                let first = word(&item);
+                if first.is_empty() {
+                    continue;
+                }
+                let rest = item[first.len()..].trim_start();
+                let Some(rest) = rest.strip_prefix("::") else {
+                    found.push((at, first, None));
+                    continue;
+                };
+                match rest.strip_prefix('{') {
+                    Some(inner) => {
+                        for second in group(inner) {
+                            found.push((at, first.clone(), Some(word(&second))));
+                        }
+                    }
+                    None => found.push((at, first, Some(word(rest)))),
+                }
+            }
+        }
+    }
+    found
+}
+
+/// Every import between two top-level modules, and between two children
+/// of one top-level module (siblings), in `files` (path and text).
+fn imports(
+    files: &[(String, String)],
+    roots: &BTreeMap<String, String>,
+) -> (Vec<Import>, Vec<Import>) {
+    let mut children: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (path, _) in files {
+        if let Some((top, Some(child))) = module_of(path) {
+            children.entry(top).or_default().push(child);
+        }
+    }
+    let (mut between, mut siblings) = (Vec::new(), Vec::new());
+    for (path, text) in files {
+        let Some((top, child)) = module_of(path) else {
+            continue;
+        };
+        let code = code_only(text);
+        let line_of = |at: usize| code[..at].matches('\n').count() + 1;
+        for (at, first, second) in named_paths(&code, &["crate::", "raylab::"]) {
+            let target = roots.get(&first).cloned().unwrap_or(first.clone());
+            if module_layer(&target).is_none() {
+                continue;
+            }
+            let at = format!("{path}:{}", line_of(at));
+            if target != top {
+                between.push(Import {
+                    from: top.clone(),
+                    to: target,
+                    at,
+                });
+            } else if let (Some(child), Some(second)) = (&child, second) {
+                let known = children.get(&top).is_some_and(|all| all.contains(&second));
+                if known && &second != child {
+                    siblings.push(Import {
+                        from: format!("{top}::{child}"),
+                        to: format!("{top}::{second}"),
+                        at,
+                    });
+                }
+            }
+        }
+        // `super::sibling` from a direct child of a folder module.
+        let direct_child = path.starts_with("src/") && path.matches('/').count() == 2;
+        if let (Some(child), true) = (&child, direct_child) {
+            for (at, first, _) in named_paths(&code, &["super::"]) {
+                let known = children.get(&top).is_some_and(|all| all.contains(&first));
+                if known && &first != child {
+                    siblings.push(Import {
+                        from: format!("{top}::{child}"),
+                        to: format!("{top}::{first}"),
+                        at: format!("{path}:{}", line_of(at)),
+                    });
+                }
+            }
+        }
+    }
+    (between, siblings)
+}
+
+/// The circles among `imports`: each strongly connected set of two or more
+/// modules (Tarjan's algorithm), sorted, with the imports inside it.
+fn circles(imports: &[Import]) -> Vec<(Vec<String>, Vec<Import>)> {
+    let mut next: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for import in imports {
+        next.entry(&import.from).or_default().push(&import.to);
+        next.entry(&import.to).or_default();
+    }
+    struct Walk<'a> {
+        next: &'a BTreeMap<&'a str, Vec<&'a str>>,
+        index: BTreeMap<&'a str, usize>,
+        low: BTreeMap<&'a str, usize>,
+        stack: Vec<&'a str>,
+        found: Vec<Vec<String>>,
+    }
+    fn visit<'a>(walk: &mut Walk<'a>, node: &'a str) {
+        let index = walk.index.len();
+        walk.index.insert(node, index);
+        walk.low.insert(node, index);
+        walk.stack.push(node);
+        for &target in &walk.next[node] {
+            if !walk.index.contains_key(target) {
+                visit(walk, target);
+                let low = walk.low[node].min(walk.low[target]);
+                walk.low.insert(node, low);
+            } else if walk.stack.contains(&target) {
+                let low = walk.low[node].min(walk.index[target]);
+                walk.low.insert(node, low);
+            }
+        }
+        if walk.low[node] == walk.index[node] {
+            let mut set = Vec::new();
+            while let Some(top) = walk.stack.pop() {
+                set.push(top.to_string());
+                if top == node {
+                    break;
+                }
+            }
+            if set.len() > 1 {
+                set.sort();
+                walk.found.push(set);
+            }
+        }
+    }
+    let mut walk = Walk {
+        next: &next,
+        index: BTreeMap::new(),
+        low: BTreeMap::new(),
+        stack: Vec::new(),
+        found: Vec::new(),
+    };
+    for &node in next.keys() {
+        if !walk.index.contains_key(node) {
+            visit(&mut walk, node);
+        }
+    }
+    let mut found: Vec<_> = walk
+        .found
+        .into_iter()
+        .map(|set| {
+            let mut inside: Vec<Import> = imports
+                .iter()
+                .filter(|import| set.contains(&import.from) && set.contains(&import.to))
+                .cloned()
+                .collect();
+            inside.sort();
+            inside.dedup_by(|a, b| a.from == b.from && a.to == b.to);
+            (set, inside)
+        })
+        .collect();
+    found.sort();
+    found
+}
+
+/// Each circle but the seam's, as a message naming its modules and one
+/// import of each pair that closes it.
+fn circles_broken(files: &[(String, String)], roots: &BTreeMap<String, String>) -> Vec<String> {
+    let (between, siblings) = imports(files, roots);
+    let mut broken = Vec::new();
+    for (set, inside) in circles(&between).into_iter().chain(circles(&siblings)) {
+        if set.iter().map(String::as_str).eq(SEAM.iter().copied()) {
+            continue;
+        }
+        let edges: Vec<String> = inside
+            .iter()
+            .map(|import| format!("  {} -> {} ({})", import.from, import.to, import.at))
+            .collect();
+        broken.push(format!(
+            "modules {} import each other in a circle:\n{}",
+            set.join(", "),
+            edges.join("\n")
+        ));
+    }
+    broken
+}
+
+/// Every file of `src/` and `chapters/`, by its path in the crate, with its text.
+fn crate_files() -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    source_files(&root.join("src"), &mut files);
+    source_files(&root.join("chapters"), &mut files);
+    files
+        .into_iter()
+        .map(|file| {
+            let path = file
+                .strip_prefix(root)
+                .expect("inside the crate")
+                .to_string_lossy()
+                .replace('\\', "/");
+            let text = read(&path);
+            (path, text)
+        })
+        .collect()
+}
+
+/// No two modules import each other, directly or around a circle, but the
+/// seam's (`SEAM`): a circle means neither can be understood, tested or
+/// moved without the other, and a new chapter's code would have to touch
+/// both.
+#[test]
+fn no_circle_but_the_seams() {
+    let broken = circles_broken(&crate_files(), &root_names());
+    assert!(
+        broken.is_empty(),
+        "import circles (docs/architecture.md, Invariants):\n{}",
+        broken.join("\n")
+    );
+    // The seam is still a circle: were it gone, `SEAM` would excuse nothing.
+    let (between, _) = imports(&crate_files(), &root_names());
+    let seam: Vec<String> = SEAM.iter().map(|name| name.to_string()).collect();
+    assert!(
+        circles(&between).iter().any(|(set, _)| *set == seam),
+        "the seam {SEAM:?} is no longer a circle: shrink SEAM and its paragraph in docs/architecture.md"
+    );
+}
+
+/// The circle test can fail: a foundation that names a module naming it
+/// back, two children of one module that use each other, one of them
+/// through `super::`, and a circle closed by code after a test module.
+#[test]
+fn planted_circles_are_named() {
+    let roots = root_names();
+    let file = |path: &str, text: &str| (path.to_string(), text.to_string());
+    let between = [
+        file("src/ray.rs", "use crate::shapes::Shape;\n"),
+        file(
+            "src/shapes/mod.rs",
+            "pub fn f() -> crate::ray::Ray { todo!() }\n",
+        ),
+    ];
+    let found = circles_broken(&between, &roots);
+    assert!(
+        found.len() == 1 && found[0].contains("ray, shapes") && found[0].contains("src/ray.rs:1"),
+        "{found:?}"
+    );
+    let siblings = [
+        file(
+            "src/check/judge.rs",
+            "use crate::check::{remote::Asked, protocol};\n",
+        ),
+        file("src/check/remote.rs", "use super::judge::Asker;\n"),
+        file("src/check/protocol.rs", "pub struct Wire;\n"),
+    ];
+    let found = circles_broken(&siblings, &roots);
+    assert!(
+        found.len() == 1 && found[0].contains("check::judge, check::remote"),
+        "{found:?}"
+    );
+    let after_tests = [
+        file(
+            "src/camera.rs",
+            "#[cfg(test)]\nmod tests {\n    fn f() { if true { } }\n}\n\nuse crate::scene::Scene;\n",
+        ),
+        file("src/scene.rs", "use crate::camera::Camera;\n"),
+    ];
+    let found = circles_broken(&after_tests, &roots);
+    assert!(
+        found.len() == 1 && found[0].contains("src/camera.rs:6"),
+        "{found:?}"
+    );
+    // An import inside a test module is a test's, not the module's.
+    let only_tests = [
+        file(
+            "src/camera.rs",
+            "#[cfg(test)]\nmod tests {\n    use crate::scene::Scene;\n}\n",
+        ),
+        file("src/scene.rs", "use crate::camera::Camera;\n"),
+    ];
+    assert_eq!(circles_broken(&only_tests, &roots), Vec::<String>::new());
+    // The seam's circle is allowed; a fourth module joining it is not.
+    let seam = [
+        file("src/course.rs", "use crate::chapters::Reference;\n"),
+        file(
+            "chapters/99_planted/chapter.rs",
+            "use raylab::render::Tracer;\n",
+        ),
+        file("src/render/mod.rs", "use crate::course::Chapters;\n"),
+    ];
+    assert_eq!(circles_broken(&seam, &roots), Vec::<String>::new());
+    let mut joined = seam.to_vec();
+    joined.push(file("src/effects.rs", "use crate::chapters::CHAPTERS;\n"));
+    joined.push(file("chapters/mod.rs", "use crate::effects::Effects;\n"));
+    let found = circles_broken(&joined, &roots);
+    assert!(
+        found.len() == 1 && found[0].contains("effects"),
+        "{found:?}"
+    );
 }
