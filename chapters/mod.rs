@@ -18,7 +18,12 @@ use crate::effects::{Effects, Lighting};
 /// Calls `$then! { ... }` with one line per chapter:
 /// `number module "folder" "title" "adds" |effects| { switch-ons } [functions]`,
 /// then, where the chapter had them, `kept { paths }`: names its module
-/// re-exports because student workspaces made before name them there.
+/// re-exports because student workspaces made before name them there;
+/// and, where the chapter colours a hit point its own way,
+/// `shades |effects| condition => |tracer, point, depth, weight| colour`:
+/// its shader, which the tracer asks (`Tracer::shade`, in
+/// src/render/tracer.rs) when the condition holds and no later chapter's
+/// does, with `C` the chapters being run.
 /// It is the registry: a new chapter is its folder and one line here.
 #[doc(hidden)]
 #[macro_export]
@@ -33,20 +38,32 @@ macro_rules! for_each_chapter {
                 |e| { e.nearest_hit = true } [nearest_hit];
             4 ch04_shadows "04_shadows" "Hard shadows" "lights, shadow rays"
                 |e| { e.lighting = Lighting::Flat; e.shadows = true }
-                [offset_origin, in_shadow, shade_flat];
+                [offset_origin, in_shadow, shade_flat]
+                shades |e| e.lighting == Lighting::Flat
+                    => |tracer, point, _depth, _weight| C::shade_flat(tracer, point);
             5 ch05_phong "05_phong" "Phong illumination" "ambient, diffuse, specular"
-                |e| { e.lighting = Lighting::Phong; e.specular = true } [phong_terms, shade_phong];
+                |e| { e.lighting = Lighting::Phong; e.specular = true } [phong_terms, shade_phong]
+                shades |e| e.lighting == Lighting::Phong => |tracer, point, _depth, _weight| {
+                    let light = C::shade_phong(tracer, point);
+                    light.diffuse + light.specular
+                };
             6 ch06_reflection "06_reflection" "Mirror reflection" "reflection"
-                |e| { e.reflection = true } [reflect, shade_mirror];
+                |e| { e.reflection = true } [reflect, shade_mirror]
+                shades |e| e.reflection
+                    => |tracer, point, depth, weight| C::shade_mirror(tracer, point, depth, weight);
             7 ch07_antialiasing "07_antialiasing" "Anti-aliasing" "supersampling"
                 |e| { e.antialiasing = true } [sample_offset, pixel_color]
                 kept { $crate::scene::Sampling };
             8 ch08_refraction "08_refraction" "Refraction" "refraction"
-                |e| { e.refraction = true } [refract, shade_glass];
+                |e| { e.refraction = true } [refract, shade_glass]
+                shades |e| e.refraction
+                    => |tracer, point, depth, weight| C::shade_glass(tracer, point, depth, weight);
             9 ch09_glass "09_glass" "Glass done right"
                 "Fresnel reflectance, nested media, absorption"
                 |e| { e.nested_media = true; e.fresnel = true; e.absorption = true }
-                [fresnel, schlick, transmittance, crossing, shade_dielectric];
+                [fresnel, schlick, transmittance, crossing, shade_dielectric]
+                shades |e| e.nested_media
+                    => |tracer, point, depth, weight| C::shade_dielectric(tracer, point, depth, weight);
             10 ch10_triangles "10_triangles" "Triangle meshes"
                 "triangles, OBJ meshes, smooth shading"
                 |e| { e.triangles = true; e.smooth_shading = true }
@@ -63,7 +80,9 @@ macro_rules! for_each_chapter {
             13 ch13_path_tracing "13_path_tracing" "Path tracing"
                 "global illumination: area lights, random paths, next-event estimation, MIS, Russian roulette"
                 |e| { e.path_tracing = true; e.next_event = true; e.mis = true; e.roulette = true }
-                [cosine_hemisphere, cosine_pdf, power_heuristic, russian_roulette, next_event, shade_path];
+                [cosine_hemisphere, cosine_pdf, power_heuristic, russian_roulette, next_event, shade_path]
+                shades |e| e.path_tracing
+                    => |tracer, point, depth, weight| C::shade_path(tracer, point, depth, weight);
             14 ch14_caustics "14_caustics" "Caustics and dispersion"
                 "light paths from the lights through glass to the camera: caustics; a wavelength per path: dispersion"
                 |e| { e.light_tracing = true; e.dispersion = true }
@@ -127,7 +146,8 @@ pub const REFERENCE_HEIGHT: u32 = 120;
 
 macro_rules! declare_chapters {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
-       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
         $(
             // Each chapter's module is its folder: the code a student reads
             // in `chapter.rs`, re-exported. The checker's cases beside it,

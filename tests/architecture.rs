@@ -1033,3 +1033,30 @@ fn planted_circles_are_named() {
         "{found:?}"
     );
 }
+
+/// The longest a file of `src/` may be, tests included: past it a file
+/// holds more than one concern, and a reader cannot keep it in mind.
+const MAX_LINES: usize = 1_200;
+
+/// Each file of `src/` longer than [`MAX_LINES`], with its length.
+fn too_long(files: &[(String, String)]) -> Vec<String> {
+    files
+        .iter()
+        .filter(|(path, _)| path.starts_with("src/"))
+        .map(|(path, text)| (path, text.lines().count()))
+        .filter(|&(_, lines)| lines > MAX_LINES)
+        .map(|(path, lines)| format!("{path}: {lines} lines"))
+        .collect()
+}
+
+#[test]
+fn no_source_file_is_over_1200_lines() {
+    let long = too_long(&crate_files());
+    assert!(
+        long.is_empty(),
+        "split these by concern (docs/architecture.md):\n{}",
+        long.join("\n")
+    );
+    let planted = [("src/scene.rs".to_string(), "\n".repeat(MAX_LINES + 1))];
+    assert_eq!(too_long(&planted), ["src/scene.rs: 1201 lines"]);
+}

@@ -79,7 +79,8 @@ pub(crate) mod serve;
 /// and the engine's chapter modules must not reach up to them.
 macro_rules! declare_by_chapter {
     (($($visibility:tt)*) $($number:literal $module:ident $folder:literal $title:literal $adds:literal
-       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?;)*) => {
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
         /// Each chapter's two lists of cases, its folder's `checks.rs`, and
         /// the table of them by chapter number, from the registry.
         #[path = "../../chapters"]

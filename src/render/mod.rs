@@ -3,7 +3,8 @@
 //! This file walks the pixels and hands each to the chapters; the chapters
 //! decide everything else. For each ray, [`Tracer::trace`] finds what it
 //! hits (chapter 3's nearest hit, or list order before it) and asks the
-//! highest chapter of the stage to colour the point:
+//! highest chapter of the stage that has a shader (its registry line's
+//! `shades` clause, in `chapters/mod.rs`) to colour the point:
 //!
 //! ```text
 //! stage 1-3   the material's colour
@@ -11,7 +12,8 @@
 //! stage 5     chapter 5's Phong sum                     (shade_phong)
 //! stage 6-7   chapter 6's mirror mix, recursive         (shade_mirror)
 //! stage 8     chapter 8's glass mix, recursive          (shade_glass)
-//! stage 9     chapter 9's Fresnel glass, nested media   (shade_dielectric)
+//! stage 9-12  chapter 9's Fresnel glass, nested media   (shade_dielectric)
+//! stage 13-14 chapter 13's random paths                 (shade_path)
 //! ```
 //!
 //! From chapter 9 on, the tracer also knows the media the current ray

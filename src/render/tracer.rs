@@ -633,25 +633,7 @@ impl<'a, C: Chapters> Tracer<'a, C> {
             return (self.stage.scene.background, None);
         };
         let point = self.hit_point(object, ray, t);
-        let effects = self.stage.effects;
-        let color = if effects.path_tracing {
-            C::shade_path(self, &point, depth, weight)
-        } else if effects.nested_media {
-            C::shade_dielectric(self, &point, depth, weight)
-        } else if effects.refraction {
-            C::shade_glass(self, &point, depth, weight)
-        } else if effects.reflection {
-            C::shade_mirror(self, &point, depth, weight)
-        } else {
-            match effects.lighting {
-                Lighting::Unlit => point.albedo,
-                Lighting::Flat => C::shade_flat(self, &point),
-                Lighting::Phong => {
-                    let light = C::shade_phong(self, &point);
-                    light.diffuse + light.specular
-                }
-            }
-        };
+        let color = self.shade(&point, depth, weight);
         self.returned(color);
         (color, Some(t))
     }
@@ -868,3 +850,37 @@ fn point_on(shape: &Shape, u: f32, v: f32) -> Option<(Vec3, Vec3, f32)> {
         Shape::Plane(_) | Shape::Implicit(_) => None,
     }
 }
+
+/// Makes [`Tracer::shade`] from the registry's `shades` clauses
+/// (`chapters/mod.rs`), so that a chapter's shader is its registry line
+/// and not a branch here.
+macro_rules! shading_chain {
+    ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
+        impl<'a, C: Chapters> Tracer<'a, C> {
+            /// The colour of `point`, by the shader of the highest chapter
+            /// whose condition holds at this stage: chapter 13's paths
+            /// over chapter 9's glass over chapter 8's, over chapter 6's
+            /// mirror, over chapter 5's Phong or chapter 4's flat light.
+            /// Each of those calls the shading of the chapters below it
+            /// that it builds on. With none (chapters 1 to 3), the
+            /// material's own colour.
+            fn shade(&mut self, point: &HitPoint<'a>, depth: u32, weight: f32) -> Vec3 {
+                let effects = self.stage.effects;
+                let mut highest = 0;
+                $($(
+                    if (|$when: &Effects| $condition)(&effects) {
+                        highest = $number;
+                    }
+                )?)*
+                match highest {
+                    $($($number => ($shade)(self, point, depth, weight),)?)*
+                    _ => point.albedo,
+                }
+            }
+        }
+    };
+}
+
+crate::for_each_chapter!(shading_chain);
