@@ -19,6 +19,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+// The judge's interface: whoever drives it names these from here.
+pub use super::asker::{Asker, Ended, Step};
 use super::cases::{Case, Level, Outcome};
 use super::panics::Panic;
 use super::protocol::{Answered, Hello, Reply, Request};
@@ -30,46 +32,6 @@ use super::{
 use crate::Chapters;
 use crate::chapters::{CHAPTERS, ChapterInfo, REFERENCE_HEIGHT, REFERENCE_WIDTH};
 use crate::diff::{Criteria, Image, compare};
-
-/// What the judge is doing when it asks: for the notice of a step that
-/// takes long, and for the message of a process that ended.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Step {
-    pub chapter: u8,
-    pub function: String,
-    pub case: String,
-}
-
-impl std::fmt::Display for Step {
-    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            out,
-            "chapter {}'s check ran {} ({})",
-            self.chapter,
-            self.function,
-            crate::text::terminal_safe(&self.case)
-        )
-    }
-}
-
-/// How a request went unanswered.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Ended {
-    /// The process ended while it answered: how ("exited with status 0",
-    /// "was killed by signal 11").
-    Died(String),
-    /// The time limit passed; nothing more is asked.
-    TimedOut,
-    /// The binary does not answer raylab's questions, or answers another
-    /// version of them; nothing more is asked.
-    Refused(String),
-}
-
-/// Something that answers the judge's questions.
-pub trait Asker {
-    /// The reply to `request`, asked during `step`.
-    fn ask(&mut self, request: &Request, step: &Step) -> Result<Reply, Ended>;
-}
 
 /// Makes an [`Asker`]: one per chapter checked at once.
 pub type MakeAsker<'a> = dyn Fn() -> Box<dyn Asker + Send> + Sync + 'a;

@@ -34,6 +34,10 @@
 // names only `assert_chapter`).
 
 #[cfg(not(feature = "student"))]
+pub mod asker;
+#[cfg(feature = "student")]
+pub(crate) mod asker;
+#[cfg(not(feature = "student"))]
 pub mod cases;
 #[cfg(feature = "student")]
 pub(crate) mod cases;

@@ -14,7 +14,7 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use super::judge::{Asker, Ended, Step};
+use super::asker::{Asker, Ended, Step};
 use super::protocol::{Hello, ProtocolError, Reply, Request};
 
 /// How to start a student's binary as `serve`: the command, and whatever
