@@ -151,6 +151,55 @@ pub enum RayKind {
     ToCamera,
 }
 
+impl RayKind {
+    /// Every kind, in the order declared: the order of [`RayCounts::cast`],
+    /// of the `"rays"` JSON objects and of `cost.csv`'s ray columns. A new
+    /// kind is a variant, its place here and its [`RayKind::name`]; the
+    /// counts, the JSON and the CSV follow.
+    pub const ALL: [RayKind; 7] = [
+        RayKind::Primary,
+        RayKind::Shadow,
+        RayKind::Reflection,
+        RayKind::Refraction,
+        RayKind::Bounce,
+        RayKind::Light,
+        RayKind::ToCamera,
+    ];
+
+    /// How many kinds there are.
+    pub const COUNT: usize = RayKind::ALL.len();
+
+    /// The kind's one name, wherever raylab writes it: the keys of the
+    /// `"rays"` JSON objects (`raylab render --json`, the page), `cost.csv`'s
+    /// `rays_<name>` columns, `raylab trace` and `raylab crosscheck`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            RayKind::Primary => "primary",
+            RayKind::Shadow => "shadow",
+            RayKind::Reflection => "reflection",
+            RayKind::Refraction => "refraction",
+            RayKind::Bounce => "bounce",
+            RayKind::Light => "light",
+            RayKind::ToCamera => "to_camera",
+        }
+    }
+
+    /// The kind's place in [`RayKind::ALL`] (and in [`RayCounts::cast`]).
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+}
+
+// `ALL` lists the kinds in their declared order, so that `index` is a
+// kind's place in it.
+const _: () = {
+    let mut place = 0;
+    while place < RayKind::COUNT {
+        assert!(RayKind::ALL[place].index() == place);
+        place += 1;
+    }
+};
+
 /// Something that wants to see every ray the tracer casts (for
 /// `raylab crosscheck` and `raylab trace`); counting is built into the
 /// tracer. For each ray, in the order the tracer computes them: `cast`,
@@ -175,16 +224,9 @@ pub trait RayLog {
 /// How many rays of each kind a render cast, and how many went wrong.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct RayCounts {
-    pub primary: u64,
-    pub shadow: u64,
-    pub reflection: u64,
-    pub refraction: u64,
-    /// Rays scattered at random off diffuse and glossy surfaces (chapter 13).
-    pub bounce: u64,
-    /// Rays of the paths traced from the lights (chapter 14).
-    pub light: u64,
-    /// Rays from the points light paths lit toward the camera (chapter 14).
-    pub to_camera: u64,
+    /// Rays cast, by kind: `cast[kind.index()]`, in the order of
+    /// [`RayKind::ALL`] (read one with [`RayCounts::of`]).
+    pub cast: [u64; RayKind::COUNT],
     /// Paths traced from the lights (chapter 14).
     pub light_paths: u64,
     /// Of the points light paths joined to the camera, those whose light
@@ -213,14 +255,30 @@ pub struct RayCounts {
 }
 
 impl RayCounts {
+    /// The rays of `kind` cast.
+    pub fn of(&self, kind: RayKind) -> u64 {
+        self.cast[kind.index()]
+    }
+
+    /// Every kind with its count, in the order of [`RayKind::ALL`]: what
+    /// every listing of the counts by kind is written from.
+    pub fn by_kind(&self) -> impl Iterator<Item = (RayKind, u64)> + '_ {
+        RayKind::ALL.into_iter().map(|kind| (kind, self.of(kind)))
+    }
+
+    /// The counts by kind as a JSON object, `{name: count}` by
+    /// [`RayKind::name`], in the order of [`RayKind::ALL`]: the `"rays"` of
+    /// `raylab render --json` and of the page's answers, which each add
+    /// their own keys.
+    pub fn by_kind_json(&self) -> serde_json::Map<String, serde_json::Value> {
+        self.by_kind()
+            .map(|(kind, count)| (kind.name().to_string(), count.into()))
+            .collect()
+    }
+
+    /// Rays of every kind.
     pub fn total(&self) -> u64 {
-        self.primary
-            + self.shadow
-            + self.reflection
-            + self.refraction
-            + self.bounce
-            + self.light
-            + self.to_camera
+        self.cast.iter().sum()
     }
 
     /// Rays marched against an implicit surface, once per ray and surface.
@@ -229,13 +287,9 @@ impl RayCounts {
     }
 
     pub(crate) fn add(mut self, other: RayCounts) -> RayCounts {
-        self.primary += other.primary;
-        self.shadow += other.shadow;
-        self.reflection += other.reflection;
-        self.refraction += other.refraction;
-        self.bounce += other.bounce;
-        self.light += other.light;
-        self.to_camera += other.to_camera;
+        for (mine, theirs) in self.cast.iter_mut().zip(other.cast) {
+            *mine += theirs;
+        }
         self.light_paths += other.light_paths;
         self.splats += other.splats;
         self.bright_samples += other.bright_samples;
@@ -248,16 +302,9 @@ impl RayCounts {
         self
     }
 
+    /// One more ray of `kind`.
     pub(crate) fn count(&mut self, kind: RayKind) {
-        match kind {
-            RayKind::Primary => self.primary += 1,
-            RayKind::Shadow => self.shadow += 1,
-            RayKind::Reflection => self.reflection += 1,
-            RayKind::Refraction => self.refraction += 1,
-            RayKind::Bounce => self.bounce += 1,
-            RayKind::Light => self.light += 1,
-            RayKind::ToCamera => self.to_camera += 1,
-        }
+        self.cast[kind.index()] += 1;
     }
 }
 
@@ -319,4 +366,82 @@ pub enum Lobe {
 pub struct Dispersed {
     pub ior: f32,
     pub tint: Vec3,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_has_its_own_name_and_its_own_place() {
+        let mut names: Vec<&str> = RayKind::ALL.iter().map(|kind| kind.name()).collect();
+        assert_eq!(
+            names,
+            [
+                "primary",
+                "shadow",
+                "reflection",
+                "refraction",
+                "bounce",
+                "light",
+                "to_camera"
+            ]
+        );
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), RayKind::COUNT, "two kinds share a name");
+        for (place, kind) in RayKind::ALL.into_iter().enumerate() {
+            assert_eq!(kind.index(), place, "{kind:?}");
+            // A name is a JSON key, a CSV column's tail and a word of text.
+            assert!(
+                kind.name()
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c == '_'),
+                "{kind:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn counting_reading_and_adding_agree() {
+        let mut counts = RayCounts::default();
+        for (place, kind) in RayKind::ALL.into_iter().enumerate() {
+            for _ in 0..=place {
+                counts.count(kind);
+            }
+        }
+        for (place, (kind, count)) in counts.by_kind().enumerate() {
+            assert_eq!(kind, RayKind::ALL[place]);
+            assert_eq!(count, place as u64 + 1);
+            assert_eq!(counts.of(kind), count);
+        }
+        let n = RayKind::COUNT as u64;
+        assert_eq!(counts.total(), n * (n + 1) / 2);
+        let twice = counts.add(counts);
+        assert!(
+            RayKind::ALL
+                .into_iter()
+                .all(|kind| twice.of(kind) == 2 * counts.of(kind))
+        );
+        assert_eq!(twice.total(), 2 * counts.total());
+    }
+
+    #[test]
+    fn the_json_has_one_key_a_kind_with_its_count() {
+        let mut counts = RayCounts::default();
+        counts.count(RayKind::Shadow);
+        counts.count(RayKind::ToCamera);
+        counts.count(RayKind::ToCamera);
+        let json = counts.by_kind_json();
+        let keys: Vec<&str> = json.keys().map(String::as_str).collect();
+        let mut names: Vec<&str> = RayKind::ALL.iter().map(|kind| kind.name()).collect();
+        names.sort_unstable();
+        let mut sorted = keys.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, names);
+        for kind in RayKind::ALL {
+            assert_eq!(json[kind.name()], counts.of(kind), "{kind:?}");
+        }
+        assert_eq!(json["to_camera"], 2);
+    }
 }

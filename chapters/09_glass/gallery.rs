@@ -450,7 +450,10 @@ fn a_white_furnace_stays_white_reflection_plus_transmission_is_one() {
         // still bouncing after 64 crossings: 1e-3 is a quarter of one
         // 8-bit code (1/255 = 4e-3).
         assert!(worst < 1e-3, "{model}: a pixel is {worst} away from white");
-        assert!(tracer.counts().reflection > 0 && tracer.counts().refraction > 0);
+        assert!(
+            tracer.counts().of(RayKind::Reflection) > 0
+                && tracer.counts().of(RayKind::Refraction) > 0
+        );
     }
 }
 

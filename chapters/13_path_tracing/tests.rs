@@ -296,10 +296,10 @@ fn roulette_never_ends_a_path_where_it_crosses_glass() {
     }
     let counts = tracer.counts();
     assert!(
-        counts.reflection + counts.refraction >= visits,
+        counts.of(crate::RayKind::Reflection) + counts.of(crate::RayKind::Refraction) >= visits,
         "{} reflection and {} refraction rays from {visits} visits",
-        counts.reflection,
-        counts.refraction
+        counts.of(crate::RayKind::Reflection),
+        counts.of(crate::RayKind::Refraction)
     );
 }
 

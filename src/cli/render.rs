@@ -11,7 +11,7 @@ use crate::chapters::{CHAPTERS, LAST_CHAPTER};
 use crate::effects::Effects;
 use crate::render::Rendered;
 use crate::shapes::MarchHistogram;
-use crate::{RenderSettings, Sampling, Scene, builtin};
+use crate::{RayKind, RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
 #[command(
@@ -565,16 +565,20 @@ fn summary_line(
             1
         },
         rendered.seconds,
-        rays.primary,
-        rays.shadow,
-        rays.reflection,
-        rays.refraction,
+        rays.of(RayKind::Primary),
+        rays.of(RayKind::Shadow),
+        rays.of(RayKind::Reflection),
+        rays.of(RayKind::Refraction),
         if rendered.effects.path_tracing {
-            format!(", {} bounce", rays.bounce)
+            format!(", {} bounce", rays.of(RayKind::Bounce))
         } else {
             String::new()
         } + &if rendered.effects.light_tracing {
-            format!(", {} light, {} to camera", rays.light, rays.to_camera)
+            format!(
+                ", {} light, {} to camera",
+                rays.of(RayKind::Light),
+                rays.of(RayKind::ToCamera)
+            )
         } else {
             String::new()
         },
@@ -586,7 +590,7 @@ fn stats_text(rendered: &Rendered) -> String {
     let rays = &rendered.rays;
     let paths = rendered.effects.path_tracing;
     let mut bounce = if paths {
-        format!("  bounce      {}\n", rays.bounce)
+        format!("  bounce      {}\n", rays.of(RayKind::Bounce))
     } else {
         String::new()
     };
@@ -594,7 +598,10 @@ fn stats_text(rendered: &Rendered) -> String {
         bounce += &format!(
             "  light       {}\n  to camera   {}\nlight paths: {} traced, {} of their points \
              joined to the camera landed on a pixel\n",
-            rays.light, rays.to_camera, rays.light_paths, rays.splats
+            rays.of(RayKind::Light),
+            rays.of(RayKind::ToCamera),
+            rays.light_paths,
+            rays.splats
         );
     }
     let fireflies = if paths {
@@ -611,10 +618,10 @@ fn stats_text(rendered: &Rendered) -> String {
         rendered.effects.names().join(", "),
         rendered.seconds,
         rays.total(),
-        rays.primary,
-        rays.shadow,
-        rays.reflection,
-        rays.refraction,
+        rays.of(RayKind::Primary),
+        rays.of(RayKind::Shadow),
+        rays.of(RayKind::Reflection),
+        rays.of(RayKind::Refraction),
         rays.self_shadow_hits,
         rays.self_shadowed_pixels,
         rays.non_finite_samples,
@@ -690,13 +697,13 @@ pub fn stats_json(
         "seconds": rendered.seconds,
         "effects": rendered.effects.names(),
         "rays": {
-            "primary": rays.primary,
-            "shadow": rays.shadow,
-            "reflection": rays.reflection,
-            "refraction": rays.refraction,
-            "bounce": rays.bounce,
-            "light": rays.light,
-            "to_camera": rays.to_camera,
+            "primary": rays.of(RayKind::Primary),
+            "shadow": rays.of(RayKind::Shadow),
+            "reflection": rays.of(RayKind::Reflection),
+            "refraction": rays.of(RayKind::Refraction),
+            "bounce": rays.of(RayKind::Bounce),
+            "light": rays.of(RayKind::Light),
+            "to_camera": rays.of(RayKind::ToCamera),
             "total": rays.total(),
         },
         "light_paths": rays.light_paths,

@@ -147,13 +147,13 @@ impl CostReport {
                 row.runs,
                 row.seconds,
                 row.rays.total(),
-                row.rays.primary,
-                row.rays.shadow,
-                row.rays.reflection,
-                row.rays.refraction,
-                row.rays.bounce,
-                row.rays.light,
-                row.rays.to_camera,
+                row.rays.of(crate::RayKind::Primary),
+                row.rays.of(crate::RayKind::Shadow),
+                row.rays.of(crate::RayKind::Reflection),
+                row.rays.of(crate::RayKind::Refraction),
+                row.rays.of(crate::RayKind::Bounce),
+                row.rays.of(crate::RayKind::Light),
+                row.rays.of(crate::RayKind::ToCamera),
                 row.error.rmse,
                 if row.error.psnr_db.is_finite() {
                     format!("{:.3}", row.error.psnr_db)
@@ -186,13 +186,7 @@ mod tests {
     #[test]
     fn the_csv_counts_every_kind_of_ray_and_the_kinds_add_up_to_the_total() {
         let rays = crate::RayCounts {
-            primary: 1,
-            shadow: 20,
-            reflection: 300,
-            refraction: 4_000,
-            bounce: 50_000,
-            light: 600_000,
-            to_camera: 7_000_000,
+            cast: [1, 20, 300, 4_000, 50_000, 600_000, 7_000_000],
             ..Default::default()
         };
         let report = CostReport {

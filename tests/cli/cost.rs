@@ -60,7 +60,7 @@ fn error_falls_as_samples_rise() {
         .iter()
         .find(|row| row.label == "jittered 64 spp")
         .expect("a jittered 64 spp row");
-    assert_eq!(jittered_64.rays.primary, 32 * 24 * 64);
+    assert_eq!(jittered_64.rays.of(raylab::RayKind::Primary), 32 * 24 * 64);
     let front = report.rows.iter().filter(|row| row.pareto).count();
     assert!(front >= 2, "a Pareto front of {front}");
 }

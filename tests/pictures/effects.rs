@@ -29,8 +29,8 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
     assert_eq!(at_5.rays, at_9.rays);
     assert_eq!(names(&at_5), names(&at_9));
     let at_8 = raylab::render(&scene, 8, &settings, None).expect("renders");
-    assert_eq!(at_8.rays.reflection, 0);
-    assert_eq!(at_8.rays.refraction, 0);
+    assert_eq!(at_8.rays.of(RayKind::Reflection), 0);
+    assert_eq!(at_8.rays.of(RayKind::Refraction), 0);
     assert!(at_5.rgb == at_8.rgb, "the images differ");
     assert_eq!(at_5.rays, at_8.rays);
     assert_eq!(names(&at_5), names(&at_8));
@@ -43,8 +43,11 @@ fn no_mirror_no_glass_at_chapter_8_is_chapter_5_pixel_for_pixel() {
     let at_7 = raylab::render(&scene, 7, &settings, None).expect("renders");
     let at_8 = raylab::render(&scene, 8, &settings, None).expect("renders");
     assert!(at_7.rgb == at_8.rgb, "the supersampled images differ");
-    assert_eq!(at_8.rays.primary, 80 * 60 * 4);
-    assert_eq!(at_8.rays.reflection + at_8.rays.refraction, 0);
+    assert_eq!(at_8.rays.of(RayKind::Primary), 80 * 60 * 4);
+    assert_eq!(
+        at_8.rays.of(RayKind::Reflection) + at_8.rays.of(RayKind::Refraction),
+        0
+    );
 }
 
 #[test]
@@ -52,12 +55,12 @@ fn no_lights_no_shadow_rays_and_no_specular() {
     let mut scene = raylab::builtin::scene(8).expect("built-in scene");
     scene.lights.clear();
     let rendered = raylab::render(&scene, 8, &small(&scene, 1), None).expect("renders");
-    assert_eq!(rendered.rays.shadow, 0);
+    assert_eq!(rendered.rays.of(RayKind::Shadow), 0);
     assert!(!names(&rendered).contains(&"shadows"));
     assert!(!names(&rendered).contains(&"phong-specular"));
     // The mirror and the glass still work without lights.
-    assert!(rendered.rays.reflection > 0);
-    assert!(rendered.rays.refraction > 0);
+    assert!(rendered.rays.of(RayKind::Reflection) > 0);
+    assert!(rendered.rays.of(RayKind::Refraction) > 0);
 
     // The same scene with its lights casts shadow rays: the count above is
     // zero because there is no light, not because shadows are broken.
@@ -66,7 +69,7 @@ fn no_lights_no_shadow_rays_and_no_specular() {
         raylab::render(&lit, 8, &small(&lit, 1), None)
             .expect("renders")
             .rays
-            .shadow
+            .of(RayKind::Shadow)
             > 0
     );
 }
@@ -139,8 +142,8 @@ fn reflection_rays_start_only_from_pixels_that_see_the_mirror() {
     );
     assert!(mirror_pixels < u64::from(settings.width * settings.height) / 2);
     let rendered = raylab::render(&scene, 6, &settings, None).expect("renders");
-    assert_eq!(rendered.rays.reflection, mirror_pixels);
-    assert_eq!(rendered.rays.refraction, 0);
+    assert_eq!(rendered.rays.of(RayKind::Reflection), mirror_pixels);
+    assert_eq!(rendered.rays.of(RayKind::Refraction), 0);
 }
 
 /// A camera under a glass surface (a pool seen from below): rays that meet
@@ -172,8 +175,8 @@ fn glass_that_does_not_reflect_still_casts_total_internal_reflection_rays() {
     let scene = Scene::parse(UNDER_WATER, "under water").expect("valid scene");
     assert!(scene.materials().all(|m| m.reflectivity == 0.0));
     let rendered = raylab::render(&scene, 8, &scene.render, None).expect("renders");
-    assert!(rendered.rays.refraction > 0);
-    assert!(rendered.rays.reflection > 0);
+    assert!(rendered.rays.of(RayKind::Refraction) > 0);
+    assert!(rendered.rays.of(RayKind::Reflection) > 0);
     assert!(names(&rendered).contains(&"reflection"));
     assert!(names(&rendered).contains(&"refraction"));
     assert!(!names(&rendered).contains(&"phong-specular"));
@@ -187,8 +190,8 @@ fn a_glass_ball_alone_never_reflects_totally() {
     );
     let scene = Scene::parse(&glass_only, "glass ball").expect("valid scene");
     let rendered = raylab::render(&scene, 8, &scene.render, None).expect("renders");
-    assert!(rendered.rays.refraction > 0);
-    assert_eq!(rendered.rays.reflection, 0);
+    assert!(rendered.rays.of(RayKind::Refraction) > 0);
+    assert_eq!(rendered.rays.of(RayKind::Reflection), 0);
 }
 
 #[test]
@@ -205,9 +208,12 @@ fn recursion_stops_below_the_minimum_contribution() {
     };
     let counts: [RayCounts; 3] = [with(0.0), with(0.8), with(0.81)];
     // The mirror's reflection rays weigh 0.8: cast at thresholds up to 0.8.
-    assert!(counts[0].reflection > 0);
-    assert_eq!(counts[0].reflection, counts[1].reflection);
-    assert_eq!(counts[2].reflection, 0);
+    assert!(counts[0].of(RayKind::Reflection) > 0);
+    assert_eq!(
+        counts[0].of(RayKind::Reflection),
+        counts[1].of(RayKind::Reflection)
+    );
+    assert_eq!(counts[2].of(RayKind::Reflection), 0);
 }
 
 #[test]
@@ -333,10 +339,12 @@ fn a_switched_off_effect_casts_none_of_its_rays_at_any_chapter() {
             }
             let rays = off.rays;
             let none = match name {
-                "lighting" => rays.shadow,
-                "reflection" => rays.reflection,
-                "refraction" => rays.refraction,
-                "antialiasing" => rays.primary - u64::from(settings.width * settings.height),
+                "lighting" => rays.of(RayKind::Shadow),
+                "reflection" => rays.of(RayKind::Reflection),
+                "refraction" => rays.of(RayKind::Refraction),
+                "antialiasing" => {
+                    rays.of(RayKind::Primary) - u64::from(settings.width * settings.height)
+                }
                 _ => 0,
             };
             assert_eq!(none, 0, "chapter {chapter} without {name}: {rays:?}");

@@ -90,7 +90,7 @@ fn every_traced_pixel_is_the_rendered_pixel_in_every_chapter() {
         }
         // The trees hold every camera path's ray the render cast: no more,
         // no fewer (chapter 14's light paths belong to no pixel).
-        let light_rays = rendered.rays.light + rendered.rays.to_camera;
+        let light_rays = rendered.rays.of(RayKind::Light) + rendered.rays.of(RayKind::ToCamera);
         assert_eq!(
             rays as u64,
             rendered.rays.total() - light_rays,

@@ -145,7 +145,7 @@ fn assert_clean(name: &str, text: &str, chapter: u8) {
     let counts = outcome.counts;
     println!("{name}, chapter {chapter}, scaled offset: {counts:?}");
     assert!(
-        counts.shadow > 1000,
+        counts.of(RayKind::Shadow) > 1000,
         "{name}: too few shadow rays to mean anything"
     );
     assert_eq!(counts.self_shadow_hits, 0, "{name}: renderer counted acne");
@@ -196,7 +196,7 @@ fn a_naive_offset_shows_acne_on_planes_only() {
     for epsilon in [0.0, 1e-4] {
         let outcome = render(HUGE_FLOOR, 4, OffsetRule::Fixed, epsilon);
         println!("huge floor, fixed epsilon {epsilon}: {:?}", outcome.counts);
-        assert!(outcome.counts.shadow > 1000);
+        assert!(outcome.counts.of(RayKind::Shadow) > 1000);
         assert_eq!(outcome.counts.self_shadow_hits, 0, "epsilon {epsilon}");
         assert_eq!(outcome.independent_self_hits, 0, "epsilon {epsilon}");
     }
@@ -271,13 +271,16 @@ fn a_chapter_without_a_depth_test_still_terminates() {
     let settings = small(&scene);
     let rendered = raylab::render_with::<NoDepthTest>(&scene, 6, &settings, None).expect("renders");
     let pixels = u64::from(settings.width * settings.height);
-    assert_eq!(rendered.rays.primary, pixels);
+    assert_eq!(rendered.rays.of(RayKind::Primary), pixels);
     // Bounces 1 to DEPTH_LIMIT are traced; the next is refused.
-    assert_eq!(rendered.rays.reflection, pixels * u64::from(DEPTH_LIMIT));
+    assert_eq!(
+        rendered.rays.of(RayKind::Reflection),
+        pixels * u64::from(DEPTH_LIMIT)
+    );
     // The reference stops at max_depth itself.
     let reference = raylab::render(&scene, 6, &settings, None).expect("renders");
     assert_eq!(
-        reference.rays.reflection,
+        reference.rays.of(RayKind::Reflection),
         pixels * u64::from(settings.max_depth)
     );
 }
@@ -353,7 +356,7 @@ fn the_contribution_cut_is_relative_to_the_light_the_ray_would_see() {
             ..settings
         };
         let full = raylab::render(&scene, 6, &every_ray, None).expect("renders");
-        assert!(cut.rays.reflection == 0 && full.rays.reflection > 0);
+        assert!(cut.rays.of(RayKind::Reflection) == 0 && full.rays.of(RayKind::Reflection) > 0);
         cut.rgb
             .iter()
             .zip(&full.rgb)
