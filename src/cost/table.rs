@@ -6,6 +6,7 @@
 use std::fmt::Write as _;
 
 use super::{CostReport, Knob, Measurement};
+use crate::RayKind;
 use crate::effects::Effects;
 
 impl Measurement {
@@ -120,9 +121,13 @@ impl CostReport {
     pub fn csv(&self) -> String {
         let mut text = String::from(
             "chapter,scene,knob,setting,samples,sampling,max_depth,min_contribution,ray_offset,fixed_epsilon,sphere_formula,\
-             runs,seconds_median,rays_total,rays_primary,rays_shadow,rays_reflection,rays_refraction,\
-             rays_bounce,rays_light,rays_to_camera,rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n",
+             runs,seconds_median,rays_total",
         );
+        // A column a kind of ray, `rays_<name>`, in the order of `RayKind::ALL`.
+        for kind in RayKind::ALL {
+            let _ = write!(text, ",rays_{}", kind.name());
+        }
+        text += ",rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n";
         for row in &self.rows {
             let s = &row.settings;
             let scene = if row.far_sphere {
@@ -130,9 +135,9 @@ impl CostReport {
             } else {
                 &self.scene_name
             };
-            let _ = writeln!(
+            let _ = write!(
                 text,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{},{},{},{},{},{:.6},{},{:.6},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{}",
                 self.chapter,
                 csv_field(scene),
                 row.knob_name(),
@@ -147,13 +152,13 @@ impl CostReport {
                 row.runs,
                 row.seconds,
                 row.rays.total(),
-                row.rays.of(crate::RayKind::Primary),
-                row.rays.of(crate::RayKind::Shadow),
-                row.rays.of(crate::RayKind::Reflection),
-                row.rays.of(crate::RayKind::Refraction),
-                row.rays.of(crate::RayKind::Bounce),
-                row.rays.of(crate::RayKind::Light),
-                row.rays.of(crate::RayKind::ToCamera),
+            );
+            for (_, count) in row.rays.by_kind() {
+                let _ = write!(text, ",{count}");
+            }
+            let _ = writeln!(
+                text,
+                ",{:.6},{},{:.6},{},{}",
                 row.error.rmse,
                 if row.error.psnr_db.is_finite() {
                     format!("{:.3}", row.error.psnr_db)
@@ -223,5 +228,17 @@ mod tests {
             .sum();
         assert_eq!(column("rays_total"), rays.total());
         assert_eq!(kinds, rays.total(), "{csv}");
+        // Each kind's column carries its own count (`rays_<name>`), and the
+        // header is the one cost.csv has always had.
+        for kind in RayKind::ALL {
+            assert_eq!(column(&format!("rays_{}", kind.name())), rays.of(kind));
+        }
+        assert_eq!(
+            header.join(","),
+            "chapter,scene,knob,setting,samples,sampling,max_depth,min_contribution,ray_offset,\
+             fixed_epsilon,sphere_formula,runs,seconds_median,rays_total,rays_primary,rays_shadow,\
+             rays_reflection,rays_refraction,rays_bounce,rays_light,rays_to_camera,rmse_srgb8,\
+             psnr_db,share_pixels_off,self_shadowed_pixels,pareto"
+        );
     }
 }
