@@ -184,17 +184,7 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
             Ok(Answer {
                 json: serde_json::json!({
                     "rows": [first, end],
-                    "rays": {
-                        "camera": counts.of(crate::RayKind::Primary),
-                        "shadow": counts.of(crate::RayKind::Shadow),
-                        "reflection": counts.of(crate::RayKind::Reflection),
-                        "refraction": counts.of(crate::RayKind::Refraction),
-                        "bounce": counts.of(crate::RayKind::Bounce),
-                        "light": counts.of(crate::RayKind::Light),
-                        "to_camera": counts.of(crate::RayKind::ToCamera),
-                        "implicit_evaluations": counts.implicit_evaluations,
-                        "non_finite_samples": counts.non_finite_samples,
-                    },
+                    "rays": rays_json(&counts),
                 }),
                 pixels,
             })
@@ -230,6 +220,21 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
 /// already more than anyone reads, and each ray is about half a kilobyte
 /// of JSON (a glass pixel at depth 16 and 64 samples could cast millions).
 pub const MAX_SHOWN_RAYS: usize = 20_000;
+
+/// The `"rays"` of a render answer: the count of each kind by its name, as
+/// `raylab render --json` has them too, and the page's two other counters.
+pub(crate) fn rays_json(counts: &crate::RayCounts) -> serde_json::Value {
+    let mut json = counts.by_kind_json();
+    json.insert(
+        "implicit_evaluations".into(),
+        counts.implicit_evaluations.into(),
+    );
+    json.insert(
+        "non_finite_samples".into(),
+        counts.non_finite_samples.into(),
+    );
+    json.into()
+}
 
 fn count_rays(ray: &crate::ray_tree::TracedRay) -> usize {
     1 + ray.children.iter().map(count_rays).sum::<usize>()
@@ -524,7 +529,7 @@ mod tests {
             .flat_map(|pixel| pixel[..3].to_vec())
             .collect();
         assert_eq!(rgb, whole.rgb[10 * 40 * 3..17 * 40 * 3]);
-        assert!(answer.json["rays"]["camera"].as_u64() == Some(40 * 7));
+        assert!(answer.json["rays"]["primary"].as_u64() == Some(40 * 7));
     }
 
     #[test]

@@ -11,7 +11,7 @@ use crate::chapters::{CHAPTERS, LAST_CHAPTER};
 use crate::effects::Effects;
 use crate::render::Rendered;
 use crate::shapes::MarchHistogram;
-use crate::{RayKind, RenderSettings, Sampling, Scene, builtin};
+use crate::{RayCounts, RayKind, RenderSettings, Sampling, Scene, builtin};
 
 #[derive(Debug, Args)]
 #[command(
@@ -681,6 +681,14 @@ fn histogram_text(histogram: &MarchHistogram) -> String {
     text
 }
 
+/// The `"rays"` of `raylab render --json`: the count of each kind by its
+/// name, as the page has them too, and their total.
+pub(crate) fn rays_json(rays: &RayCounts) -> serde_json::Value {
+    let mut json = rays.by_kind_json();
+    json.insert("total".into(), rays.total().into());
+    json.into()
+}
+
 /// The statistics of a render as JSON.
 pub fn stats_json(
     chapter: u8,
@@ -696,16 +704,7 @@ pub fn stats_json(
         "max_depth": settings.max_depth,
         "seconds": rendered.seconds,
         "effects": rendered.effects.names(),
-        "rays": {
-            "primary": rays.of(RayKind::Primary),
-            "shadow": rays.of(RayKind::Shadow),
-            "reflection": rays.of(RayKind::Reflection),
-            "refraction": rays.of(RayKind::Refraction),
-            "bounce": rays.of(RayKind::Bounce),
-            "light": rays.of(RayKind::Light),
-            "to_camera": rays.of(RayKind::ToCamera),
-            "total": rays.total(),
-        },
+        "rays": rays_json(rays),
         "light_paths": rays.light_paths,
         "splats": rays.splats,
         "bright_samples": rays.bright_samples,
@@ -797,5 +796,48 @@ mod tests {
             estimated_work(&settings(100, 100, 16), 7, 5),
             16 * estimated_work(&settings(100, 100, 1), 7, 5)
         );
+    }
+
+    #[test]
+    fn the_render_json_and_the_page_name_the_kinds_of_ray_alike() {
+        let mut rays = RayCounts::default();
+        for (place, kind) in RayKind::ALL.into_iter().enumerate() {
+            rays.cast[kind.index()] = 10 + place as u64;
+        }
+        rays.implicit_evaluations = 1_000;
+        rays.non_finite_samples = 2_000;
+        let by_kind = |json: serde_json::Value, own: &[&str]| {
+            let mut json = json.as_object().expect("an object").clone();
+            for key in own {
+                assert!(json.remove(*key).is_some(), "{key} is missing");
+            }
+            json
+        };
+        let cli = by_kind(rays_json(&rays), &["total"]);
+        let page = by_kind(
+            crate::web::rays_json(&rays),
+            &["implicit_evaluations", "non_finite_samples"],
+        );
+        assert_eq!(cli, page);
+        assert_eq!(cli.len(), RayKind::COUNT);
+        for kind in RayKind::ALL {
+            assert_eq!(cli[kind.name()], rays.of(kind), "{kind:?}");
+        }
+        // The CLI's keys are the ones it has always written.
+        let keys: Vec<&str> = cli.keys().map(String::as_str).collect();
+        let mut expected = [
+            "primary",
+            "shadow",
+            "reflection",
+            "refraction",
+            "bounce",
+            "light",
+            "to_camera",
+        ];
+        expected.sort_unstable();
+        let mut sorted = keys.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, expected);
+        assert_eq!(rays_json(&rays)["total"], rays.total());
     }
 }

@@ -5,7 +5,8 @@
 const $ = (id) => document.getElementById(id);
 const ROWS_A_TASK = 4;
 const MAX_HEIGHT = 2048;
-const KIND_COLOURS = { camera: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00", bounce: "#c04bd8", light: "#ffffff", "to camera": "#999999" };
+// Keyed by the kinds' names, as raylab writes them (`RayKind::name`).
+const KIND_COLOURS = { primary: "#ffd400", reflection: "#2f7bff", refraction: "#11b35b", shadow: "#ff8c00", bounce: "#c04bd8", light: "#ffffff", to_camera: "#999999" };
 
 const page = {
   module: null,
@@ -230,7 +231,7 @@ function startRender() {
   }
   page.render = {
     id, job: request, prepared, tasks, pending: tasks.length, started: performance.now(),
-    rays: { camera: 0, shadow: 0, reflection: 0, refraction: 0, bounce: 0, light: 0, to_camera: 0 }, error: null,
+    rays: { primary: 0, shadow: 0, reflection: 0, refraction: 0, bounce: 0, light: 0, to_camera: 0 }, error: null,
   };
   setState("rendering");
   status("rendering…");
@@ -276,7 +277,7 @@ function rowsDone(message) {
   const rays = render.rays;
   const bounces = (rays.bounce > 0 ? `, ${rays.bounce} bounce` : "")
     + (rays.light > 0 ? `, ${rays.light} light, ${rays.to_camera} to camera` : "");
-  $("rays").textContent = `Rays: ${rays.camera} camera, ${rays.shadow} shadow, ${rays.reflection} reflection, ${rays.refraction} refraction${bounces}`;
+  $("rays").textContent = `Rays: ${rays.primary} camera, ${rays.shadow} shadow, ${rays.reflection} reflection, ${rays.refraction} refraction${bounces}`;
   if (render.pending === 0) {
     render.milliseconds = performance.now() - render.started;
     status(`rendered ${render.prepared.width}x${render.prepared.height} in ${render.milliseconds.toFixed(0)} ms on ${page.workers.length} workers`);
