@@ -316,19 +316,6 @@ fn describe<C: Chapters>(
     }
 }
 
-/// The name `raylab trace` and its JSON give a kind of ray.
-pub fn kind_name(kind: RayKind) -> &'static str {
-    match kind {
-        RayKind::Primary => "camera",
-        RayKind::Shadow => "shadow",
-        RayKind::Reflection => "reflection",
-        RayKind::Refraction => "refraction",
-        RayKind::Bounce => "bounce",
-        RayKind::Light => "light",
-        RayKind::ToCamera => "to camera",
-    }
-}
-
 impl PixelTrace {
     /// The camera rays to show: every sample, or only sample `only`.
     pub fn chosen(&self, only: Option<usize>) -> impl Iterator<Item = (usize, &TracedRay)> {
@@ -383,7 +370,7 @@ fn ray_json(ray: &TracedRay) -> serde_json::Value {
         })
     });
     serde_json::json!({
-        "kind": kind_name(ray.kind),
+        "kind": ray.kind.name(),
         "origin": ray.ray.origin.to_array(),
         "direction": ray.ray.dir.to_array(),
         "t_min": ray.t_min,

@@ -300,13 +300,13 @@ fn probe_embree<C: Chapters>(
 #[cfg(feature = "embree")]
 mod with_embree {
     use super::*;
+    use crate::CastRay;
     use crate::cli::EXIT_FAILED_CHECK;
     use crate::crosscheck::{
         Boundary, Compared, EDGE_EPSILONS, GRAZING_EPSILONS, PlaneQuad, Reference,
         SILHOUETTE_EPSILONS, TOLERANCE_EPSILONS, Tally, Verdict, cross_check_with, rays_per_second,
     };
     use crate::embree::EmbreeScene;
-    use crate::{CastRay, RayKind};
     use anyhow::Context;
 
     /// Embree's copy of the stage's shapes, and the quads for the planes.
@@ -519,15 +519,7 @@ mod with_embree {
 
     fn describe<C: Chapters>(compared: &Compared, stage: &Stage<C>) -> String {
         let cast = &compared.cast;
-        let kind = match cast.kind {
-            RayKind::Primary => "primary",
-            RayKind::Shadow => "shadow",
-            RayKind::Reflection => "reflection",
-            RayKind::Refraction => "refraction",
-            RayKind::Bounce => "bounce",
-            RayKind::Light => "light",
-            RayKind::ToCamera => "to camera",
-        };
+        let kind = cast.kind.name();
         let answer = |answer: Option<Answer>| match answer {
             Some(hit) => format!("{:?} t={:e}", stage.name(hit.object).unwrap_or("?"), hit.t),
             None => "miss".into(),

@@ -5,7 +5,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use super::render::{SettingsOverrides, select_scene};
-use crate::ray_tree::{PixelTrace, TracedRay, kind_name, trace_pixel};
+use crate::ray_tree::{PixelTrace, TracedRay, trace_pixel};
 use crate::render::RayKind;
 use crate::{Stage, Vec3};
 
@@ -143,7 +143,7 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
     };
     out.push_str(&format!(
         "{indent}{} ray from {} along {}, {range}{share}\n",
-        kind_name(ray.kind),
+        ray.kind.name(),
         show(ray.ray.origin),
         show(ray.ray.dir)
     ));

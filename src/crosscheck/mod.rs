@@ -332,9 +332,8 @@ impl Reference<'_> {
 /// The summary of a cross-check.
 #[derive(Debug, Clone, Default)]
 pub struct Tally {
-    /// Rays compared, by kind: primary, shadow, reflection, refraction,
-    /// bounce, light, to camera.
-    pub by_kind: [u64; 7],
+    /// Rays compared, by kind, in the order of [`RayKind::ALL`].
+    pub by_kind: [u64; RayKind::COUNT],
     pub both_miss: u64,
     /// Same object, `t` within tolerance.
     pub same_hit: u64,
@@ -371,16 +370,7 @@ impl Tally {
     }
 
     fn add(&mut self, compared: Compared) {
-        let kind = match compared.cast.kind {
-            RayKind::Primary => 0,
-            RayKind::Shadow => 1,
-            RayKind::Reflection => 2,
-            RayKind::Refraction => 3,
-            RayKind::Bounce => 4,
-            RayKind::Light => 5,
-            RayKind::ToCamera => 6,
-        };
-        self.by_kind[kind] += 1;
+        self.by_kind[compared.cast.kind.index()] += 1;
         match compared.verdict {
             Verdict::Agree if compared.ours.is_none() => self.both_miss += 1,
             Verdict::Agree => self.same_hit += 1,

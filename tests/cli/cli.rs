@@ -549,7 +549,7 @@ fn trace_prints_a_pixels_ray_tree_ending_in_its_rendered_value() {
         text.starts_with("chapter 6, pixel 16,12: 1 camera ray"),
         "{text}"
     );
-    assert!(text.contains("  camera ray from "), "{text}");
+    assert!(text.contains("  primary ray from "), "{text}");
     assert!(text.contains("shadow ray from "), "{text}");
     assert!(text.contains("brings back ("), "{text}");
     let last = text.lines().last().expect("a last line");
@@ -570,7 +570,7 @@ fn trace_prints_a_pixels_ray_tree_ending_in_its_rendered_value() {
     assert!(out.status.success(), "{}", stderr(&out));
     let json: serde_json::Value = serde_json::from_str(&stdout(&out)).expect("valid json");
     assert_eq!(json["srgb"], serde_json::json!(pixel));
-    assert_eq!(json["samples"][0]["ray"]["kind"], "camera");
+    assert_eq!(json["samples"][0]["ray"]["kind"], "primary");
     assert!(
         json["samples"][0]["ray"]["children"]
             .as_array()

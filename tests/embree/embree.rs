@@ -160,7 +160,7 @@ material = { color = [0.95, 0.95, 0.95], transparency = 0.9, ior = 1.5, specular
         tally.by_kind, tally.boundary, tally.disagreements
     );
     assert!(
-        tally.by_kind[3] > 10_000,
+        tally.by_kind[raylab::RayKind::Refraction.index()] > 10_000,
         "refraction rays: {:?}",
         tally.by_kind
     );
