@@ -308,7 +308,6 @@ impl RayCounts {
     }
 }
 
-/// One ray as the tracer cast it: what [`RayRecorder`] keeps.
 /// One ray as the tracer cast it: what [`crate::record::RayRecorder`] keeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CastRay {

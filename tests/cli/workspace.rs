@@ -803,7 +803,10 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
         message.contains("intersect_sphere") && message.contains("ch02_sphere"),
         "{message}"
     );
-    assert!(message.contains("module `by_chapter` is private"), "{message}");
+    assert!(
+        message.contains("module `by_chapter` is private"),
+        "{message}"
+    );
     assert!(
         message.contains("function `check_chapter` is private"),
         "{message}"
