@@ -4,81 +4,54 @@
 
 use serde::Deserialize;
 
-/// An effect a stage can be asked to leave out: one the renderer knows
-/// how to draw without (a stage without reflection shades as chapter 5
-/// did; without the tree it tests every object). A variant, not a string,
-/// so that a misspelt switch is a compile error rather than never off.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Switch {
-    Planes,
-    Spheres,
-    NearestHit,
-    Lighting,
-    Phong,
-    Reflection,
-    Antialiasing,
-    Refraction,
-    NestedMedia,
-    Triangles,
-    SmoothShading,
-    Bvh,
-    Implicit,
-    PathTracing,
-    NextEvent,
-    Mis,
-    RussianRoulette,
-    LightTracing,
-    Dispersion,
+/// Makes [`Switch`], [`Switch::ALL`] and [`Switch::name`] from one list,
+/// so that a new switch is one line and cannot be left out of `ALL` (and
+/// so of every name the parser, `raylab chapters` and the help know).
+macro_rules! switches {
+    ($($variant:ident $name:literal,)*) => {
+        /// An effect a stage can be asked to leave out: one the renderer knows
+        /// how to draw without (a stage without reflection shades as chapter 5
+        /// did; without the tree it tests every object). A variant, not a string,
+        /// so that a misspelt switch is a compile error rather than never off.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum Switch {
+            $($variant,)*
+        }
+
+        impl Switch {
+            /// Every switch, in chapter order (each at its own discriminant).
+            pub const ALL: [Switch; [$(Switch::$variant),*].len()] = [$(Switch::$variant),*];
+
+            /// Its name in scenes, on the command line and in `raylab chapters`.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $(Switch::$variant => $name,)*
+                }
+            }
+        }
+    };
 }
 
-impl Switch {
-    /// Every switch, in chapter order (each at its own discriminant).
-    pub const ALL: [Switch; 19] = [
-        Switch::Planes,
-        Switch::Spheres,
-        Switch::NearestHit,
-        Switch::Lighting,
-        Switch::Phong,
-        Switch::Reflection,
-        Switch::Antialiasing,
-        Switch::Refraction,
-        Switch::NestedMedia,
-        Switch::Triangles,
-        Switch::SmoothShading,
-        Switch::Bvh,
-        Switch::Implicit,
-        Switch::PathTracing,
-        Switch::NextEvent,
-        Switch::Mis,
-        Switch::RussianRoulette,
-        Switch::LightTracing,
-        Switch::Dispersion,
-    ];
-
-    /// Its name in scenes, on the command line and in `raylab chapters`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Switch::Planes => "planes",
-            Switch::Spheres => "spheres",
-            Switch::NearestHit => "nearest-hit",
-            Switch::Lighting => "lighting",
-            Switch::Phong => "phong",
-            Switch::Reflection => "reflection",
-            Switch::Antialiasing => "antialiasing",
-            Switch::Refraction => "refraction",
-            Switch::NestedMedia => "nested-media",
-            Switch::Triangles => "triangles",
-            Switch::SmoothShading => "smooth-shading",
-            Switch::Bvh => "bvh",
-            Switch::Implicit => "implicit",
-            Switch::PathTracing => "path-tracing",
-            Switch::NextEvent => "next-event",
-            Switch::Mis => "mis",
-            Switch::RussianRoulette => "russian-roulette",
-            Switch::LightTracing => "light-tracing",
-            Switch::Dispersion => "dispersion",
-        }
-    }
+switches! {
+    Planes "planes",
+    Spheres "spheres",
+    NearestHit "nearest-hit",
+    Lighting "lighting",
+    Phong "phong",
+    Reflection "reflection",
+    Antialiasing "antialiasing",
+    Refraction "refraction",
+    NestedMedia "nested-media",
+    Triangles "triangles",
+    SmoothShading "smooth-shading",
+    Bvh "bvh",
+    Implicit "implicit",
+    PathTracing "path-tracing",
+    NextEvent "next-event",
+    Mis "mis",
+    RussianRoulette "russian-roulette",
+    LightTracing "light-tracing",
+    Dispersion "dispersion",
 }
 
 /// A set of [`Switch`]es: the effects a stage is asked to leave out.
@@ -87,10 +60,10 @@ pub struct SwitchedOff(u32);
 
 impl SwitchedOff {
     /// Every effect that can be switched off, by name, in chapter order.
-    pub const NAMES: [&'static str; 19] = {
-        let mut names = [""; 19];
+    pub const NAMES: [&'static str; Switch::ALL.len()] = {
+        let mut names = [""; Switch::ALL.len()];
         let mut index = 0;
-        while index < 19 {
+        while index < Switch::ALL.len() {
             names[index] = Switch::ALL[index].name();
             index += 1;
         }
