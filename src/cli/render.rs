@@ -761,6 +761,33 @@ pub fn scene(args: &SceneArgs) -> Result<i32> {
 mod tests {
     use super::*;
 
+    /// The help of --without lists its names by hand (clap takes a doc
+    /// comment's text as it is): every switch must be among them.
+    #[test]
+    fn the_help_of_without_names_every_switch() {
+        use clap::CommandFactory;
+        #[derive(clap::Parser)]
+        struct Wrapper {
+            #[command(flatten)]
+            settings: SettingsOverrides,
+        }
+        let command = Wrapper::command();
+        let without = command
+            .get_arguments()
+            .find(|argument| argument.get_id() == "without")
+            .expect("a --without argument");
+        let help = without
+            .get_help()
+            .map(|help| help.to_string().replace('\n', " "))
+            .unwrap_or_default();
+        for name in crate::scene::SwitchedOff::NAMES {
+            assert!(
+                help.contains(name),
+                "--without's help leaves out {name}: {help}"
+            );
+        }
+    }
+
     #[test]
     fn the_progress_bar_counts_objects_not_only_samples() {
         let settings = |width, height, samples| RenderSettings {
