@@ -38,12 +38,23 @@ install_package() {
         echo "test.sh: installing $package needs root; skipping it ($without)" >&2
         return 0
     fi
+    # Without recommends: chromium's pull in a desktop's daemons (avahi)
+    # and parallel's sysstat with its timers, none of which a test uses.
+    # apt's and dpkg's chatter goes to a log shown only if the install fails.
+    local log
+    log=$(mktemp)
+    echo "test.sh: installing $package (apt-get, as root)" >&2
     # The current package lists first; update them only if that fails.
-    if ! $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$package" >&2 2>/dev/null; then
-        $as_root apt-get update -qq >&2 || true
-        $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$package" >&2 \
-            || echo "test.sh: could not install $package; skipping it ($without)" >&2
+    if ! $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+        --no-install-recommends -o Dpkg::Use-Pty=0 "$package" >"$log" 2>&1; then
+        $as_root apt-get update -qq >>"$log" 2>&1 || true
+        $as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+            --no-install-recommends -o Dpkg::Use-Pty=0 "$package" >>"$log" 2>&1 || {
+            cat "$log" >&2
+            echo "test.sh: could not install $package; skipping it ($without)" >&2
+        }
     fi
+    rm -f "$log"
 }
 install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
