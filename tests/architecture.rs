@@ -398,103 +398,38 @@ fn planted_upward_imports_are_named() {
     assert_eq!(layer_of("src/bvh_reports/race.rs"), Ok(Some(Layer::Tool)));
 }
 
-/// `Textbook<C>` swaps in the textbook intersections and must otherwise be
-/// `C`: every method of `Chapters` that does not take the chapters' own
-/// tracer or objects (which `Textbook<C>` cannot hand to `C`) forwards to
-/// `C`. A method added to the trait and not forwarded would silently run
-/// the reference under `--sphere-formula textbook`.
+/// The trait, `Textbook`'s forwards and the planted variants' table are
+/// made from one list (`raylab::course::FUNCTIONS`'s): it must name every
+/// function of the registry, in its chapter, and mark `drives` exactly the
+/// functions that take the chapters' own tracer or objects, which
+/// `Textbook<C>` cannot hand to `C` (a pure function marked so would
+/// silently run the reference under `--sphere-formula textbook`).
 #[test]
-fn textbook_forwards_every_method_it_can() {
-    use raylab::workspace::scan::{ItemKind, items};
-    let course = read("src/course.rs");
-    let top = items(&course).expect("src/course.rs scans");
-    let block = |item: &raylab::workspace::scan::Item| {
-        let text = &course[item.header..item.range.end];
-        let open = text.find('{').expect("a block");
-        text[open + 1..text.len() - 1].to_string()
-    };
-    let methods = |text: &str| -> Vec<(String, String)> {
-        items(text)
-            .expect("a block scans")
-            .into_iter()
-            .filter(|item| item.kind == ItemKind::Fn)
-            .map(|item| {
-                let end = item.body.clone().map_or(item.range.end, |body| body.start);
-                (
-                    item.name.clone().unwrap_or_default(),
-                    text[item.header..end].to_string(),
-                )
-            })
-            .collect()
-    };
-    let trait_block = top
+fn the_course_list_is_the_registry_s_functions() {
+    use raylab::chapters::CHAPTERS;
+    use raylab::course::FUNCTIONS;
+    let listed: Vec<(String, &str)> = FUNCTIONS
         .iter()
-        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
-        .map(block)
-        .expect("trait Chapters");
-    let textbook_block = top
-        .iter()
-        .find(|item| {
-            item.kind == ItemKind::Impl
-                && course[item.header..item.range.end].contains("for Textbook<")
-        })
-        .map(block)
-        .expect("impl Chapters for Textbook");
-    let forwarded: Vec<String> = methods(&textbook_block)
-        .into_iter()
-        .map(|(name, _)| name)
+        .map(|function| (function.module.to_string(), function.name))
         .collect();
-    let mut missing = Vec::new();
-    for (name, signature) in methods(&trait_block) {
-        let own_types = ["Tracer<Self>", "Objects<Self>"];
-        let forwardable = !own_types.iter().any(|own| signature.contains(own));
-        if forwardable && !forwarded.contains(&name) {
-            missing.push(name);
-        }
-    }
-    assert!(
-        missing.is_empty(),
-        "Textbook does not forward {missing:?} to its C"
-    );
-    assert!(forwarded.len() >= 15, "only {forwarded:?}");
-}
-
-/// Every default of the trait is raylab's answer, so each reports itself
-/// to `answer_key` under its own name before it answers: a student's
-/// `impl Chapters` that keeps one is caught (src/answer_key.rs).
-#[test]
-fn every_default_of_the_trait_reports_to_the_answer_key() {
-    use raylab::workspace::scan::{ItemKind, items};
-    let course = read("src/course.rs");
-    let top = items(&course).expect("src/course.rs scans");
-    let chapters = top
+    let registered: Vec<(String, &str)> = CHAPTERS
         .iter()
-        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
-        .expect("trait Chapters");
-    let text = &course[chapters.header..chapters.range.end];
-    let open = text.find('{').expect("a block");
-    let block = &text[open + 1..text.len() - 1];
-    let mut silent = Vec::new();
-    let mut defaults = 0;
-    for item in items(block).expect("the trait scans") {
-        let (Some(name), Some(body)) = (item.name.clone(), item.body.clone()) else {
-            continue;
-        };
-        if item.kind != ItemKind::Fn {
-            continue;
-        }
-        defaults += 1;
-        let report =
-            format!("crate::answer_key::answered_by(Self::COMPARISON, \"Chapters::{name}\")");
-        if !block[body].contains(&report) {
-            silent.push(name);
-        }
+        .flat_map(|info| info.functions.iter().map(|name| (info.module(), *name)))
+        .collect();
+    assert_eq!(listed, registered);
+    for function in FUNCTIONS {
+        let own = ["Tracer <", "Objects <"]
+            .iter()
+            .any(|own| function.arguments.contains(own));
+        assert_eq!(
+            function.markers.split_whitespace().any(|marker| marker == "drives"),
+            own,
+            "{}: ({}) [{}]",
+            function.name,
+            function.arguments,
+            function.markers
+        );
     }
-    assert!(
-        silent.is_empty(),
-        "these defaults do not report: {silent:?}"
-    );
-    assert!(defaults >= 28, "only {defaults} defaults");
 }
 
 /// Whether `text` names a chapter by its folder's stem (`42_lens`) or its

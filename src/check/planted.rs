@@ -25,7 +25,7 @@ use std::sync::atomic::{AtomicPtr, Ordering};
 use crate::bsdf::{Dispersed, Lobe};
 use crate::bvh::{Aabb, Boxes4, Bvh, BvhOptions, Triangles4, WideBvh};
 use crate::check::{ChapterVerdict, CheckOptions, CheckReport};
-use crate::course::{Chapters, Hit, HitPoint, Objects, PhongTerms, reference};
+use crate::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
 use crate::medium::{Crossing, MediumStack};
 use crate::render::Tracer;
 use crate::scene::Cauchy;
@@ -173,17 +173,34 @@ fn installed() -> Option<&'static Plants> {
     unsafe { table.as_ref() }
 }
 
-/// Declares the table's fields and `Planted`'s `Chapters`, one line per
-/// function: its signature (with `Planted` for `Self`) and the reference.
+/// The table of planted functions and the `Chapters` that answers from
+/// it, made from the course's list of functions
+/// ([`crate::course::for_each_course_function`]).
 macro_rules! plants {
-    ($(
-        fn $name:ident $(<$lifetime:lifetime>)? ($($argument:ident: $type:ty),* $(,)?)
-            $(-> $answer:ty)? = $reference:path;
+    ($chapters:ty; $(
+        $(#[$doc:meta])*
+        $module:ident fn $name:ident $(<$lifetime:lifetime>)? ($($argument:ident: $type:ty),* $(,)?)
+            $(-> $answer:ty)? $([$($marker:ident)*])?
+            $({ textbook if $flag:ident => $text_module:ident :: $text_function:ident })?;
     )*) => {
-        /// The functions a variant overrides, by name.
         #[derive(Clone, Copy, Default)]
         pub struct Plants {
             $(pub $name: Option<for<$($lifetime)?> fn($($type),*) $(-> $answer)?>,)*
+        }
+
+        impl Plants {
+            /// Every function `todo!()`: a workspace where nothing is
+            /// written yet.
+            pub fn nothing_written() -> Plants {
+                Plants {
+                    $($name: Some({
+                        fn not_written $(<$lifetime>)? ($(_: $type),*) $(-> $answer)? {
+                            todo!()
+                        }
+                        not_written
+                    }),)*
+                }
+            }
         }
 
         impl Chapters for Planted {
@@ -197,7 +214,12 @@ macro_rules! plants {
                                 false,
                                 concat!("Chapters::", stringify!($name)),
                             );
-                            $reference($($argument),*)
+                            crate::course::reference_call!(
+                                Planted,
+                                $module::$name,
+                                [$($($marker)*)?],
+                                ($($argument),*)
+                            )
                         }
                     }
                 }
@@ -206,102 +228,7 @@ macro_rules! plants {
     };
 }
 
-plants! {
-    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32>
-        = reference::intersect_plane;
-    fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32>
-        = reference::intersect_sphere;
-    fn nearest_hit(objects: &Objects<Planted>, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit>
-        = reference::nearest_hit;
-    fn offset_origin(surface: &SurfacePoint, dir: Vec3) -> Vec3 = reference::offset_origin;
-    fn in_shadow(tracer: &mut Tracer<Planted>, point: &HitPoint, light: Vec3) -> bool
-        = reference::in_shadow;
-    fn shade_flat(tracer: &mut Tracer<Planted>, point: &HitPoint) -> Vec3
-        = reference::shade_flat;
-    fn phong_terms(
-        material: &Material,
-        albedo: Vec3,
-        normal: Vec3,
-        to_light: Vec3,
-        to_eye: Vec3,
-        light: Vec3,
-    ) -> PhongTerms = reference::phong_terms;
-    fn shade_phong(tracer: &mut Tracer<Planted>, point: &HitPoint) -> PhongTerms
-        = reference::shade_phong;
-    fn reflect(d: Vec3, n: Vec3) -> Vec3 = reference::reflect;
-    fn shade_mirror(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32)
-        -> Vec3 = reference::shade_mirror;
-    fn sample_offset(sampling: Sampling, count: u32, index: u32, pixel: (u32, u32), seed: u64)
-        -> (f32, f32) = reference::sample_offset;
-    fn pixel_color(tracer: &mut Tracer<Planted>, x: u32, y: u32) -> Vec3
-        = reference::pixel_color;
-    fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> = reference::refract;
-    fn shade_glass(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32)
-        -> Vec3 = reference::shade_glass;
-    fn fresnel(cos_i: f32, n1: f32, n2: f32) -> f32 = reference::fresnel;
-    fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 = reference::schlick;
-    fn transmittance(absorption: Vec3, distance: f32) -> Vec3 = reference::transmittance;
-    fn crossing(media: &MediumStack, point: &HitPoint) -> Crossing = reference::crossing;
-    fn shade_dielectric(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32)
-        -> Vec3 = reference::shade_dielectric;
-    fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32>
-        = reference::intersect_triangle;
-    fn barycentric(triangle: &Triangle, point: Vec3) -> Vec3 = reference::barycentric;
-    fn smooth_normal(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3
-        = reference::smooth_normal;
-    fn terminator_point(triangle: &Triangle, normals: &[Vec3; 3], point: Vec3) -> Vec3
-        = reference::terminator_point;
-    fn smooth_hit_point<'a>(point: HitPoint<'a>, triangle: &Triangle, normals: &[Vec3; 3])
-        -> HitPoint<'a> = reference::smooth_hit_point::<Planted>;
-    fn hit_box(bounds: &Aabb, origin: Vec3, inverse_direction: Vec3, t_min: f32, t_max: f32)
-        -> Option<f32> = reference::hit_box;
-    fn build_bvh(bounds: &[Option<Aabb>], options: &BvhOptions) -> Bvh = reference::build_bvh;
-    fn nearest_hit_bvh(bvh: &Bvh, objects: &Objects<Planted>, ray: &Ray, t_min: f32, t_max: f32)
-        -> Option<Hit> = reference::nearest_hit_bvh;
-    fn any_hit_bvh(bvh: &Bvh, objects: &Objects<Planted>, ray: &Ray, t_min: f32, t_max: f32)
-        -> Option<Hit> = reference::any_hit_bvh;
-    fn hit_boxes(boxes: &Boxes4, origin: Vec3, inverse_direction: Vec3, t_min: f32, t_max: f32)
-        -> Vec4 = reference::hit_boxes;
-    fn intersect_triangles(triangles: &Triangles4, ray: &Ray, t_min: f32, t_max: f32) -> Vec4
-        = reference::intersect_triangles;
-    fn collapse_bvh(bvh: &Bvh, shapes: &[Shape]) -> WideBvh = reference::collapse_bvh;
-    fn nearest_hit_wide(
-        wide: &WideBvh,
-        objects: &Objects<Planted>,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<Hit> = reference::nearest_hit_wide;
-    fn any_hit_wide(wide: &WideBvh, objects: &Objects<Planted>, ray: &Ray, t_min: f32, t_max: f32)
-        -> Option<Hit> = reference::any_hit_wide;
-    fn sphere_trace(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32>
-        = reference::sphere_trace;
-    fn newton_bracketed(
-        g: &dyn Fn(f32) -> (f32, f32),
-        bracket: Bracket,
-        tolerance: f32,
-        max_iterations: u32,
-    ) -> f32 = reference::newton_bracketed;
-    fn implicit_normal(surface: &Implicit, point: Vec3) -> Vec3 = reference::implicit_normal;
-    fn intersect_implicit(surface: &Implicit, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32>
-        = reference::intersect_implicit::<Planted>;
-    fn cosine_hemisphere(u: f32, v: f32) -> Vec3 = reference::cosine_hemisphere;
-    fn cosine_pdf(cos_theta: f32) -> f32 = reference::cosine_pdf;
-    fn power_heuristic(pdf: f32, other: f32) -> f32 = reference::power_heuristic;
-    fn russian_roulette(weight: f32, u: f32) -> Option<f32> = reference::russian_roulette;
-    fn next_event(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe) -> Vec3
-        = reference::next_event;
-    fn shade_path(tracer: &mut Tracer<Planted>, point: &HitPoint, depth: u32, weight: f32) -> Vec3
-        = reference::shade_path;
-    fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32
-        = reference::splat_weight;
-    fn connect_to_camera(tracer: &mut Tracer<Planted>, point: &HitPoint, lobe: &Lobe, power: Vec3)
-        = reference::connect_to_camera;
-    fn trace_light_path(tracer: &mut Tracer<Planted>) = reference::trace_light_path;
-    fn cauchy_ior(cauchy: &Cauchy, nanometres: f32) -> f32 = reference::cauchy_ior;
-    fn dispersive_ior(tracer: &mut Tracer<Planted>, cauchy: &Cauchy) -> Dispersed
-        = reference::dispersive_ior;
-}
+crate::course::for_each_course_function!(plants, Planted);
 
 /// A variant, written as the methods of a `Chapters` impl would be (with
 /// `Planted` where they said `Self`):
