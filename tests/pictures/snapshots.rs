@@ -131,65 +131,23 @@ fn check_chapter(chapter: u8) {
     });
 }
 
-#[test]
-fn chapter_1_plane() {
-    check_chapter(1);
-}
-#[test]
-fn chapter_2_sphere() {
-    check_chapter(2);
-}
-#[test]
-fn chapter_3_nearest_hit() {
-    check_chapter(3);
-}
-#[test]
-fn chapter_4_shadows() {
-    check_chapter(4);
-}
-#[test]
-fn chapter_5_phong() {
-    check_chapter(5);
-}
-#[test]
-fn chapter_6_reflection() {
-    check_chapter(6);
-}
-#[test]
-fn chapter_7_antialiasing() {
-    check_chapter(7);
-}
-#[test]
-fn chapter_8_refraction() {
-    check_chapter(8);
+/// One test per chapter of the registry, named after its module
+/// (`snapshots::` and the module): scripts/bless-snapshots.sh blesses them all.
+macro_rules! snapshot_tests {
+    ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
+       |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(asks { $($asked:ident($asked_kind:ident)),* $(,)? })?
+       $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
+        $(
+            #[test]
+            fn $module() {
+                check_chapter($number);
+            }
+        )*
+    };
 }
 
-#[test]
-fn chapter_9_glass() {
-    check_chapter(9);
-}
-
-#[test]
-fn chapter_10_triangles() {
-    check_chapter(10);
-}
-
-#[test]
-fn chapter_11_bvh() {
-    check_chapter(11);
-}
-#[test]
-fn chapter_12_implicit() {
-    check_chapter(12);
-}
-#[test]
-fn chapter_13_path_tracing() {
-    check_chapter(13);
-}
-#[test]
-fn chapter_14_caustics() {
-    check_chapter(14);
-}
+raylab::for_each_chapter!(snapshot_tests);
 
 /// Chapter 11 adds speed, not pixels: its scene drawn at chapter 10's stage
 /// (every ray tests every object) is the same image, bit for bit. Small, so
