@@ -109,13 +109,14 @@ pub struct SettingsOverrides {
     /// --ray-offset fixed [default: the scene's, else 0.0001].
     #[arg(long, allow_negative_numbers = true)]
     pub epsilon: Option<f32>,
-    /// Effects of the chapter's stage to leave out, by name, comma-separated
-    /// (planes, spheres, nearest-hit, lighting, phong, reflection, antialiasing,
-    /// refraction, nested-media, triangles, smooth-shading, bvh, implicit,
-    /// path-tracing, next-event, mis, russian-roulette, light-tracing,
-    /// dispersion): the image without them [default: the scene's `without`,
-    /// else none].
-    #[arg(long, value_name = "EFFECTS", value_delimiter = ',', value_parser = parse_switched_off)]
+    // Its help names the switches from their one list (`without_help`).
+    #[arg(
+        long,
+        value_name = "EFFECTS",
+        value_delimiter = ',',
+        value_parser = parse_switched_off,
+        help = without_help()
+    )]
     pub without: Option<Vec<crate::scene::SwitchedOff>>,
     /// Paths traced from the lights per pixel, from chapter 14 on (caustics)
     /// [default: the scene's, else 16].
@@ -124,6 +125,15 @@ pub struct SettingsOverrides {
     /// Worker threads, 1 to 1024 [default: one per core]. The image does not depend on it.
     #[arg(long, value_parser = crate::cli::parse_threads)]
     pub threads: Option<usize>,
+}
+
+/// The help of `--without`: every switch's name, from the switches' list.
+fn without_help() -> String {
+    format!(
+        "Effects of the chapter's stage to leave out, by name, comma-separated ({}): the \
+         image without them [default: the scene's `without`, else none]",
+        crate::scene::SwitchedOff::NAMES.join(", ")
+    )
 }
 
 fn parse_switched_off(name: &str) -> Result<crate::scene::SwitchedOff, String> {
@@ -761,8 +771,8 @@ pub fn scene(args: &SceneArgs) -> Result<i32> {
 mod tests {
     use super::*;
 
-    /// The help of --without lists its names by hand (clap takes a doc
-    /// comment's text as it is): every switch must be among them.
+    /// The help of --without names every switch (from their list: a name
+    /// written by hand would fall behind the next switch).
     #[test]
     fn the_help_of_without_names_every_switch() {
         use clap::CommandFactory;
