@@ -76,7 +76,8 @@ macro_rules! for_each_chapter {
             12 ch12_implicit "12_implicit" "Surfaces without a formula"
                 "implicit surfaces: sphere tracing, Newton's method, normals by differences"
                 |e| { e.implicit = true }
-                [sphere_trace, newton_bracketed, implicit_normal, intersect_implicit];
+                [sphere_trace, newton_bracketed, implicit_normal, intersect_implicit]
+                asks { March(MarchCase), Newton(NewtonCase), ImplicitNormal(ImplicitNormalCase) };
             13 ch13_path_tracing "13_path_tracing" "Path tracing"
                 "global illumination: area lights, random paths, next-event estimation, MIS, Russian roulette"
                 |e| { e.path_tracing = true; e.next_event = true; e.mis = true; e.roulette = true }
@@ -147,6 +148,7 @@ pub const REFERENCE_HEIGHT: u32 = 120;
 macro_rules! declare_chapters {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
        |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(asks { $($asked:ident($asked_kind:ident)),* $(,)? })?
        $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
         $(
             // Each chapter's module is its folder: the code a student reads

@@ -40,9 +40,12 @@ fn layer_of(path: &str) -> Result<Option<Layer>, String> {
         return match rest {
             "mod.rs" => Ok(Some(Layer::Engine)),
             _ if rest.ends_with("/chapter.rs") => Ok(Some(Layer::Engine)),
-            _ if rest.ends_with("/checks.rs") => Ok(Some(Layer::Tool)),
+            _ if rest.ends_with("/checks.rs") || rest.ends_with("/kinds.rs") => {
+                Ok(Some(Layer::Tool))
+            }
             _ => Err(format!(
-                "{path}: a chapter folder holds chapter.rs, checks.rs, tests.rs and gallery.rs"
+                "{path}: a chapter folder holds chapter.rs, checks.rs, kinds.rs, tests.rs and \
+                 gallery.rs"
             )),
         };
     }
@@ -616,7 +619,8 @@ const SEAM: &[&str] = &["chapters", "course", "render"];
 /// Where a file sits in the module tree: its top-level module and, below
 /// that, the child module it is part of (`src/check/judge.rs` is `check`'s
 /// child `judge`; a chapter's `chapter.rs` is `chapters`' child
-/// `chNN_name`; its `checks.rs` is the judge's, `check::by_chapter`).
+/// `chNN_name`; its `checks.rs` and `kinds.rs` are the judge's,
+/// `check::by_chapter` and `check::chapter_kinds`).
 /// `None` for test code and for the crate root, which only re-exports.
 fn module_of(path: &str) -> Option<(String, Option<String>)> {
     // Test code and the crate root have no layer: no module to place.
@@ -625,6 +629,7 @@ fn module_of(path: &str) -> Option<(String, Option<String>)> {
         return match rest.split_once('/') {
             None => Some(("chapters".into(), None)),
             Some((_, "checks.rs")) => Some(("check".into(), Some("by_chapter".into()))),
+            Some((_, "kinds.rs")) => Some(("check".into(), Some("chapter_kinds".into()))),
             Some((folder, _)) => Some(("chapters".into(), Some(format!("ch{folder}")))),
         };
     }

@@ -3,6 +3,7 @@
 //! `raylab::check::catalog`.
 
 use crate::check::catalog::*;
+use crate::check::chapter_kinds::ch12_implicit::*;
 
 const TRACE_12: &str = "Sphere tracing";
 const LIPSCHITZ_12: &str = "Bounds, not distances: the Lipschitz constant";

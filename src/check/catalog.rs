@@ -17,7 +17,8 @@ pub use super::cases::{
     ReflectanceCase, RefractCase, SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase,
     SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
-pub use super::cases::{Case, CaseKind, ExpectT, Level, SampleRule, Shading, TreeShape, vec};
+pub use super::cases::{ExpectT, Level, SampleRule, Shading, TreeShape, vec};
+pub use super::question::{Case, CaseKind};
 pub use super::cases::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 pub use super::cases::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase,
@@ -25,10 +26,6 @@ pub use super::cases::{
 };
 pub use super::cases::{
     DispersionCase, LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase,
-};
-pub use super::cases::{
-    ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
-    surface_of,
 };
 #[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};

@@ -21,7 +21,8 @@ use glam::Vec3;
 
 // The judge's interface: whoever drives it names these from here.
 pub use super::asker::{Asker, Ended, Step};
-use super::cases::{Case, Level, Outcome};
+use super::cases::{Level, Outcome};
+use super::question::Case;
 use super::panics::Panic;
 use super::protocol::{Answered, Hello, Reply, Request};
 use super::remote::{Remote, Spawn};

@@ -65,6 +65,10 @@ pub mod protocol;
 #[cfg(feature = "student")]
 pub(crate) mod protocol;
 #[cfg(not(feature = "student"))]
+pub mod question;
+#[cfg(feature = "student")]
+pub(crate) mod question;
+#[cfg(not(feature = "student"))]
 pub mod remote;
 #[cfg(feature = "student")]
 pub(crate) mod remote;
@@ -84,7 +88,25 @@ pub(crate) mod serve;
 macro_rules! declare_by_chapter {
     (($($visibility:tt)*) $($number:literal $module:ident $folder:literal $title:literal $adds:literal
        |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(asks { $($asked:ident($asked_kind:ident)),* $(,)? })?
        $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
+        /// The kinds of question a chapter's registry line names in its
+        /// `asks` clause, its folder's `kinds.rs`: below the builders and
+        /// the enum of kinds ([`question`]), so that the enum can name
+        /// them and the chapter's `checks.rs` build cases of them.
+        #[path = "../../chapters"]
+        $($visibility)* mod chapter_kinds {
+            $($(
+                #[path = $folder]
+                #[doc(hidden)]
+                pub mod $module {
+                    $(#[doc = concat!("Asks `", stringify!($asked_kind), "`.")])*
+                    pub mod kinds;
+                    pub use kinds::*;
+                }
+            )?)*
+        }
+
         /// Each chapter's two lists of cases, its folder's `checks.rs`, and
         /// the table of them by chapter number, from the registry.
         #[path = "../../chapters"]
@@ -109,7 +131,6 @@ macro_rules! declare_by_chapter {
                 })
             }
 
-            /// Chapter `number`'s hard cases (level 2); none for an unknown chapter.
             /// Chapter `number`'s hint for an image that fails when every
             /// checkpoint passes (each chapter's `IMAGE_HINT`).
             pub fn image_hint(number: u8) -> &'static str {
@@ -119,8 +140,9 @@ macro_rules! declare_by_chapter {
                 }
             }
 
-            /// Whatever level a chapter's file gave them, these are hard
-            /// cases: judged and reported as robustness.
+            /// Chapter `number`'s hard cases (level 2); none for an unknown
+            /// chapter. Whatever level a chapter's file gave them, these are
+            /// hard cases: judged and reported as robustness.
             pub fn robustness(number: u8) -> Vec<Case> {
                 super::catalog::robust(crate::answer_key::raylab_own(|| match number {
                     $($number => $module::checks::robustness(),)*
@@ -147,7 +169,8 @@ crate::for_each_chapter!(chapter_checks);
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-pub use cases::{Case, CaseKind, Level, Outcome, TreeShape};
+pub use cases::{Level, Outcome, TreeShape};
+pub use question::{Case, CaseKind};
 pub use judge::{REQUIRE_ROBUST_VAR, assert_chapter};
 #[cfg(not(feature = "student"))]
 pub use judge::{check_all, check_chapter};

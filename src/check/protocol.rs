@@ -4,7 +4,7 @@
 //! workspace the `check` that starts the chapters in a child) sends
 //! [`Request`]s; the student's binary, started as `serve`, answers each
 //! with one [`Reply`] and nothing else. A request carries only the inputs
-//! of a call ([`super::cases::Call`]); a reply only the raw answer. Every
+//! of a call ([`super::question::Call`]); a reply only the raw answer. Every
 //! expectation stays with the judge.
 //!
 //! Each message is a frame: its length as four little-endian bytes, then
@@ -25,7 +25,7 @@ use std::io::{Read, Write};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::cases::{Answer, Call};
+use super::question::{Answer, Call};
 use super::panics::Panic;
 
 /// The protocol's number: raised whenever a message changes.

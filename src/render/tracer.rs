@@ -857,6 +857,7 @@ fn point_on(shape: &Shape, u: f32, v: f32) -> Option<(Vec3, Vec3, f32)> {
 macro_rules! shading_chain {
     ($($number:literal $module:ident $folder:literal $title:literal $adds:literal
        |$effects:ident| $switch_on:block [$($function:ident),*] $(kept { $($kept:path),* })?
+       $(asks { $($asked:ident($asked_kind:ident)),* $(,)? })?
        $(shades |$when:ident| $condition:expr => $shade:expr)?;)*) => {
         impl<'a, C: Chapters> Tracer<'a, C> {
             /// The colour of `point`, by the shader of the highest chapter

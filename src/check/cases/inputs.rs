@@ -3,15 +3,8 @@
 
 use super::*;
 
-impl Case {
-    /// The inputs, as the call would receive them.
-    pub fn inputs(&self) -> String {
-        self.kind.inputs()
-    }
-}
-
 /// The interval of `t` a call asks about.
-pub(super) fn range(t_min: f32, t_max: f32) -> String {
+pub fn range(t_min: f32, t_max: f32) -> String {
     format!("t_min = {}, t_max = {}", num(t_min), num(t_max))
 }
 
@@ -74,7 +67,7 @@ pub fn vec(v: Vec3) -> String {
     format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
 }
 
-pub(super) fn vec64(v: DVec3) -> String {
+pub fn vec64(v: DVec3) -> String {
     format!("({}, {}, {})", num64(v.x), num64(v.y), num64(v.z))
 }
 
@@ -131,7 +124,7 @@ pub(super) fn shape_text(shape: &Shape) -> String {
 }
 
 /// An implicit surface's tree as a student would write it in a scene.
-pub(super) fn sdf_text(tree: &crate::shapes::Sdf) -> String {
+pub fn sdf_text(tree: &crate::shapes::Sdf) -> String {
     use crate::shapes::Sdf;
     let list = |shapes: &[Sdf]| shapes.iter().map(sdf_text).collect::<Vec<_>>().join(", ");
     match tree {

@@ -9,7 +9,6 @@
 mod boxes;
 mod directions;
 mod draw;
-mod implicit;
 mod inputs;
 mod intersections;
 mod light_paths;
@@ -25,11 +24,7 @@ pub use boxes::{
     WalkCall, Walked, WalkedTrees,
 };
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
-pub use implicit::{
-    ImplicitNormalCase, MarchCase, MarchExpect, Marcher, NewtonCase, NewtonFunction, method_name,
-    surface_of,
-};
-pub use inputs::{num, num64, vec};
+pub use inputs::{num, num64, range, sdf_text, vec, vec64};
 pub use intersections::{ClosedMeshCase, NearestCase, PlaneCase, SphereCase, TrianglesCase};
 pub use light_paths::{
     DispersionCase, LENS_ALLOWANCE, LensCase, LightConvergesCase, LightFormula, LightFormulaCase,
@@ -49,7 +44,7 @@ use glam::{DVec3, Vec3};
 
 pub use draw::{Draw, Motion};
 
-use super::panics::{Panic, guarded};
+use super::panics::Panic;
 use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::check::exact::{self, U, wide};
 use crate::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
@@ -183,142 +178,6 @@ pub trait Kind: std::fmt::Debug + Clone {
     }
 }
 
-/// The list of kinds, once: it makes [`CaseKind`] (a case), [`Call`] (what
-/// the student's process is sent) and [`Answer`] (what it sends back),
-/// and the one dispatch of each over them.
-macro_rules! kinds {
-    ($($variant:ident($case:ty),)*) => {
-        /// The question a case asks, one variant per kind of function
-        /// (see [`Kind`]).
-        #[derive(Debug, Clone)]
-        pub enum CaseKind {
-            $($variant($case),)*
-        }
-
-        /// A case's call as the student's process receives it.
-        #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-        pub enum Call {
-            $($variant(<$case as Kind>::Call),)*
-        }
-
-        /// The raw answer of the student's process to a [`Call`].
-        #[derive(Debug, serde::Serialize, serde::Deserialize)]
-        pub enum Answer {
-            $($variant(<$case as Kind>::Answer),)*
-        }
-
-        impl CaseKind {
-            /// The course function this case calls.
-            pub fn function(&self) -> &'static str {
-                match self {
-                    $(CaseKind::$variant(case) => case.function(),)*
-                }
-            }
-
-            /// The inputs, as the call would receive them.
-            pub fn inputs(&self) -> String {
-                match self {
-                    $(CaseKind::$variant(case) => case.inputs(),)*
-                }
-            }
-
-            /// What the student's process is sent.
-            pub fn call(&self) -> Call {
-                match self {
-                    $(CaseKind::$variant(case) => Call::$variant(case.call()),)*
-                }
-            }
-
-            /// Judges `answer` (see [`Kind::judge`]); an answer to another
-            /// kind of question fails.
-            pub fn judge(&self, answer: Answer, robust: bool) -> Outcome {
-                match (self, answer) {
-                    $((CaseKind::$variant(case), Answer::$variant(answer)) => {
-                        case.judge(answer, robust)
-                    })*
-                    (_, other) => Outcome::Fail {
-                        expected: format!("an answer to {}", self.function()),
-                        got: format!("an answer to another question ({})", other.function()),
-                    },
-                }
-            }
-
-            /// The case with fresh inputs (see [`Kind::fresh`]).
-            pub fn fresh(&self, draw: &mut Draw) -> Option<CaseKind> {
-                match self {
-                    $(CaseKind::$variant(case) => case.fresh(draw).map(CaseKind::$variant),)*
-                }
-            }
-
-            /// Whether the case is statistical (see [`Kind::statistical`]).
-            pub fn statistical(&self) -> bool {
-                match self {
-                    $(CaseKind::$variant(case) => case.statistical(),)*
-                }
-            }
-        }
-
-        impl Call {
-            /// Asks the call of the chapters `C` (see [`Kind::ask`]).
-            pub fn ask<C: Chapters>(&self) -> Result<Answer, String> {
-                match self {
-                    $(Call::$variant(call) => <$case as Kind>::ask::<C>(call).map(Answer::$variant),)*
-                }
-            }
-        }
-
-        impl Answer {
-            /// The name of the kind of question this answers.
-            fn function(&self) -> &'static str {
-                match self {
-                    $(Answer::$variant(_) => stringify!($variant),)*
-                }
-            }
-        }
-    };
-}
-
-kinds! {
-    Plane(PlaneCase),
-    Sphere(SphereCase),
-    Nearest(NearestCase),
-    Offset(OffsetCase),
-    Shadow(ShadowCase),
-    Shade(ShadeCase),
-    PhongTerms(PhongTermsCase),
-    Reflect(ReflectCase),
-    SampleOffsets(SampleOffsetsCase),
-    PixelColor(PixelColorCase),
-    Refract(RefractCase),
-    Reflectance(ReflectanceCase),
-    Transmittance(TransmittanceCase),
-    Triangles(TrianglesCase),
-    ClosedMesh(ClosedMeshCase),
-    Barycentric(BarycentricCase),
-    SmoothNormal(SmoothNormalCase),
-    Terminator(TerminatorCase),
-    SmoothHit(SmoothHitCase),
-    HitBox(HitBoxCase),
-    BoxEdges(BoxEdgesCase),
-    BvhBuild(BvhBuildCase),
-    BvhHits(BvhHitsCase),
-    HitBoxes(HitBoxesCase),
-    FourTriangles(FourTrianglesCase),
-    MeshInFours(MeshInFoursCase),
-    Collapse(CollapseCase),
-    March(MarchCase),
-    Newton(NewtonCase),
-    ImplicitNormal(ImplicitNormalCase),
-    CosineSample(CosineSampleCase),
-    PathFormula(PathFormulaCase),
-    Converges(ConvergesCase),
-    LightFormula(LightFormulaCase),
-    LightConverges(LightConvergesCase),
-    Lens(LensCase),
-    Prism(PrismCase),
-    Dispersion(DispersionCase),
-}
-
 /// What a `BvhBuild` case asks of the tree's shape, beyond its being valid.
 /// Which child is called left is the student's choice, so a cut is
 /// compared as a partition.
@@ -338,27 +197,6 @@ pub enum TreeShape {
     /// these lists says, as for `RootCut`: the SAH's leaf, or the cut of a
     /// build that always cuts at the middle.
     RootLeafOrCut(Vec<Vec<u32>>),
-}
-
-/// One checkpoint: a question, its expected answer and its tolerance, with
-/// the sentence that says it and the lesson section that teaches it.
-#[derive(Debug, Clone)]
-pub struct Case {
-    /// A short stable name (`sphere-direction-not-unit`), for tests and logs.
-    pub name: &'static str,
-    /// The case in words, with its numbers: what a student reproduces by hand.
-    pub says: String,
-    /// The heading of the lesson section that teaches it.
-    pub section: &'static str,
-    pub level: Level,
-    pub kind: CaseKind,
-    /// Why this checkpoint keeps its inputs under `grade --code --fresh`
-    /// (an exact tie, a root exactly at `t_max`: a relation a fresh draw
-    /// would not keep), when it does.
-    pub fixed: Option<&'static str>,
-    /// Whether its inputs were drawn afresh ([`Case::fresh`]): its `says`
-    /// is then the lesson's case, and its inputs line the call made.
-    pub drawn: bool,
 }
 
 /// How a case went.
@@ -391,83 +229,7 @@ impl Outcome {
     }
 }
 
-impl Case {
-    pub fn new(
-        name: &'static str,
-        section: &'static str,
-        says: impl Into<String>,
-        kind: CaseKind,
-    ) -> Case {
-        Case {
-            name,
-            says: says.into(),
-            section,
-            level: Level::Checkpoint,
-            kind,
-            fixed: None,
-            drawn: false,
-        }
-    }
-
-    /// The case, keeping its inputs under `grade --code --fresh` for
-    /// `reason`.
-    pub fn fixed(self, reason: &'static str) -> Case {
-        Case {
-            fixed: Some(reason),
-            ..self
-        }
-    }
-
-    /// The course function this case calls.
-    pub fn function(&self) -> &'static str {
-        self.kind.function()
-    }
-
-    /// Asks the question of the chapters `C` in this process and judges
-    /// the answer: raylab's own checks of its reference and of its
-    /// variants (a student's chapters are asked in a process of their own,
-    /// see [`crate::check::judge`]).
-    pub fn run<C: Chapters>(&self) -> Outcome {
-        match guarded(|| self.kind.call().ask::<C>()) {
-            Ok(Ok(answer)) => self.judge(answer),
-            Ok(Err(error)) => Outcome::Error(error),
-            Err(panic) if panic.is_todo() => Outcome::Todo(panic),
-            Err(panic) => Outcome::Panicked(panic),
-        }
-    }
-
-    /// Judges a raw answer to this case's call. A panic of the judge
-    /// itself is raylab's bug, reported as an error of the check.
-    pub fn judge(&self, answer: Answer) -> Outcome {
-        let robust = self.level == Level::Robustness;
-        match guarded(|| self.kind.judge(answer, robust)) {
-            Ok(outcome) => outcome,
-            Err(panic) => Outcome::Error(format!(
-                "the judge of case {} panicked: {}",
-                self.name, panic.message
-            )),
-        }
-    }
-
-    /// This case with fresh inputs drawn from `seed` (see [`Kind::fresh`]),
-    /// or `None` when it keeps its own: every hard case (their inputs are
-    /// the hard part), a checkpoint marked [`Case::fixed`], and a kind
-    /// with nothing to draw. The draw depends on the seed and the case's
-    /// name alone, so it is the same for every student, in any order.
-    pub fn fresh(&self, seed: u64) -> Option<Case> {
-        if self.level == Level::Robustness || self.fixed.is_some() {
-            return None;
-        }
-        let mut draw = Draw::for_case(seed, self.name);
-        self.kind.fresh(&mut draw).map(|kind| Case {
-            kind,
-            drawn: true,
-            ..self.clone()
-        })
-    }
-}
-
-fn verdict(pass: bool, expected: String, got: String) -> Outcome {
+pub fn verdict(pass: bool, expected: String, got: String) -> Outcome {
     if pass {
         Outcome::Pass
     } else {
@@ -475,13 +237,13 @@ fn verdict(pass: bool, expected: String, got: String) -> Outcome {
     }
 }
 
-fn close(got: f64, want: f64, tolerance: f64) -> bool {
+pub fn close(got: f64, want: f64, tolerance: f64) -> bool {
     (got - want).abs() <= tolerance * want.abs().max(1.0)
 }
 
 /// Colours agree within `1e-4` (about a third of an 8-bit level in the
 /// darkest sRGB codes): far above any rounding, far below any wrong term.
-fn colour_close(got: Vec3, want: Vec3) -> bool {
+pub fn colour_close(got: Vec3, want: Vec3) -> bool {
     got.is_finite()
         && (wide(got) - wide(want))
             .abs()
@@ -489,11 +251,11 @@ fn colour_close(got: Vec3, want: Vec3) -> bool {
             .all()
 }
 
-fn parse(text: &str) -> Result<Scene, String> {
+pub fn parse(text: &str) -> Result<Scene, String> {
     Scene::parse(text, "a checkpoint's scene").map_err(|error| error.to_string())
 }
 
-fn max_abs(v: DVec3) -> f64 {
+pub fn max_abs(v: DVec3) -> f64 {
     v.abs().max_element()
 }
 

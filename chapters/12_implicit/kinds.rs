@@ -1,7 +1,12 @@
 //! Implicit-surface cases (chapter 12): marches along a ray, Newton's
 //! iteration inside a bracket, and normals from the function.
 
-use super::*;
+use glam::{DVec3, Vec3};
+
+use crate::check::cases::*;
+use crate::check::exact::{self, wide};
+use crate::course::Chapters;
+use crate::Ray;
 use crate::shapes::{
     Bracket, CHECK_EVALUATION_LIMIT, Implicit, NormalMethod, Sdf, limit_evaluations,
 };
