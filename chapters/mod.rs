@@ -19,7 +19,10 @@ use crate::effects::{Effects, Lighting};
 /// `number module "folder" "title" "adds" |effects| { switch-ons } [functions]`,
 /// then, where the chapter had them, `kept { paths }`: names its module
 /// re-exports because student workspaces made before name them there;
-/// and, where the chapter colours a hit point its own way,
+/// where the chapter asks kinds of question of its own, `asks {
+/// Name(Type), ... }`: the types its folder's `kinds.rs` defines, which
+/// the judge's enum of kinds names (`check::question`); and, where the
+/// chapter colours a hit point its own way,
 /// `shades |effects| condition => |tracer, point, depth, weight| colour`:
 /// its shader, which the tracer asks (`Tracer::shade`, in
 /// src/render/tracer.rs) when the condition holds and no later chapter's
