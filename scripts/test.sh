@@ -61,18 +61,19 @@ install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
 install_package chromium "the browser page's tests are skipped"
 cargo test --all-targets --features embree
-# The default build needs no Embree, and says how to get it: the one test
-# whose answer depends on the feature (every other ran above, with it).
-cargo test --test cli -- without_embree
-cargo test --doc
+cargo test --doc --features embree
 # The lessons are the crate docs: they must build with no broken link, and
 # without raylab's source, the answer key (rustdoc leaves old pages in
 # place, so those of an earlier build go first).
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
-# Exactly the snapshot and determinism modules of the `pictures` test binary.
-cargo test --release --test pictures -- snapshots:: determinism::
+# Exactly the snapshot and determinism modules of the `pictures` test
+# binary, and the default build's own test (tests/default_build.rs): the
+# release build has no optional feature, so the default build, which needs
+# no Embree and says how to get it, is tested there, and no debug build
+# without the feature is made.
+cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
 cargo bench --no-run
 # The browser page: built for WebAssembly, then tested in headless Chromium
 # against the debug binary the tests above built (skipped, with a message,

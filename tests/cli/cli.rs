@@ -611,22 +611,6 @@ fn probe_refuses_a_malformed_ray() {
     }
 }
 
-/// Without the `embree` feature, `crosscheck` explains how to get it
-/// (scripts/test.sh runs this file once without the feature).
-#[cfg(not(feature = "embree"))]
-#[test]
-fn crosscheck_without_embree_says_how_to_enable_it() {
-    let out = raylab(&["crosscheck", "--chapter", "1"], Path::new("."));
-    assert_eq!(out.status.code(), Some(2));
-    let message = stderr(&out);
-    assert!(message.contains("scripts/setup-embree.sh"), "{message}");
-    assert!(message.contains("--features embree"), "{message}");
-    assert!(message.contains("docs/embree.md"), "{message}");
-    let probe = raylab(&["probe", "--ray", "0,1,-5,0,0,1"], Path::new("."));
-    assert!(probe.status.success(), "{}", stderr(&probe));
-    assert!(stdout(&probe).contains("embree: not built in"));
-}
-
 #[cfg(unix)]
 #[test]
 fn a_closed_pipe_stops_quietly_without_a_panic() {
