@@ -391,7 +391,7 @@ pub fn checkpoints() -> Vec<Case> {
         MarchQuestion {
             name: "march-over-relaxed-steps-back",
             section: RELAX_12,
-            says: "Relaxation 1.9 toward the unit sphere from (0, 0, -5) along (0, 0, 2): the first step, 1.9 x 4 = 7.6 in distance (3.8 in t), ends inside it, where the radius 1.6 and the last one, 4, do not reach across the 7.6 travelled; go back to the last point's safe step, t = 2, and hit there: 3 evaluations (the last point's radius is known: no need to look at it again).",
+            says: "Relaxation 1.9 toward the unit sphere from (0, 0, -5) along (0, 0, 2): the first step, 1.9 x 4 = 7.6 in distance (3.8 in t), jumps through it to z = 2.6, where the radius 1.6 and the last one, 4, do not reach across the 7.6 travelled; go back to the last point's safe step, t = 2, and hit there: 3 evaluations (the last point's radius is known: no need to look at it again).",
             marcher: Marcher::SphereTrace,
             tree: unit_sphere(),
             march: march_with(|march| march.relaxation = 1.9),
