@@ -891,7 +891,7 @@ pub fn robustness() -> Vec<Case> {
         .into(),
         newton(
             "newton-stays-in-its-bracket-on-the-torus",
-            "The torus ray from (-3, 0, 0) along +x, bracket [2, 2.3] around the root t = 2.25 where it leaves the tube: at t = 2 the slope is small, and a free Newton step jumps to t = 2.98, toward another root; the bracket keeps the iteration on t = 2.25.",
+            "The torus ray from (-3, 0, 0) along +x, bracket [2, 2.3] around the root t = 2.25 where it leaves the tube: at t = 2 the slope is 0.25, and a free Newton step jumps past 2.25 to t = 2.98, beside g's local maximum at t = 3 (the middle of the hole, g' = 0); the next step flies to t = -10.25 and the iteration ends on the other root, 1.75. The bracket keeps it on t = 2.25.",
             torus_ray,
             (2.0, 2.3),
             16,
