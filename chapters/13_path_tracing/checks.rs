@@ -89,7 +89,8 @@ pub fn checkpoints() -> Vec<Case> {
             "cosine-directions-spread",
             COSINE_13,
             "200,000 directions from cosine_hemisphere are unit, above the surface (z >= 0) and \
-             spread as cos(theta) / pi: a chi-square test on 20 x 20 bins of cos(theta) and phi",
+             spread as cos(theta) / pi: a chi-square test on 20 bins of cos(theta) over [-1, 1] \
+             by 20 of phi",
             CaseKind::CosineSample(CosineSampleCase {
                 samples: DIRECTION_SAMPLES,
                 seed: 0,
