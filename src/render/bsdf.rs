@@ -27,9 +27,19 @@ pub struct Scattered {
     pub media: MediumStack,
 }
 
-/// The Phong exponent of a rough mirror: `2 / r^2 - 2`, the match between a
-/// Phong lobe and a Beckmann microfacet lobe of roughness `r` (Walter et
-/// al. 2007, section 5.2), so roughness 1 is the widest lobe (exponent 0).
+/// The Phong exponent of a rough mirror: `2 / r^2 - 2`, so roughness 1 is
+/// the widest lobe (exponent 0).
+///
+/// The formula is Walter et al.'s match (2007, section 5.2) between two
+/// distributions of microfacet normals, a Phong one `cos^n` of a facet's
+/// tilt from the normal and a Beckmann one of width `r`. The lobe here is a
+/// power of the cosine of the angle to the mirror direction instead, and
+/// that angle is about twice a facet's tilt: `cos^n(2 t)` falls as
+/// `exp(-2 n t^2)`, `cos^n(t)` as `exp(-n t^2 / 2)`. So the lobe that
+/// matches a Beckmann surface of roughness `r` has about a quarter of this
+/// exponent, and this one is about half as wide: read `roughness` as a name
+/// for the exponent, not as Beckmann's width (the Veach plates are about
+/// twice as sharp as their roughness says).
 pub fn phong_exponent(roughness: f32) -> f32 {
     (2.0 / (roughness * roughness) - 2.0).max(0.0)
 }
