@@ -24,7 +24,8 @@ pub const LIGHT_ROULETTE_FROM_DEPTH: u32 = 3;
 /// distance^2` of it. The ratio of the two is this weight.
 pub fn splat_weight(cos_surface: f32, cos_camera: f32, distance: f32, pixel_area: f32) -> f32 {
     let seen = distance * distance * pixel_area * cos_camera * cos_camera * cos_camera;
-    // Behind the camera, at its pinhole, or edge-on: no pixel sees it.
+    // Behind the camera or 90 degrees off its axis, at its pinhole, or
+    // seen edge-on or from behind the surface: no pixel sees it.
     if !(seen > 0.0 && cos_surface > 0.0) {
         return 0.0;
     }
