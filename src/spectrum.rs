@@ -17,8 +17,12 @@ use std::sync::OnceLock;
 
 use crate::Vec3;
 
-/// The wavelengths drawn, in nanometres: where the colour-matching
-/// functions are above 0.5% of their peaks.
+/// The wavelengths drawn, in nanometres: the CIE's conventional visible
+/// range. With [`cie_xyz`]'s fit, `x` and `y` fall below 0.5% of their
+/// peaks past about 700 nm and `z` below 383 nm, so about a fifth of the
+/// draws (380 to 383 nm and 700 to 780 nm) carry almost no colour. They add
+/// a little noise but no bias, since [`rgb_weight`] is scaled to average
+/// to white over this whole range.
 pub const VISIBLE: (f32, f32) = (380.0, 780.0);
 
 /// The helium d line (587.56 nm), where glass catalogues quote the index
