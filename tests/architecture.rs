@@ -425,7 +425,10 @@ fn the_course_list_is_the_registry_s_functions() {
             .iter()
             .any(|own| function.arguments.contains(own));
         assert_eq!(
-            function.markers.split_whitespace().any(|marker| marker == "drives"),
+            function
+                .markers
+                .split_whitespace()
+                .any(|marker| marker == "drives"),
             own,
             "{}: ({}) [{}]",
             function.name,

@@ -3,10 +3,10 @@
 
 use glam::{DVec3, Vec3};
 
+use crate::Ray;
 use crate::check::cases::*;
 use crate::check::exact::{self, wide};
 use crate::course::Chapters;
-use crate::Ray;
 use crate::shapes::{
     Bracket, CHECK_EVALUATION_LIMIT, Implicit, NormalMethod, Sdf, limit_evaluations,
 };

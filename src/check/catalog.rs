@@ -17,8 +17,6 @@ pub use super::cases::{
     ReflectanceCase, RefractCase, SampleOffsetsCase, ShadeCase, ShadowCase, SmoothHitCase,
     SmoothNormalCase, SphereCase, TerminatorCase, TransmittanceCase, TrianglesCase,
 };
-pub use super::cases::{ExpectT, Level, SampleRule, Shading, TreeShape, vec};
-pub use super::question::{Case, CaseKind};
 pub use super::cases::{CollapseCase, FourTrianglesCase, HitBoxesCase, MeshInFoursCase, WideShape};
 pub use super::cases::{
     ConvergesCase, CosineSampleCase, DIRECTION_SAMPLES, PathFormula, PathFormulaCase,
@@ -27,10 +25,12 @@ pub use super::cases::{
 pub use super::cases::{
     DispersionCase, LensCase, LightConvergesCase, LightFormula, LightFormulaCase, PrismCase,
 };
+pub use super::cases::{ExpectT, Level, SampleRule, Shading, TreeShape, vec};
 #[cfg(not(feature = "student"))]
 pub use super::exact::{self, wide};
 #[cfg(feature = "student")]
 pub(crate) use super::exact::{self, wide};
+pub use super::question::{Case, CaseKind};
 pub use crate::bvh::{BvhOptions, SplitRule};
 pub use crate::course::PhongTerms;
 pub use crate::scene::Cauchy;

@@ -22,9 +22,9 @@ use glam::Vec3;
 // The judge's interface: whoever drives it names these from here.
 pub use super::asker::{Asker, Ended, Step};
 use super::cases::{Level, Outcome};
-use super::question::Case;
 use super::panics::Panic;
 use super::protocol::{Answered, Hello, Reply, Request};
+use super::question::Case;
 use super::remote::{Remote, Spawn};
 use super::{
     CaseFailure, ChapterVerdict, CheckOptions, CheckReport, ImageCheck, Robustness, Status,

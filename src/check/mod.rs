@@ -170,13 +170,13 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 pub use cases::{Level, Outcome, TreeShape};
-pub use question::{Case, CaseKind};
 pub use judge::{REQUIRE_ROBUST_VAR, assert_chapter};
 #[cfg(not(feature = "student"))]
 pub use judge::{check_all, check_chapter};
 #[cfg(feature = "student")]
 pub(crate) use judge::{check_all, check_chapter};
 pub use panics::Panic;
+pub use question::{Case, CaseKind};
 
 use crate::diff::{Criteria, Metrics};
 

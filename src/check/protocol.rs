@@ -25,8 +25,8 @@ use std::io::{Read, Write};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::question::{Answer, Call};
 use super::panics::Panic;
+use super::question::{Answer, Call};
 
 /// The protocol's number: raised whenever a message changes.
 pub const PROTOCOL: u32 = 1;
