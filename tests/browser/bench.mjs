@@ -4,7 +4,7 @@
 // on a shared machine are noise). Run by scripts/bench-web.sh.
 //   node tests/browser/bench.mjs CHAPTER WIDTH REPEATS
 import { execFileSync } from "node:child_process";
-import { mkdtempSync, readFileSync } from "node:fs";
+import { mkdtempSync, readFileSync, rmSync } from "node:fs";
 import { join } from "node:path";
 import { tmpdir } from "node:os";
 import { chromium } from "playwright-core";
@@ -33,6 +33,12 @@ const [shownWidth, height] = await page.evaluate(() => [document.getElementById(
 const native = [];
 const web = [];
 const folder = mkdtempSync(join(tmpdir(), "raylab-bench-"));
+// Removed however the benchmark ends: done, failed or interrupted.
+const removeFolder = () => rmSync(folder, { recursive: true, force: true });
+process.on("exit", removeFolder);
+for (const signal of ["SIGINT", "SIGTERM", "SIGHUP"]) {
+  process.on(signal, () => process.exit(128 + { SIGINT: 2, SIGTERM: 15, SIGHUP: 1 }[signal]));
+}
 for (let run = 0; run < repeats; run++) {
   // Side by side: one of each per round, so both see the same machine.
   const stats = join(folder, "stats.json");

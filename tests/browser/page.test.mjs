@@ -9,7 +9,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { mkdirSync, mkdtempSync, readFileSync } from "node:fs";
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
 import { join } from "node:path";
 import { tmpdir } from "node:os";
 import { chromium } from "playwright-core";
@@ -77,11 +77,21 @@ async function canvasHash(page) {
   });
 }
 
+// Every temporary folder this file makes, so that the last test can
+// check that none is left behind.
+const madeFolders = [];
+
 function nativeHash(chapter, width, height, extra = []) {
   const folder = mkdtempSync(join(tmpdir(), "raylab-page-"));
-  const stats = join(folder, "stats.json");
-  execFileSync(RAYLAB, ["render", "--chapter", String(chapter), "--width", String(width), "--height", String(height), ...extra, "-o", join(folder, "image.png"), "--stats-json", stats], { stdio: ["ignore", "ignore", "pipe"] });
-  return JSON.parse(readFileSync(stats, "utf8")).image_fnv1a64;
+  madeFolders.push(folder);
+  try {
+    const stats = join(folder, "stats.json");
+    execFileSync(RAYLAB, ["render", "--chapter", String(chapter), "--width", String(width), "--height", String(height), ...extra, "-o", join(folder, "image.png"), "--stats-json", stats], { stdio: ["ignore", "ignore", "pipe"] });
+    return JSON.parse(readFileSync(stats, "utf8")).image_fnv1a64;
+  } finally {
+    // On every path out, a failed render included.
+    rmSync(folder, { recursive: true, force: true });
+  }
 }
 
 test("the page loads with every chapter and a link to each lesson", async () => {
@@ -183,4 +193,11 @@ test("a click on a pixel draws its ray tree, which ends in that pixel's colour",
   assert.ok(rows > 1 && lines >= 1, `${rows} rows, ${lines} lines`);
   await page.screenshot({ path: join(ARTIFACTS, "chapter-8-ray-tree.png") });
   await page.close();
+});
+
+// Declared last: node:test runs a file's tests in order.
+test("no temporary folder is left behind", () => {
+  assert.ok(madeFolders.length > 0, "the tests above made folders to check");
+  const left = madeFolders.filter((folder) => existsSync(folder));
+  assert.deepEqual(left, []);
 });
