@@ -92,7 +92,19 @@ fn show_wide(v: glam::DVec3) -> String {
 }
 
 fn show(v: Vec3) -> String {
-    format!("({}, {}, {})", v.x, v.y, v.z)
+    format!("({}, {}, {})", number(v.x), number(v.y), number(v.z))
+}
+
+/// `x` with every digit that tells it from its neighbours (Rust's shortest
+/// round-trip form), in exponent form when it is very small or very large:
+/// `1e-45`, not 45 zeros, for the smallest subnormal a rounding can leave.
+fn number(x: f32) -> String {
+    let magnitude = x.abs();
+    if magnitude == 0.0 || !magnitude.is_finite() || (1e-4..1e7).contains(&magnitude) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
@@ -136,9 +148,9 @@ fn text(chapter: u8, traced: &PixelTrace, sample: Option<usize>) -> String {
 
 fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
     let indent = "  ".repeat(depth);
-    let range = format!("{} < t < {}", ray.t_min, ray.t_max);
+    let range = format!("{} < t < {}", number(ray.t_min), number(ray.t_max));
     let share = match ray.weight {
-        Some(weight) => format!(", {weight} of its sample"),
+        Some(weight) => format!(", {} of its sample", number(weight)),
         None => String::new(),
     };
     out.push_str(&format!(
@@ -153,7 +165,7 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
             "{indent}  blocked by \"{}\" (shape {}) at t = {}: {} in shadow\n",
             name(&hit.name),
             hit.shape,
-            hit.t,
+            number(hit.t),
             light_text(ray.light)
         )),
         (None, RayKind::Shadow) => {
@@ -175,7 +187,7 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
              normal {}, albedo {}\n",
             name(&hit.name),
             hit.shape,
-            hit.t,
+            number(hit.t),
             show(hit.point),
             show(hit.geometric_normal),
             show(hit.shading_normal),
@@ -211,5 +223,25 @@ fn light_text(light: Option<usize>) -> String {
     match light {
         Some(index) => format!("light {index}"),
         None => "the light".to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number;
+
+    #[test]
+    fn numbers_keep_their_digits_without_a_wall_of_zeros() {
+        let smallest_subnormal = f32::from_bits(1);
+        assert_eq!(number(smallest_subnormal), "1e-45");
+        assert_eq!(number(1e-5), "1e-5");
+        assert_eq!(number(0.0001), "0.0001");
+        assert_eq!(number(0.1), "0.1");
+        assert_eq!(number(-1.0 / 3.0), "-0.33333334");
+        assert_eq!(number(1e20), "1e20");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(-0.0), "-0");
+        assert_eq!(number(f32::INFINITY), "inf");
+        assert!(number(f32::NAN).eq_ignore_ascii_case("nan"));
     }
 }
