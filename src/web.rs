@@ -146,6 +146,7 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
         Request::Prepare { job } => {
             let (scene, settings) = job.resolve()?;
             let stage = crate::Stage::<C>::with_chapters(&scene, job.chapter, settings)?;
+            let stage_effects = crate::effects::Effects::for_chapter(job.chapter);
             Ok(Answer {
                 json: serde_json::json!({
                     "width": settings.width,
@@ -166,6 +167,16 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
                     "on": crate::effects::Effects::for_chapter(job.chapter)
                         .without(settings.without)
                         .switchable(),
+                    // Which sliders change the image at this stage, so
+                    // the page shows only those: as `raylab render` warns
+                    // of an option its chapter does not use.
+                    "uses": {
+                        "samples": stage_effects.antialiasing || stage_effects.path_tracing,
+                        "depth": stage_effects.reflection
+                            || stage_effects.refraction
+                            || stage_effects.path_tracing,
+                        "epsilon": stage_effects.shadows,
+                    },
                     "objects": scene.len(),
                     "lights": scene.lights.len(),
                 }),

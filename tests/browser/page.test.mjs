@@ -39,6 +39,11 @@ async function openPage(query = "") {
   const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
   const errors = [];
   page.on("pageerror", (error) => errors.push(error.message));
+  // Nothing the page asks for is missing (a favicon.ico it never asked
+  // for used to be the server's 404).
+  page.on("response", (response) => {
+    if (response.status() >= 400) errors.push(`${response.status()} ${response.url()}`);
+  });
   await page.goto(url + query);
   await page.waitForFunction(() => ["done", "error", "broken"].includes(document.body.dataset.state), null, { timeout: 60_000 });
   assert.deepEqual(errors, []);
@@ -191,7 +196,19 @@ test("a click on a pixel draws its ray tree, which ends in that pixel's colour",
   const rows = await page.$$eval("#tree tbody tr", (rows) => rows.length);
   const lines = await page.$$eval("#overlay line", (lines) => lines.length);
   assert.ok(rows > 1 && lines >= 1, `${rows} rows, ${lines} lines`);
+  // The lines' colours are named under the image.
+  const legend = await page.textContent("#legend");
+  assert.match(legend, /Lines:.*primary/);
   await page.screenshot({ path: join(ARTIFACTS, "chapter-8-ray-tree.png") });
+  await page.close();
+});
+
+test("only the sliders the stage reads are shown", async () => {
+  const page = await openPage("?chapter=2");
+  const hidden = (id) => page.$eval(`#${id}`, (input) => input.closest("label").hidden);
+  assert.deepEqual([await hidden("samples"), await hidden("depth"), await hidden("epsilon"), await hidden("width")], [true, true, true, false]);
+  assert.equal(await setInput(page, "chapter", 7), "done");
+  assert.deepEqual([await hidden("samples"), await hidden("depth"), await hidden("epsilon")], [false, false, false]);
   await page.close();
 });
 

@@ -212,6 +212,11 @@ function startRender() {
   }
   showSceneError(null);
   showSwitches(prepared);
+  // Only the sliders this stage reads: samples before supersampling, say,
+  // would change nothing.
+  for (const [name, used] of Object.entries(prepared.uses)) $(name).closest("label").hidden = !used;
+  // The scene's own width, when the slider renders at another.
+  $("scene-width").textContent = own.width === prepared.width ? "" : ` (the scene says ${own.width})`;
   stopWorkers();
   const id = ++page.generation;
   const canvas = $("image");
@@ -262,10 +267,12 @@ function rowsDone(message) {
   const render = page.render;
   if (!render || message.id !== render.id) return;
   if (message.error) {
+    // An error while rendering rows is the chapters' (a panic, a chapter
+    // not written yet), not the scene's, which prepared without one.
     render.error = message.error;
-    status(message.error);
-    $("scene-error").hidden = false;
-    $("scene-error").textContent = message.error;
+    status("the chapters stopped (under the image)");
+    $("chapter-error").hidden = false;
+    $("chapter-error").textContent = message.error;
     setState("error");
     return;
   }
@@ -280,20 +287,29 @@ function rowsDone(message) {
   $("rays").textContent = `Rays: ${rays.primary} camera, ${rays.shadow} shadow, ${rays.reflection} reflection, ${rays.refraction} refraction${bounces}`;
   if (render.pending === 0) {
     render.milliseconds = performance.now() - render.started;
-    status(`rendered ${render.prepared.width}x${render.prepared.height} in ${render.milliseconds.toFixed(0)} ms on ${page.workers.length} workers`);
+    const workers = page.workers.length;
+    status(`rendered ${render.prepared.width}x${render.prepared.height} in ${render.milliseconds.toFixed(0)} ms on ${workers} worker${workers === 1 ? "" : "s"}`);
     setState("done");
   }
 }
 
 function showSceneError(answer) {
   const box = $("scene-error");
-  if (!answer) {
-    box.hidden = true;
+  const chapters = $("chapter-error");
+  box.hidden = true;
+  chapters.hidden = true;
+  if (!answer) return;
+  if (answer.panicked) {
+    // The chapters' own message (a `todo!()` not written yet, a panic),
+    // beside the image it stopped, not in the scene's error slot.
+    chapters.hidden = false;
+    chapters.textContent = answer.error;
+    status("the chapters stopped (under the image)");
     return;
   }
   box.hidden = false;
   box.textContent = answer.error;
-  status(answer.panicked ? "the chapters stopped (below)" : "the scene has an error");
+  status("the scene has an error");
   if (answer.line) {
     // Select the line the error names, so the editor shows where it is.
     const lines = $("scene").value.split("\n");
@@ -327,10 +343,13 @@ function showTrace(x, y) {
   page.trace = answer;
   drawTree(answer);
   listTree(answer);
+  // The table is below the image on a small screen: bring its top into view.
+  $("tree-panel").scrollIntoView({ block: "nearest" });
 }
 
 function clearTree() {
   $("overlay").replaceChildren();
+  $("legend").replaceChildren();
   $("tree").tBodies[0].replaceChildren();
   $("pixel-value").textContent = "";
   $("tree-command").textContent = "";
@@ -367,6 +386,33 @@ function drawTree(trace) {
   trace.samples.forEach((sample) => draw(sample.ray));
   const [x, y] = trace.pixel;
   svg("rect", { x, y, width: 1, height: 1, fill: "none", stroke: "#fff", "stroke-width": 1, "vector-effect": "non-scaling-stroke" });
+  showLegend(trace);
+}
+
+// What each line's colour means, for the kinds of ray this tree has.
+function showLegend(trace) {
+  const kinds = new Set();
+  const collect = (ray) => {
+    kinds.add(ray.kind);
+    ray.children.forEach(collect);
+  };
+  trace.samples.forEach((sample) => collect(sample.ray));
+  const legend = $("legend");
+  legend.replaceChildren("Lines:");
+  for (const kind of Object.keys(KIND_COLOURS).filter((kind) => kinds.has(kind))) {
+    const line = document.createElement("span");
+    line.className = "legend-line";
+    line.style.borderColor = KIND_COLOURS[kind];
+    if (kind === "shadow") line.style.borderTopStyle = "dashed";
+    legend.append(line, kind.replace("_", " "));
+  }
+  if (kinds.has("shadow")) {
+    const line = document.createElement("span");
+    line.className = "legend-line";
+    line.style.borderColor = "#888";
+    line.style.borderTopStyle = "dashed";
+    legend.append(line, "blocked shadow");
+  }
 }
 
 const number = (value) => (value === null || value === undefined ? "" : Number(value).toPrecision(4));
