@@ -14,7 +14,7 @@ channel of every pixel, and that RMSE divided by the reference's mean, so
 that renderers with different encodings compare in the same unit, and the
 share of the squared error held by the worst 1% of pixels (fireflies put
 most of it there). Used by
-the README's "Path tracing" speed comparison. Needs numpy and Pillow
+docs/speed.md's "Path tracing" comparison. Needs numpy and Pillow
 (Debian: python3-numpy python3-pil).
 """
 

@@ -1,5 +1,5 @@
 //! The speed race: our intersector against Embree on the same
-//! rays, for the figures of the README and lesson 11 (rays per second on one
+//! rays, for the figures of docs/speed.md and lesson 11 (rays per second on one
 //! thread, median of 5; build times; peak memory). Computing only: the
 //! caller prints.
 //!

@@ -1,6 +1,6 @@
 //! `raylab race`: chapter 11's wide tree, and its binary tree beside it,
 //! against Embree, on generated models of growing size, on the rays of a
-//! render and on incoherent rays (the figures of the README and lesson 11).
+//! render and on incoherent rays (the figures of docs/speed.md and lesson 11).
 
 use anyhow::Result;
 use clap::Args;
