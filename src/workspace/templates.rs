@@ -140,11 +140,19 @@ raylab renders and checks your code. {state}
 ```sh
 cargo run --release -- render --chapter 1      # writes chapter-1.png with your code
 cargo run --release -- check --chapter 1       # the verdict: cases, image, robustness
-cargo test                                     # the same checks, one test per chapter
-cargo test chapter_01                          # chapter 1's alone
+cargo test --release                           # the same checks, one test per chapter
+cargo test --release chapter_01                # chapter 1's alone
 cargo run --release -- trace --chapter 1 --pixel 320,240   # every ray of one pixel, with your code
 cargo run --release -- web                     # the browser page of your chapters, in web/
 ```
+
+Every command above but `web` shares one build of raylab and your
+chapters, in `target/release/`: the first compiles raylab (minutes, about
+500 MB), and after it a change to a chapter recompiles your crate alone,
+in seconds, whichever of them runs next. Keep `--release` on `cargo test`:
+plain `cargo test` compiles a second raylab, in debug, in `target/debug/`
+(minutes again, and about 1.5 GB more on disk) for the same verdicts.
+`web` builds the page for the browser, a build of its own.
 
 Chapter N's image needs your chapters 1 to N. The binary has every
 subcommand of `raylab` (`render`, `diff`, `bench`, `probe`, ...), all
@@ -197,8 +205,9 @@ pub struct {STUDENT_TYPE};
 
 pub(super) fn check_tests(package: &str) -> String {
     let mut out = String::from(
-        "//! `cargo test` runs raylab's checks on your chapters, one test per\n\
-         //! chapter: the same verdict as `cargo run --release -- check --chapter N`.\n\
+        "//! `cargo test --release` runs raylab's checks on your chapters, one test\n\
+         //! per chapter: the same verdict as `cargo run --release -- check --chapter N`,\n\
+         //! from the same build (plain `cargo test` builds raylab again, in debug).\n\
          //! This test judges; your chapters answer in this workspace's own\n\
          //! program, which cargo builds for the tests.\n",
     );
