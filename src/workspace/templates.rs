@@ -76,7 +76,7 @@ publish = false
 # refuses a build without it). A class can share one copy
 # instead (path = "/opt/raylab"), or use a tagged release
 # (git = "https://example.org/raylab.git", tag = "v0.1.0"): see raylab's
-# README, "Take the course".
+# README, "For instructors: one raylab for a class".
 raylab = {{ path = {path}, features = ["student"] }}
 # The reference solutions of chapters 2 and 8 use it (exact ldexp, asin).
 libm = "0.2"
