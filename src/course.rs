@@ -360,7 +360,7 @@ pub struct CourseFunction {
     pub name: &'static str,
     /// The arguments' types.
     pub arguments: &'static str,
-    /// `drives`, `generic` (see [`for_each_course_function`]), or nothing.
+    /// `drives`, `generic` (see `for_each_course_function!` in src/course.rs), or nothing.
     pub markers: &'static str,
 }
 

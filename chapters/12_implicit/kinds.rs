@@ -358,7 +358,7 @@ pub struct NewtonCall {
 const MOST_LISTED: usize = 4096;
 
 /// A Newton answer: the root, how many times `g` was called, and where
-/// (the first [`MOST_LISTED`] calls).
+/// (the first `MOST_LISTED` calls).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct NewtonAnswer {
     pub root: f32,

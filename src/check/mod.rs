@@ -2,7 +2,7 @@
 //!
 //! For each chapter, three things, in this order:
 //!
-//! 1. **checkpoint cases** ([`cases::Case`], listed per chapter in the
+//! 1. **checkpoint cases** ([`question::Case`], listed per chapter in the
 //!    registry [`crate::chapters::CHAPTERS`]): questions to each function of the
 //!    chapter with numbers a student can work out by hand; the first failing
 //!    one is printed with its inputs, the expected and the actual answer, and

@@ -1,10 +1,12 @@
 //! Checkpoint cases as data, and how each is run against some chapters.
 //!
-//! A [`Case`] is one question to one function of the course, in the spirit
-//! of The Ray Tracer Challenge's scenarios: its inputs, what is expected,
-//! how close is close enough, and a sentence a student can check by hand.
-//! [`Case::run`] asks the question of the chapters `C` and says whether the
-//! answer is right, without ever letting a panic out.
+//! A [`Case`](super::question::Case) is one question to one function of
+//! the course, in the spirit of The Ray Tracer Challenge's scenarios: its
+//! inputs, what is expected, how close is close enough, and a sentence a
+//! student can check by hand. [`Case::run`](super::question::Case::run)
+//! asks the question of the chapters `C` and says whether the answer is
+//! right, without ever letting a panic out. The kinds of question here are
+//! those several chapters share (a chapter's own live in its folder).
 
 mod boxes;
 mod directions;
