@@ -1,8 +1,8 @@
 //! The workspace's `src/chapters/mod.rs`, written from the `Chapters`
 //! trait as `src/course.rs` declares it: each method forwarded to the
-//! chapter function of the same name. Read from the trait's own text, so a
-//! new method needs no edit here; kept apart from the chapter files' cut,
-//! which reads the chapters instead.
+//! chapter function of the same name. Read from the list the trait's
+//! methods are made from, so a new method needs no edit here; kept apart
+//! from the chapter files' cut, which reads the chapters instead.
 
 use std::fmt::Write as _;
 
@@ -16,7 +16,7 @@ const COURSE_SOURCE: &str = include_str!("../course.rs");
 /// `src/chapters/mod.rs`: the chapter modules, and `Chapters` for the
 /// student's type, each method sending its arguments to the function of the
 /// same name in the chapter that the registry says writes it. The
-/// signatures are the trait's own, read from `src/course.rs`.
+/// signatures are the trait's own, read from its list in `src/course.rs`.
 pub(super) fn chapters_mod_rs() -> Result<String, SkeletonError> {
     let methods = trait_methods()?;
     let mut out = String::from(
@@ -117,40 +117,95 @@ fn forwarded_type_arguments(info: &ChapterInfo, function: &str) -> Result<String
     Ok(format!("::<{}>", arguments.join(", ")))
 }
 
-/// Every method of `Chapters` in `src/course.rs`, as (name, signature from
-/// `fn` to just before its body).
+/// Every method of `Chapters`, as (name, signature from `fn` to the end
+/// of its answer, with `Self` for the chapters). The trait's methods are
+/// made by a macro from one list in `src/course.rs`
+/// (`for_each_course_function!`), so that list is what is read: each
+/// entry is `module fn name(parameters) -> answer`, then optional
+/// `[markers]` and `{ textbook ... }`, ended by `;`.
 fn trait_methods() -> Result<Vec<(String, String)>, SkeletonError> {
+    const LIST: &str = "macro_rules! for_each_course_function";
+    const CHAPTERS: &str = "$chapters;";
     let src = COURSE_SOURCE;
-    let items = scan::items(src).map_err(|error| SkeletonError::Scan {
-        file: "src/course.rs".to_string(),
-        error,
-    })?;
-    let body = items
-        .iter()
-        .find(|item| item.kind == ItemKind::Trait && item.name.as_deref() == Some("Chapters"))
-        .and_then(|item| {
-            // A trait's block is its last `{ ... }`: the item ends there.
-            src[item.header..item.range.end]
-                .find('{')
-                .map(|open| item.header + open + 1..item.range.end - 1)
+    let list = src
+        .find(LIST)
+        .and_then(|at| {
+            src[at..]
+                .find(CHAPTERS)
+                .map(|start| at + start + CHAPTERS.len())
         })
         .ok_or(SkeletonError::NoChaptersTrait)?;
-    let inner = &src[body];
-    let methods = scan::items(inner).map_err(|error| SkeletonError::Scan {
-        file: "trait Chapters".to_string(),
+    let text = &src[list..];
+    let scan_error = |error| SkeletonError::Scan {
+        file: "src/course.rs".to_string(),
         error,
-    })?;
+    };
+    let tokens = scan::lex(text).map_err(scan_error)?;
     let mut out = Vec::new();
-    for method in methods.iter().filter(|item| item.kind == ItemKind::Fn) {
-        let signature_end = method
-            .body
-            .as_ref()
-            .map_or(method.range.end, |body| body.start);
-        let signature = inner[method.header..signature_end].trim_end();
-        let name = method.name.clone().ok_or(SkeletonError::UnnamedMethod)?;
-        out.push((name, signature.to_string()));
+    let mut entry: Vec<scan::Token> = Vec::new();
+    let mut depth = 0usize;
+    for token in tokens {
+        match token.kind {
+            scan::Tok::Comment { .. } => continue,
+            scan::Tok::Open(_) => depth += 1,
+            // The list ends where the block that holds it closes.
+            scan::Tok::Close(_) if depth == 0 => break,
+            scan::Tok::Close(_) => depth -= 1,
+            scan::Tok::Semi if depth == 0 => {
+                out.push(list_entry(text, &entry)?);
+                entry.clear();
+                continue;
+            }
+            _ => {}
+        }
+        entry.push(token);
+    }
+    if out.is_empty() {
+        return Err(SkeletonError::NoChaptersTrait);
     }
     Ok(out)
+}
+
+/// One entry of the functions' list (its tokens, without comments and the
+/// closing `;`): the function's name and its signature, on one line.
+fn list_entry(text: &str, tokens: &[scan::Token]) -> Result<(String, String), SkeletonError> {
+    let word = |token: &scan::Token| &text[token.start..token.end];
+    let fn_at = tokens
+        .iter()
+        .position(|token| word(token) == "fn")
+        .ok_or(SkeletonError::UnnamedMethod)?;
+    let name = tokens
+        .get(fn_at + 1)
+        .filter(|token| token.kind == scan::Tok::Word)
+        .map(|token| word(token).to_string())
+        .ok_or(SkeletonError::UnnamedMethod)?;
+    // The signature ends before the markers `[..]` or the textbook block
+    // `{..}` at the entry's own level (the parameters' brackets are inside
+    // their parentheses).
+    let mut depth = 0usize;
+    let mut end = tokens[fn_at].end;
+    for token in &tokens[fn_at..] {
+        match token.kind {
+            scan::Tok::Open(b'[' | b'{') if depth == 0 => break,
+            scan::Tok::Open(_) => depth += 1,
+            scan::Tok::Close(_) => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        end = token.end;
+    }
+    let signature = text[tokens[fn_at].start..end].replace("$chapters", "Self");
+    Ok((name, one_line(&signature)))
+}
+
+/// `signature` on one line: each run of white space one space, none just
+/// inside the parameters' parentheses, and no comma after the last one.
+fn one_line(signature: &str) -> String {
+    let spaced = signature.split_whitespace().collect::<Vec<_>>().join(" ");
+    spaced
+        .replace("( ", "(")
+        .replace(", )", ")")
+        .replace(",)", ")")
+        .replace(" )", ")")
 }
 
 /// An import of the public types `src/course.rs` defines itself, and its
@@ -164,8 +219,11 @@ fn course_imports() -> Result<(String, Vec<String>), SkeletonError> {
     let mut lines = Vec::new();
     for item in items.iter().filter(|item| item.kind == ItemKind::Use) {
         let line = &src[item.header..item.range.end];
-        // The chapter modules it names are raylab's; the workspace has its own.
-        if !line.contains("crate::chapters") {
+        // The chapter modules it names are raylab's; the workspace has its
+        // own. A `use` of a bare name (a macro of the file's own, made
+        // visible to the rest of raylab) names nothing a workspace can reach.
+        let path = line.trim_start_matches("pub ").trim_start_matches("use ");
+        if !line.contains("crate::chapters") && path.starts_with("crate::") {
             lines.push(scan::crate_paths_to_raylab(line));
         }
     }
@@ -206,5 +264,23 @@ mod tests {
                 scan::parameter_names(signature).expect("plain parameters");
             }
         }
+    }
+
+    #[test]
+    fn a_list_entry_is_one_line_without_its_markers() {
+        let text = "/// Chapter 4: docs.\n    ch04_shadows fn in_shadow(\n        \
+                    tracer: &mut Tracer<$chapters>,\n        normals: &[Vec3; 3],\n    \
+                    ) -> bool [drives] { textbook if SPHERE => a::b }";
+        let tokens: Vec<scan::Token> = scan::lex(text)
+            .expect("lexes")
+            .into_iter()
+            .filter(|token| !matches!(token.kind, scan::Tok::Comment { .. }))
+            .collect();
+        let (name, signature) = list_entry(text, &tokens).expect("an entry");
+        assert_eq!(name, "in_shadow");
+        assert_eq!(
+            signature,
+            "fn in_shadow(tracer: &mut Tracer<Self>, normals: &[Vec3; 3]) -> bool"
+        );
     }
 }
