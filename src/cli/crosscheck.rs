@@ -262,8 +262,8 @@ fn probe_embree<C: Chapters>(
                 _ => ", NOT the object we hit".into(),
             };
             println!(
-                "embree: {:?} (object {}) at t = {}, point {}, normal {}{agreement}",
-                stage.name(hit.object).unwrap_or("?"),
+                "embree: {} (object {}) at t = {}, point {}, normal {}{agreement}",
+                crate::text::terminal_safe(&format!("{:?}", stage.name(hit.object).unwrap_or("?"))),
                 hit.object,
                 hit.t,
                 show(ray.at(hit.t)),
@@ -521,7 +521,11 @@ mod with_embree {
         let cast = &compared.cast;
         let kind = cast.kind.name();
         let answer = |answer: Option<Answer>| match answer {
-            Some(hit) => format!("{:?} t={:e}", stage.name(hit.object).unwrap_or("?"), hit.t),
+            Some(hit) => format!(
+                "{} t={:e}",
+                crate::text::terminal_safe(&format!("{:?}", stage.name(hit.object).unwrap_or("?"))),
+                hit.t
+            ),
             None => "miss".into(),
         };
         let verdict = match compared.verdict {

@@ -861,6 +861,65 @@ fn control_characters_in_names_are_printed_escaped() {
     );
 }
 
+/// Characters that show as nothing (a zero-width space, a soft hyphen, a
+/// byte-order mark, directional marks) and the line and paragraph
+/// separators are printed escaped too, in `trace`, in `probe` and in
+/// errors: a name must not look like another, or break a line.
+#[test]
+fn invisible_characters_in_names_are_printed_escaped() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let invisible = [
+        '\u{200b}', '\u{ad}', '\u{feff}', '\u{200f}', '\u{61c}', '\u{2028}', '\u{2029}',
+    ];
+    let name: String = std::iter::once("ball".to_string())
+        .chain(invisible.iter().map(|c| c.to_string()))
+        .collect();
+    let shown: String = std::iter::once("ball".to_string())
+        .chain(
+            invisible
+                .iter()
+                .map(|c| format!("\\u{{{:x}}}", u32::from(*c))),
+        )
+        .collect();
+    let named = GOOD.replace("name = \"ball\"", &format!("name = \"{name}\""));
+    std::fs::write(dir.path().join("named.toml"), &named).expect("write");
+    let broken = named.replace("radius = 1.0", "radius = 0.0");
+    std::fs::write(dir.path().join("broken.toml"), &broken).expect("write");
+    let clean = |text: &str| !text.contains(invisible);
+
+    let out = raylab(&["render", "--scene", "broken.toml"], dir.path());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(clean(&stderr(&out)), "{:?}", stderr(&out));
+
+    let out = raylab(
+        &["probe", "--scene", "named.toml", "--ray", "0,1,-5,0,0,1"],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(clean(&stdout(&out)), "{:?}", stdout(&out));
+    assert!(stdout(&out).contains(&shown), "{}", stdout(&out));
+
+    let out = raylab(
+        &[
+            "trace",
+            "--scene",
+            "named.toml",
+            "--chapter",
+            "5",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--pixel",
+            "4,4",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(clean(&stdout(&out)), "{:?}", stdout(&out));
+    assert!(stdout(&out).contains(&shown), "{}", stdout(&out));
+}
+
 /// `render --scene my-scene.toml --chapter 4` must not write chapter-4.png,
 /// the hand-in name, over the student's render of the built-in scene.
 #[test]

@@ -680,6 +680,58 @@ fn a_class_survives_hostile_folders_and_names() {
     assert!(!md.contains('\u{202e}') && !md.contains('\u{1b}'), "{md}");
 }
 
+/// Students' folders whose names differ only by characters that show as
+/// nothing (`alice`, `alice` + a zero-width space, `ali` + a soft hyphen +
+/// `ce`, and a byte-order mark, directional marks, a line separator) are
+/// told apart in the summary, the CSV and the HTML: each such character is
+/// a visible escape, and none is written as it is (a line separator would
+/// split the summary's Markdown row).
+#[test]
+fn names_that_differ_by_invisible_characters_look_different() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let invisible = [
+        '\u{200b}', '\u{ad}', '\u{feff}', '\u{200f}', '\u{61c}', '\u{2028}',
+    ];
+    let students = [
+        "alice".to_string(),
+        "alice\u{200b}".to_string(),
+        "ali\u{ad}ce".to_string(),
+        "\u{feff}alice".to_string(),
+        "alice\u{200f}".to_string(),
+        "alice\u{61c}".to_string(),
+        "alice\u{2028}| pass |".to_string(),
+    ];
+    for student in &students {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV written");
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    for (what, text) in [("summary", &md), ("CSV", &csv), ("HTML", &html)] {
+        assert!(!text.contains(invisible), "{what}: {text:?}");
+    }
+    for shown in [
+        "alice\\u{200b}",
+        "ali\\u{ad}ce",
+        "\\u{feff}alice",
+        "alice\\u{200f}",
+        "alice\\u{61c}",
+        "alice\\u{2028}",
+    ] {
+        assert!(csv.contains(shown), "{shown} in {csv}");
+        assert!(html.contains(shown), "{shown} in the HTML");
+    }
+    // Every row of the summary's table is one line: 7 students, 7 rows.
+    let rows = md
+        .lines()
+        .filter(|line| line.starts_with("| ali") || line.starts_with("| \\"))
+        .count();
+    assert_eq!(rows, students.len(), "{md}");
+}
+
 /// Runs raylab as [`raylab`] does, but where the tests run as root (CI),
 /// without the capabilities that let root read any folder (util-linux's
 /// `setpriv` drops them from the bounding set), so that a `chmod 000`
