@@ -1217,6 +1217,135 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
     }
 }
 
+/// Every signal whose default action ends the process, not only the ones
+/// a shell sends: timers (SIGVTALRM, SIGPROF), a debugger's or a seccomp
+/// filter's (SIGTRAP, SIGSYS), a fault sent by `kill` (SIGSEGV, SIGBUS,
+/// SIGILL, SIGFPE, SIGABRT), and Linux's others (SIGSTKFLT, SIGIO, SIGPWR,
+/// the real-time signals). Each, arriving while `render` or `diff` has its
+/// two outputs staged, leaves no `.raylab-*.tmp` file and the old outputs
+/// as they were; the process ends by the signal or with status 128 + it.
+#[cfg(target_os = "linux")]
+#[test]
+fn every_terminating_signal_during_a_write_removes_the_temporary_files() {
+    use std::io::BufRead;
+    use std::os::unix::process::{CommandExt, ExitStatusExt};
+    let dir = tempfile::tempdir().expect("temp dir");
+    let render = [
+        "render",
+        "-c",
+        "5",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "-o",
+        "old.png",
+        "--stats-json",
+        "s.json",
+    ];
+    assert!(raylab(&render, dir.path()).status.success());
+    let other = [
+        "render",
+        "-c",
+        "4",
+        "--width",
+        "8",
+        "--height",
+        "6",
+        "-o",
+        "other.png",
+    ];
+    assert!(raylab(&other, dir.path()).status.success());
+    let diff = [
+        "diff",
+        "old.png",
+        "other.png",
+        "--heatmap",
+        "heat.png",
+        "--json",
+        "d.json",
+    ];
+    assert!(raylab(&diff, dir.path()).status.code().is_some());
+    let kept: Vec<(&str, Vec<u8>)> = ["old.png", "s.json", "heat.png", "d.json"]
+        .into_iter()
+        .map(|name| {
+            (
+                name,
+                std::fs::read(dir.path().join(name)).expect("an output"),
+            )
+        })
+        .collect();
+    let mut signals = vec![
+        libc::SIGVTALRM,
+        libc::SIGPROF,
+        libc::SIGTRAP,
+        libc::SIGSYS,
+        libc::SIGSEGV,
+        libc::SIGBUS,
+        libc::SIGILL,
+        libc::SIGFPE,
+        libc::SIGABRT,
+        libc::SIGSTKFLT,
+        libc::SIGIO,
+        libc::SIGPWR,
+    ];
+    signals.extend([libc::SIGRTMIN(), libc::SIGRTMIN() + 5, libc::SIGRTMAX()]);
+    for args in [&render[..], &diff[..]] {
+        for &signal in &signals {
+            let mut command = common::command(args, dir.path());
+            command
+                .env("RAYLAB_TEST_PAUSE_BEFORE_RENAME", "1")
+                .stderr(std::process::Stdio::piped());
+            // SAFETY: async-signal-safe calls only. The default action, in
+            // case whatever started the tests ignores the signal; no core
+            // file for the faults.
+            unsafe {
+                command.pre_exec(move || {
+                    libc::signal(signal, libc::SIG_DFL);
+                    let none = libc::rlimit {
+                        rlim_cur: 0,
+                        rlim_max: 0,
+                    };
+                    libc::setrlimit(libc::RLIMIT_CORE, &none);
+                    Ok(())
+                });
+            }
+            let mut child = command.spawn().expect("spawn");
+            let mut stderr_lines =
+                std::io::BufReader::new(child.stderr.take().expect("stderr")).lines();
+            let line = stderr_lines.next().expect("a line").expect("text");
+            assert!(line.contains("temporary files written"), "{line}");
+            assert_eq!(
+                common::temporary_files(dir.path()).len(),
+                2,
+                "{} stages both outputs",
+                args[0]
+            );
+            // SAFETY: signalling our own child.
+            assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
+            let exit = child.wait().expect("wait");
+            assert!(
+                exit.signal() == Some(signal) || exit.code() == Some(128 + signal),
+                "{} and signal {signal}: {exit:?}",
+                args[0]
+            );
+            assert_eq!(
+                common::temporary_files(dir.path()),
+                Vec::<String>::new(),
+                "{} and signal {signal}",
+                args[0]
+            );
+            for (name, bytes) in &kept {
+                assert_eq!(
+                    &std::fs::read(dir.path().join(name)).expect("an output"),
+                    bytes,
+                    "{name}"
+                );
+            }
+        }
+    }
+}
+
 /// A full standard output (`> /dev/full`) is an error that says so, exit
 /// 2, not "a bug in raylab"; the image written before is kept.
 #[cfg(target_os = "linux")]
