@@ -22,7 +22,10 @@
 //!
 //! A JOB is `{"chapter": N, "scene": TOML or null (the built-in scene),
 //! "width", "height", "samples", "depth", "epsilon", "without"}`, each setting
-//! optional and meaning what the same option of `raylab render` means.
+//! optional and meaning what the same option of `raylab render` means. A job
+//! whose rays could go beyond the render's budgets is refused, as `raylab
+//! render` refuses it ([`crate::render::RayEstimate`]), and so is one of
+//! chapter 14 with more than [`PAGE_LIGHT_PATHS`] light paths.
 
 use crate::course::Chapters;
 use crate::scene::{OffsetRule, RenderSettings, Scene};
@@ -70,6 +73,18 @@ pub enum WebError {
          lower the samples or the depth, or run raylab trace"
     )]
     TooManyRays { rays: usize, x: u32, y: u32 },
+    #[error(
+        "{paths} light paths ({width}x{height} pixels at light_paths = {per_pixel}), more than \
+         the {PAGE_LIGHT_PATHS} the page traces: chapter 14's light lands anywhere in the image, \
+         so every worker traces all of them for any rows it renders; lower the width or \
+         light_paths, or run raylab render"
+    )]
+    LightPaths {
+        paths: u64,
+        width: u32,
+        height: u32,
+        per_pixel: u32,
+    },
     #[error("pixel {x},{y} is outside the {width}x{height} image")]
     Pixel {
         x: u32,
@@ -226,6 +241,14 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
         }
     }
 }
+
+/// The most light paths (chapter 14) a page's job may trace: each of the
+/// page's workers traces all of them, whatever rows it renders (where a
+/// path's light lands is known only once it is traced), so a job of 4096x4096
+/// pixels would trace a billion of them for two rows. 2^26 (67 million)
+/// allows chapter 14's scene at the page's widest (800 pixels, at 64 paths a
+/// pixel, 41 million).
+pub const PAGE_LIGHT_PATHS: u64 = 1 << 26;
 
 /// The most rays of one pixel the page is sent: a table of 20,000 rows is
 /// already more than anyone reads, and each ray is about half a kilobyte
@@ -413,6 +436,22 @@ impl Job {
             ..base
         };
         settings.validate().map_err(WebError::Settings)?;
+        let samples = settings.samples;
+        let traces_light_paths = crate::effects::Effects::for_chapter(self.chapter)
+            .without(settings.without)
+            .needed_by(&scene, samples)
+            .light_tracing;
+        let paths = u64::from(settings.width)
+            * u64::from(settings.height)
+            * u64::from(settings.light_paths);
+        if traces_light_paths && paths > PAGE_LIGHT_PATHS {
+            return Err(WebError::LightPaths {
+                paths,
+                width: settings.width,
+                height: settings.height,
+                per_pixel: settings.light_paths,
+            });
+        }
         Ok((scene, settings))
     }
 }
@@ -653,13 +692,69 @@ mod tests {
     #[test]
     fn a_pixel_with_too_many_rays_to_draw_is_refused_with_its_count() {
         let answer = json(call::<Reference>(
-            br#"{"op": "trace", "job": {"chapter": 9, "width": 64, "height": 48, "samples": 4096, "depth": 64}, "pixel": [32, 20]}"#,
+            br#"{"op": "trace", "job": {"chapter": 9, "width": 64, "height": 48, "samples": 4096}, "pixel": [32, 20]}"#,
         ));
         let error = answer["error"].as_str().unwrap_or_default();
         assert!(
             error.contains("rays, more than the 20000 the page draws"),
             "{error}"
         );
+    }
+
+    /// `call` on another thread: its answer, or `None` if it has none
+    /// within `seconds` (the thread is then left to finish on its own).
+    fn call_within(request: serde_json::Value, seconds: u64) -> Option<serde_json::Value> {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let answer = call::<Reference>(request.to_string().as_bytes());
+            let _ = sender.send(answer.json);
+        });
+        receiver
+            .recv_timeout(std::time::Duration::from_secs(seconds))
+            .ok()
+    }
+
+    /// A glass box around a diamond ball, nothing cut by contribution: the
+    /// ray tree of one pixel grows by about 1.3 a bounce, and at the page's
+    /// `"depth": 64` it would not end for many minutes. Refused at once.
+    #[test]
+    fn a_job_whose_ray_tree_explodes_is_refused_up_front() {
+        let scene = "[camera]\nposition = [0.3, 1.4, -5]\nlook_at = [0, 1, 0]\n\
+            [render]\nmin_contribution = 0\n[[lights]]\nposition = [0, 5, -3]\n\
+            [[objects]]\n\
+            cuboid = { min = [-1, 0, -1], max = [1, 2, 1], rotate_y_degrees = 30 }\n\
+            material = { transparency = 1.0, ior = 1.5, fresnel = \"exact\" }\n\
+            [[objects]]\nsphere = { center = [0.2, 1.1, 0.1], radius = 0.6 }\n\
+            material = { transparency = 1.0, ior = 2.4, fresnel = \"exact\" }\n";
+        let job = serde_json::json!({
+            "chapter": 10, "scene": scene, "width": 1, "height": 1, "depth": 64,
+        });
+        for request in [
+            serde_json::json!({"op": "render", "job": job, "rows": [0, 1]}),
+            serde_json::json!({"op": "trace", "job": job, "pixel": [0, 0]}),
+            serde_json::json!({"op": "prepare", "job": job}),
+        ] {
+            let answer = call_within(request.clone(), 30)
+                .unwrap_or_else(|| panic!("no answer within 30 s to {request}"));
+            let error = answer["error"].as_str().unwrap_or_default();
+            assert!(error.contains("rays for one pixel"), "{request}: {answer}");
+        }
+    }
+
+    /// Chapter 14's light paths land anywhere in the image, so the page
+    /// traces all of them for any rows it is asked: a job with more than
+    /// the page's share of them is refused, not traced for minutes.
+    #[test]
+    fn a_page_job_with_too_many_light_paths_is_refused() {
+        let request = serde_json::json!({
+            "op": "render",
+            "job": {"chapter": 14, "width": 4096, "height": 4096, "samples": 1},
+            "rows": [0, 2],
+        });
+        let answer =
+            call_within(request, 30).expect("an answer within 30 s, not the whole image's paths");
+        let error = answer["error"].as_str().unwrap_or_default();
+        assert!(error.contains("light paths"), "{answer}");
     }
 
     #[test]

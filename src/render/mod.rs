@@ -43,6 +43,9 @@ use crate::{Ray, Scene, Shape, Vec3};
 pub use crate::seam::{Arrival, CastRay, RayCounts, RayKind, RayLog};
 
 pub mod bsdf;
+mod budget;
+
+pub use budget::{BudgetError, IMAGE_RAY_BUDGET, PIXEL_RAY_BUDGET, RayEstimate};
 
 pub use crate::scene::RayOffset;
 
@@ -71,6 +74,9 @@ pub enum RenderError {
     NoSuchChapter(u8),
     #[error("rows {start} to {end} are not rows of an image {height} pixels high")]
     Rows { start: u32, end: u32, height: u32 },
+    /// The settings could cast more rays than a budget allows.
+    #[error(transparent)]
+    TooManyRays(#[from] BudgetError),
 }
 
 /// A scene prepared for one chapter's stage: what every thread shares.
@@ -165,7 +171,7 @@ impl<'a, C: Chapters> Stage<'a, C> {
             .materials()
             .map(|material| material.emission.max_element())
             .fold(scene.background.max_element().max(1.0), f32::max);
-        Ok(Stage {
+        let stage = Stage {
             scene,
             shapes,
             owners,
@@ -179,7 +185,11 @@ impl<'a, C: Chapters> Stage<'a, C> {
             effects,
             settings,
             chapters: PhantomData,
-        })
+        };
+        // Before any ray, so that no caller (a trace, the page) can ask
+        // for a tree of rays that would not end for hours.
+        stage.check_pixel_budget()?;
+        Ok(stage)
     }
 
     /// Samples per pixel actually taken (1 before chapter 7).
@@ -410,6 +420,7 @@ pub fn render_stage<C: Chapters>(
     stage: &Stage<'_, C>,
     progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
+    stage.check_image_budget()?;
     let start = Instant::now();
     let (width, height) = (stage.settings.width, stage.settings.height);
     // Before the rows, which all read it.
@@ -467,6 +478,9 @@ impl<C: Chapters> RowRenderer for Stage<'_, C> {
                 height,
             });
         }
+        // Rows are parts of the image (the page's workers render all of
+        // them), so the whole image's budget holds.
+        self.check_image_budget()?;
         let row_bytes = width as usize * 3;
         let mut rgb = vec![0u8; row_bytes * rows.len()];
         // The light paths' rays are counted once, with the first row.

@@ -1346,6 +1346,146 @@ fn every_terminating_signal_during_a_write_removes_the_temporary_files() {
     }
 }
 
+/// A glass cuboid around a diamond ball: every ray that meets glass
+/// splits in two, and the box's walls keep most of them in (total internal
+/// reflection), so with `min_contribution = 0` the tree of one camera ray
+/// grows by about 1.3 a level: some 10^9 rays at `max_depth = 64`. The
+/// work is bounded before any ray is cast: `render` and `trace` of one
+/// pixel refuse it at once, with the estimate and what lowers it.
+const GLASS_BOX: &str = r#"
+[camera]
+position = [0.3, 1.4, -5.0]
+look_at = [0.0, 1.0, 0.0]
+
+[render]
+width = 1
+height = 1
+max_depth = 64
+min_contribution = 0
+
+[[lights]]
+position = [0.0, 5.0, -3.0]
+
+[[objects]]
+name = "glass box"
+cuboid = { min = [-1.0, 0.0, -1.0], max = [1.0, 2.0, 1.0], rotate_y_degrees = 30.0 }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, transparency = 1.0, ior = 1.5, fresnel = "exact" }
+
+[[objects]]
+name = "diamond ball"
+sphere = { center = [0.2, 1.1, 0.1], radius = 0.6 }
+material = { color = [1.0, 1.0, 1.0], ambient = 0.0, diffuse = 0.0, transparency = 1.0, ior = 2.4, fresnel = "exact" }
+"#;
+
+/// Runs raylab with `args` in `dir`, killed if it has not ended within
+/// `seconds`: `None` then. Its output is read as it comes (a full pipe
+/// would stall it).
+#[cfg(unix)]
+fn output_within(args: &[&str], dir: &Path, seconds: u64) -> Option<std::process::Output> {
+    let child = common::command(args, dir)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let pid = child.id();
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = sender.send(child.wait_with_output().expect("output"));
+    });
+    match receiver.recv_timeout(std::time::Duration::from_secs(seconds)) {
+        Ok(output) => Some(output),
+        Err(_) => {
+            // SAFETY: signalling our own child, not yet waited for.
+            unsafe {
+                libc::kill(pid as libc::pid_t, libc::SIGKILL);
+            }
+            None
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_exponential_ray_tree_is_refused_up_front_with_its_estimate() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("box.toml"), GLASS_BOX).expect("write");
+    for chapter in ["10", "11", "12"] {
+        for args in [
+            &[
+                "render", "--scene", "box.toml", "-c", chapter, "-o", "box.png",
+            ][..],
+            &[
+                "trace", "--scene", "box.toml", "-c", chapter, "--pixel", "0,0",
+            ][..],
+        ] {
+            let out = output_within(args, dir.path(), 60)
+                .unwrap_or_else(|| panic!("{args:?} still ran after 60 s"));
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+            let text = stderr(&out);
+            assert!(text.contains("rays for one pixel"), "{args:?}: {text}");
+            assert!(text.contains("max_depth = 64"), "{args:?}: {text}");
+            assert!(text.contains("min_contribution"), "{args:?}: {text}");
+            assert!(!dir.path().join("box.png").exists());
+        }
+    }
+    // The same scene with a contribution cut: each bounce level then holds
+    // at most 1 / min_contribution rays, and the render goes ahead.
+    let out = output_within(
+        &[
+            "render",
+            "--scene",
+            "box.toml",
+            "-c",
+            "10",
+            "--min-contribution",
+            "0.01",
+            "-o",
+            "box.png",
+        ],
+        dir.path(),
+        60,
+    )
+    .expect("a bounded render ends");
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Bounded for one pixel, but not for a 4096x4096 image of them: the
+    // render is refused with the image's estimate, one pixel's trace is not.
+    let deep = [
+        "--scene",
+        "box.toml",
+        "-c",
+        "10",
+        "--depth",
+        "30",
+        "--min-contribution",
+        "0.0001",
+        "--width",
+        "4096",
+        "--height",
+        "4096",
+    ];
+    let render: Vec<&str> = ["render"]
+        .into_iter()
+        .chain(deep)
+        .chain(["-o", "big.png"])
+        .collect();
+    let out = output_within(&render, dir.path(), 60)
+        .unwrap_or_else(|| panic!("{render:?} still ran after 60 s"));
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("rays for the 4096x4096 image"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("big.png").exists());
+    let trace: Vec<&str> = ["trace"]
+        .into_iter()
+        .chain(deep)
+        .chain(["--pixel", "2048,2048"])
+        .collect();
+    let out = output_within(&trace, dir.path(), 120).expect("one pixel's trace ends");
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
 /// A full standard output (`> /dev/full`) is an error that says so, exit
 /// 2, not "a bug in raylab"; the image written before is kept.
 #[cfg(target_os = "linux")]
