@@ -22,6 +22,7 @@ pub mod code;
 pub mod hidden;
 pub mod sandbox;
 pub mod similarity;
+pub mod snapshot;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

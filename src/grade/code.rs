@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::sandbox::Sandbox;
+use super::snapshot::{Entry, Snapshot};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -81,7 +82,16 @@ pub struct CodeRun {
     /// The seed of the fresh inputs the check drew (`--fresh`).
     #[serde(default)]
     pub fresh: Option<u64>,
+    /// The Rust files of the workspace's `src/` as they were before the
+    /// build (path, text), at most [`MAX_COMPARED_BYTES`] of them: what
+    /// the similarity report compares.
+    #[serde(default)]
+    pub sources: Vec<(String, String)>,
 }
+
+/// The most bytes of a workspace's `src/` kept for the similarity report
+/// (a course's is a few hundred kilobytes).
+pub const MAX_COMPARED_BYTES: usize = 4 << 20;
 
 /// How much of each output stream is kept: the end, where the compiler's
 /// errors are. A student's code can print without end; the grader's
@@ -137,9 +147,13 @@ pub struct CodeJob<'a> {
 /// set, else `cargo` from the PATH). An error only when the build cannot
 /// be started at all.
 pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::GradeError> {
-    let outside = code_from_outside(workspace);
     let deadline = Instant::now() + job.timeout;
     let workspace = &std::path::absolute(workspace).unwrap_or_else(|_| workspace.to_path_buf());
+    // Before the build: what is judged, checked for its origin and
+    // compared is this, whatever the student's binary does to the files
+    // later (see grade::snapshot).
+    let snapshot = Snapshot::take(workspace);
+    let mut not_counted: Vec<String> = outside_code(&snapshot, workspace).into_iter().collect();
     let built = build(workspace, job)?;
     let mut run = CodeRun {
         status: CodeStatus::BuildError,
@@ -150,6 +164,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         chapters_passed: 0,
         scenes: Vec::new(),
         fresh: job.fresh,
+        sources: compared_sources(&snapshot),
     };
     if built.timed_out {
         run.status = CodeStatus::TimedOut;
@@ -196,20 +211,45 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         run.status = CodeStatus::Error;
         run.stdout = "no verdict: the build made no binary to ask".into();
     }
+    if let Some(change) = snapshot.changed(workspace) {
+        not_counted.push(format!(
+            "{change} while the workspace was built and checked (the code compared is as it \
+             was before the build)"
+        ));
+    }
     // Run all the same (inside the sandbox), so that the report shows what
-    // the code did; but no verdict of such code counts.
-    if let Some(outside) = outside {
-        run.status = CodeStatus::Error;
+    // the code did; but no verdict of such code counts. A build that failed
+    // or ran out of time has no verdict to discount, and says so itself.
+    if !not_counted.is_empty() {
+        if !matches!(run.status, CodeStatus::BuildError | CodeStatus::TimedOut) {
+            run.status = CodeStatus::Error;
+        }
         run.chapters_passed = 0;
         // Last in both outputs: the report keeps their ends, stderr's last.
         let reason = format!(
-            "not counted: {outside}. A workspace's chapters are written in its chapter files, \
-             and only those are compared with other students' and with raylab's answer key."
+            "not counted: {}. A workspace's code is its own files, laid out as `raylab new` \
+             lays them out, and all of its src/ is compared with other students' and with \
+             raylab's answer key.",
+            not_counted.join("; ")
         );
         run.stdout = format!("{}\n{reason}", run.stdout);
         run.stderr = format!("{}\n{reason}", run.stderr);
     }
     Ok(run)
+}
+
+/// The snapshot's `src/` for the similarity report, in the order of the
+/// paths, up to [`MAX_COMPARED_BYTES`].
+fn compared_sources(snapshot: &Snapshot) -> Vec<(String, String)> {
+    let mut total = 0;
+    snapshot
+        .src_texts()
+        .into_iter()
+        .take_while(|(_, text)| {
+            total += text.len();
+            total <= MAX_COMPARED_BYTES
+        })
+        .collect()
 }
 
 /// How the student's binary is started as `serve`: in `sandbox`'s view for
@@ -304,24 +344,48 @@ fn built_binary(messages: &str, workspace: &Path) -> Option<PathBuf> {
 /// The crates a workspace may depend on: those `raylab new` writes.
 const ALLOWED_DEPENDENCIES: [&str; 2] = ["raylab", "libm"];
 
-/// Where a workspace takes code from outside its own source files, which
-/// no copy detection would see, or runs something other than its own
-/// chapters: a `#[path]` module or an `include!` (of raylab's own chapter
-/// files, say) in any of its Rust files, a symbolic link among them, a
-/// build script (which could write them into `src/` while it builds), a
-/// dependency `raylab new` does not write, a `.cargo/config.toml` (a
-/// `runner` could replace the binary), or a `src/main.rs` that is not the
-/// one `raylab new` writes. `None` for a workspace as `raylab new` makes it.
+/// The top-level tables of the manifest `raylab new` writes.
+const MANIFEST_TABLES: [&str; 4] = ["package", "dependencies", "workspace", "profile"];
+
+/// [`outside_code`] of the workspace as it is now.
 pub fn code_from_outside(workspace: &Path) -> Option<String> {
-    if workspace.join("build.rs").exists() {
+    outside_code(&Snapshot::take(workspace), workspace)
+}
+
+/// Where a workspace (`snapshot` of the folder `workspace`) takes code
+/// from outside its own source files, which no copy detection would see,
+/// or runs something other than its own chapters: a `#[path]` module or an
+/// `include!` (of raylab's own chapter files, say) in any of its Rust
+/// files, a symbolic link among them, a build script (which could write
+/// them into `src/` while it builds), a dependency `raylab new` does not
+/// write, a manifest of another shape than the one `raylab new` writes (a
+/// `[lib]` path into a classmate's folder, a `[patch]`, a raylab that is
+/// not the grader's: see `manifest_shape`), a `.cargo/config.toml` (a
+/// `runner` could replace the binary), a `src/main.rs` that is not the one
+/// `raylab new` writes, or unsafe code. `None` for a workspace as `raylab
+/// new` makes it.
+pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
+    if let Some(why) = &snapshot.incomplete {
+        return Some(why.clone());
+    }
+    let has = |path: &str| {
+        snapshot
+            .entries
+            .iter()
+            .any(|(relative, _)| relative == Path::new(path))
+    };
+    if has("build.rs") {
         return Some("the workspace has a build script, build.rs".into());
     }
     for config in [".cargo/config.toml", ".cargo/config"] {
-        if workspace.join(config).exists() {
+        if has(config) {
             return Some(format!("the workspace has a {config}"));
         }
     }
-    let manifest = std::fs::read_to_string(workspace.join("Cargo.toml")).unwrap_or_default();
+    let manifest = snapshot
+        .source("Cargo.toml")
+        .map(String::from_utf8_lossy)
+        .unwrap_or_default();
     if let Ok(manifest) = manifest.parse::<toml::Table>() {
         if manifest
             .get("package")
@@ -333,13 +397,19 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
         if let Some(other) = foreign_dependency(&manifest) {
             return Some(other);
         }
+        if let Some(other) = manifest_shape(&manifest, workspace) {
+            return Some(other);
+        }
         let package = manifest
             .get("package")
             .and_then(|package| package.get("name"))
             .and_then(toml::Value::as_str)
             .unwrap_or_default()
             .replace('-', "_");
-        let main = std::fs::read_to_string(workspace.join("src/main.rs")).unwrap_or_default();
+        let main = snapshot
+            .source("src/main.rs")
+            .map(String::from_utf8_lossy)
+            .unwrap_or_default();
         let expected = format!(
             "fn main() {{\n    std::process::exit(raylab::cli::main_with::<{package}::{}>())\n}}\n",
             crate::workspace::STUDENT_TYPE
@@ -348,61 +418,111 @@ pub fn code_from_outside(workspace: &Path) -> Option<String> {
             return Some("src/main.rs is not the one `raylab new` writes".into());
         }
     }
-    let mut folders = vec![workspace.to_path_buf()];
-    let mut files = 0;
-    while let Some(folder) = folders.pop() {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            continue;
+    for (path, entry) in &snapshot.entries {
+        let shown = || crate::text::visible_name(path.as_os_str());
+        let text = match entry {
+            Entry::Link => return Some(format!("{} is a symbolic link", shown())),
+            Entry::Source(Some(bytes)) if path.extension().is_some_and(|ext| ext == "rs") => {
+                String::from_utf8_lossy(bytes)
+            }
+            _ => continue,
         };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            let shown = || {
-                crate::text::visible_name(path.strip_prefix(workspace).unwrap_or(&path).as_os_str())
-            };
-            let Ok(kind) = entry.file_type() else {
-                continue;
-            };
-            if kind.is_symlink() {
-                return Some(format!("{} is a symbolic link", shown()));
-            }
-            if kind.is_dir() {
-                // The build's own output, and git's.
-                if folder == workspace
-                    && (entry.file_name() == "target" || entry.file_name() == ".git")
-                {
-                    continue;
-                }
-                folders.push(path);
-            } else if kind.is_file() && path.extension().is_some_and(|ext| ext == "rs") {
-                files += 1;
-                if files > 1000 {
-                    return Some("the workspace holds more than 1000 Rust files".into());
-                }
-                let text = crate::input::read_bounded(
-                    &path,
-                    crate::input::MAX_SCENE_BYTES,
-                    "source file",
-                    crate::input::Links::Refuse,
-                )
-                .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
-                .unwrap_or_default();
-                if let Some((line, what)) = outside_reference(&text) {
-                    return Some(format!(
-                        "{}:{line} takes code from another file with {what}",
-                        shown()
-                    ));
-                }
-                if let Some((line, what)) = unsafe_code(&text) {
-                    return Some(format!(
-                        "{}:{line} uses {what}, which the course never needs and which could \
-                         reach the pipes the grader reads the answers from",
-                        shown()
-                    ));
-                }
-            }
+        if let Some((line, what)) = outside_reference(&text) {
+            return Some(format!(
+                "{}:{line} takes code from another file with {what}",
+                shown()
+            ));
+        }
+        if let Some((line, what)) = unsafe_code(&text) {
+            return Some(format!(
+                "{}:{line} uses {what}, which the course never needs and which could \
+                 reach the pipes the grader reads the answers from",
+                shown()
+            ));
         }
     }
     None
+}
+
+/// Where `manifest` (of the workspace in `workspace`) is not of the shape
+/// `raylab new` writes, in words. Only the tables it writes
+/// ([`MANIFEST_TABLES`]: a `[lib]` or `[[bin]]` with a path of its own, a
+/// `[patch]` or a `[replace]` would build another crate's code as the
+/// student's), no `package.workspace` (whose root's patches would apply),
+/// an empty `[workspace]` (a member would be built too), and the two
+/// dependencies exactly as written: `raylab` by a path to the raylab that
+/// grades it, with the `student` feature and nothing else (a patched copy
+/// of raylab, inside `.git/` say, would answer for the student), and
+/// `libm` from the registry.
+fn manifest_shape(manifest: &toml::Table, workspace: &Path) -> Option<String> {
+    let safe = crate::text::terminal_safe;
+    if let Some(other) = manifest
+        .keys()
+        .find(|key| !MANIFEST_TABLES.contains(&key.as_str()))
+    {
+        return Some(format!(
+            "Cargo.toml has [{}], which `raylab new` does not write: a workspace's manifest \
+             keeps the shape `raylab new` gives it",
+            safe(other)
+        ));
+    }
+    if manifest
+        .get("package")
+        .and_then(|package| package.get("workspace"))
+        .is_some()
+    {
+        return Some("Cargo.toml's [package] names a workspace to belong to".into());
+    }
+    if manifest
+        .get("workspace")
+        .is_some_and(|table| table.as_table().is_none_or(|table| !table.is_empty()))
+    {
+        return Some("Cargo.toml's [workspace] is not the empty one `raylab new` writes".into());
+    }
+    let dependencies = manifest.get("dependencies").and_then(toml::Value::as_table);
+    let raylab = dependencies.and_then(|table| table.get("raylab"));
+    if !is_graders_raylab(raylab, workspace) {
+        return Some(format!(
+            "the raylab dependency is not the one `raylab new` writes: raylab = {{ path = {}, \
+             features = [\"student\"] }}, the raylab grading it",
+            toml::Value::String(crate::workspace::RAYLAB_DIR.to_string())
+        ));
+    }
+    let libm = dependencies.and_then(|table| table.get("libm"));
+    if libm.is_some_and(|libm| libm.as_str() != Some("0.2")) {
+        return Some(
+            "the libm dependency is not the one `raylab new` writes: libm = \"0.2\", from the \
+             registry"
+                .into(),
+        );
+    }
+    None
+}
+
+/// Whether `raylab` (the dependency's value) is `{ path = P, features =
+/// ["student"] }` with `P` (relative to `workspace`) the folder of the
+/// raylab running now.
+fn is_graders_raylab(raylab: Option<&toml::Value>, workspace: &Path) -> bool {
+    let Some(table) = raylab.and_then(toml::Value::as_table) else {
+        return false;
+    };
+    let mut keys: Vec<&str> = table.keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    let student = table
+        .get("features")
+        .and_then(toml::Value::as_array)
+        .is_some_and(|features| features.len() == 1 && features[0].as_str() == Some("student"));
+    let Some(path) = table.get("path").and_then(toml::Value::as_str) else {
+        return false;
+    };
+    let same_folder = match (
+        workspace.join(path).canonicalize(),
+        Path::new(crate::workspace::RAYLAB_DIR).canonicalize(),
+    ) {
+        (Ok(theirs), Ok(ours)) => theirs == ours,
+        _ => false,
+    };
+    keys == ["features", "path"] && student && same_folder
 }
 
 /// The first dependency of any kind (normal, build, dev, and each of them
@@ -740,7 +860,8 @@ mod tests {
     #[test]
     fn a_workspace_as_made_takes_no_code_from_outside_and_each_route_is_found() {
         let folder = tempfile::tempdir().expect("a folder");
-        let made = crate::workspace::files("w", Path::new("/r"), true).expect("the files");
+        let raylab = Path::new(crate::workspace::RAYLAB_DIR);
+        let made = crate::workspace::files("w", raylab, true).expect("the files");
         let write = |workspace: &Path| {
             for (name, text) in &made.0 {
                 let path = workspace.join(name);
@@ -767,7 +888,7 @@ mod tests {
                 .clone();
             workspace.join(name)
         };
-        let planted: [(&str, Plant, &str); 7] = [
+        let planted: [(&str, Plant, &str); 12] = [
             (
                 "include",
                 |_, file| {
@@ -827,6 +948,72 @@ mod tests {
                     .expect("write")
                 },
                 "tests/key.rs:1 takes code from another file with a #[path] attribute",
+            ),
+            (
+                "raylab-in-git",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    let line = text
+                        .lines()
+                        .find(|line| line.starts_with("raylab = "))
+                        .expect("the raylab dependency");
+                    let patched = text.replace(
+                        line,
+                        "raylab = { path = \".git/raylab\", features = [\"student\"] }",
+                    );
+                    std::fs::write(&path, patched).expect("write");
+                },
+                "the raylab dependency is not the one `raylab new` writes",
+            ),
+            (
+                "raylab-without-student",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(&path, text.replace(", features = [\"student\"]", ""))
+                        .expect("write");
+                },
+                "the raylab dependency is not the one `raylab new` writes",
+            ),
+            (
+                "lib-path",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(
+                        &path,
+                        format!("{text}\n[lib]\npath = \"../classmate/src/lib.rs\"\n"),
+                    )
+                    .expect("write");
+                },
+                "Cargo.toml has [lib], which `raylab new` does not write",
+            ),
+            (
+                "patch",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(
+                        &path,
+                        format!("{text}\n[patch.crates-io]\nlibm = {{ path = \".git/libm\" }}\n"),
+                    )
+                    .expect("write");
+                },
+                "Cargo.toml has [patch], which `raylab new` does not write",
+            ),
+            (
+                "libm-path",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(
+                        &path,
+                        text.replace("libm = \"0.2\"", "libm = { path = \".git/libm\" }"),
+                    )
+                    .expect("write");
+                },
+                "the libm dependency is not the one `raylab new` writes",
             ),
         ];
         for (name, plant, expected) in planted {

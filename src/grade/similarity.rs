@@ -225,9 +225,17 @@ pub fn compare(a: &Fingerprints, b: &Fingerprints) -> Option<Match> {
     })
 }
 
-/// A pair of students whose chapter file is at least [`REPORTED`] alike.
+/// The number [`Submission`]'s files give all of a workspace's `src/`
+/// (every Rust file of it, one after the other), beside its chapter files
+/// (1 to 14): code moved out of the chapter files (the answer key in
+/// `src/answers/`, each chapter file a `pub use` of it) is compared there.
+pub const ALL_OF_SRC: u8 = 0;
+
+/// A pair of students whose chapter file, or whose whole `src/`
+/// ([`ALL_OF_SRC`]), is at least [`REPORTED`] alike.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimilarPair {
+    /// The chapter whose files are alike, or [`ALL_OF_SRC`].
     pub chapter: u8,
     pub first: String,
     pub second: String,
@@ -237,11 +245,25 @@ pub struct SimilarPair {
     pub passages: Vec<(Passage, Passage)>,
 }
 
+impl SimilarPair {
+    /// What is alike, in words: `chapter 2`, or `all of src/`.
+    pub fn what(&self) -> String {
+        if self.chapter == ALL_OF_SRC {
+            "all of src/".to_string()
+        } else {
+            format!("chapter {}", self.chapter)
+        }
+    }
+}
+
 /// Lines of one file, from `line` (1-based).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Passage {
     pub line: usize,
     pub text: String,
+    /// The file the lines are from, where that is not the chapter's file
+    /// (a passage of all of `src/`).
+    pub file: Option<String>,
 }
 
 /// How many shared passages a pair shows, and how long each is.
@@ -314,6 +336,17 @@ pub fn similar_pairs(submissions: &[Submission]) -> Vec<SimilarPair> {
             }
         }
     }
+    // All of src/ is compared to find what the chapter files do not show:
+    // a pair already alike in a chapter is not listed again for it.
+    let alike_in_a_chapter: BTreeSet<(String, String)> = pairs
+        .iter()
+        .filter(|pair: &&SimilarPair| pair.chapter != ALL_OF_SRC)
+        .map(|pair| (pair.first.clone(), pair.second.clone()))
+        .collect();
+    pairs.retain(|pair| {
+        pair.chapter != ALL_OF_SRC
+            || !alike_in_a_chapter.contains(&(pair.first.clone(), pair.second.clone()))
+    });
     pairs.sort_by(|x, y| {
         y.similarity
             .total_cmp(&x.similarity)
@@ -329,6 +362,7 @@ pub fn similar_pairs(submissions: &[Submission]) -> Vec<SimilarPair> {
 fn passages(first: &str, second: &str, lines: &[(usize, usize)]) -> Vec<(Passage, Passage)> {
     let excerpt = |text: &str, line: usize| Passage {
         line,
+        file: None,
         text: text
             .lines()
             .skip(line.saturating_sub(1))

@@ -1332,6 +1332,94 @@ fn code_mode_reports_copied_chapters() {
     );
 }
 
+/// `grade --code` compares the code that was built, all of `src/`: a
+/// chapter file that the student's binary rewrites while it is checked is
+/// compared as it was before the build (and the run does not count), and
+/// the answer key moved out of the chapter files (each of them a `pub use`
+/// of `src/answers/`) is found in `src/` as a whole.
+#[cfg(unix)]
+#[test]
+fn code_mode_compares_all_of_src_as_it_was_before_the_build() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let module = |chapter: u8| {
+        raylab::chapters::chapter(chapter)
+            .expect("a chapter")
+            .module()
+    };
+    let sphere_file = format!("src/chapters/{}.rs", module(2));
+    let quadratic = "use raylab::{Ray, Sphere};\n\
+        pub fn intersect_sphere(sphere: &Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {\n\
+            let oc = ray.origin - sphere.center();\n    let a = ray.dir.dot(ray.dir);\n\
+            let half_b = oc.dot(ray.dir);\n\
+            let c = oc.dot(oc) - sphere.radius() * sphere.radius();\n\
+            let discriminant = half_b * half_b - a * c;\n\
+            if discriminant < 0.0 { return None; }\n\
+            let root = discriminant.sqrt();\n    let near = (-half_b - root) / a;\n\
+            if near > t_min && near < t_max { return Some(near); }\n\
+            let far = (-half_b + root) / a;\n\
+            if far > t_min && far < t_max { return Some(far); }\n    None\n}\n";
+    let innocent = "pub fn intersect_sphere() {}\n";
+    let passing = verdict_writer(&[(1, "pass", true, false)], true, "");
+    let ann = fake_workspace(&class, "ann", &passing);
+    std::fs::create_dir_all(ann.join("src/chapters")).expect("mkdir");
+    std::fs::write(ann.join(&sphere_file), quadratic).expect("write");
+    // ivy's chapter 2 is ann's, renamed; her binary replaces it with
+    // something of her own as soon as it runs.
+    let ivy = fake_workspace(
+        &class,
+        "ivy",
+        &format!("fn main() {{\n    let _ = std::fs::write({sphere_file:?}, {innocent:?});\n}}\n"),
+    );
+    std::fs::create_dir_all(ivy.join("src/chapters")).expect("mkdir");
+    std::fs::write(
+        ivy.join(&sphere_file),
+        quadratic.replace("half_b", "h").replace("near", "t0"),
+    )
+    .expect("write");
+    // kai's chapter files each re-export raylab's answer key, moved to
+    // src/answers/.
+    let answer_key = raylab::workspace::files("x", Path::new("/raylab"), true).expect("the key");
+    let kai = fake_workspace(&class, "kai", &passing);
+    std::fs::create_dir_all(kai.join("src/answers")).expect("mkdir");
+    std::fs::create_dir_all(kai.join("src/chapters")).expect("mkdir");
+    for chapter in [2, 5, 6, 8] {
+        let text = answer_key
+            .get(&format!("src/chapters/{}.rs", module(chapter)))
+            .expect("a chapter of the key");
+        std::fs::write(
+            kai.join(format!("src/answers/{}.rs", module(chapter))),
+            text,
+        )
+        .expect("write");
+        std::fs::write(
+            kai.join(format!("src/chapters/{}.rs", module(chapter))),
+            format!("pub use crate::answers::{}::*;\n", module(chapter)),
+        )
+        .expect("write");
+    }
+    // The rewrite needs a binary that may write its workspace: no sandbox.
+    let out = raylab(&["grade", "--code", "class", "--no-sandbox"], dir.path());
+    let md = stdout(&out);
+    assert!(
+        md.lines()
+            .any(|line| line.starts_with("- chapter 2: ann and ivy, ")),
+        "{md}"
+    );
+    assert!(
+        md.lines()
+            .any(|line| line.starts_with("- all of src/: kai and raylab's answer key, ")),
+        "{md}"
+    );
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
+    assert!(
+        csv.contains(&format!(
+            "{sphere_file} changed while the workspace was built and checked"
+        )),
+        "{csv}"
+    );
+}
+
 /// The workspaces tests/cli/workspace.rs builds (into this test's target
 /// folder, in the dev profile), each given a `target/` of hard links to
 /// that folder's `debug/`, so that `grade --code --build-profile dev`

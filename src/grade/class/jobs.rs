@@ -143,7 +143,7 @@ pub struct StudentResult {
 }
 
 /// The layout of [`StudentResult`] this raylab writes and reads.
-pub const RESULT_VERSION: u32 = 2;
+pub const RESULT_VERSION: u32 = 3;
 
 /// How a job grades its student: their renders against `references`, or
 /// their workspace's check.

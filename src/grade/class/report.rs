@@ -208,8 +208,8 @@ impl Class {
             for pair in &self.similar {
                 let _ = writeln!(
                     md,
-                    "- chapter {}: {} and {}, {:.0}% alike",
-                    pair.chapter,
+                    "- {}: {} and {}, {:.0}% alike",
+                    pair.what(),
                     markdown_escape(&pair.first),
                     markdown_escape(&pair.second),
                     100.0 * pair.similarity
@@ -292,15 +292,15 @@ impl Class {
         h
     }
 
-    /// The pairs of similar chapter files, their shared passages side by
-    /// side.
+    /// The pairs of similar chapter files (or whole `src/`), their shared
+    /// passages side by side.
     fn html_similar(&self, h: &mut String) {
         if self.similar.is_empty() {
             return;
         }
         let _ = writeln!(
             h,
-            "<section class=\"problems\">\n<h2>Similar code</h2>\n<p>Pairs whose chapter file shares at least {:.0}% of its fingerprints with the other's (token {}-grams winnowed over windows of {}, names and literals ignored, the workspace skeleton excluded): read them before concluding anything.</p>",
+            "<section class=\"problems\">\n<h2>Similar code</h2>\n<p>Pairs whose chapter file, or whose whole src/ (where no chapter file is alike), shares at least {:.0}% of its fingerprints with the other's (token {}-grams winnowed over windows of {}, names and literals ignored, the workspace skeleton excluded), as the files were before the build: read them before concluding anything.</p>",
             100.0 * crate::grade::similarity::REPORTED,
             crate::grade::similarity::K,
             crate::grade::similarity::WINDOW
@@ -308,8 +308,8 @@ impl Class {
         for pair in &self.similar {
             let _ = writeln!(
                 h,
-                "<h3>Chapter {}: {} and {}, {:.0}% alike</h3>\n<table>\n<tr><th>{}</th><th>{}</th></tr>",
-                pair.chapter,
+                "<h3>{}: {} and {}, {:.0}% alike</h3>\n<table>\n<tr><th>{}</th><th>{}</th></tr>",
+                capitalised(&pair.what()),
                 html_escape(&pair.first),
                 html_escape(&pair.second),
                 100.0 * pair.similarity,
@@ -319,10 +319,10 @@ impl Class {
             for (first, second) in &pair.passages {
                 let _ = writeln!(
                     h,
-                    "<tr><td><pre>line {}\n{}</pre></td><td><pre>line {}\n{}</pre></td></tr>",
-                    first.line,
+                    "<tr><td><pre>{}\n{}</pre></td><td><pre>{}\n{}</pre></td></tr>",
+                    html_escape(&passage_place(first)),
                     html_escape(&first.text),
-                    second.line,
+                    html_escape(&passage_place(second)),
                     html_escape(&second.text)
                 );
             }
@@ -527,6 +527,28 @@ fn csv_field(text: &str) -> String {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {
         text
+    }
+}
+
+/// Where a shared passage is: `line 12` of the chapter's file, or
+/// `src/answers/ch02.rs, line 12`.
+fn passage_place(passage: &crate::grade::similarity::Passage) -> String {
+    match &passage.file {
+        Some(file) => format!(
+            "{}, line {}",
+            crate::text::terminal_safe(file),
+            passage.line
+        ),
+        None => format!("line {}", passage.line),
+    }
+}
+
+/// `text` with its first letter in upper case.
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(first) => first.to_uppercase().chain(chars).collect(),
+        None => String::new(),
     }
 }
 

@@ -1,7 +1,8 @@
 //! The similarity section of a class graded with `--code`: every
-//! workspace's chapter files (and raylab's answer key) against each other,
-//! the skeleton left out. Reading the students' files is this part's
-//! alone; the fingerprints are `grade::similarity`'s.
+//! workspace's chapter files, and all of its `src/`, against each other's
+//! and raylab's answer key's, the skeleton left out. The students' files
+//! are those their runs read before the build; the fingerprints are
+//! `grade::similarity`'s.
 
 use std::path::Path;
 
@@ -11,31 +12,35 @@ use crate::grade::GradeError;
 /// The name raylab's answer key goes by in the similarity report.
 pub const ANSWER_KEY: &str = "raylab's answer key";
 
-/// The largest chapter file read for the similarity report.
-const MAX_CHAPTER_FILE_BYTES: u64 = 1 << 20;
-
-/// The pairs of workspaces (and raylab's answer key) whose chapter files
-/// are alike, skeleton aside (see [`crate::grade::similarity`]).
+/// The pairs of workspaces (and raylab's answer key) whose chapter files,
+/// or whose whole `src/`, are alike, skeleton aside (see
+/// [`crate::grade::similarity`]). A student's files are those of the run's
+/// snapshot, taken before the build ([`crate::grade::code::CodeRun::sources`]),
+/// never the folder as the student's binary may have left it.
 pub(super) fn similar_code(
     students: &[Student],
 ) -> Result<Vec<crate::grade::similarity::SimilarPair>, GradeError> {
-    use crate::grade::similarity::{Fingerprints, Submission, fingerprints};
+    use crate::grade::similarity::{ALL_OF_SRC, Fingerprints, Submission, fingerprints};
     let raylab = Path::new(env!("CARGO_MANIFEST_DIR"));
     let skeleton = crate::workspace::files("student", raylab, false);
     let answers = crate::workspace::files("student", raylab, true);
     let (Ok(skeleton), Ok(answers)) = (skeleton, answers) else {
         return Ok(Vec::new());
     };
-    let path = |info: &crate::chapters::ChapterInfo| format!("src/chapters/{}.rs", info.module());
+    let skeleton_src = Src::of(&skeleton.0);
     let base: Vec<(u8, Fingerprints)> = crate::chapters::CHAPTERS
         .iter()
         .map(|info| {
             let prints = skeleton
-                .get(&path(info))
+                .get(&chapter_path(info))
                 .and_then(|text| fingerprints(text).ok())
                 .unwrap_or_default();
             (info.number, prints)
         })
+        .chain(std::iter::once((
+            ALL_OF_SRC,
+            fingerprints(&skeleton_src.text).unwrap_or_default(),
+        )))
         .collect();
     let skeleton_of = |chapter: u8| {
         base.iter()
@@ -43,32 +48,92 @@ pub(super) fn similar_code(
             .map(|(_, prints)| prints.clone())
             .unwrap_or_default()
     };
-    let mut submissions = vec![Submission::new(
-        ANSWER_KEY,
-        crate::chapters::CHAPTERS
-            .iter()
-            .filter_map(|info| Some((info.number, answers.get(&path(info))?.to_string())))
-            .collect(),
-        &skeleton_of,
-    )];
+    let mut sources = vec![(ANSWER_KEY.to_string(), Src::of(&answers.0))];
     for student in students {
-        if !matches!(student.outcome, Outcome::Code(_)) {
-            continue;
+        if let Outcome::Code(run) = &student.outcome {
+            sources.push((student.name.clone(), Src::of(&run.sources)));
         }
-        let files = crate::chapters::CHAPTERS
-            .iter()
-            .filter_map(|info| {
-                let bytes = crate::input::read_bounded(
-                    &student.folder.join(path(info)),
-                    MAX_CHAPTER_FILE_BYTES,
-                    "chapter file",
-                    crate::input::Links::Refuse,
-                )
-                .ok()?;
-                Some((info.number, String::from_utf8(bytes).ok()?))
-            })
-            .collect();
-        submissions.push(Submission::new(&student.name, files, &skeleton_of));
     }
-    Ok(crate::grade::similarity::similar_pairs(&submissions))
+    let submissions: Vec<Submission> = sources
+        .iter()
+        .map(|(name, src)| {
+            let files = crate::chapters::CHAPTERS
+                .iter()
+                .filter_map(|info| Some((info.number, src.file(&chapter_path(info))?.to_string())))
+                .chain(std::iter::once((ALL_OF_SRC, src.text.clone())))
+                .collect();
+            Submission::new(name, files, &skeleton_of)
+        })
+        .collect();
+    let mut pairs = crate::grade::similarity::similar_pairs(&submissions);
+    // A passage of all of src/ names its file and its line there.
+    for pair in pairs.iter_mut().filter(|pair| pair.chapter == ALL_OF_SRC) {
+        let src_of = |name: &str| sources.iter().find(|(n, _)| n == name).map(|(_, src)| src);
+        let (Some(first), Some(second)) = (src_of(&pair.first), src_of(&pair.second)) else {
+            continue;
+        };
+        for (a, b) in &mut pair.passages {
+            (a.file, a.line) = first.place(a.line);
+            (b.file, b.line) = second.place(b.line);
+        }
+    }
+    Ok(pairs)
+}
+
+/// A chapter's file in a workspace.
+fn chapter_path(info: &crate::chapters::ChapterInfo) -> String {
+    format!("src/chapters/{}.rs", info.module())
+}
+
+/// All of a workspace's `src/`: its Rust files (path, text) and their
+/// texts one after the other, with the line each starts at.
+struct Src {
+    files: Vec<(String, String)>,
+    text: String,
+    /// Each file's path and the line of `text` its first line is.
+    starts: Vec<(String, usize)>,
+}
+
+impl Src {
+    /// The Rust files under `src/` of `files` (path, text), in the order
+    /// of their paths.
+    fn of(files: &[(String, String)]) -> Src {
+        let mut files: Vec<(String, String)> = files
+            .iter()
+            .filter(|(path, _)| path.starts_with("src/") && path.ends_with(".rs"))
+            .cloned()
+            .collect();
+        files.sort();
+        let mut text = String::new();
+        let mut starts = Vec::new();
+        let mut line = 1;
+        for (path, body) in &files {
+            starts.push((path.clone(), line));
+            text.push_str(body);
+            if !body.ends_with('\n') {
+                text.push('\n');
+            }
+            line += body.lines().count().max(1);
+        }
+        Src {
+            files,
+            text,
+            starts,
+        }
+    }
+
+    fn file(&self, path: &str) -> Option<&str> {
+        self.files
+            .iter()
+            .find(|(name, _)| name == path)
+            .map(|(_, text)| text.as_str())
+    }
+
+    /// The file and the line in it of line `line` of `text`.
+    fn place(&self, line: usize) -> (Option<String>, usize) {
+        match self.starts.iter().rev().find(|(_, start)| *start <= line) {
+            Some((path, start)) => (Some(path.clone()), line - start + 1),
+            None => (None, line),
+        }
+    }
 }
