@@ -2,8 +2,11 @@
 //! stand in for the student's code.
 //!
 //! raylab carries the reference solution of every chapter: the defaults of
-//! [`crate::course::Chapters`]' methods, the shapes' `intersect` methods and
-//! chapter 3's loop behind [`crate::course::nearest_hit`]. A student's
+//! [`crate::course::Chapters`]' methods, the shapes' `intersect` methods,
+//! chapter 3's loop behind [`crate::course::nearest_hit`] and the scene's
+//! own Cauchy formula ([`crate::scene::Cauchy::index_at`], chapter 14's
+//! `cauchy_ior`). Every public method that computes a chapter's answer
+//! reports here. A student's
 //! function that calls one of them (`sphere.intersect(...)`,
 //! `Reference::intersect_sphere(...)`, an `impl Chapters` that keeps a
 //! default) would otherwise pass every check without a line of its own.

@@ -617,9 +617,10 @@ pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<
     Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max)
 }
 
-// The shapes' intersections, answered by chapters: inherent methods of the
-// shapes (any module of the crate may add some), written here because the
-// shapes know nothing of the chapters.
+// The shapes' intersections and the glass's Cauchy index, answered by
+// chapters: inherent methods of the scene's types (any module of the crate
+// may add some), written here because the scene knows nothing of the
+// chapters.
 impl Shape {
     /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
@@ -642,6 +643,16 @@ impl Shape {
                 hit
             }
         }
+    }
+}
+
+impl Cauchy {
+    /// The index of refraction at `nanometres`, by the reference solution
+    /// of chapter 14's `cauchy_ior`: in a student's run it reports to
+    /// [`crate::answer_key`], as the trait's defaults do.
+    pub fn index_at(&self, nanometres: f32) -> f32 {
+        crate::answer_key::answered("Cauchy::index_at");
+        ch14_caustics::cauchy_ior(self, nanometres)
     }
 }
 

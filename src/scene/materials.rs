@@ -86,9 +86,12 @@ pub struct Cauchy {
 }
 
 impl Cauchy {
-    /// The index at `nanometres`: the scene's constant `ior` for the stages
-    /// before chapter 14 (where a student writes the same formula).
-    pub fn index_at(&self, nanometres: f32) -> f32 {
+    /// The index at `nanometres`, for raylab's own use: the scene's
+    /// constant `ior` for the stages before chapter 14, worked out while
+    /// the scene loads. It is chapter 14's `cauchy_ior`, the formula a
+    /// student writes, so it is not public: the public
+    /// [`Cauchy::index_at`] (src/course.rs) reports to the answer key.
+    pub(crate) fn index(&self, nanometres: f32) -> f32 {
         let micrometres = nanometres / 1000.0;
         self.a + self.b / (micrometres * micrometres)
     }

@@ -375,7 +375,7 @@ impl SceneFile {
                          sets the index at every wavelength"
                     ));
                 }
-                object.material.ior = cauchy.index_at(crate::spectrum::D_LINE_NM);
+                object.material.ior = cauchy.index(crate::spectrum::D_LINE_NM);
             }
             let flat = match (&object.quad, &object.cuboid, &object.prism) {
                 (Some(quad), None, None) => Some(quad.triangles(&label)?),

@@ -120,7 +120,7 @@ pub(crate) fn workspaces() -> &'static Workspaces {
 /// shape's own method; chapter 3 keeps the trait's default (raylab's
 /// answer); chapter 6 calls `Reference`'s; chapter 8 calls `Reference`'s
 /// on a thread of its own; chapter 10 calls the comparison wrapper's
-/// Moller-Trumbore.
+/// Moller-Trumbore; chapter 14 calls the scene's own Cauchy formula.
 const CHEATS: &[(&str, &str)] = &[
     (
         "        ch01_plane::intersect_plane(plane, ray, t_min, t_max)",
@@ -153,6 +153,10 @@ const CHEATS: &[(&str, &str)] = &[
     (
         "        ch10_triangles::intersect_triangle(triangle, ray, t_min, t_max)",
         "        <Textbook<crate::Mine, false, true> as Chapters>::intersect_triangle(triangle, ray, t_min, t_max)",
+    ),
+    (
+        "        ch14_caustics::cauchy_ior(cauchy, nanometres)",
+        "        cauchy.index_at(nanometres)",
     ),
 ];
 
@@ -621,6 +625,19 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
             "{text}"
         );
     }
+    // A public method of raylab's that computes a chapter's answer
+    // reports like the trait's defaults: chapter 14's `cauchy_ior` as the
+    // scene's `Cauchy::index_at`.
+    let out = run_student("student-cheat", &["check", "--chapter", "14"], &dir);
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "chapter 14: {text}");
+    assert!(
+        text.lines().any(
+            |line| line.contains("runs raylab's own answer instead of yours")
+                && line.contains("Cauchy::index_at")
+        ),
+        "chapter 14: {text}"
+    );
     let render = run_student("student-cheat", &["render", "--chapter", "2"], &dir);
     assert_eq!(render.status.code(), Some(2), "{}", stderr(&render));
     assert!(
