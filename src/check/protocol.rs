@@ -110,6 +110,83 @@ pub enum Answered {
     Error(String),
 }
 
+/// The most bytes of each text a student's process sends that raylab
+/// keeps: a panic's message and place, an error, a name of an answer it
+/// ran, its hello. That text goes into the verdicts, and from them into
+/// the report and the CSV; whole, it could carry anything the process
+/// read there.
+pub const MAX_SENT_TEXT: usize = 1000;
+
+/// The most names of raylab's answers one reply may list (raylab has a few
+/// dozen).
+const MAX_SENT_NAMES: usize = 256;
+
+/// `text` cut to at most [`MAX_SENT_TEXT`] bytes (at a character), saying
+/// so when it is.
+pub fn bounded_text(mut text: String) -> String {
+    if text.len() <= MAX_SENT_TEXT {
+        return text;
+    }
+    let whole = text.len();
+    let mut end = MAX_SENT_TEXT;
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    text.truncate(end);
+    text.push_str(&format!(" [... cut: {whole} bytes in all]"));
+    text
+}
+
+/// `names` each cut to a bound, without repeats, at most
+/// [`MAX_SENT_NAMES`] of them.
+fn bounded_names(names: Vec<String>) -> Vec<String> {
+    let mut kept: Vec<String> = Vec::new();
+    for name in names.into_iter().map(bounded_text) {
+        if kept.len() == MAX_SENT_NAMES {
+            break;
+        }
+        if !kept.contains(&name) {
+            kept.push(name);
+        }
+    }
+    kept
+}
+
+impl Reply {
+    /// The reply with every text in it cut to a bound (see
+    /// [`MAX_SENT_TEXT`]), as the judge takes it from a student's process.
+    pub fn bounded(self) -> Reply {
+        let hello_of = |hello: Hello| Hello {
+            protocol: hello.protocol,
+            source: bounded_text(hello.source),
+            version: bounded_text(hello.version),
+        };
+        match self {
+            Reply::Hello { hello, comparison } => Reply::Hello {
+                hello: hello_of(hello),
+                comparison,
+            },
+            Reply::Answer {
+                answer,
+                used,
+                escaped,
+            } => Reply::Answer {
+                answer: match answer {
+                    Answered::Panicked(panic) => Answered::Panicked(Panic {
+                        message: bounded_text(panic.message),
+                        location: panic.location.map(bounded_text),
+                        file: panic.file.map(bounded_text),
+                    }),
+                    Answered::Error(error) => Answered::Error(bounded_text(error)),
+                    other => other,
+                },
+                used: bounded_names(used),
+                escaped: bounded_names(escaped),
+            },
+        }
+    }
+}
+
 /// Why a frame could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum ProtocolError {

@@ -173,7 +173,9 @@ impl Remote {
         let (sender, replies) = mpsc::channel();
         std::thread::spawn(move || {
             loop {
-                let reply = super::protocol::read_frame::<Reply>(&mut output);
+                // Cut to a bound here, before anything of the judge's
+                // keeps it.
+                let reply = super::protocol::read_frame::<Reply>(&mut output).map(Reply::bounded);
                 let stop = reply.is_err();
                 if sender.send(reply).is_err() || stop {
                     return;
@@ -384,5 +386,88 @@ pub fn process_end(status: std::process::ExitStatus) -> String {
     match status.code() {
         Some(code) => format!("exited with status {code}"),
         None => "ended".to_string(),
+    }
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use crate::check::panics::Panic;
+    use crate::check::protocol::{Answered, write_frame};
+
+    /// Finding 4 of issue 41: what a student's process writes is copied
+    /// into the report and the CSV, so anything it read could leave that
+    /// way whole. The text of its replies (a panic's message and place,
+    /// the names of answers it says it ran, an error, its hello) reaches
+    /// the judge cut to a bound, however long it was sent.
+    #[test]
+    fn the_text_a_students_process_sends_is_cut_to_a_bound() {
+        let long = "secret ".repeat(150_000);
+        let mut frames = Vec::new();
+        let hello = Reply::Hello {
+            hello: Hello::ours(),
+            comparison: false,
+        };
+        write_frame(&mut frames, &hello).expect("a frame");
+        let panic = Reply::Answer {
+            answer: Answered::Panicked(Panic {
+                message: long.clone(),
+                location: Some(long.clone()),
+                file: Some(long.clone()),
+            }),
+            used: vec![long.clone(); 3],
+            escaped: vec![long.clone()],
+        };
+        write_frame(&mut frames, &panic).expect("a frame");
+        write_frame(
+            &mut frames,
+            &Reply::Answer {
+                answer: Answered::Error(long.clone()),
+                used: Vec::new(),
+                escaped: Vec::new(),
+            },
+        )
+        .expect("a frame");
+        let folder = tempfile::tempdir().expect("a folder");
+        let replies = folder.path().join("replies");
+        std::fs::write(&replies, frames).expect("write");
+        let spawn: Arc<Spawn> = Arc::new(move || {
+            let mut command = std::process::Command::new("sh");
+            // Replies whatever is asked, then waits to be killed.
+            command.arg("-c").arg("cat \"$0\"; sleep 30").arg(&replies);
+            Ok((command, Box::new(()) as Box<dyn std::any::Any + Send>))
+        });
+        let mut remote = Remote::new(spawn);
+        let step = Step {
+            chapter: 1,
+            function: "f".into(),
+            case: "c".into(),
+        };
+        let ask = Request::Image { chapter: 1 };
+        let Ok(Reply::Answer {
+            answer: Answered::Panicked(panic),
+            used,
+            escaped,
+        }) = remote.ask(&ask, &step)
+        else {
+            panic!("not the panic sent");
+        };
+        let texts = [
+            Some(panic.message),
+            panic.location,
+            panic.file,
+            escaped.first().cloned(),
+        ];
+        for text in texts.iter().flatten().chain(&used) {
+            assert!(text.len() < 4096, "{} bytes came through", text.len());
+        }
+        let Ok(Reply::Answer {
+            answer: Answered::Error(error),
+            ..
+        }) = remote.ask(&ask, &step)
+        else {
+            panic!("not the error sent");
+        };
+        assert!(error.len() < 4096, "{} bytes came through", error.len());
     }
 }
