@@ -179,6 +179,10 @@ pub enum GradeError {
     /// The temporary file the class report's sections go to.
     #[error("cannot write the report's temporary file: {0}")]
     Staging(std::io::Error),
+    /// A student's run could not be sandboxed (its folder, its copy of the
+    /// workspace).
+    #[error(transparent)]
+    Sandbox(#[from] sandbox::SandboxError),
     /// The command that runs a workspace's check could not start.
     #[error("cannot run {} in {}: {error}", cargo.display(), workspace.display())]
     Run {

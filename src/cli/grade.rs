@@ -262,9 +262,7 @@ fn grade_class(
     csv: &Path,
 ) -> Result<i32> {
     let sandbox = if args.code && !args.no_sandbox && args.merge.is_none() {
-        Some(crate::grade::sandbox::Sandbox::find(
-            crate::grade::sandbox::Limits::DEFAULT,
-        )?)
+        Some(code_sandbox(args, &[report, csv])?)
     } else {
         None
     };
@@ -370,9 +368,7 @@ fn grade_one_of_class(
         sandbox = if args.no_sandbox {
             None
         } else {
-            Some(crate::grade::sandbox::Sandbox::find(
-                crate::grade::sandbox::Limits::DEFAULT,
-            )?)
+            Some(code_sandbox(args, &[result])?)
         };
         scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
         crate::grade::class::Job::Code(code_job(args, sandbox.as_ref(), &scenes))
@@ -394,6 +390,19 @@ fn grade_one_of_class(
     } else {
         EXIT_FAILED_CHECK
     })
+}
+
+/// The sandbox of `grade --code`, hiding from the students' code the
+/// files of the instructor's that `args` name (the hidden scenes, the
+/// references) and `outputs`, wherever they would show in it.
+fn code_sandbox(args: &GradeArgs, outputs: &[&Path]) -> Result<crate::grade::sandbox::Sandbox> {
+    let mut hidden = args.scenes.clone();
+    hidden.extend(args.against.clone());
+    hidden.extend(outputs.iter().map(|path| path.to_path_buf()));
+    Ok(
+        crate::grade::sandbox::Sandbox::find(crate::grade::sandbox::Limits::DEFAULT)?
+            .hiding(hidden),
+    )
 }
 
 /// The job of `grade --code` that `args` describe, with its hidden

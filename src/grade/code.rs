@@ -16,7 +16,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::sandbox::Sandbox;
+use super::sandbox::{LimitReached, Run, Sandbox};
 use super::snapshot::{Entry, Snapshot};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
@@ -87,6 +87,10 @@ pub struct CodeRun {
     /// the similarity report compares.
     #[serde(default)]
     pub sources: Vec<(String, String)>,
+    /// The limits of its sandbox the run reached (memory, processes),
+    /// which ended it or a part of it.
+    #[serde(default)]
+    pub limits: Vec<LimitReached>,
 }
 
 /// The most bytes of a workspace's `src/` kept for the similarity report
@@ -154,7 +158,18 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     // later (see grade::snapshot).
     let snapshot = Snapshot::take(workspace);
     let mut not_counted: Vec<String> = outside_code(&snapshot, workspace).into_iter().collect();
-    let built = build(workspace, job)?;
+    // The run's folder and cgroups, shared by the build and every
+    // answering process: the limits hold for the run as a whole. Its copy
+    // of the workspace is made after the snapshot, so it is what was
+    // snapshotted.
+    let sandboxed = job
+        .sandbox
+        .map(|sandbox| sandbox.start(workspace).map(Arc::new))
+        .transpose()?;
+    let workspace = sandboxed
+        .as_ref()
+        .map_or(workspace.as_path(), |run| run.workspace());
+    let built = build(workspace, job, sandboxed.as_deref())?;
     let mut run = CodeRun {
         status: CodeStatus::BuildError,
         exit_code: built.exit.and_then(|status| status.code()),
@@ -165,6 +180,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         scenes: Vec::new(),
         fresh: job.fresh,
         sources: compared_sources(&snapshot),
+        limits: Vec::new(),
     };
     if built.timed_out {
         run.status = CodeStatus::TimedOut;
@@ -173,7 +189,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         .binary
         .filter(|_| built.exit.is_some_and(|s| s.success()))
     {
-        let spawn = serve_spawn(workspace, &binary, job.sandbox);
+        let spawn = serve_spawn(workspace, &binary, sandboxed.clone());
         let students_stderr = Arc::new(std::sync::Mutex::new(Vec::new()));
         let remote = || {
             Remote::new(Arc::clone(&spawn))
@@ -210,6 +226,15 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     } else if built.exit.is_some_and(|status| status.success()) {
         run.status = CodeStatus::Error;
         run.stdout = "no verdict: the build made no binary to ask".into();
+    }
+    if let Some(sandboxed) = &sandboxed {
+        run.limits = sandboxed.limits_reached();
+    }
+    if !run.limits.is_empty() {
+        let reached: Vec<String> = run.limits.iter().map(ToString::to_string).collect();
+        let line = format!("stopped by {}", reached.join("; and by "));
+        run.stdout = format!("{}\n{line}", run.stdout).trim_start().to_string();
+        run.stderr = format!("{}\n{line}", run.stderr);
     }
     if let Some(change) = snapshot.changed(workspace) {
         not_counted.push(format!(
@@ -252,17 +277,16 @@ fn compared_sources(snapshot: &Snapshot) -> Vec<(String, String)> {
         .collect()
 }
 
-/// How the student's binary is started as `serve`: in `sandbox`'s view for
-/// answering (nothing writable, no `/proc`), or plainly.
-fn serve_spawn(workspace: &Path, binary: &Path, sandbox: Option<&Sandbox>) -> Arc<Spawn> {
+/// How the student's binary is started as `serve`: in the run's sandbox
+/// for answering (nothing writable, no `/proc`), or plainly.
+fn serve_spawn(workspace: &Path, binary: &Path, sandboxed: Option<Arc<Run>>) -> Arc<Spawn> {
     let (workspace, binary) = (workspace.to_path_buf(), binary.to_path_buf());
-    let sandbox = sandbox.cloned();
     Arc::new(move || {
-        let (mut command, keep): (Command, Box<dyn std::any::Any + Send>) = match &sandbox {
-            Some(sandbox) => {
-                let sandboxed = sandbox.serve_command(&workspace, &binary);
-                (sandboxed.command, Box::new(sandboxed.cap))
-            }
+        let (mut command, keep): (Command, Box<dyn std::any::Any + Send>) = match &sandboxed {
+            Some(run) => run
+                .serve_command(&binary)
+                .map_err(std::io::Error::other)?
+                .into_parts(),
             None => {
                 let mut command = Command::new(&binary);
                 command.arg("serve");
@@ -283,21 +307,14 @@ struct Built {
     binary: Option<PathBuf>,
 }
 
-/// `cargo build --profile P --offline` in `workspace` (inside the sandbox
-/// if the job has one), killed with all it started past the job's time
-/// limit.
-fn build(workspace: &Path, job: &CodeJob) -> Result<Built, super::GradeError> {
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    // A fresh folder of its own for temporary files: the one folder
-    // outside the workspace the sandbox lets the build write.
-    let folder = tempfile::Builder::new()
-        .prefix("raylab-grade-")
-        .tempdir()
-        .map_err(|error| super::GradeError::Run {
-            cargo: "a temporary folder".into(),
-            workspace: workspace.to_path_buf(),
-            error,
-        })?;
+/// `cargo build --profile P --offline` in `workspace` (inside the run's
+/// sandbox if there is one), killed with all it started past the job's
+/// time limit.
+fn build(
+    workspace: &Path,
+    job: &CodeJob,
+    sandboxed: Option<&Run>,
+) -> Result<Built, super::GradeError> {
     let args: Vec<std::ffi::OsString> = [
         "build",
         "--profile",
@@ -308,13 +325,52 @@ fn build(workspace: &Path, job: &CodeJob) -> Result<Built, super::GradeError> {
     .into_iter()
     .map(Into::into)
     .collect();
-    let (mut command, _cap) =
-        cargo_command(&cargo, workspace, &args, Some(folder.path()), job.sandbox);
+    // A shared target folder would let cargo take one student's build for
+    // another's (same crate name, older sources): each workspace builds in
+    // its own target/. Set, not just unset: the variable overrides a
+    // `build.target-dir` of the workspace's own .cargo/config.toml.
+    let target = (
+        "CARGO_TARGET_DIR",
+        workspace.join("target").into_os_string(),
+    );
+    let (mut command, keep, cargo) = match (job.sandbox, sandboxed) {
+        (Some(sandbox), Some(run)) => {
+            let cargo = sandbox.cargo().as_os_str().to_os_string();
+            let (command, keep) = run
+                .build_command(&cargo, &args, &[target])
+                .map_err(super::GradeError::from)?
+                .into_parts();
+            (command, keep, cargo)
+        }
+        _ => {
+            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+            let mut command = Command::new(&cargo);
+            command.args(&args).env(target.0, target.1);
+            (
+                command,
+                Box::new(()) as Box<dyn std::any::Any + Send>,
+                cargo,
+            )
+        }
+    };
+    command
+        .current_dir(workspace)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // Its own process group, so that on a timeout the compiler and all it
+    // started die together.
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        command.process_group(0);
+    }
     let mut child = command.spawn().map_err(|error| super::GradeError::Run {
         cargo: cargo.clone().into(),
         workspace: workspace.to_path_buf(),
         error,
     })?;
+    drop(keep);
     let receiver = read_outputs(&mut child);
     let (exit, timed_out) = wait_within(&mut child, job.timeout);
     // Whatever the build left behind in its group goes too.
@@ -630,48 +686,6 @@ fn outside_reference(text: &str) -> Option<(usize, &'static str)> {
     }
     // Text the tokeniser refuses cannot compile either: the build says why.
     walk(text.parse().ok()?, false)
-}
-
-/// `cargo ARGS` in `workspace` (inside `sandbox` if given, where
-/// `writable` is the one folder outside the workspace it may write), with
-/// its output piped.
-fn cargo_command(
-    cargo: &std::ffi::OsStr,
-    workspace: &Path,
-    args: &[std::ffi::OsString],
-    writable: Option<&Path>,
-    sandbox: Option<&Sandbox>,
-) -> (Command, Option<super::sandbox::ProcessCap>) {
-    let (mut command, cap) = match sandbox {
-        Some(sandbox) => {
-            let sandboxed = sandbox.command(workspace, writable, cargo.into(), args);
-            (sandboxed.command, sandboxed.cap)
-        }
-        None => {
-            let mut command = Command::new(cargo);
-            command.args(args);
-            (command, None)
-        }
-    };
-    command
-        .current_dir(workspace)
-        // A shared target folder would let cargo take one student's build
-        // for another's (same crate name, older sources): each workspace
-        // builds in its own target/. Set, not just unset: the variable
-        // overrides a `build.target-dir` of the workspace's own
-        // .cargo/config.toml.
-        .env("CARGO_TARGET_DIR", workspace.join("target"))
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    // Its own process group, so that on a timeout the compiler and all it
-    // started die together.
-    #[cfg(unix)]
-    {
-        use std::os::unix::process::CommandExt;
-        command.process_group(0);
-    }
-    (command, cap)
 }
 
 /// Reads the child's stdout and stderr on threads of their own (one full

@@ -953,7 +953,7 @@ fn jobs_per_student_merge_into_the_report_of_one_run() {
 /// A fake student workspace: a Cargo project whose binary ignores its
 /// arguments, runs `body` and exits (the real `check` prints its table and
 /// exits 0, 1 or 2).
-fn fake_workspace(class: &Path, student: &str, body: &str) -> PathBuf {
+pub(crate) fn fake_workspace(class: &Path, student: &str, body: &str) -> PathBuf {
     // Laid out as `raylab new` lays a workspace out (its main.rs, its one
     // dependency called raylab), so that grade takes it as one; the
     // "raylab" is a stand-in crate whose `cli::main_with` runs `body`, so

@@ -10,5 +10,6 @@ mod cost;
 mod diff;
 mod grade;
 mod mesh;
+mod sandbox;
 mod setup_embree;
 mod workspace;

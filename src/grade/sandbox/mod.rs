@@ -4,40 +4,61 @@
 //! Why bubblewrap: it is one small packaged binary (Debian's and Ubuntu's
 //! `bubblewrap`), needs no daemon and no root on systems that allow user
 //! namespaces, and builds exactly the view a build needs from command-line
-//! arguments: the whole file system read-only, the student's workspace (and
-//! so its `target/`) and one folder for the verdict file (and `TMPDIR`)
-//! writable, no network (a new network namespace has only its own loopback)
-//! and a new pid namespace, whose processes the kernel kills together when
-//! its first process ends: a `setsid` child cannot outlive the run.
-//! Containers (Docker, Podman) would need a daemon or images; `firejail`
-//! is setuid and configured by profiles; `systemd-run` needs systemd.
+//! arguments. Containers (Docker, Podman) would need a daemon or images;
+//! `firejail` is setuid and configured by profiles; `systemd-run` needs
+//! systemd.
 //!
-//! Limits are resource limits set on the sandbox before it starts, which
-//! every process in it inherits: address space (memory), CPU time, file
-//! size (the outputs) and the number of processes. The kernel does not
-//! apply the process limit to root, so where raylab may make a cgroup of
-//! the `pids` controller (root, or a delegated cgroup), each run also
-//! goes into a cgroup of its own whose `pids.max` caps the processes of
-//! the run itself, for root too ([`ProcessCap`]).
+//! Each student's run ([`Run`]) sees only what a build needs ([`view`]):
+//! the system's programs and libraries, the toolchain, cargo's cache of
+//! crates, raylab's checkout without its `target/`, and a copy of the
+//! workspace with the workspace's `target/` ([`workdir`]); not the
+//! grader's binary, home, environment or outputs, the instructor's hidden
+//! scenes, other workspaces, `/etc/shadow`, `/run` or `/tmp`. It has no
+//! network (a new network namespace has only its own loopback, which also
+//! keeps the host's abstract Unix sockets out of reach) and a new pid
+//! namespace, whose processes the kernel kills together when its first
+//! process ends: a `setsid` child cannot outlive the run, and the
+//! grader's processes cannot be seen. When the grader is root, the run's
+//! processes are the unprivileged user `nobody`, with no capability
+//! ([`RunAs`]).
+//!
+//! Limits: the memory and the processes of the whole run (its build, then
+//! all its answering processes at once) are capped by cgroups of the run
+//! where raylab may make them ([`cgroups`]); where it may not, each
+//! process's address space is capped instead (a resource limit). CPU time
+//! and the size of each file are resource limits of each process.
 
-use std::ffi::OsString;
+mod cgroups;
+mod view;
+mod workdir;
+
+pub use cgroups::RunCgroups;
+
+use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The resource limits of a sandboxed run, per process (as the kernel
-/// applies them).
+use view::{Mount, View};
+use workdir::RunFolder;
+
+/// The resource limits of a sandboxed run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
-    /// Address space: an allocation past it fails (a 50 GB `Vec` aborts).
+    /// Memory of the whole run, where a memory cgroup can be made (root,
+    /// or a delegated cgroup); else the address space of each process (a
+    /// 50 GB `Vec` aborts at once).
     pub memory_bytes: u64,
-    /// CPU time, in seconds.
+    /// CPU time of each process, in seconds.
     pub cpu_seconds: u64,
     /// The largest file a process may write (`target/` holds the largest:
     /// raylab's libraries are a few tens of megabytes).
     pub file_bytes: u64,
-    /// Processes: of the grader's user (a resource limit, which the
-    /// kernel does not apply to root), and of the run (a `pids` cgroup,
-    /// where one can be made).
+    /// The most a workspace's own files (outside `target/` and `.git/`)
+    /// may hold: each run copies them.
+    pub disk_bytes: u64,
+    /// Processes (and threads) of the run at once, where a `pids` cgroup
+    /// can be made; else of the user the run's processes are (a resource
+    /// limit, which the kernel does not apply to root).
     pub processes: u64,
 }
 
@@ -47,6 +68,7 @@ impl Limits {
         memory_bytes: 8 << 30,
         cpu_seconds: 1800,
         file_bytes: 2 << 30,
+        disk_bytes: 4 << 30,
         processes: 512,
     };
 }
@@ -69,248 +91,610 @@ pub enum SandboxError {
         bwrap.display()
     )]
     Unusable { bwrap: PathBuf, why: String },
+    #[error(
+        "raylab runs as root, so the students' code must run as an unprivileged user, which \
+         needs util-linux's `setpriv` (not found on the PATH nor in /usr/bin): install \
+         util-linux, or grade as an ordinary user"
+    )]
+    NoSetpriv,
+    #[error("cannot find the Rust toolchain the students' workspaces build with: {why}")]
+    Toolchain { why: String },
+    #[error("cannot {action} {} for the run: {error}", path.display())]
+    RunFolder {
+        action: &'static str,
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error(
+        "{} is not a folder: the build writes its output there; remove it",
+        .0.display()
+    )]
+    TargetNotAFolder(PathBuf),
+    #[error(
+        "the workspace's files (but target/ and .git/) are more than {} or {entries} files: \
+         over the run's disk limit",
+        bytes_text(*budget)
+    )]
+    WorkspaceTooLarge { budget: u64, entries: u64 },
 }
 
-/// A working bubblewrap and the limits to run under.
+/// A limit of its run that a run reached, for the report.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum LimitReached {
+    /// The run's processes together held `bytes`, and the kernel killed one.
+    Memory { bytes: u64 },
+    /// The run had `count` processes (and threads) at once, and one more
+    /// could not start.
+    Processes { count: u64 },
+}
+
+impl std::fmt::Display for LimitReached {
+    fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LimitReached::Memory { bytes } => write!(
+                out,
+                "the memory limit: the run's processes together reached {}, and the kernel \
+                 killed one of them",
+                bytes_text(*bytes)
+            ),
+            LimitReached::Processes { count } => write!(
+                out,
+                "the process limit: the run had {count} processes and threads at once, and \
+                 one more could not start"
+            ),
+        }
+    }
+}
+
+/// `bytes` in words: "8 GiB", "768 MiB", "1000 bytes".
+pub fn bytes_text(bytes: u64) -> String {
+    if bytes >= 1 << 30 && bytes % (1 << 30) == 0 {
+        format!("{} GiB", bytes >> 30)
+    } else if bytes >= 1 << 20 && bytes % (1 << 20) == 0 {
+        format!("{} MiB", bytes >> 20)
+    } else {
+        format!("{bytes} bytes")
+    }
+}
+
+/// When the grader is root, the user its runs' processes become.
+///
+/// bubblewrap's own `--uid` needs a user namespace, and one made by root
+/// maps the sandbox's user to root outside: its processes would still own
+/// root's files (`/etc/shadow` is readable by its owner), and a file
+/// shown writable would be root's to change. So bubblewrap runs as root
+/// with every capability dropped but the three `setpriv` needs to switch
+/// users, and util-linux's `setpriv`, started first inside, becomes
+/// `nobody` (uid and gid 65534), clears the supplementary groups, empties
+/// the capability sets (bounding set included) and sets `no_new_privs`,
+/// so that no setuid program can give them back, before it starts the
+/// build or the student's binary. As `nobody` the run can write only what
+/// raylab gives it ([`workdir`]), and cannot remount anything nor touch a
+/// cgroup.
+#[derive(Debug, Clone)]
+struct RunAs {
+    setpriv: PathBuf,
+    uid: u32,
+    gid: u32,
+}
+
+/// `nobody`, on Debian, Ubuntu, Fedora and Arch.
+const NOBODY: u32 = 65534;
+
+impl RunAs {
+    /// The words that start `program` as the run's user.
+    fn words(&self) -> Vec<OsString> {
+        let mut words: Vec<OsString> = vec![self.setpriv.clone().into()];
+        words.extend(
+            [
+                format!("--reuid={}", self.uid),
+                format!("--regid={}", self.gid),
+                "--clear-groups".into(),
+                "--bounding-set=-all".into(),
+                "--inh-caps=-all".into(),
+                "--no-new-privs".into(),
+                "--".into(),
+            ]
+            .map(OsString::from),
+        );
+        words
+    }
+}
+
+/// The toolchain the runs build with, as found outside the sandbox.
+#[derive(Debug, Clone)]
+struct Toolchain {
+    /// rustc's sysroot: its `bin/` has `rustc` and, from rustup, `cargo`.
+    sysroot: PathBuf,
+    /// The cargo binary itself (never rustup's proxy, which would need
+    /// rustup's settings and the grader's home).
+    cargo: PathBuf,
+    /// cargo's folder, where it is not in the sysroot.
+    cargo_folder: Option<PathBuf>,
+    /// cargo's home, of which the runs see the cache of crates only.
+    cargo_home: Option<PathBuf>,
+}
+
+impl Toolchain {
+    /// The cargo of `$CARGO` (else of the PATH) and the sysroot of the
+    /// `rustc` beside it (else of the PATH), asked from `/`, so that no
+    /// workspace's `rust-toolchain` file picks another.
+    fn find() -> Result<Toolchain, SandboxError> {
+        let given = std::env::var_os("CARGO")
+            .map(PathBuf::from)
+            .or_else(|| on_path("cargo"))
+            .ok_or_else(|| SandboxError::Toolchain {
+                why: "no cargo: neither $CARGO nor a cargo on the PATH".into(),
+            })?;
+        let beside = given.with_file_name("rustc");
+        let rustc = if beside.is_file() {
+            beside
+        } else {
+            on_path("rustc").ok_or_else(|| SandboxError::Toolchain {
+                why: "no rustc beside cargo nor on the PATH".into(),
+            })?
+        };
+        let asked = Command::new(&rustc)
+            .args(["--print", "sysroot"])
+            .current_dir("/")
+            .output()
+            .map_err(|error| SandboxError::Toolchain {
+                why: format!("{} --print sysroot: {error}", rustc.display()),
+            })?;
+        let printed = String::from_utf8_lossy(&asked.stdout).trim().to_string();
+        let sysroot =
+            Path::new(&printed)
+                .canonicalize()
+                .map_err(|error| SandboxError::Toolchain {
+                    why: format!(
+                        "{} --print sysroot said {printed:?}: {error}",
+                        rustc.display()
+                    ),
+                })?;
+        let given = given.canonicalize().unwrap_or(given);
+        let inside = sysroot.join("bin/cargo");
+        let cargo = if given.starts_with(&sysroot) || !inside.is_file() {
+            given
+        } else {
+            inside
+        };
+        let cargo_folder = cargo
+            .parent()
+            .filter(|folder| !folder.starts_with(&sysroot))
+            .map(Path::to_path_buf);
+        let cargo_home = std::env::var_os("CARGO_HOME")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|home| Path::new(&home).join(".cargo")))
+            .and_then(|home| home.canonicalize().ok());
+        Ok(Toolchain {
+            sysroot,
+            cargo,
+            cargo_folder,
+            cargo_home,
+        })
+    }
+
+    /// The PATH inside: the toolchain, then the system's programs (the
+    /// linker `cc` among them).
+    fn path(&self) -> OsString {
+        let mut folders = vec![self.sysroot.join("bin")];
+        folders.extend(self.cargo_folder.clone());
+        folders.extend(["/usr/bin", "/bin"].map(PathBuf::from));
+        std::env::join_paths(folders).unwrap_or_else(|_| "/usr/bin:/bin".into())
+    }
+}
+
+/// A working bubblewrap, the limits to run under, and what to hide.
 #[derive(Debug, Clone)]
 pub struct Sandbox {
     bwrap: PathBuf,
     pub limits: Limits,
+    run_as: Option<RunAs>,
+    toolchain: Toolchain,
+    /// raylab's checkout (the workspaces' path dependency), where it is.
+    raylab: Option<PathBuf>,
+    /// Paths the runs must not see even inside what they see: the
+    /// grader's binary, the instructor's files.
+    hidden: Vec<PathBuf>,
 }
 
 impl Sandbox {
-    /// The `bwrap` on the PATH, once it has made a sandbox like the ones
-    /// [`Sandbox::command`] makes.
+    /// The `bwrap` on the PATH, once it has run a program in a sandbox
+    /// like those of the runs (as `nobody`, when raylab is root).
     pub fn find(limits: Limits) -> Result<Sandbox, SandboxError> {
         let bwrap = on_path("bwrap").ok_or(SandboxError::Missing)?;
-        let sandbox = Sandbox { bwrap, limits };
+        // SAFETY: geteuid has no preconditions.
+        let run_as = if unsafe { libc::geteuid() } == 0 {
+            let setpriv = on_path("setpriv")
+                .or_else(|| Some(PathBuf::from("/usr/bin/setpriv")).filter(|path| path.is_file()))
+                .ok_or(SandboxError::NoSetpriv)?;
+            Some(RunAs {
+                setpriv: setpriv.canonicalize().unwrap_or(setpriv),
+                uid: NOBODY,
+                gid: NOBODY,
+            })
+        } else {
+            None
+        };
+        let raylab = Path::new(crate::workspace::RAYLAB_DIR)
+            .canonicalize()
+            .ok()
+            .filter(|folder| folder.join("Cargo.toml").is_file());
+        let grader = std::env::current_exe().and_then(|exe| exe.canonicalize());
+        let sandbox = Sandbox {
+            bwrap,
+            limits,
+            run_as,
+            toolchain: Toolchain::find()?,
+            raylab,
+            hidden: grader.into_iter().collect(),
+        };
+        let env = [("PATH".into(), sandbox.toolchain.path())];
         let probe = sandbox
-            .command(Path::new("/"), None, OsString::from("true"), &[])
-            .command
-            .output();
-        match probe {
-            Ok(out) if out.status.success() => Ok(sandbox),
-            Ok(out) => Err(SandboxError::Unusable {
+            .command(
+                &sandbox.view(None),
+                Path::new("/"),
+                "true".as_ref(),
+                &[],
+                &env,
+                None,
+            )
+            .and_then(|sandboxed| {
+                let mut command = sandboxed.command;
+                command.output().map_err(|error| SandboxError::Unusable {
+                    bwrap: sandbox.bwrap.clone(),
+                    why: error.to_string(),
+                })
+            })?;
+        if probe.status.success() {
+            Ok(sandbox)
+        } else {
+            Err(SandboxError::Unusable {
                 bwrap: sandbox.bwrap,
-                why: String::from_utf8_lossy(&out.stderr).trim().to_string(),
-            }),
-            Err(error) => Err(SandboxError::Unusable {
-                bwrap: sandbox.bwrap,
-                why: error.to_string(),
-            }),
+                why: String::from_utf8_lossy(&probe.stderr).trim().to_string(),
+            })
         }
     }
 
-    /// `program args` inside a sandbox where only `workspace` and
-    /// `writable` (the verdict file's folder) can be written, run from
-    /// `workspace`, with the cgroup that caps its processes where there is
-    /// one: keep it until the run has ended.
-    pub fn command(
+    /// The same sandbox, hiding `paths` too wherever they would show (the
+    /// instructor's scenes, references and outputs).
+    pub fn hiding(mut self, paths: impl IntoIterator<Item = PathBuf>) -> Sandbox {
+        self.hidden.extend(
+            paths
+                .into_iter()
+                .filter_map(|path| path.canonicalize().ok()),
+        );
+        self
+    }
+
+    /// The cargo the runs build with.
+    pub fn cargo(&self) -> &Path {
+        &self.toolchain.cargo
+    }
+
+    /// A run of the workspace `workspace`: its folder, its copy of the
+    /// workspace and its cgroups, ready for [`Run::build_command`] and
+    /// [`Run::serve_command`].
+    pub fn start(&self, workspace: &Path) -> Result<Run, SandboxError> {
+        let workspace = workspace
+            .canonicalize()
+            .map_err(|error| SandboxError::RunFolder {
+                action: "resolve",
+                path: workspace.to_path_buf(),
+                error,
+            })?;
+        let owner = self.run_as.as_ref().map(|user| (user.uid, user.gid));
+        let folder = RunFolder::new(&workspace, self.limits.disk_bytes, owner)?;
+        Ok(Run {
+            sandbox: self.clone(),
+            workspace,
+            folder,
+            cgroups: RunCgroups::create(&self.limits),
+        })
+    }
+
+    /// The view every sandbox starts from: the system, the toolchain,
+    /// cargo's cache of crates, raylab's checkout without its `target/`;
+    /// then `then`'s mounts, and the hidden paths covered, the workspace's
+    /// neighbours too (the other workspaces of a class).
+    fn view(&self, then: Option<(&Path, Vec<Mount>)>) -> View {
+        let mut view = View::system();
+        view.show(&self.toolchain.sysroot);
+        if let Some(folder) = &self.toolchain.cargo_folder {
+            view.show(folder);
+        }
+        if let Some(home) = &self.toolchain.cargo_home {
+            for name in ["registry", "git", "config.toml", "config"] {
+                view.show(&home.join(name));
+            }
+        }
+        if let Some(raylab) = &self.raylab {
+            view.show(raylab);
+            view.hide(&raylab.join("target"));
+        }
+        let mut hidden = self.hidden.clone();
+        if let Some(home) = &self.toolchain.cargo_home {
+            hidden.extend(["credentials.toml", "credentials"].map(|name| home.join(name)));
+        }
+        if let Some((workspace, mounts)) = then {
+            for mount in mounts {
+                view.push(mount);
+            }
+            hidden.extend(workspace.parent().map(Path::to_path_buf));
+        }
+        for path in &hidden {
+            view.hide(path);
+        }
+        view
+    }
+
+    /// bubblewrap running `program args` in `view`, from `folder`, with
+    /// only the environment `env`, in `cgroups`, under the limits.
+    fn command(
         &self,
-        workspace: &Path,
-        writable: Option<&Path>,
-        program: OsString,
+        view: &View,
+        folder: &Path,
+        program: &OsStr,
         args: &[OsString],
-    ) -> Sandboxed {
+        env: &[(OsString, OsString)],
+        cgroups: Option<&RunCgroups>,
+    ) -> Result<Sandboxed, SandboxError> {
+        let mut options = view.options();
+        options.extend(
+            [
+                "--unshare-ipc",
+                "--unshare-pid",
+                "--unshare-net",
+                "--unshare-uts",
+                "--unshare-cgroup-try",
+                "--die-with-parent",
+                "--new-session",
+                "--cap-drop",
+                "ALL",
+            ]
+            .map(OsString::from),
+        );
+        if self.run_as.is_some() {
+            for capability in ["CAP_SETUID", "CAP_SETGID", "CAP_SETPCAP"] {
+                options.extend(["--cap-add", capability].map(OsString::from));
+            }
+        } else {
+            // An ordinary user's sandbox needs a user namespace.
+            options.push("--unshare-user".into());
+        }
+        options.push("--clearenv".into());
+        for (name, value) in env {
+            options.extend([OsString::from("--setenv"), name.clone(), value.clone()]);
+        }
+        options.extend([OsString::from("--chdir"), folder.into()]);
+        let file = options_file(&options).map_err(|error| SandboxError::Unusable {
+            bwrap: self.bwrap.clone(),
+            why: format!("cannot write its options to a temporary file: {error}"),
+        })?;
         let mut command = Command::new(&self.bwrap);
-        // /tmp stays as it is, read-only like the rest: a raylab checkout
-        // or a workspace there must stay visible (a fresh /tmp would hide
-        // the path dependency). Temporary files go to the writable folder.
-        command.args(["--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc"]);
-        if workspace != Path::new("/") {
-            command.arg("--bind").arg(workspace).arg(workspace);
+        // Nothing of the grader's environment, not even in bubblewrap's
+        // own process (its /proc/1/environ, inside).
+        command.env_clear();
+        // Its options from a file, so that its command line (/proc/1/cmdline
+        // inside) does not spell out the view.
+        #[cfg(unix)]
+        let fd = {
+            use std::os::fd::AsRawFd;
+            file.as_raw_fd()
+        };
+        #[cfg(not(unix))]
+        let fd = 0;
+        command.arg("--args").arg(fd.to_string()).arg("--");
+        if let Some(user) = &self.run_as {
+            command.args(user.words());
         }
-        if let Some(folder) = writable {
-            command.arg("--bind").arg(folder).arg(folder);
-            command.env("TMPDIR", folder);
-        }
-        self.finish(command, workspace, program, args)
+        command.arg(program).args(args);
+        self.limit(&mut command, fd, cgroups);
+        Ok(Sandboxed {
+            command,
+            _options: file,
+        })
     }
 
-    /// `binary serve` inside a sandbox where nothing can be written and
-    /// no process is visible: `/proc` is an empty folder (no
-    /// `/proc/self/fd` to reach the judge's pipes by, no `/proc/self/mem`
-    /// to read them from), every capability is dropped, and the run is
-    /// capped and limited as [`Sandbox::command`]'s.
-    pub fn serve_command(&self, workspace: &Path, binary: &Path) -> Sandboxed {
-        let mut command = Command::new(&self.bwrap);
-        command.args([
-            "--ro-bind",
-            "/",
-            "/",
-            "--dev",
-            "/dev",
-            "--tmpfs",
-            "/proc",
-            "--cap-drop",
-            "ALL",
-        ]);
-        self.finish(command, workspace, binary.into(), &["serve".into()])
-    }
-
-    fn finish(
-        &self,
-        mut command: Command,
-        workspace: &Path,
-        program: OsString,
-        args: &[OsString],
-    ) -> Sandboxed {
-        command.args(["--unshare-all", "--die-with-parent", "--new-session"]);
-        command.arg("--chdir").arg(workspace);
-        command.arg("--").arg(program).args(args);
-        let limits = self.limits;
-        let cap = ProcessCap::create(limits.processes);
+    /// Has `command`, between fork and exec, keep the options' file `fd`
+    /// open, join `cgroups` and set the limits the cgroups do not hold.
+    #[cfg_attr(not(unix), allow(unused_variables))]
+    fn limit(&self, command: &mut Command, fd: i32, cgroups: Option<&RunCgroups>) {
         #[cfg(unix)]
         {
-            use std::os::fd::AsRawFd;
             use std::os::unix::process::CommandExt;
-            let joins = cap.as_ref().map(|cap| cap.procs.as_raw_fd());
-            // SAFETY: setrlimit and write are async-signal-safe, touch no
-            // memory of the parent's, and are all this runs between fork
-            // and exec; the cgroup file stays open until the Sandboxed
-            // that owns it is dropped, after the run.
+            let limits = self.limits;
+            let joins = cgroups.map(RunCgroups::joins).unwrap_or_default();
+            let memory_capped = cgroups.is_some_and(RunCgroups::caps_memory);
+            let processes_capped = cgroups.is_some_and(RunCgroups::caps_processes);
+            // SAFETY: fcntl, write and setrlimit are async-signal-safe,
+            // touch no memory of the parent's, and are all this runs
+            // between fork and exec; the files stay open until the
+            // Sandboxed and the Run that own them are dropped, after the
+            // spawn.
             unsafe {
                 command.pre_exec(move || {
-                    if let Some(procs) = joins {
+                    if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
+                        return Err(std::io::Error::last_os_error());
+                    }
+                    for &procs in &joins {
                         // "0" moves the writing process: bwrap, and so
                         // everything it starts, into the run's cgroup.
                         if libc::write(procs, c"0".as_ptr().cast(), 1) != 1 {
                             return Err(std::io::Error::last_os_error());
                         }
                     }
-                    set_limit(libc::RLIMIT_AS, limits.memory_bytes)?;
+                    // An address-space limit breaks programs that reserve
+                    // more than they use (rustc does): only where no
+                    // cgroup holds the memory of the run.
+                    if !memory_capped {
+                        set_limit(libc::RLIMIT_AS, limits.memory_bytes)?;
+                    }
                     set_limit(libc::RLIMIT_CPU, limits.cpu_seconds)?;
                     set_limit(libc::RLIMIT_FSIZE, limits.file_bytes)?;
-                    set_limit(libc::RLIMIT_NPROC, limits.processes)?;
+                    if !processes_capped {
+                        set_limit(libc::RLIMIT_NPROC, limits.processes)?;
+                    }
                     Ok(())
                 });
             }
         }
-        Sandboxed { command, cap }
     }
 }
 
-/// A sandboxed command and the cgroup that caps its processes, if one
-/// could be made.
+/// A temporary file holding `options` separated by NUL bytes, read from
+/// its start, for bubblewrap's `--args`.
+fn options_file(options: &[OsString]) -> std::io::Result<std::fs::File> {
+    use std::io::{Seek, Write};
+    let mut bytes = Vec::new();
+    for option in options {
+        bytes.extend_from_slice(option.as_encoded_bytes());
+        bytes.push(0);
+    }
+    let mut file = tempfile::tempfile()?;
+    file.write_all(&bytes)?;
+    file.rewind()?;
+    // A copy numbered 3 or more: the child's standard streams take 0 to 2.
+    file.try_clone()
+}
+
+/// One student's run: its folder (the copy of the workspace, the
+/// temporary folder) and its cgroups, which every process of the run
+/// joins. Its cgroups and its folder go when it is dropped.
+#[derive(Debug)]
+pub struct Run {
+    sandbox: Sandbox,
+    workspace: PathBuf,
+    folder: RunFolder,
+    cgroups: RunCgroups,
+}
+
+impl Run {
+    /// The workspace, as the run sees it (absolute, without links).
+    pub fn workspace(&self) -> &Path {
+        &self.workspace
+    }
+
+    /// The run's cgroups.
+    pub fn cgroups(&self) -> &RunCgroups {
+        &self.cgroups
+    }
+
+    /// `program args` run from the workspace, which (its copy, its
+    /// `target/`) and `/tmp` it may write, with the toolchain's PATH, a
+    /// HOME of its own, cargo's home, and `env`.
+    pub fn build_command(
+        &self,
+        program: &OsStr,
+        args: &[OsString],
+        env: &[(&str, OsString)],
+    ) -> Result<Sandboxed, SandboxError> {
+        let sandbox = &self.sandbox;
+        let mounts = vec![
+            Mount::Proc {
+                dest: "/proc".into(),
+            },
+            Mount::Bind {
+                source: self.folder.tmp.clone(),
+                dest: "/tmp".into(),
+                writable: true,
+            },
+            Mount::Bind {
+                source: self.folder.copy.clone(),
+                dest: self.workspace.clone(),
+                writable: true,
+            },
+            Mount::Bind {
+                source: self.folder.target.clone(),
+                dest: self.workspace.join("target"),
+                writable: true,
+            },
+        ];
+        let view = sandbox.view(Some((&self.workspace, mounts)));
+        let mut all: Vec<(OsString, OsString)> = vec![
+            ("PATH".into(), sandbox.toolchain.path()),
+            ("HOME".into(), "/tmp".into()),
+            ("TMPDIR".into(), "/tmp".into()),
+            ("LANG".into(), "C.UTF-8".into()),
+        ];
+        if let Some(home) = &sandbox.toolchain.cargo_home {
+            all.push(("CARGO_HOME".into(), home.into()));
+        }
+        all.extend(env.iter().map(|(name, value)| (name.into(), value.clone())));
+        sandbox.command(
+            &view,
+            &self.workspace,
+            program,
+            args,
+            &all,
+            Some(&self.cgroups),
+        )
+    }
+
+    /// `binary serve` run from the workspace, where nothing can be written
+    /// and no process is visible: `/proc` is an empty folder (no
+    /// `/proc/self/fd` to reach the judge's pipes by, no `/proc/self/mem`
+    /// to read them from).
+    pub fn serve_command(&self, binary: &Path) -> Result<Sandboxed, SandboxError> {
+        let mounts = vec![
+            Mount::Tmpfs {
+                dest: "/proc".into(),
+                size: Some(0),
+                mode: None,
+            },
+            Mount::Bind {
+                source: self.folder.copy.clone(),
+                dest: self.workspace.clone(),
+                writable: false,
+            },
+            Mount::Bind {
+                source: self.folder.target.clone(),
+                dest: self.workspace.join("target"),
+                writable: false,
+            },
+        ];
+        let view = self.sandbox.view(Some((&self.workspace, mounts)));
+        let env = [("LANG".into(), "C.UTF-8".into())];
+        self.sandbox.command(
+            &view,
+            &self.workspace,
+            binary.as_os_str(),
+            &["serve".into()],
+            &env,
+            Some(&self.cgroups),
+        )
+    }
+
+    /// The limits the run reached, so far.
+    pub fn limits_reached(&self) -> Vec<LimitReached> {
+        let limits = self.sandbox.limits;
+        let mut reached = Vec::new();
+        if self.cgroups.memory_ran_out() {
+            reached.push(LimitReached::Memory {
+                bytes: limits.memory_bytes,
+            });
+        }
+        if self.cgroups.processes_refused() {
+            reached.push(LimitReached::Processes {
+                count: limits.processes,
+            });
+        }
+        reached
+    }
+}
+
+/// A sandboxed command, and the file of its options, which must stay open
+/// until it is spawned.
 #[derive(Debug)]
 pub struct Sandboxed {
     pub command: Command,
-    pub cap: Option<ProcessCap>,
+    _options: std::fs::File,
 }
 
-/// A `pids` cgroup of one run, whose `pids.max` the run cannot raise (the
-/// sandbox mounts nothing of `/sys` writable): a fork loop stops at the
-/// cap, for root too. Removed when dropped; one left by a grader that was
-/// killed is removed by the next one (its name holds the grader's pid).
-#[derive(Debug)]
-pub struct ProcessCap {
-    folder: PathBuf,
-    // Written only where there are processes to cap (Unix).
-    #[cfg_attr(not(unix), allow(dead_code))]
-    procs: std::fs::File,
-}
-
-/// The prefix of the cgroups raylab makes, followed by the grader's pid
-/// and a counter.
-const CAP_PREFIX: &str = "raylab-grade-";
-
-impl ProcessCap {
-    /// A new cgroup allowing `processes` processes in all, under this
-    /// process's own cgroup of the `pids` controller (cgroup v1), or of the
-    /// unified hierarchy when that cgroup delegates `pids` to its children
-    /// (v2); `None` where neither can be made (an ordinary user without a
-    /// delegated cgroup: the resource limit applies to them).
-    pub fn create(processes: u64) -> Option<ProcessCap> {
-        let parent = pids_parent()?;
-        remove_abandoned(&parent);
-        static COUNT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-        let number = COUNT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let folder = parent.join(format!("{CAP_PREFIX}{}-{number}", std::process::id()));
-        std::fs::create_dir(&folder).ok()?;
-        let made = std::fs::write(folder.join("pids.max"), processes.to_string()).and_then(|()| {
-            std::fs::OpenOptions::new()
-                .write(true)
-                .open(folder.join("cgroup.procs"))
-        });
-        match made {
-            Ok(procs) => Some(ProcessCap { folder, procs }),
-            Err(_) => {
-                let _ = std::fs::remove_dir(&folder);
-                None
-            }
-        }
-    }
-
-    /// The cgroup's folder.
-    pub fn folder(&self) -> &Path {
-        &self.folder
-    }
-}
-
-impl Drop for ProcessCap {
-    fn drop(&mut self) {
-        // The kernel frees the cgroup's last processes just after they are
-        // reaped; until then the folder cannot be removed.
-        for _ in 0..100 {
-            if std::fs::remove_dir(&self.folder).is_ok() {
-                return;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(10));
-        }
-    }
-}
-
-/// Where this process may make a `pids` cgroup: its own cgroup in the v1
-/// `pids` hierarchy, or in the v2 one if `pids` is in that cgroup's
-/// `cgroup.subtree_control`.
-fn pids_parent() -> Option<PathBuf> {
-    let own = std::fs::read_to_string("/proc/self/cgroup").ok()?;
-    let root = Path::new("/sys/fs/cgroup");
-    let inside = |path: &str| root.join(path.trim_start_matches('/'));
-    for line in own.lines() {
-        let mut fields = line.splitn(3, ':');
-        let (Some(_), Some(controllers), Some(path)) =
-            (fields.next(), fields.next(), fields.next())
-        else {
-            continue;
-        };
-        if controllers.split(',').any(|name| name == "pids") {
-            let folder = root.join("pids").join(path.trim_start_matches('/'));
-            if folder.join("cgroup.procs").is_file() {
-                return Some(folder);
-            }
-        }
-    }
-    for line in own.lines() {
-        if let Some(path) = line.strip_prefix("0::") {
-            let folder = inside(path);
-            let delegated = std::fs::read_to_string(folder.join("cgroup.subtree_control"))
-                .is_ok_and(|control| control.split_whitespace().any(|name| name == "pids"));
-            if delegated {
-                return Some(folder);
-            }
-        }
-    }
-    None
-}
-
-/// Removes the empty cgroups of graders that are no longer running.
-fn remove_abandoned(parent: &Path) {
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name
-            .to_str()
-            .and_then(|name| name.strip_prefix(CAP_PREFIX))
-            .and_then(|rest| rest.split('-').next())
-        else {
-            continue;
-        };
-        if pid != std::process::id().to_string() && !Path::new("/proc").join(pid).exists() {
-            let _ = std::fs::remove_dir(entry.path());
-        }
+impl Sandboxed {
+    /// The command, and what must live until it is spawned.
+    pub fn into_parts(self) -> (Command, Box<dyn std::any::Any + Send>) {
+        (self.command, Box::new(self._options))
     }
 }
 
@@ -357,60 +741,68 @@ fn on_path(name: &str) -> Option<PathBuf> {
 mod tests {
     use super::*;
 
+    /// A run of a fresh workspace in a sandbox of `limits`, if bubblewrap
+    /// works here.
+    fn run_of(limits: Limits) -> Option<(tempfile::TempDir, Run)> {
+        let Ok(sandbox) = Sandbox::find(limits) else {
+            eprintln!("skipped: no working bubblewrap here");
+            return None;
+        };
+        let folder = tempfile::tempdir().expect("a folder");
+        let workspace = folder.path().join("ann");
+        std::fs::create_dir(&workspace).expect("mkdir");
+        let run = sandbox.start(&workspace).expect("a run");
+        Some((folder, run))
+    }
+
     /// Where the machine lets raylab make a `pids` cgroup (root, as in CI),
-    /// a run that starts 64 processes is stopped at its cap of 8, and the
-    /// cgroup is gone once the run is over.
+    /// a run that starts 64 processes is stopped at its cap of 8, says
+    /// so, and the cgroup is gone once the run is over.
     #[test]
     fn a_run_cannot_start_more_processes_than_its_cap() {
         let limits = Limits {
             processes: 8,
             ..Limits::DEFAULT
         };
-        let Ok(sandbox) = Sandbox::find(limits) else {
-            eprintln!("skipped: no working bubblewrap here");
+        let Some((_folder, run)) = run_of(limits) else {
             return;
         };
-        let script = "i=0; while [ $i -lt 64 ]; do sleep 1 & i=$((i+1)); done; wait";
-        let mut sandboxed = sandbox.command(
-            Path::new("/"),
-            None,
-            "sh".into(),
-            &["-c".into(), script.into()],
-        );
-        let Some(folder) = sandboxed.cap.as_ref().map(|cap| cap.folder().to_path_buf()) else {
+        if !run.cgroups().caps_processes() {
             eprintln!("skipped: no pids cgroup can be made here (the resource limit applies)");
             return;
-        };
-        let ran = sandboxed.command.output().expect("the sandbox starts");
-        let events = std::fs::read_to_string(folder.join("pids.events")).expect("pids.events");
-        let refused: u64 = events
-            .lines()
-            .find_map(|line| line.strip_prefix("max "))
-            .and_then(|count| count.trim().parse().ok())
-            .expect("a max count in pids.events");
-        assert!(
-            refused > 0,
-            "no fork refused: {events}; {}",
+        }
+        let folders: Vec<PathBuf> = run
+            .cgroups()
+            .folders()
+            .into_iter()
+            .map(Path::to_path_buf)
+            .collect();
+        let script = "i=0; while [ $i -lt 64 ]; do sleep 1 & i=$((i+1)); done; wait";
+        let sandboxed = run
+            .build_command("sh".as_ref(), &["-c".into(), script.into()], &[])
+            .expect("a command");
+        let ran = sandboxed
+            .into_parts()
+            .0
+            .output()
+            .expect("the sandbox starts");
+        assert_eq!(
+            run.limits_reached(),
+            vec![LimitReached::Processes { count: 8 }],
+            "{}",
             String::from_utf8_lossy(&ran.stderr)
         );
-        drop(sandboxed);
-        assert!(!folder.exists(), "{} left behind", folder.display());
+        drop(run);
+        assert!(
+            folders.iter().all(|folder| !folder.exists()),
+            "{folders:?} left"
+        );
     }
 
     #[test]
-    fn abandoned_caps_of_dead_graders_are_removed() {
-        let Some(parent) = pids_parent() else {
-            eprintln!("skipped: no pids cgroup can be made here");
-            return;
-        };
-        // No process has a pid above the kernel's pid_max (at most 2^22).
-        let abandoned = parent.join(format!("{CAP_PREFIX}4294967295-0"));
-        if std::fs::create_dir(&abandoned).is_err() {
-            eprintln!("skipped: {} cannot be made", abandoned.display());
-            return;
-        }
-        let cap = ProcessCap::create(8).expect("a cap where one was just made");
-        assert!(!abandoned.exists());
-        assert!(cap.folder().exists());
+    fn sizes_are_written_in_the_largest_whole_unit() {
+        assert_eq!(bytes_text(8 << 30), "8 GiB");
+        assert_eq!(bytes_text(768 << 20), "768 MiB");
+        assert_eq!(bytes_text(1000), "1000 bytes");
     }
 }

@@ -1,0 +1,267 @@
+//! The folder of one run, outside the student's workspace: a copy of the
+//! workspace (all but `target/` and `.git/`), which the build sees at the
+//! workspace's own path and may write (cargo writes `Cargo.lock`), and
+//! the build's temporary folder. The workspace's `target/` is shown over
+//! the copy, so that a workspace built before builds again in seconds.
+//!
+//! When the grader is root, the run's processes are an unprivileged user
+//! (see [`super::RunAs`]), who must own what the build writes: the copy,
+//! the temporary folder and the workspace's `target/` are given to it
+//! (`target/` is raylab's build output; the student's own files are never
+//! changed, their copy is given instead).
+
+use std::path::{Path, PathBuf};
+
+use super::SandboxError;
+
+/// The most files (and folders) a workspace's copy may hold.
+const MAX_ENTRIES: u64 = 100_000;
+
+/// A run's folder, removed when dropped.
+#[derive(Debug)]
+pub(super) struct RunFolder {
+    folder: PathBuf,
+    /// The copy of the workspace.
+    pub(super) copy: PathBuf,
+    /// The build's temporary folder (its `/tmp`).
+    pub(super) tmp: PathBuf,
+    /// The workspace's own `target/`.
+    pub(super) target: PathBuf,
+}
+
+/// The error for `action` on `path`, for `map_err`.
+fn failed(action: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> SandboxError {
+    let path = path.to_path_buf();
+    move |error| SandboxError::RunFolder {
+        action,
+        path,
+        error,
+    }
+}
+
+impl RunFolder {
+    /// A new run folder for `workspace` (absolute, without links): its
+    /// copy, of at most `budget` bytes, and its `target/` (made if
+    /// missing), both given to `owner` where there is one.
+    pub(super) fn new(
+        workspace: &Path,
+        budget: u64,
+        owner: Option<(u32, u32)>,
+    ) -> Result<RunFolder, SandboxError> {
+        let target = workspace.join("target");
+        match std::fs::symlink_metadata(&target) {
+            Ok(meta) if meta.is_dir() => {}
+            Ok(_) => return Err(SandboxError::TargetNotAFolder(target)),
+            Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
+                std::fs::create_dir(&target).map_err(failed("make", &target))?;
+            }
+            Err(error) => return Err(failed("read", &target)(error)),
+        }
+        let folder = tempfile::Builder::new()
+            .prefix("raylab-run-")
+            .tempdir()
+            .map_err(failed("make", &std::env::temp_dir()))?
+            .keep();
+        let run = RunFolder {
+            copy: folder.join("workspace"),
+            tmp: folder.join("tmp"),
+            folder,
+            target,
+        };
+        std::fs::create_dir(&run.tmp).map_err(failed("make", &run.tmp))?;
+        let mut counted = Counted::default();
+        copy_tree(workspace, &run.copy, true, budget, &mut counted)?;
+        // The folder the target is shown on.
+        let mount_point = run.copy.join("target");
+        std::fs::create_dir(&mount_point).map_err(failed("make", &mount_point))?;
+        if let Some((uid, gid)) = owner {
+            for tree in [&run.copy, &run.tmp, &run.target] {
+                give(tree, uid, gid)?;
+            }
+        }
+        Ok(run)
+    }
+}
+
+impl Drop for RunFolder {
+    fn drop(&mut self) {
+        remove_tree(&self.folder);
+    }
+}
+
+/// What a copy holds so far.
+#[derive(Default)]
+struct Counted {
+    bytes: u64,
+    entries: u64,
+}
+
+/// Copies the folder `from` to `to` (which must not exist): folders,
+/// files (with their permissions and times) and symbolic links (as
+/// links), not sockets, FIFOs or devices; at the top, not `target/` nor
+/// `.git/`. Refused past `budget` bytes or [`MAX_ENTRIES`] entries.
+fn copy_tree(
+    from: &Path,
+    to: &Path,
+    top: bool,
+    budget: u64,
+    counted: &mut Counted,
+) -> Result<(), SandboxError> {
+    std::fs::create_dir(to).map_err(failed("make", to))?;
+    let entries = std::fs::read_dir(from).map_err(failed("read", from))?;
+    for entry in entries {
+        let entry = entry.map_err(failed("read", from))?;
+        let name = entry.file_name();
+        if top && (name == "target" || name == ".git") {
+            continue;
+        }
+        let (source, dest) = (entry.path(), to.join(&name));
+        let meta = std::fs::symlink_metadata(&source).map_err(failed("read", &source))?;
+        counted.entries += 1;
+        counted.bytes += meta.len();
+        if counted.bytes > budget || counted.entries > MAX_ENTRIES {
+            return Err(SandboxError::WorkspaceTooLarge {
+                budget,
+                entries: MAX_ENTRIES,
+            });
+        }
+        let kind = meta.file_type();
+        if kind.is_dir() {
+            copy_tree(&source, &dest, false, budget, counted)?;
+        } else if kind.is_file() {
+            std::fs::copy(&source, &dest).map_err(failed("copy", &source))?;
+            // Cargo takes a source newer than its last build for a change:
+            // the copy keeps the times, so that an unchanged workspace is
+            // not built again.
+            if let Ok(modified) = meta.modified() {
+                let file = std::fs::File::open(&dest).map_err(failed("open", &dest))?;
+                file.set_modified(modified).map_err(failed("date", &dest))?;
+            }
+        } else if kind.is_symlink() {
+            #[cfg(unix)]
+            {
+                let target = std::fs::read_link(&source).map_err(failed("read", &source))?;
+                std::os::unix::fs::symlink(target, &dest).map_err(failed("link", &dest))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Gives `tree` and all it holds to `uid`:`gid`, links themselves and
+/// never what they point to (`lchown`), and never through a link.
+fn give(tree: &Path, uid: u32, gid: u32) -> Result<(), SandboxError> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let mut stack = vec![tree.to_path_buf()];
+        while let Some(path) = stack.pop() {
+            let meta = std::fs::symlink_metadata(&path).map_err(failed("read", &path))?;
+            if meta.uid() != uid || meta.gid() != gid {
+                std::os::unix::fs::lchown(&path, Some(uid), Some(gid))
+                    .map_err(failed("give to the sandbox's user", &path))?;
+            }
+            if meta.is_dir() {
+                let entries = std::fs::read_dir(&path).map_err(failed("read", &path))?;
+                for entry in entries {
+                    stack.push(entry.map_err(failed("read", &path))?.path());
+                }
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = (tree, uid, gid);
+    Ok(())
+}
+
+/// Removes `tree`, first making each of its folders writable by its owner
+/// (a build may leave one read-only, which would keep its files).
+fn remove_tree(tree: &Path) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mut stack = vec![tree.to_path_buf()];
+        while let Some(path) = stack.pop() {
+            let Ok(meta) = std::fs::symlink_metadata(&path) else {
+                continue;
+            };
+            if meta.is_dir() {
+                let mode = meta.permissions().mode();
+                if mode & 0o700 != 0o700 {
+                    let _ = std::fs::set_permissions(
+                        &path,
+                        std::fs::Permissions::from_mode(mode | 0o700),
+                    );
+                }
+                for entry in std::fs::read_dir(&path).into_iter().flatten().flatten() {
+                    stack.push(entry.path());
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(tree);
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    /// The copy holds the workspace but `target/` and `.git/`, with its
+    /// times and links (not followed); the run folder goes when dropped,
+    /// a read-only folder the build left included; a workspace over the
+    /// budget is refused.
+    #[test]
+    fn a_run_folder_copies_the_workspace_and_goes_when_dropped() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let workspace = folder.path().join("ann");
+        for path in ["src", "target/debug", ".git"] {
+            std::fs::create_dir_all(workspace.join(path)).expect("mkdir");
+        }
+        std::fs::write(workspace.join("src/lib.rs"), "pub struct Mine;\n").expect("write");
+        std::fs::write(workspace.join("target/debug/big"), vec![0u8; 1 << 16]).expect("write");
+        std::fs::write(workspace.join(".git/HEAD"), "ref").expect("write");
+        std::os::unix::fs::symlink("/etc/hostname", workspace.join("src/link.rs")).expect("ln");
+        let old = std::time::SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(1 << 30);
+        std::fs::File::open(workspace.join("src/lib.rs"))
+            .and_then(|file| file.set_modified(old))
+            .expect("date");
+        let run = RunFolder::new(&workspace, 1 << 20, None).expect("a run folder");
+        let copied = run.copy.join("src/lib.rs");
+        assert_eq!(
+            std::fs::read_to_string(&copied).expect("read"),
+            "pub struct Mine;\n"
+        );
+        assert_eq!(
+            std::fs::metadata(&copied)
+                .and_then(|meta| meta.modified())
+                .expect("time"),
+            old
+        );
+        assert_eq!(
+            std::fs::read_link(run.copy.join("src/link.rs")).expect("a link"),
+            Path::new("/etc/hostname")
+        );
+        assert!(!run.copy.join(".git").exists());
+        assert_eq!(
+            std::fs::read_dir(run.copy.join("target"))
+                .expect("read")
+                .count(),
+            0
+        );
+        assert_eq!(run.target, workspace.join("target"));
+        let stuck = run.tmp.join("stuck");
+        std::fs::create_dir(&stuck).expect("mkdir");
+        std::fs::write(stuck.join("file"), "x").expect("write");
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&stuck, std::fs::Permissions::from_mode(0o500)).expect("chmod");
+        let top = run.folder.clone();
+        drop(run);
+        assert!(!top.exists());
+        assert!(workspace.join("target/debug/big").exists());
+        std::fs::write(workspace.join("src/big.rs"), vec![b' '; 2 << 20]).expect("write");
+        assert!(matches!(
+            RunFolder::new(&workspace, 1 << 20, None),
+            Err(SandboxError::WorkspaceTooLarge { .. })
+        ));
+    }
+}
