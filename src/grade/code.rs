@@ -87,8 +87,8 @@ pub struct CodeRun {
     /// the similarity report compares.
     #[serde(default)]
     pub sources: Vec<(String, String)>,
-    /// The limits of its sandbox the run reached (memory, processes),
-    /// which ended it or a part of it.
+    /// The limits of its sandbox the run reached (memory, disk,
+    /// processes), which ended it or a part of it.
     #[serde(default)]
     pub limits: Vec<LimitReached>,
 }
@@ -184,6 +184,8 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     };
     if built.timed_out {
         run.status = CodeStatus::TimedOut;
+        run.exit_code = None;
+    } else if built.over_disk {
         run.exit_code = None;
     } else if let Some(binary) = built
         .binary
@@ -302,6 +304,8 @@ fn serve_spawn(workspace: &Path, binary: &Path, sandboxed: Option<Arc<Run>>) -> 
 struct Built {
     exit: Option<ExitStatus>,
     timed_out: bool,
+    /// Stopped for writing more than the run's disk limit.
+    over_disk: bool,
     stderr: String,
     /// The workspace's binary, as cargo names it.
     binary: Option<PathBuf>,
@@ -309,7 +313,7 @@ struct Built {
 
 /// `cargo build --profile P --offline` in `workspace` (inside the run's
 /// sandbox if there is one), killed with all it started past the job's
-/// time limit.
+/// time limit, or past the run's disk limit.
 fn build(
     workspace: &Path,
     job: &CodeJob,
@@ -372,13 +376,14 @@ fn build(
     })?;
     drop(keep);
     let receiver = read_outputs(&mut child);
-    let (exit, timed_out) = wait_within(&mut child, job.timeout);
+    let waited = wait_within(&mut child, job.timeout, sandboxed);
     // Whatever the build left behind in its group goes too.
     kill_group(&mut child);
     let [stdout, stderr] = received_outputs(&receiver);
     Ok(Built {
-        exit,
-        timed_out,
+        exit: waited.exit,
+        timed_out: waited.timed_out,
+        over_disk: waited.over_disk || sandboxed.is_some_and(Run::over_disk_limit),
         stderr,
         binary: built_binary(&stdout, workspace),
     })
@@ -713,19 +718,62 @@ fn read_outputs(child: &mut Child) -> mpsc::Receiver<(usize, String)> {
     receiver
 }
 
-/// Waits for the child to end, killing its group once `timeout` passes:
-/// its exit status if there is one, and whether it was killed.
-fn wait_within(child: &mut Child, timeout: Duration) -> (Option<ExitStatus>, bool) {
+/// How a wait for a child ended.
+struct Waited {
+    exit: Option<ExitStatus>,
+    timed_out: bool,
+    over_disk: bool,
+}
+
+/// The least time between two measures of what a run wrote to disk.
+const DISK_EVERY: Duration = Duration::from_millis(250);
+
+/// Waits for the child to end, killing its group once `timeout` passes or,
+/// in a run's sandbox, once the run has written more than its disk limit
+/// (measured at most every [`DISK_EVERY`], and no more than a tenth of
+/// the time: a large `target/` takes a while to walk).
+fn wait_within(child: &mut Child, timeout: Duration, sandboxed: Option<&Run>) -> Waited {
     let deadline = Instant::now() + timeout;
+    let mut next_measure = Instant::now();
     loop {
         match child.try_wait() {
-            Ok(Some(status)) => return (Some(status), false),
+            Ok(Some(status)) => {
+                return Waited {
+                    exit: Some(status),
+                    timed_out: false,
+                    over_disk: false,
+                };
+            }
             Ok(None) => {}
-            Err(_) => return (None, false),
+            Err(_) => {
+                return Waited {
+                    exit: None,
+                    timed_out: false,
+                    over_disk: false,
+                };
+            }
         }
         if Instant::now() >= deadline {
             kill_group(child);
-            return (child.wait().ok(), true);
+            return Waited {
+                exit: child.wait().ok(),
+                timed_out: true,
+                over_disk: false,
+            };
+        }
+        if let Some(run) = sandboxed
+            && Instant::now() >= next_measure
+        {
+            let started = Instant::now();
+            if run.over_disk_limit() {
+                kill_group(child);
+                return Waited {
+                    exit: child.wait().ok(),
+                    timed_out: false,
+                    over_disk: true,
+                };
+            }
+            next_measure = Instant::now() + DISK_EVERY.max(started.elapsed() * 10);
         }
         std::thread::sleep(Duration::from_millis(50));
     }

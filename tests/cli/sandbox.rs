@@ -2,8 +2,8 @@
 //! probe planted as a workspace's build script (which runs inside the
 //! build's sandbox, as any code of the student's may) tries each route an
 //! adversarial pass found open, and writes what got through to a report in
-//! the workspace's `target/`; the tests read it. Then the memory limit of a
-//! run, held by two processes at once.
+//! the workspace's `target/`; the tests read it. Then the limits of a run:
+//! memory held by two processes at once, and what a run writes to disk.
 //!
 //! The tests that need bubblewrap say "SKIPPED" and return where it is
 //! missing or cannot make a sandbox; the one about root privileges also
@@ -476,4 +476,51 @@ fn memory_is_limited_per_run_not_per_process() {
     let text = format!("{}\n{}", run.stdout, run.stderr);
     assert!(text.contains("holding 500 MiB"), "it never ran: {text}");
     assert!(text.contains("memory limit"), "{text}");
+}
+
+/// Finding 5 of issue 41, disk: a student left 8 GB in its `target/`
+/// (each file was capped, their sum was not). A run may now add at most
+/// its disk limit: a build script that writes 160 MiB in four files
+/// under a limit of 64 MiB is stopped well before its 30 s sleep ends,
+/// the report says the disk limit ended it, and what it wrote is gone.
+#[test]
+fn disk_is_limited_per_run() {
+    if !bubblewrap_or_skip("disk_is_limited_per_run") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let workspace = fake_workspace(dir.path(), "filler", "fn main() {}\n");
+    std::fs::write(
+        workspace.join("build.rs"),
+        "fn main() {\n    let out = std::env::var(\"OUT_DIR\").unwrap();\n    \
+         for i in 0..4 {\n        \
+         std::fs::write(format!(\"{out}/fill-{i}\"), vec![7u8; 40 << 20]).unwrap();\n    }\n    \
+         eprintln!(\"wrote 160 MiB\");\n    \
+         std::thread::sleep(std::time::Duration::from_secs(30));\n}\n",
+    )
+    .expect("write");
+    let limits = raylab::grade::sandbox::Limits {
+        disk_bytes: 64 << 20,
+        ..raylab::grade::sandbox::Limits::DEFAULT
+    };
+    let (run, took) = run_limited(&workspace, limits);
+    let text = format!("{}\n{}", run.stdout, run.stderr);
+    assert!(text.contains("disk limit"), "{text}");
+    assert!(
+        took < std::time::Duration::from_secs(25),
+        "took {took:?}: {text}"
+    );
+    let mut left = 0;
+    let mut folders = vec![workspace.join("target")];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).into_iter().flatten().flatten() {
+            let meta = entry.metadata().expect("metadata");
+            if meta.is_dir() {
+                folders.push(entry.path());
+            } else {
+                left += meta.len();
+            }
+        }
+    }
+    assert!(left < 64 << 20, "{left} bytes left in target/");
 }

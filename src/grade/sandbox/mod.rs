@@ -25,8 +25,10 @@
 //! Limits: the memory and the processes of the whole run (its build, then
 //! all its answering processes at once) are capped by cgroups of the run
 //! where raylab may make them ([`cgroups`]); where it may not, each
-//! process's address space is capped instead (a resource limit). CPU time
-//! and the size of each file are resource limits of each process.
+//! process's address space is capped instead (a resource limit). What the
+//! run writes to disk is measured while it runs, and a run past its disk
+//! limit is stopped and its `target/` removed. CPU time and the size of
+//! each file are resource limits of each process.
 
 mod cgroups;
 mod view;
@@ -37,6 +39,7 @@ pub use cgroups::RunCgroups;
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use view::{Mount, View};
 use workdir::RunFolder;
@@ -53,8 +56,10 @@ pub struct Limits {
     /// The largest file a process may write (`target/` holds the largest:
     /// raylab's libraries are a few tens of megabytes).
     pub file_bytes: u64,
-    /// The most a workspace's own files (outside `target/` and `.git/`)
-    /// may hold: each run copies them.
+    /// What the run may add on disk, all its files together: the build's
+    /// output in `target/`, its copy of the workspace, its temporary
+    /// files. A workspace's own files (outside `target/` and `.git/`) may
+    /// not be more than this either.
     pub disk_bytes: u64,
     /// Processes (and threads) of the run at once, where a `pids` cgroup
     /// can be made; else of the user the run's processes are (a resource
@@ -123,6 +128,8 @@ pub enum SandboxError {
 pub enum LimitReached {
     /// The run's processes together held `bytes`, and the kernel killed one.
     Memory { bytes: u64 },
+    /// The run wrote more than `bytes`, and was stopped.
+    Disk { bytes: u64 },
     /// The run had `count` processes (and threads) at once, and one more
     /// could not start.
     Processes { count: u64 },
@@ -135,6 +142,13 @@ impl std::fmt::Display for LimitReached {
                 out,
                 "the memory limit: the run's processes together reached {}, and the kernel \
                  killed one of them",
+                bytes_text(*bytes)
+            ),
+            LimitReached::Disk { bytes } => write!(
+                out,
+                "the disk limit: the run wrote more than {} (its target/, its copy of the \
+                 workspace and its temporary files together); it was stopped, and its \
+                 target/ removed",
                 bytes_text(*bytes)
             ),
             LimitReached::Processes { count } => write!(
@@ -385,11 +399,14 @@ impl Sandbox {
             })?;
         let owner = self.run_as.as_ref().map(|user| (user.uid, user.gid));
         let folder = RunFolder::new(&workspace, self.limits.disk_bytes, owner)?;
+        let baseline = folder.on_disk();
         Ok(Run {
             sandbox: self.clone(),
             workspace,
             folder,
             cgroups: RunCgroups::create(&self.limits),
+            baseline,
+            over_disk: AtomicBool::new(false),
         })
     }
 
@@ -560,13 +577,17 @@ fn options_file(options: &[OsString]) -> std::io::Result<std::fs::File> {
 
 /// One student's run: its folder (the copy of the workspace, the
 /// temporary folder) and its cgroups, which every process of the run
-/// joins. Its cgroups and its folder go when it is dropped.
+/// joins. Its cgroups and its folder go when it is dropped, and the
+/// workspace's `target/` too after a run that went over its disk limit.
 #[derive(Debug)]
 pub struct Run {
     sandbox: Sandbox,
     workspace: PathBuf,
     folder: RunFolder,
     cgroups: RunCgroups,
+    /// What the run's folders held on disk before it started.
+    baseline: u64,
+    over_disk: AtomicBool,
 }
 
 impl Run {
@@ -665,6 +686,15 @@ impl Run {
         )
     }
 
+    /// Whether the run has written more than its disk limit (measured now).
+    pub fn over_disk_limit(&self) -> bool {
+        let written = self.folder.on_disk().saturating_sub(self.baseline);
+        if written > self.sandbox.limits.disk_bytes {
+            self.over_disk.store(true, Ordering::Relaxed);
+        }
+        self.over_disk.load(Ordering::Relaxed)
+    }
+
     /// The limits the run reached, so far.
     pub fn limits_reached(&self) -> Vec<LimitReached> {
         let limits = self.sandbox.limits;
@@ -674,12 +704,25 @@ impl Run {
                 bytes: limits.memory_bytes,
             });
         }
+        if self.over_disk_limit() {
+            reached.push(LimitReached::Disk {
+                bytes: limits.disk_bytes,
+            });
+        }
         if self.cgroups.processes_refused() {
             reached.push(LimitReached::Processes {
                 count: limits.processes,
             });
         }
         reached
+    }
+}
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        if self.over_disk.load(Ordering::Relaxed) {
+            self.folder.remove_target();
+        }
     }
 }
 

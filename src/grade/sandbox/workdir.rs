@@ -9,6 +9,9 @@
 //! the temporary folder and the workspace's `target/` are given to it
 //! (`target/` is raylab's build output; the student's own files are never
 //! changed, their copy is given instead).
+//!
+//! What a run writes is measured here too: the disk limit holds for the
+//! run's writable folders together.
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +19,9 @@ use super::SandboxError;
 
 /// The most files (and folders) a workspace's copy may hold.
 const MAX_ENTRIES: u64 = 100_000;
+
+/// The least a file or folder counts for on disk: its inode and block.
+const LEAST_ON_DISK: u64 = 4096;
 
 /// A run's folder, removed when dropped.
 #[derive(Debug)]
@@ -80,6 +86,17 @@ impl RunFolder {
             }
         }
         Ok(run)
+    }
+
+    /// What the run's writable folders hold on disk, in bytes.
+    pub(super) fn on_disk(&self) -> u64 {
+        on_disk(&[&self.copy, &self.tmp, &self.target])
+    }
+
+    /// Removes the workspace's `target/`: after a run that went over its
+    /// disk limit, what it wrote must not stay.
+    pub(super) fn remove_target(&self) {
+        remove_tree(&self.target);
     }
 }
 
@@ -174,6 +191,40 @@ fn give(tree: &Path, uid: u32, gid: u32) -> Result<(), SandboxError> {
     Ok(())
 }
 
+/// What the trees `roots` hold on disk, in bytes: each file and folder
+/// counted once (hard links too), at least [`LEAST_ON_DISK`] each, links
+/// not followed. What cannot be read counts nothing.
+pub(super) fn on_disk(roots: &[&Path]) -> u64 {
+    let mut seen: std::collections::HashSet<(u64, u64)> = std::collections::HashSet::new();
+    let mut total = 0u64;
+    let mut stack: Vec<PathBuf> = roots.iter().map(|root| root.to_path_buf()).collect();
+    while let Some(path) = stack.pop() {
+        let Ok(meta) = std::fs::symlink_metadata(&path) else {
+            continue;
+        };
+        #[cfg(unix)]
+        let bytes = {
+            use std::os::unix::fs::MetadataExt;
+            if !seen.insert((meta.dev(), meta.ino())) {
+                continue;
+            }
+            meta.blocks().saturating_mul(512)
+        };
+        #[cfg(not(unix))]
+        let bytes = {
+            let _ = &mut seen;
+            meta.len()
+        };
+        total = total.saturating_add(bytes.max(LEAST_ON_DISK));
+        if meta.is_dir() {
+            for entry in std::fs::read_dir(&path).into_iter().flatten().flatten() {
+                stack.push(entry.path());
+            }
+        }
+    }
+    total
+}
+
 /// Removes `tree`, first making each of its folders writable by its owner
 /// (a build may leave one read-only, which would keep its files).
 fn remove_tree(tree: &Path) {
@@ -209,7 +260,7 @@ mod tests {
     /// The copy holds the workspace but `target/` and `.git/`, with its
     /// times and links (not followed); the run folder goes when dropped,
     /// a read-only folder the build left included; a workspace over the
-    /// budget is refused.
+    /// budget is refused; what is on disk counts hard links once.
     #[test]
     fn a_run_folder_copies_the_workspace_and_goes_when_dropped() {
         let folder = tempfile::tempdir().expect("a folder");
@@ -249,6 +300,13 @@ mod tests {
             0
         );
         assert_eq!(run.target, workspace.join("target"));
+        let before = run.on_disk();
+        std::fs::hard_link(
+            workspace.join("target/debug/big"),
+            workspace.join("target/debug/same"),
+        )
+        .expect("link");
+        assert_eq!(run.on_disk(), before, "a hard link counts once");
         let stuck = run.tmp.join("stuck");
         std::fs::create_dir(&stuck).expect("mkdir");
         std::fs::write(stuck.join("file"), "x").expect("write");
