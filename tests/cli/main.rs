@@ -9,6 +9,7 @@ mod cli_options;
 mod cost;
 mod diff;
 mod grade;
+mod lesson_api;
 mod mesh;
 mod sandbox;
 mod setup_embree;

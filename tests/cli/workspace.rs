@@ -26,7 +26,7 @@ pub(crate) struct Workspaces {
 }
 
 /// This test's target folder: the raylab binary is `<target>/<profile>/raylab`.
-fn target_dir() -> PathBuf {
+pub(crate) fn target_dir() -> PathBuf {
     let binary = Path::new(env!("CARGO_BIN_EXE_raylab"));
     binary
         .parent()
