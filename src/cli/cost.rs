@@ -20,7 +20,8 @@ const DEFAULT_HEIGHT: u32 = 120;
 #[derive(Debug, Args)]
 pub struct CostArgs {
     /// Chapter whose knobs to sweep (2 on): 2 adds the sphere formula, 4
-    /// the secondary-ray offset, 6 the reflection depth, 7 the samples, 9
+    /// the secondary-ray offset, 6 the reflection depth, 7 the samples
+    /// and the lab report's neighbour average, 9
     /// the Fresnel model, 10 the triangle test (and counts the rays that
     /// leak through a closed mesh), 11 the BVH report (build and trace
     /// time against triangles, split rule, leaf size, loop or tree), 12
@@ -59,9 +60,15 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
     let chapter = args.chapter;
     let knobs = chosen_knobs(args)?;
     let bvh = knobs.contains(&Knob::Bvh);
-    // The BVH report renders nothing: the image knobs are the others.
-    let image_knobs: Vec<Knob> = knobs.iter().copied().filter(|k| *k != Knob::Bvh).collect();
-    check_options(args, bvh, &image_knobs)?;
+    let neighbours = knobs.contains(&Knob::Neighbours);
+    // The BVH report renders nothing, and the neighbours' measurement makes
+    // its own images: the sweep's knobs are the others.
+    let image_knobs: Vec<Knob> = knobs
+        .iter()
+        .copied()
+        .filter(|k| !matches!(k, Knob::Bvh | Knob::Neighbours))
+        .collect();
+    check_options(args, bvh, &image_knobs, neighbours)?;
     let (scene, _) = select_scene(Some(chapter), args.scene.as_deref())?;
     let overrides = super::render::SettingsOverrides {
         width: Some(args.width),
@@ -78,19 +85,16 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
 
     let mut markdown = String::new();
     let mut sweep_files = None;
-    let mut command = format!(
-        "raylab cost --chapter {chapter} --repeats {} --knob bvh",
-        args.repeats
-    );
+    let mut command = command_line(args, &knobs, neighbours);
+    let scene_name = match &args.scene {
+        Some(path) => path.display().to_string(),
+        None => "built-in scene".to_string(),
+    };
     if !image_knobs.is_empty() {
-        let scene_name = match &args.scene {
-            Some(path) => path.display().to_string(),
-            None => "built-in scene".to_string(),
-        };
         let config = CostConfig {
             chapter,
-            scene,
-            scene_name,
+            scene: scene.clone(),
+            scene_name: scene_name.clone(),
             base,
             knobs: image_knobs,
             repeats: args.repeats,
@@ -99,6 +103,15 @@ pub fn cost<C: Chapters>(args: &CostArgs) -> Result<i32> {
         command = report.command(&knobs, None);
         markdown = format!("{}{leaks}", report.markdown());
         sweep_files = Some((report.csv(), report.svg()?));
+    }
+    if neighbours {
+        if std::io::stderr().is_terminal() {
+            eprintln!("measuring the report's neighbour average against supersampling...");
+        }
+        let report = overrides.in_pool(|| {
+            crate::cost::neighbours::run::<C>(&scene, &scene_name, chapter, &base, args.repeats)
+        })??;
+        markdown.push_str(&report.markdown());
     }
     let mut plot = None;
     if bvh {
@@ -160,11 +173,32 @@ fn chosen_knobs(args: &CostArgs) -> Result<Vec<Knob>> {
     Ok(knobs)
 }
 
+/// The command that makes this run's table again, for runs without a
+/// sweep (whose report writes its own): the knobs unless they are all
+/// the chapter's, and the scene and size when the neighbours' measurement
+/// renders them.
+fn command_line(args: &CostArgs, knobs: &[Knob], neighbours: bool) -> String {
+    let mut command = format!("raylab cost --chapter {}", args.chapter);
+    if neighbours {
+        if let Some(scene) = &args.scene {
+            command.push_str(&format!(" --scene {}", scene.display()));
+        }
+        command.push_str(&format!(" --width {} --height {}", args.width, args.height));
+    }
+    command.push_str(&format!(" --repeats {}", args.repeats));
+    if knobs != Knob::of_chapter(args.chapter).as_slice() {
+        for knob in knobs {
+            command.push_str(&format!(" --knob {}", knob.name()));
+        }
+    }
+    command
+}
+
 /// Refuses the options this run cannot use: a scene with only the BVH
 /// report, --max-triangles without it or below its smallest torus, and
 /// out-of-range --threads and --repeats.
-fn check_options(args: &CostArgs, bvh: bool, image_knobs: &[Knob]) -> Result<()> {
-    if image_knobs.is_empty() && args.scene.is_some() {
+fn check_options(args: &CostArgs, bvh: bool, image_knobs: &[Knob], neighbours: bool) -> Result<()> {
+    if image_knobs.is_empty() && !neighbours && args.scene.is_some() {
         bail!(
             "--scene: the BVH report measures its own generated torus and spheres; \
              add an image knob to sweep a scene"

@@ -53,6 +53,7 @@ words!(OffsetRule {
 
 words!(Knob {
     Samples = "samples": "Samples per pixel, 1 to 64, for grid, jittered and random sampling (chapter 7)",
+    Neighbours = "neighbours": "Not a sweep: the lab report's anti-aliasing (each pixel averaged with its four neighbours) against supersampling, on the chapter's scene and a checker of one-pixel squares (chapter 7)",
     Depth = "depth": "Reflection and refraction depth, 0 to 8 (chapter 6)",
     Offset = "offset": "Where secondary rays start: global epsilons against the scaled offset (chapter 4)",
     SphereFormula = "sphere-formula": "The textbook against the stable ray-sphere formula, on a far small sphere (chapter 2)",

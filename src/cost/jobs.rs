@@ -125,6 +125,8 @@ pub(super) fn jobs(config: &CostConfig) -> Vec<Job> {
             }
             // Measured by `crate::bvh_reports::cost`, not by rendering.
             Knob::Bvh => {}
+            // Measured by `super::neighbours`, which makes its own images.
+            Knob::Neighbours => {}
             Knob::March => jobs.extend(march_jobs(base)),
             Knob::Normals => jobs.extend(normal_jobs(base)),
             Knob::Paths => jobs.extend(path_jobs(base)),

@@ -16,6 +16,7 @@
 //! aliasing is not a knob that chapter has.
 
 mod jobs;
+pub mod neighbours;
 mod plot;
 mod reference;
 mod sweep;
@@ -39,6 +40,11 @@ use crate::{RenderSettings, Scene};
 pub enum Knob {
     /// Samples per pixel, 1 to 64, for grid, jittered and random sampling (chapter 7).
     Samples,
+    /// Not a sweep: the anti-aliasing of the report raylab grew from (each
+    /// pixel averaged with its four neighbours) against supersampling, on
+    /// the chapter's scene and a checker of one-pixel squares (chapter 7;
+    /// see [`neighbours`]).
+    Neighbours,
     /// Reflection and refraction depth, 0 to 8 (chapter 6).
     Depth,
     /// Where secondary rays start: global epsilons against the scaled offset (chapter 4).
@@ -69,8 +75,9 @@ pub enum Knob {
 }
 
 impl Knob {
-    pub const ALL: [Knob; 11] = [
+    pub const ALL: [Knob; 12] = [
         Knob::Samples,
+        Knob::Neighbours,
         Knob::Depth,
         Knob::Offset,
         Knob::SphereFormula,
@@ -89,7 +96,7 @@ impl Knob {
             Knob::SphereFormula => 2,
             Knob::Offset => 4,
             Knob::Depth => 6,
-            Knob::Samples => 7,
+            Knob::Samples | Knob::Neighbours => 7,
             Knob::Fresnel => 9,
             Knob::TriangleTest => 10,
             Knob::Bvh => 11,
@@ -103,6 +110,7 @@ impl Knob {
     pub fn name(self) -> &'static str {
         match self {
             Knob::Samples => "samples",
+            Knob::Neighbours => "neighbours",
             Knob::Depth => "depth",
             Knob::Offset => "offset",
             Knob::SphereFormula => "sphere-formula",
@@ -269,12 +277,12 @@ mod tests {
             Knob::of_chapter(6),
             vec![Knob::Depth, Knob::Offset, Knob::SphereFormula]
         );
-        assert_eq!(Knob::of_chapter(8), Knob::ALL[..4].to_vec());
-        assert_eq!(Knob::of_chapter(9), Knob::ALL[..5].to_vec());
-        assert_eq!(Knob::of_chapter(10), Knob::ALL[..6].to_vec());
-        assert_eq!(Knob::of_chapter(11), Knob::ALL[..7].to_vec());
-        assert_eq!(Knob::of_chapter(12), Knob::ALL[..9].to_vec());
-        assert_eq!(Knob::of_chapter(13), Knob::ALL[..10].to_vec());
+        assert_eq!(Knob::of_chapter(8), Knob::ALL[..5].to_vec());
+        assert_eq!(Knob::of_chapter(9), Knob::ALL[..6].to_vec());
+        assert_eq!(Knob::of_chapter(10), Knob::ALL[..7].to_vec());
+        assert_eq!(Knob::of_chapter(11), Knob::ALL[..8].to_vec());
+        assert_eq!(Knob::of_chapter(12), Knob::ALL[..10].to_vec());
+        assert_eq!(Knob::of_chapter(13), Knob::ALL[..11].to_vec());
         assert_eq!(Knob::of_chapter(14), Knob::ALL.to_vec());
     }
 }

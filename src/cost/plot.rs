@@ -250,6 +250,7 @@ fn draw_knobs(
         RGBColor(188, 189, 34),
         RGBColor(23, 190, 207),
         RGBColor(0, 0, 128),
+        RGBColor(128, 0, 0),
     ];
     for (knob, colour) in Knob::ALL.into_iter().zip(colours) {
         let points: Vec<(f64, f64)> = rows

@@ -65,6 +65,82 @@ fn error_falls_as_samples_rise() {
     assert!(front >= 2, "a Pareto front of {front}");
 }
 
+/// The lab report's anti-aliasing is a blur: on a checker of one-pixel
+/// squares, which one ray a pixel draws exactly, its mean of five pixels
+/// turns the squares over (each pixel's four neighbours are of the other
+/// colour), where supersampling keeps them; it is the same image whether
+/// the neighbours' colours are reused or their rays cast again.
+#[test]
+fn the_reports_neighbour_average_is_a_blur() {
+    use raylab::Reference;
+    use raylab::cost::neighbours::{self, Method};
+    // An odd height: the squares move by half a pixel to stay on the grid.
+    let (width, height) = (12u32, 9u32);
+    let checker = neighbours::one_pixel_checker(width, height);
+    let base = raylab::RenderSettings {
+        width,
+        height,
+        ..checker.render
+    };
+    let image = |method| {
+        let settings = neighbours::settings_for(method, &base);
+        neighbours::render::<Reference>(&checker, 7, settings, method).expect("renders")
+    };
+    let centre = image(Method::Centre);
+    let at = |image: &[raylab::Vec3], x: u32, y: u32| image[(y * width + x) as usize].x;
+    for y in 0..height {
+        for x in 0..width {
+            let value = at(&centre, x, y);
+            assert!(value == 0.0 || value == 1.0, "({x}, {y}): {value}");
+            if x + 1 < width {
+                assert_ne!(value, at(&centre, x + 1, y), "({x}, {y})");
+            }
+            if y + 1 < height {
+                assert_ne!(value, at(&centre, x, y + 1), "({x}, {y})");
+            }
+        }
+    }
+    let averaged = image(Method::Averaged);
+    let (x, y) = (5, 4);
+    let turned = if at(&centre, x, y) == 1.0 { 0.2 } else { 0.8 };
+    assert!((at(&averaged, x, y) - turned).abs() < 1e-6);
+    assert_eq!(averaged, image(Method::AveragedTraced));
+    // Every sample lies inside its pixel, so in its square: a pixel could
+    // differ only by a sample within rounding of a square's edge (a quarter).
+    let supersampled = image(Method::Supersampled);
+    for (kept, drawn) in supersampled.iter().zip(&centre) {
+        assert!((kept.x - drawn.x).abs() <= 0.25, "{kept} against {drawn}");
+    }
+
+    let scene = raylab::builtin::scene(7).expect("built-in scene");
+    let base = raylab::RenderSettings {
+        width: 32,
+        height: 24,
+        ..scene.render
+    };
+    let report =
+        neighbours::run::<Reference>(&scene, "built-in scene", 7, &base, 1).expect("measures");
+    let row = |method| {
+        report
+            .rows
+            .iter()
+            .find(|row| row.method == method)
+            .expect("a row for each method")
+    };
+    assert!(row(Method::Centre).contrast > 0.99);
+    assert!(row(Method::Supersampled).contrast > 0.99);
+    assert!(row(Method::Averaged).contrast < -0.3);
+    assert_eq!(
+        row(Method::Averaged).error,
+        row(Method::AveragedTraced).error
+    );
+    assert!(report.edge_pixels > 0);
+    assert!(row(Method::Supersampled).edge_rmse < row(Method::Centre).edge_rmse);
+    assert!(row(Method::Supersampled).error.rmse < row(Method::Averaged).error.rmse);
+    let markdown = report.markdown();
+    assert!(markdown.contains("| method | rays a pixel |"), "{markdown}");
+}
+
 #[test]
 fn cost_command_writes_a_table_a_csv_and_a_plot() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -128,9 +204,11 @@ fn cost_command_writes_a_table_a_csv_and_a_plot() {
     assert_eq!(acne("scaled offset"), 0);
 
     let markdown = std::fs::read_to_string(folder.join("cost.md")).expect("cost.md");
+    // The sweep's header and rows, then the neighbours' header and rows.
+    let methods = raylab::cost::neighbours::Method::ALL.len();
     assert_eq!(
         markdown.lines().filter(|l| l.starts_with("| ")).count(),
-        1 + 29
+        1 + 29 + 1 + methods
     );
     let svg = std::fs::read_to_string(folder.join("cost.svg")).expect("cost.svg");
     assert!(svg.starts_with("<svg"));
