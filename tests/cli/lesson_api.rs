@@ -5,8 +5,8 @@
 //! ```` ```rust ```` blocks. The lessons are raylab's docs, so `cargo test
 //! --doc` compiles those blocks, but against raylab without its `student`
 //! feature, where the reference chapters are public: a lesson that names
-//! raylab's own answer (`raylab::chapters::ch06_reflection::reflect`) would
-//! pass there and fail in every workspace. So this test puts every
+//! raylab's own answer (`raylab::reflect`) would pass there and fail in
+//! every workspace. So this test puts every
 //! ```` ```rust ```` block of every lesson into a fresh workspace (`raylab
 //! new`) and builds it offline, against raylab with `student`. Each lesson
 //! becomes one file whose lines are the lesson's own (the block's lines in
