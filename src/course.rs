@@ -652,7 +652,7 @@ impl Cauchy {
     /// [`crate::answer_key`], as the trait's defaults do.
     pub fn index_at(&self, nanometres: f32) -> f32 {
         crate::answer_key::answered("Cauchy::index_at");
-        ch14_caustics::cauchy_ior(self, nanometres)
+        crate::chapters::ch14_caustics::cauchy_ior(self, nanometres)
     }
 }
 
