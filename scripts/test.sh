@@ -6,6 +6,10 @@
 # cross-check of every chapter runs in CI (set-up: docs/embree.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# What each step costs, so that a slow CI says where its time went: wall
+# time, and the CPU time of the step and all it started (on a shared
+# machine the CPU time is the steadier figure).
+TIMEFORMAT='test.sh: %1R s wall, %1U s user + %1S s system for the step above'
 
 bash scripts/setup-embree.sh
 # A one-off build gains nothing from incremental state, which is a third of
@@ -60,22 +64,23 @@ install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
 install_package chromium "the browser page's tests are skipped"
-cargo test --all-targets --features embree
-cargo test --doc --features embree
+time cargo test --all-targets --features embree --no-run
+time cargo test --all-targets --features embree
+time cargo test --doc --features embree
 # The lessons are the crate docs: they must build with no broken link, and
 # without raylab's source, the answer key (rustdoc leaves old pages in
 # place, so those of an earlier build go first).
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
+time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
 # Exactly the snapshot and determinism modules of the `pictures` test
 # binary, and the default build's own test (tests/default_build.rs): the
 # release build has no optional feature, so the default build, which needs
 # no Embree and says how to get it, is tested there, and no debug build
 # without the feature is made.
-cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
-cargo bench --no-run
+time cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
+time cargo bench --no-run
 # The browser page: built for WebAssembly, then tested in headless Chromium
 # against the debug binary the tests above built (skipped, with a message,
 # where this machine cannot build it or has no browser).
-bash scripts/test-browser.sh target/debug/raylab
+time bash scripts/test-browser.sh target/debug/raylab
