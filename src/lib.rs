@@ -60,6 +60,7 @@ pub mod diff;
 pub mod effects;
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod figure;
 pub mod grade;
 pub mod implicit_probe;
 pub mod input;

@@ -67,7 +67,7 @@ fn module_layer(module: &str) -> Option<Layer> {
         "course" | "seam" | "answer_key" | "render" | "record" | "effects" | "builtin"
         | "chapters" => Layer::Engine,
         "check" | "grade" | "workspace" | "cost" | "crosscheck" | "bvh_reports" | "diff"
-        | "embree" | "plots" | "implicit_probe" | "ray_tree" | "web" => Layer::Tool,
+        | "embree" | "plots" | "implicit_probe" | "ray_tree" | "figure" | "web" => Layer::Tool,
         "cli" | "main" => Layer::Cli,
         _ => return None,
     })

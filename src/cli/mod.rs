@@ -7,6 +7,7 @@ mod check;
 mod cost;
 mod crosscheck;
 mod diff;
+mod figure;
 mod grade;
 mod guard;
 mod mesh;
@@ -51,6 +52,7 @@ pub enum Command {
     /// Show what one ray hits: each shape, our nearest hit, and Embree's.
     Probe(crosscheck::ProbeArgs),
     Trace(trace::TraceArgs),
+    Figure(figure::FigureArgs),
     Check(check::CheckArgs),
     /// Create a student workspace: a crate where you write each chapter,
     /// with `render`, `check` and every other command running your code.
@@ -224,6 +226,7 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
         Command::Trace(args) => trace::trace::<C>(&args),
+        Command::Figure(args) => figure::figure::<C>(&args),
         Command::Check(args) => check::check::<C>(&args),
         Command::New(args) => new::new(&args),
         Command::Mesh(args) => mesh::mesh(&args),

@@ -36,7 +36,7 @@ pub struct TraceArgs {
     pub overrides: SettingsOverrides,
 }
 
-fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
+pub(super) fn parse_pixel(text: &str) -> Result<(u32, u32), String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let [x, y] = parts[..] else {
         return Err(format!("expected `x,y`, got `{text}`"));

@@ -240,6 +240,10 @@ impl<'a, C: Chapters> Stage<'a, C> {
         self.scene.objects.get(owner).map(|o| o.name.as_str())
     }
 
+    pub fn scene(&self) -> &'a Scene {
+        self.scene
+    }
+
     pub fn camera(&self) -> &Camera {
         &self.camera
     }
