@@ -855,7 +855,10 @@ impl Kind for DispersionCase {
         }
         let (low, high) = crate::spectrum::VISIBLE;
         let (a, b) = (f64::from(self.cauchy.a), f64::from(self.cauchy.b));
-        let close_to = |got: Vec3, want: Vec3| (got - want).abs().max_element() <= 1e-4;
+        // `max_element` skips a NaN (`f32::max` returns the other number):
+        // a colour with a NaN channel must not pass on its other two.
+        let close_to =
+            |got: Vec3, want: Vec3| got.is_finite() && (got - want).abs().max_element() <= 1e-4;
         let mut observed = vec![0f64; WAVELENGTH_BINS];
         for (path, draw) in draws.iter().enumerate() {
             let Some(nanometres) = draw.kept.filter(|nm| (low..=high).contains(nm)) else {
@@ -937,3 +940,48 @@ impl Kind for DispersionCase {
 
 /// The most paths a dispersion case may ask for.
 const MOST_DISPERSED_PATHS: u32 = 1 << 20;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Answers to a dispersion case, every path right but for the colour
+    /// `second` gives it at its second dispersive surface.
+    fn dispersed(case: &DispersionCase, second: Vec3) -> Vec<DispersedTwice> {
+        let (low, high) = crate::spectrum::VISIBLE;
+        (0..case.paths)
+            .map(|path| {
+                let nanometres = low + (high - low) * (path as f32 + 0.5) / case.paths as f32;
+                let index = exact::cauchy(
+                    f64::from(case.cauchy.a),
+                    f64::from(case.cauchy.b),
+                    f64::from(nanometres),
+                ) as f32;
+                DispersedTwice {
+                    first: (index, crate::spectrum::rgb_weight(nanometres)),
+                    kept: Some(nanometres),
+                    second: (index, second),
+                }
+            })
+            .collect()
+    }
+
+    /// A colour with a NaN channel is no colour, whatever its other two.
+    #[test]
+    fn a_nan_in_a_dispersed_colour_fails() {
+        let case = DispersionCase {
+            cauchy: Cauchy { a: 1.5, b: 0.004 },
+            paths: 400,
+            seed: 0,
+        };
+        assert!(matches!(
+            case.judge(dispersed(&case, Vec3::ONE), false),
+            Outcome::Pass
+        ));
+        let nan = Vec3::new(f32::NAN, 1.0, 1.0);
+        assert!(matches!(
+            case.judge(dispersed(&case, nan), false),
+            Outcome::Fail { .. }
+        ));
+    }
+}
