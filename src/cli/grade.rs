@@ -90,6 +90,12 @@ pub struct GradeArgs {
     /// with your own rights (only for code you trust, or inside a VM).
     #[arg(long, requires = "code")]
     pub no_sandbox: bool,
+    /// With --code, build on each workspace's target/ as it is. By
+    /// default one that no run of raylab's left as it is now is emptied
+    /// first: cargo would take a binary the student built from other
+    /// sources for up to date. Only for builds you made yourself.
+    #[arg(long, requires = "code")]
+    pub trust_targets: bool,
     /// With --code, draw every parametrised case's inputs (rays, spheres,
     /// triangles, seeds) and each chapter's camera anew from SEED, within
     /// each case's stated ranges, so that no answers prepared in advance
@@ -401,7 +407,8 @@ fn code_sandbox(args: &GradeArgs, outputs: &[&Path]) -> Result<crate::grade::san
     hidden.extend(outputs.iter().map(|path| path.to_path_buf()));
     Ok(
         crate::grade::sandbox::Sandbox::find(crate::grade::sandbox::Limits::DEFAULT)?
-            .hiding(hidden),
+            .hiding(hidden)
+            .trusting_targets(args.trust_targets),
     )
 }
 

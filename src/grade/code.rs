@@ -244,6 +244,11 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
              was before the build)"
         ));
     }
+    // Its build output is built on next time only where nothing of the
+    // student's ran while it was made.
+    if let Some(sandboxed) = sandboxed.as_ref().filter(|_| not_counted.is_empty()) {
+        sandboxed.vouch_for_build();
+    }
     // Run all the same (inside the sandbox), so that the report shows what
     // the code did; but no verdict of such code counts. A build that failed
     // or ran out of time has no verdict to discount, and says so itself.

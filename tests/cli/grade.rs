@@ -1070,7 +1070,16 @@ fn code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit() {
         .expect("cargo build");
     assert!(built.success());
 
-    let mut args = vec!["grade", "--code", "class", "--timeout", "5"];
+    // fay's target/ is the test's own build: trusted, so that it is not
+    // built again within the time limit.
+    let mut args = vec![
+        "grade",
+        "--code",
+        "class",
+        "--timeout",
+        "5",
+        "--trust-targets",
+    ];
     let unsandboxed = sandbox_or_skip(
         "code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit",
     );
@@ -1126,6 +1135,62 @@ fn code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit() {
 /// `[]` where bubblewrap makes sandboxes here; else `["--no-sandbox"]`
 /// and a note that `test` ran unsandboxed (scripts/test.sh installs
 /// bubblewrap where it can; a machine may forbid user namespaces).
+/// A `target/` that no run of raylab's left, holding a binary built from
+/// other sources than the workspace's (dated back to before that build),
+/// is emptied before the build: cargo would take that binary for up to
+/// date, and raylab would judge code the student did not hand in.
+#[test]
+fn a_target_built_from_other_sources_is_not_run() {
+    if !sandbox_or_skip("a_target_built_from_other_sources_is_not_run").is_empty() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let sleeps = "fn main() {\n    std::thread::sleep(std::time::Duration::from_secs(3600));\n}\n";
+    let forger = fake_workspace(&class, "forger", sleeps);
+    let built = std::process::Command::new(env!("CARGO"))
+        .args(["build", "--profile", "dev", "--offline", "--quiet"])
+        .current_dir(&forger)
+        .env("CARGO_TARGET_DIR", forger.join("target"))
+        .status()
+        .expect("cargo build");
+    assert!(built.success());
+    // The sources handed in: a binary that exits at once, dated as the
+    // built ones were.
+    let lib = forger.join("stand-in/src/lib.rs");
+    let dated = std::fs::metadata(&lib)
+        .and_then(|meta| meta.modified())
+        .expect("a time");
+    let text = std::fs::read_to_string(&lib).expect("read");
+    std::fs::write(&lib, text.replace(sleeps, "fn main() {}\n")).expect("write");
+    std::fs::File::options()
+        .write(true)
+        .open(&lib)
+        .and_then(|file| file.set_modified(dated))
+        .expect("date");
+    let mut command = common::command(
+        &[
+            "grade",
+            "--code",
+            "class",
+            "--build-profile",
+            "dev",
+            "--timeout",
+            "60",
+        ],
+        dir.path(),
+    );
+    command.env("XDG_CACHE_HOME", dir.path().join("cache"));
+    let out = common::output_or_blocked(command);
+    let md = stdout(&out);
+    assert!(md.contains("| forger | error"), "{md}{}", stderr(&out));
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV");
+    assert!(
+        csv.contains("exited with status 0 before it said hello"),
+        "{csv}"
+    );
+}
+
 fn sandbox_or_skip(test: &str) -> Vec<&'static str> {
     let works = std::process::Command::new("bwrap")
         .args([
@@ -1463,6 +1528,8 @@ fn grade_built(student: &str, extra: &[&str]) -> (serde_json::Value, String) {
         student,
         "--result",
         result.to_str().expect("UTF-8 path"),
+        // Their target/ folders are the test's own builds.
+        "--trust-targets",
     ];
     args.extend(extra);
     args.extend(sandbox_or_skip("the_grader_judges_real_workspaces_itself"));

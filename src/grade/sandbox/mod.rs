@@ -310,6 +310,12 @@ pub struct Sandbox {
     /// Paths the runs must not see even inside what they see: the
     /// grader's binary, the instructor's files.
     hidden: Vec<PathBuf>,
+    /// Where raylab notes, for each workspace, the state its `target/`
+    /// was in when a run of raylab's left it (see [`Run::vouch_for_build`]);
+    /// `None` where there is no cache folder: every `target/` is emptied.
+    records: Option<PathBuf>,
+    /// Use every workspace's `target/` as it is (`--trust-targets`).
+    trust_targets: bool,
 }
 
 impl Sandbox {
@@ -342,6 +348,8 @@ impl Sandbox {
             toolchain: Toolchain::find()?,
             raylab,
             hidden: grader.into_iter().collect(),
+            records: records_folder(),
+            trust_targets: false,
         };
         let env = [("PATH".into(), sandbox.toolchain.path())];
         let probe = sandbox
@@ -381,6 +389,14 @@ impl Sandbox {
         self
     }
 
+    /// The same sandbox, using each workspace's `target/` as it is, even
+    /// where no run of raylab's left it so (`--trust-targets`: for builds
+    /// the instructor made).
+    pub fn trusting_targets(mut self, trust: bool) -> Sandbox {
+        self.trust_targets = trust;
+        self
+    }
+
     /// The cargo the runs build with.
     pub fn cargo(&self) -> &Path {
         &self.toolchain.cargo
@@ -398,11 +414,30 @@ impl Sandbox {
                 error,
             })?;
         let owner = self.run_as.as_ref().map(|user| (user.uid, user.gid));
-        let folder = RunFolder::new(&workspace, self.limits.disk_bytes, owner)?;
+        // A `target/` is built on only as a run of raylab's left it: one
+        // the student made or changed since could hold a binary built
+        // from other sources, which cargo would take for up to date.
+        let record = self
+            .records
+            .as_ref()
+            .map(|folder| folder.join(record_name(&workspace)));
+        let recorded = record
+            .as_ref()
+            .and_then(|record| std::fs::read_to_string(record).ok())
+            .and_then(|text| text.trim().parse::<u64>().ok());
+        let keep_target = self.trust_targets
+            || recorded
+                .is_some_and(|state| workdir::tree_state(&workspace.join("target")) == Some(state));
+        // Used once: only this run, if it is vouched for, notes it again.
+        if let Some(record) = &record {
+            let _ = std::fs::remove_file(record);
+        }
+        let folder = RunFolder::new(&workspace, self.limits.disk_bytes, owner, keep_target)?;
         let baseline = folder.on_disk();
         Ok(Run {
             sandbox: self.clone(),
             workspace,
+            record,
             folder,
             cgroups: RunCgroups::create(&self.limits),
             baseline,
@@ -583,6 +618,8 @@ fn options_file(options: &[OsString]) -> std::io::Result<std::fs::File> {
 pub struct Run {
     sandbox: Sandbox,
     workspace: PathBuf,
+    /// Where to note the state of its `target/` (see [`Run::vouch_for_build`]).
+    record: Option<PathBuf>,
     folder: RunFolder,
     cgroups: RunCgroups,
     /// What the run's folders held on disk before it started.
@@ -686,6 +723,30 @@ impl Run {
         )
     }
 
+    /// Notes the state the run leaves the workspace's `target/` in, so
+    /// that the next run builds on it: only for a run in which none of
+    /// the student's code ran at build time (no build script, procedural
+    /// macro or dependency of its own), which wrote nothing there but
+    /// cargo's and the compiler's output. A run not vouched for leaves no
+    /// note, and the next run starts from an empty `target/`.
+    pub fn vouch_for_build(&self) {
+        let Some(record) = &self.record else {
+            return;
+        };
+        if self.over_disk.load(Ordering::Relaxed) {
+            return;
+        }
+        if let Some(state) = workdir::tree_state(&self.folder.target) {
+            let written = record
+                .parent()
+                .map_or(Ok(()), std::fs::create_dir_all)
+                .and_then(|()| std::fs::write(record, state.to_string()));
+            if written.is_err() {
+                let _ = std::fs::remove_file(record);
+            }
+        }
+    }
+
     /// Whether the run has written more than its disk limit (measured now).
     pub fn over_disk_limit(&self) -> bool {
         let written = self.folder.on_disk().saturating_sub(self.baseline);
@@ -759,6 +820,30 @@ fn set_limit(resource: Resource, value: u64) -> std::io::Result<()> {
     } else {
         Err(std::io::Error::last_os_error())
     }
+}
+
+/// The grader's folder of notes on the workspaces' `target/` folders:
+/// `$XDG_CACHE_HOME/raylab/built-targets`, else `~/.cache/...`, out of
+/// every run's sight.
+fn records_folder() -> Option<PathBuf> {
+    let cache = std::env::var_os("XDG_CACHE_HOME")
+        .filter(|folder| Path::new(folder).is_absolute())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|home| Path::new(&home).join(".cache")))?;
+    Some(cache.join("raylab/built-targets"))
+}
+
+/// The name of the note on the workspace at `workspace` (absolute,
+/// without links): a 64-bit FNV-1a hash of its path, in hexadecimal.
+fn record_name(workspace: &Path) -> String {
+    let hash = workspace
+        .as_os_str()
+        .as_encoded_bytes()
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325u64, |hash, &byte| {
+            (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
+        });
+    format!("{hash:016x}")
 }
 
 /// The first executable file named `name` in the folders of `$PATH`.

@@ -48,15 +48,24 @@ fn failed(action: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> S
 impl RunFolder {
     /// A new run folder for `workspace` (absolute, without links): its
     /// copy, of at most `budget` bytes, and its `target/` (made if
-    /// missing), both given to `owner` where there is one.
+    /// missing, emptied first unless `keep_target`), both given to
+    /// `owner` where there is one.
     pub(super) fn new(
         workspace: &Path,
         budget: u64,
         owner: Option<(u32, u32)>,
+        keep_target: bool,
     ) -> Result<RunFolder, SandboxError> {
         let target = workspace.join("target");
         match std::fs::symlink_metadata(&target) {
-            Ok(meta) if meta.is_dir() => {}
+            Ok(meta) if meta.is_dir() && keep_target => {}
+            Ok(meta) if meta.is_dir() => {
+                // Cargo takes a build output whose times are newer than
+                // the sources for up to date, whoever made it: a binary
+                // the student built from other sources would be run.
+                remove_tree(&target);
+                std::fs::create_dir(&target).map_err(failed("make", &target))?;
+            }
             Ok(_) => return Err(SandboxError::TargetNotAFolder(target)),
             Err(error) if error.kind() == std::io::ErrorKind::NotFound => {
                 std::fs::create_dir(&target).map_err(failed("make", &target))?;
@@ -191,6 +200,53 @@ fn give(tree: &Path, uid: u32, gid: u32) -> Result<(), SandboxError> {
     Ok(())
 }
 
+/// A fingerprint of the tree `tree` as it is now: every entry's path,
+/// kind, size, inode and times, the change time included, which no one
+/// but the kernel sets (a file rewritten and dated back has a new one).
+/// `None` when `tree` cannot be read.
+pub(super) fn tree_state(tree: &Path) -> Option<u64> {
+    use std::hash::{Hash, Hasher};
+    #[cfg(unix)]
+    use std::os::unix::fs::MetadataExt;
+    let top = std::fs::symlink_metadata(tree).ok()?;
+    if !top.is_dir() {
+        return None;
+    }
+    let mut entries: Vec<(PathBuf, std::fs::Metadata)> = Vec::new();
+    let mut stack = vec![tree.to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        for entry in std::fs::read_dir(&folder).ok()? {
+            let entry = entry.ok()?;
+            let meta = std::fs::symlink_metadata(entry.path()).ok()?;
+            if meta.is_dir() {
+                stack.push(entry.path());
+            }
+            let relative = entry.path().strip_prefix(tree).ok()?.to_path_buf();
+            entries.push((relative, meta));
+        }
+    }
+    entries.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    for (path, meta) in &entries {
+        path.hash(&mut hasher);
+        meta.len().hash(&mut hasher);
+        #[cfg(unix)]
+        (
+            meta.mode(),
+            meta.ino(),
+            meta.dev(),
+            meta.mtime(),
+            meta.mtime_nsec(),
+            meta.ctime(),
+            meta.ctime_nsec(),
+        )
+            .hash(&mut hasher);
+        #[cfg(not(unix))]
+        meta.modified().ok().hash(&mut hasher);
+    }
+    Some(hasher.finish())
+}
+
 /// What the trees `roots` hold on disk, in bytes: each file and folder
 /// counted once (hard links too), at least [`LEAST_ON_DISK`] each, links
 /// not followed. What cannot be read counts nothing.
@@ -276,7 +332,7 @@ mod tests {
         std::fs::File::open(workspace.join("src/lib.rs"))
             .and_then(|file| file.set_modified(old))
             .expect("date");
-        let run = RunFolder::new(&workspace, 1 << 20, None).expect("a run folder");
+        let run = RunFolder::new(&workspace, 1 << 20, None, true).expect("a run folder");
         let copied = run.copy.join("src/lib.rs");
         assert_eq!(
             std::fs::read_to_string(&copied).expect("read"),
@@ -318,7 +374,7 @@ mod tests {
         assert!(workspace.join("target/debug/big").exists());
         std::fs::write(workspace.join("src/big.rs"), vec![b' '; 2 << 20]).expect("write");
         assert!(matches!(
-            RunFolder::new(&workspace, 1 << 20, None),
+            RunFolder::new(&workspace, 1 << 20, None, true),
             Err(SandboxError::WorkspaceTooLarge { .. })
         ));
     }
