@@ -313,6 +313,34 @@ fn remove_tree(tree: &Path) {
 mod tests {
     use super::*;
 
+    /// The state of a tree is the same while nothing changes, and not
+    /// once a file is rewritten, even to its old size and dated back.
+    #[test]
+    fn a_tree_rewritten_and_dated_back_is_told_apart() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let target = folder.path().join("target");
+        std::fs::create_dir_all(target.join("debug")).expect("mkdir");
+        let binary = target.join("debug/ann");
+        std::fs::write(&binary, "built from ann's sources.").expect("write");
+        let state = tree_state(&target);
+        assert!(state.is_some());
+        assert_eq!(tree_state(&target), state);
+        let dated = std::fs::metadata(&binary)
+            .and_then(|meta| meta.modified())
+            .expect("a time");
+        // A second passes, so that the change time differs on any file
+        // system's clock.
+        std::thread::sleep(std::time::Duration::from_millis(1100));
+        std::fs::write(&binary, "built from the answer key").expect("write");
+        std::fs::File::options()
+            .write(true)
+            .open(&binary)
+            .and_then(|file| file.set_modified(dated))
+            .expect("date");
+        assert_ne!(tree_state(&target), state);
+        assert_eq!(tree_state(&folder.path().join("none")), None);
+    }
+
     /// The copy holds the workspace but `target/` and `.git/`, with its
     /// times and links (not followed); the run folder goes when dropped,
     /// a read-only folder the build left included; a workspace over the
