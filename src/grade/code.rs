@@ -91,6 +91,23 @@ pub struct CodeRun {
     /// processes), which ended it or a part of it.
     #[serde(default)]
     pub limits: Vec<LimitReached>,
+    /// Why the run has its status when the status alone does not say
+    /// (the limit that stopped it, why its verdicts do not count, why the
+    /// judge got no answer, the compiler's first error), in a line: what
+    /// the class's overview shows beside the status.
+    #[serde(default)]
+    pub reason: Option<String>,
+    /// Each chapter the judge gave a verdict on, and whether it passes:
+    /// what an LMS export scores chapter by chapter.
+    #[serde(default)]
+    pub chapters: Vec<ChapterScore>,
+}
+
+/// One chapter of a judged run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct ChapterScore {
+    pub chapter: u8,
+    pub passes: bool,
 }
 
 /// The most bytes of a workspace's `src/` kept for the similarity report
@@ -181,6 +198,8 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         fresh: job.fresh,
         sources: compared_sources(&snapshot),
         limits: Vec::new(),
+        reason: None,
+        chapters: Vec::new(),
     };
     if built.timed_out {
         run.status = CodeStatus::TimedOut;
@@ -211,7 +230,18 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         );
         let report = crate::check::judge::judge(&make, which, &options);
         run.status = classify(&report);
+        if let Some(crate::check::Stopped::Refused(why)) = &report.stopped {
+            run.reason = Some(format!("no verdict: {why}"));
+        }
         run.chapters_passed = report.verdicts.iter().filter(|v| v.passes()).count();
+        run.chapters = report
+            .verdicts
+            .iter()
+            .map(|verdict| ChapterScore {
+                chapter: verdict.chapter,
+                passes: verdict.passes(),
+            })
+            .collect();
         run.stdout = report.text();
         // Hidden scenes only for a binary that answered.
         if !job.scenes.is_empty() && !matches!(run.status, CodeStatus::TimedOut | CodeStatus::Error)
@@ -228,6 +258,9 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     } else if built.exit.is_some_and(|status| status.success()) {
         run.status = CodeStatus::Error;
         run.stdout = "no verdict: the build made no binary to ask".into();
+        run.reason = Some("the build made no binary to ask".into());
+    } else if run.status == CodeStatus::BuildError {
+        run.reason = first_compiler_error(&run.stderr);
     }
     if let Some(sandboxed) = &sandboxed {
         run.limits = sandboxed.limits_reached();
@@ -235,6 +268,8 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     if !run.limits.is_empty() {
         let reached: Vec<String> = run.limits.iter().map(ToString::to_string).collect();
         let line = format!("stopped by {}", reached.join("; and by "));
+        let names: Vec<&str> = run.limits.iter().map(LimitReached::name).collect();
+        run.reason = Some(format!("stopped by {}", names.join(" and ")));
         run.stdout = format!("{}\n{line}", run.stdout).trim_start().to_string();
         run.stderr = format!("{}\n{line}", run.stderr);
     }
@@ -257,6 +292,9 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
             run.status = CodeStatus::Error;
         }
         run.chapters_passed = 0;
+        for chapter in &mut run.chapters {
+            chapter.passes = false;
+        }
         // Last in both outputs: the report keeps their ends, stderr's last.
         let reason = format!(
             "not counted: {}. A workspace's code is its own files, laid out as `raylab new` \
@@ -266,6 +304,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         );
         run.stdout = format!("{}\n{reason}", run.stdout);
         run.stderr = format!("{}\n{reason}", run.stderr);
+        run.reason = Some(format!("not counted: {}", not_counted.join("; ")));
     }
     Ok(run)
 }
@@ -856,6 +895,16 @@ fn read_tail(mut reader: Box<dyn Read + Send>) -> String {
     } else {
         text
     }
+}
+
+/// The first error cargo's compiler reported in `stderr`, if any: what a
+/// build error is, in a line.
+fn first_compiler_error(stderr: &str) -> Option<String> {
+    stderr
+        .lines()
+        .map(str::trim)
+        .find(|line| line.starts_with("error"))
+        .map(str::to_string)
 }
 
 /// Kills the child's whole process group (the child is its leader).

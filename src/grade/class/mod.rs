@@ -8,6 +8,7 @@ mod report;
 mod similar;
 
 pub use jobs::{GradeOptions, Job, RESULT_VERSION, StudentResult, grade_student, merge};
+pub(crate) use report::csv_field;
 pub use similar::ANSWER_KEY;
 
 use std::path::{Path, PathBuf};
@@ -223,12 +224,29 @@ fn run_code_of(
 /// How many lines of a `check`'s output the report and the CSV keep.
 const SUMMARY_LINES: usize = 40;
 
-/// The last [`SUMMARY_LINES`] lines of a check's verdicts `text`, its
-/// chapters not started left out first: the table at its end lists them
-/// anyway, and thirteen of them would push a failing chapter's call,
-/// expected and got out of the lines kept.
+/// The longest reason the overview shows beside a status; the student's
+/// section has the rest.
+const REASON_CHARACTERS: usize = 160;
+
+/// `reason` cut to [`REASON_CHARACTERS`], marked where it was cut.
+fn shortened(reason: &str) -> String {
+    let line = reason.lines().next().unwrap_or_default();
+    if line.chars().count() <= REASON_CHARACTERS && !reason.contains('\n') {
+        return line.to_string();
+    }
+    let kept: String = line.chars().take(REASON_CHARACTERS).collect();
+    format!("{kept} ...")
+}
+
+/// The end of a check's verdicts `text` in about [`SUMMARY_LINES`] lines,
+/// cut between chapters, never inside one: the summary table at its end
+/// and the last chapter's block before it in full, then the blocks before
+/// those that fit. The chapters not started are left out first: the table
+/// lists them anyway, and thirteen of them would push a failing chapter's
+/// call, expected and got out of the lines kept.
 fn verdict_summary(text: &str) -> String {
     let blocks: Vec<&str> = text
+        .trim_end()
         .split("\n\n")
         .filter(|block| {
             !block
@@ -237,7 +255,17 @@ fn verdict_summary(text: &str) -> String {
                 .is_some_and(|line| line.starts_with("  not started:"))
         })
         .collect();
-    last_lines(&blocks.join("\n\n"), SUMMARY_LINES)
+    let mut kept = 0;
+    let mut lines = 0;
+    for block in blocks.iter().rev() {
+        let block_lines = block.lines().count() + 1;
+        if kept >= 2 && lines + block_lines > SUMMARY_LINES {
+            break;
+        }
+        kept += 1;
+        lines += block_lines;
+    }
+    blocks[blocks.len() - kept..].join("\n\n")
 }
 
 impl Student {
@@ -266,18 +294,33 @@ impl Student {
             }
             Outcome::Code(run) if !run.scenes.is_empty() => format!(
                 "{}; hidden scenes: {} of {} pass",
-                run.status.name(),
+                Student::status_with_reason(run),
                 run.scenes.iter().filter(|scene| scene.passed).count(),
                 run.scenes.len()
             ),
-            Outcome::Code(run) => run.status.name().to_string(),
+            Outcome::Code(run) => Student::status_with_reason(run),
             Outcome::Refused(_) => "refused".to_string(),
+        }
+    }
+
+    /// A run's status and, where the status alone leaves the instructor
+    /// asking why, the reason in a line: "error: stopped by the memory
+    /// limit", "timed out after 600 s".
+    pub(crate) fn status_with_reason(run: &CodeRun) -> String {
+        let reason = match run.status {
+            CodeStatus::TimedOut => Some(format!("after {} s", run.timeout.as_secs())),
+            CodeStatus::Pass | CodeStatus::Fail | CodeStatus::NotStarted => None,
+            CodeStatus::BuildError | CodeStatus::Error => run.reason.clone(),
+        };
+        match reason {
+            Some(reason) => format!("{}: {}", run.status.name(), shortened(&reason)),
+            None => run.status.name().to_string(),
         }
     }
 
     /// What a `--code` run printed that the report shows: the check's
     /// summary table (the end of its output), or the compiler's errors.
-    fn code_summary(run: &CodeRun) -> String {
+    pub(crate) fn code_summary(run: &CodeRun) -> String {
         let summary = Student::code_lines(run);
         match run.fresh {
             Some(seed) => format!("(checkpoints with fresh inputs too, seed {seed})\n{summary}"),
@@ -379,5 +422,32 @@ mod tests {
         );
         assert!(!summary.contains("still todo!()"), "{summary}");
         assert_eq!(verdict_summary(&summary), summary);
+    }
+
+    /// The summary starts at a chapter's first line: a chapter that does
+    /// not fit is left out whole, not cut in the middle.
+    #[test]
+    fn the_summary_starts_at_a_chapter_boundary() {
+        let mut text = String::new();
+        for chapter in 1..=6 {
+            text.push_str(&format!("chapter {chapter}: Title - FAIL\n"));
+            for case in 1..=12 {
+                text.push_str(&format!("  checkpoint {case} failed\n"));
+            }
+            text.push('\n');
+        }
+        text.push_str("chapter  status\n1        fail\n");
+        let summary = verdict_summary(&text);
+        assert!(summary.starts_with("chapter "), "{summary}");
+        assert!(summary.contains("chapter 6: Title - FAIL"), "{summary}");
+        assert!(summary.ends_with("1        fail"), "{summary}");
+        assert!(summary.lines().count() <= SUMMARY_LINES, "{summary}");
+        let alone = "chapter 1: Title - FAIL\n".to_string()
+            + &"  line\n".repeat(2 * SUMMARY_LINES)
+            + "\nchapter  status\n";
+        assert!(
+            verdict_summary(&alone).starts_with("chapter 1: Title - FAIL"),
+            "a chapter longer than the summary is kept whole"
+        );
     }
 }

@@ -229,7 +229,8 @@ impl Class {
     }
 
     /// The self-contained HTML report: an overview, then one section per
-    /// student. Images are inlined only for the chapters that fail (the
+    /// student, then the similar code (long, side by side: the students'
+    /// statuses are what an instructor reads first). Images are inlined only for the chapters that fail (the
     /// student's, the reference, the heatmap); a passing chapter is one row
     /// of figures, so that the report of a class of 30 at 640x480 stays a
     /// few megabytes instead of a few hundred.
@@ -238,6 +239,7 @@ impl Class {
         for student in &self.students {
             student_section_html(&mut h, student)?;
         }
+        self.html_similar(&mut h);
         h.push_str(HTML_TAIL);
         Ok(h)
     }
@@ -253,6 +255,9 @@ impl Class {
     ) -> std::io::Result<()> {
         out.write_all(self.html_head().as_bytes())?;
         std::io::copy(sections, out)?;
+        let mut similar = String::new();
+        self.html_similar(&mut similar);
+        out.write_all(similar.as_bytes())?;
         out.write_all(HTML_TAIL.as_bytes())
     }
 
@@ -288,7 +293,13 @@ impl Class {
         }
         self.html_summary_table(&mut h, code);
         self.html_ignored(&mut h);
-        self.html_similar(&mut h);
+        if !self.similar.is_empty() {
+            let _ = writeln!(
+                h,
+                "<p class=\"problems\"><a href=\"#{SIMILAR_ANCHOR}\">Similar code</a>: {} pairs, after the students' sections.</p>",
+                self.similar.len()
+            );
+        }
         h
     }
 
@@ -300,7 +311,7 @@ impl Class {
         }
         let _ = writeln!(
             h,
-            "<section class=\"problems\">\n<h2>Similar code</h2>\n<p>Pairs whose chapter file, or whose whole src/ (where no chapter file is alike), shares at least {:.0}% of its fingerprints with the other's (token {}-grams winnowed over windows of {}, names and literals ignored, the workspace skeleton excluded), as the files were before the build: read them before concluding anything.</p>",
+            "<section class=\"problems similar\" id=\"{SIMILAR_ANCHOR}\">\n<h2>Similar code</h2>\n<p>Pairs whose chapter file, or whose whole src/ (where no chapter file is alike), shares at least {:.0}% of its fingerprints with the other's (token {}-grams winnowed over windows of {}, names and literals ignored, the workspace skeleton excluded), as the files were before the build: read them before concluding anything.</p>",
             100.0 * crate::grade::similarity::REPORTED,
             crate::grade::similarity::K,
             crate::grade::similarity::WINDOW
@@ -386,6 +397,9 @@ impl Class {
         }
     }
 }
+
+/// The anchor of the similar code's section, which the overview links to.
+const SIMILAR_ANCHOR: &str = "similar-code";
 
 const HTML_TAIL: &str = "</body>\n</html>\n";
 
@@ -516,7 +530,7 @@ fn student_renders_html(h: &mut String, grade: &Grade) -> Result<(), GradeError>
 /// characters (an escape sequence in a student's output would drive the
 /// terminal of whoever runs `cat grades.csv`) and bidirectional overrides
 /// are written as escapes, line breaks kept.
-fn csv_field(text: &str) -> String {
+pub(crate) fn csv_field(text: &str) -> String {
     let text = crate::text::terminal_safe(text);
     let text = if text.starts_with(['=', '+', '-', '@', '\t', '\r']) {
         format!("'{text}")

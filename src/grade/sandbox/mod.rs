@@ -135,6 +135,17 @@ pub enum LimitReached {
     Processes { count: u64 },
 }
 
+impl LimitReached {
+    /// The limit in a few words: "the memory limit".
+    pub fn name(&self) -> &'static str {
+        match self {
+            LimitReached::Memory { .. } => "the memory limit",
+            LimitReached::Disk { .. } => "the disk limit",
+            LimitReached::Processes { .. } => "the process limit",
+        }
+    }
+}
+
 impl std::fmt::Display for LimitReached {
     fn fmt(&self, out: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
