@@ -20,6 +20,7 @@
 pub mod class;
 pub mod code;
 pub mod hidden;
+pub mod lms;
 pub mod sandbox;
 pub mod similarity;
 pub mod snapshot;
@@ -936,6 +937,10 @@ th, td { text-align: left; padding: 0.15em 1em 0.15em 0; font-weight: normal; }
 th { color: #555; } td { font-family: monospace; }
 .summary { margin-bottom: 1em; } .summary th { font-weight: bold; } .summary td.pass { color: #2a2; } .summary td.fail { color: #c22; font-weight: bold; }
 a { color: inherit; }
+pre { white-space: pre-wrap; overflow-wrap: anywhere; max-width: 100%; }
+.similar table { table-layout: fixed; width: 100%; }
+.similar td { width: 50%; vertical-align: top; padding-right: 1em; }
+.similar pre { margin: 0.2em 0; }
 ";
 
 fn file_name(path: &Path) -> String {

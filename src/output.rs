@@ -344,6 +344,10 @@ pub mod markers {
     pub const GRADE_CSV: &str = "student,chapter,status,max,mean";
     /// `grade --student`'s result file.
     pub const GRADE_RESULT: &str = "\"raylab_grade_result\"";
+    /// `grade --gradescope`'s results.json.
+    pub const GRADESCOPE_RESULTS: &str = "\"raylab_gradescope\"";
+    /// `grade --gradebook`'s CSV.
+    pub const GRADEBOOK_CSV: &str = crate::grade::lms::GRADEBOOK_HEADER;
 }
 
 /// Checks, before any work is done, that every output can be written and

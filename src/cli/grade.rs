@@ -112,6 +112,22 @@ pub struct GradeArgs {
     /// every chapter by default.
     #[arg(long, value_name = "N", requires = "code", value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
+    /// Write a gradebook CSV that Canvas and Moodle import: one row per
+    /// student (their folder's name as `SIS Login ID`), 1 or 0 per
+    /// chapter, and the total. See docs/instructors.md.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["student", "gradescope"])]
+    pub gradebook: Option<PathBuf>,
+    /// With --code, DIR is ONE submission (a workspace): grade it and write
+    /// Gradescope's autograder results (results.json) to FILE, a test per
+    /// chapter worth a point. What docs/instructors.md's `run_autograder`
+    /// runs.
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "code",
+        conflicts_with_all = ["student", "merge", "report", "csv"]
+    )]
+    pub gradescope: Option<PathBuf>,
     /// Grade only this student of the class DIR (the name of their folder),
     /// into the result file --result: one job of a class graded on several
     /// machines (see --merge).
@@ -188,10 +204,20 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         Some(folder) => Some(folder),
         None => None,
     };
+    if let Some(results) = &args.gradescope {
+        return grade_for_gradescope(args, results);
+    }
     let class = args.code
         || args.student.is_some()
         || args.merge.is_some()
         || crate::grade::class::is_class(&args.folder)?;
+    if !class && args.gradebook.is_some() {
+        bail!(
+            "--gradebook: {} is one student's folder; a gradebook is written for a class \
+             (a folder of students' folders)",
+            args.folder.display()
+        );
+    }
     if let (Some(name), Some(result)) = (&args.student, &args.result) {
         return grade_one_of_class(args, against, name, result);
     }
@@ -206,6 +232,9 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
     let mut outputs: Vec<(&str, &Path)> = vec![("--report", &report)];
     if let Some(csv) = &csv {
         outputs.push(("--csv", csv));
+    }
+    if let Some(gradebook) = &args.gradebook {
+        outputs.push(("--gradebook", gradebook));
     }
     check_outputs_spare_hand_ins(args, class, against, &outputs)?;
     if class {
@@ -248,10 +277,10 @@ fn check_outputs_spare_hand_ins(
     let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     crate::output::check_outputs(&inputs, outputs, args.force)?;
     for &(option, path) in outputs {
-        let marker = if option == "--csv" {
-            crate::output::markers::GRADE_CSV
-        } else {
-            crate::output::markers::GRADE_REPORT
+        let marker = match option {
+            "--csv" => crate::output::markers::GRADE_CSV,
+            "--gradebook" => crate::output::markers::GRADEBOOK_CSV,
+            _ => crate::output::markers::GRADE_REPORT,
         };
         crate::output::check_replaceable_text(option, path, args.force, marker)?;
     }
@@ -332,7 +361,8 @@ fn grade_class(
         .seek(std::io::SeekFrom::Start(0))
         .context("cannot read back the report's temporary file")?;
     let table = graded.csv();
-    crate::output::write_streams(vec![
+    let gradebook = crate::grade::lms::gradebook_csv(&graded);
+    let mut streams: Vec<(&Path, crate::output::Writer)> = vec![
         (
             report,
             Box::new(|out: &mut dyn Write| graded.write_html(out, &mut sections)),
@@ -341,12 +371,63 @@ fn grade_class(
             csv,
             Box::new(|out: &mut dyn Write| out.write_all(table.as_bytes())),
         ),
-    ])?;
+    ];
+    if let Some(path) = &args.gradebook {
+        streams.push((
+            path,
+            Box::new(|out: &mut dyn Write| out.write_all(gradebook.as_bytes())),
+        ));
+    }
+    crate::output::write_streams(streams)?;
     print!(
         "{}",
         crate::text::terminal_safe(&graded.markdown(report, csv))
     );
     Ok(if graded.all_pass() {
+        0
+    } else {
+        EXIT_FAILED_CHECK
+    })
+}
+
+/// Grades the one submission DIR (a workspace) and writes Gradescope's
+/// results file `results`.
+fn grade_for_gradescope(args: &GradeArgs, results: &Path) -> Result<i32> {
+    let manifest = args.folder.join("Cargo.toml");
+    if !std::fs::symlink_metadata(&manifest).is_ok_and(|metadata| metadata.is_file()) {
+        bail!(
+            "{}: not a workspace (no Cargo.toml): --gradescope grades one submission, a \
+             folder made by raylab new",
+            args.folder.display()
+        );
+    }
+    crate::output::check_outputs(&[], &[("--gradescope", results)], args.force)?;
+    crate::output::check_replaceable_text(
+        "--gradescope",
+        results,
+        args.force,
+        crate::output::markers::GRADESCOPE_RESULTS,
+    )?;
+    let sandbox = if args.no_sandbox {
+        None
+    } else {
+        Some(code_sandbox(args, &[results])?)
+    };
+    let scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
+    let run =
+        crate::grade::code::run_check(&args.folder, &code_job(args, sandbox.as_ref(), &scenes))?;
+    let up_to = args.chapter.unwrap_or(crate::chapters::LAST_CHAPTER);
+    let graded = crate::grade::lms::gradescope_results(&run, up_to);
+    let json = serde_json::to_vec_pretty(&graded).context("cannot write the results as JSON")?;
+    crate::output::write_files(&[(results, &json)])?;
+    println!(
+        "{}: {} of {} points -> {}",
+        crate::text::terminal_safe(&args.folder.display().to_string()),
+        graded.score,
+        graded.tests.len(),
+        crate::text::terminal_safe(&results.display().to_string())
+    );
+    Ok(if run.status == crate::grade::code::CodeStatus::Pass {
         0
     } else {
         EXIT_FAILED_CHECK

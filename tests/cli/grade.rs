@@ -1580,6 +1580,32 @@ fn the_grader_judges_real_workspaces_itself() {
     assert_eq!(status, "Pass", "{verdicts}\n{text}");
     assert!(verdicts.contains("chapter 3: Nearest hit"), "{verdicts}");
 
+    // The same run as Gradescope's autograder runs it: a point per chapter.
+    let gradescope = tempfile::tempdir().expect("temp dir");
+    let results = gradescope.path().join("results.json");
+    let mut args = vec![
+        "grade".to_string(),
+        built_class().join("student-answer").display().to_string(),
+        "--code".into(),
+        "--build-profile".into(),
+        "dev".into(),
+        "--chapter".into(),
+        "3".into(),
+        "--gradescope".into(),
+        results.display().to_string(),
+    ];
+    args.extend(
+        sandbox_or_skip("the_grader_judges_real_workspaces_itself")
+            .into_iter()
+            .map(String::from),
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = raylab(&args, built_class());
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&results).expect("results.json");
+    let results: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    assert_eq!(assert_gradescope_results(&results, 3), 3.0, "{results}");
+
     let (todo, text) = grade_built("student-todo", &["--chapter", "2"]);
     let (status, verdicts) = code_status(&todo);
     assert_eq!(status, "NotStarted", "{verdicts}\n{text}");
@@ -1735,4 +1761,155 @@ fn against_the_graded_folder_is_refused() {
         stderr(&out)
     );
     assert!(!folder.join("report.html").exists());
+}
+
+/// Checks `results` against Gradescope's autograder specification: the
+/// fields it requires, their types and allowed values, and a total that is
+/// the sum of the tests' scores, none above its maximum. Returns the
+/// total.
+fn assert_gradescope_results(results: &serde_json::Value, tests: usize) -> f64 {
+    const VISIBILITIES: [&str; 4] = ["hidden", "after_due_date", "after_published", "visible"];
+    let score = results["score"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no top-level score: {results}"));
+    for field in ["visibility", "stdout_visibility"] {
+        let value = results[field].as_str().unwrap_or_default();
+        assert!(
+            VISIBILITIES.contains(&value),
+            "{field} {value:?}: {results}"
+        );
+    }
+    assert!(results["output"].is_string(), "no output: {results}");
+    let listed = results["tests"].as_array().expect("a tests array");
+    assert_eq!(listed.len(), tests, "{results}");
+    let mut sum = 0.0;
+    for test in listed {
+        let name = test["name"].as_str().expect("each test has a name");
+        let test_score = test["score"].as_f64().expect("each test has a score");
+        let max = test["max_score"]
+            .as_f64()
+            .expect("each test has a max_score");
+        assert!(
+            (0.0..=max).contains(&test_score),
+            "{name}: {test_score} of {max}"
+        );
+        let status = test["status"].as_str().unwrap_or_default();
+        let expected = if test_score == max {
+            "passed"
+        } else {
+            "failed"
+        };
+        assert_eq!(status, expected, "{name}");
+        assert!(
+            VISIBILITIES.contains(&test["visibility"].as_str().unwrap_or_default()),
+            "{name}: {test}"
+        );
+        assert!(test["output"].is_string(), "{name}: no output");
+        sum += test_score;
+    }
+    assert_eq!(
+        score, sum,
+        "the score is not the sum of the tests': {results}"
+    );
+    score
+}
+
+/// `grade --code ONE_WORKSPACE --gradescope results.json`: Gradescope's
+/// fields, a test per chapter, and the reason a run scored nothing.
+#[cfg(unix)]
+#[test]
+fn one_submission_is_graded_into_gradescopes_results() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let submission = fake_workspace(dir.path(), "submission", &verdict_writer(&[], true, ""));
+    let mut args = vec![
+        "grade",
+        "--code",
+        "submission",
+        "--gradescope",
+        "results.json",
+    ];
+    args.extend(sandbox_or_skip(
+        "one_submission_is_graded_into_gradescopes_results",
+    ));
+    let out = raylab(&args, dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("results.json")).expect("results.json");
+    let results: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    assert_eq!(assert_gradescope_results(&results, usize::from(LAST)), 0.0);
+    let output = results["output"].as_str().unwrap_or_default();
+    assert!(
+        output.contains("error: no verdict") || output.contains("error: not counted"),
+        "the reason is shown: {output}"
+    );
+    // Twice: raylab replaces its own results.json.
+    assert_eq!(raylab(&args, dir.path()).status.code(), Some(1));
+    // A class folder is not one submission.
+    let out = raylab(
+        &[
+            "grade",
+            "--code",
+            ".",
+            "--gradescope",
+            "r.json",
+            "--no-sandbox",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("not a workspace"), "{}", stderr(&out));
+    assert!(submission.join("Cargo.toml").is_file());
+}
+
+/// `grade CLASS --gradebook FILE`: the columns Canvas reads a student by,
+/// one column per chapter and the total, one row per student.
+#[test]
+fn a_class_gets_a_gradebook_that_canvas_and_moodle_import() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    for student in ["ann", "bob"] {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    for chapter in 1..=2 {
+        let image = render(chapter, 160, 120, |_| {});
+        save(&class.join(format!("ann/chapter-{chapter}.png")), &image);
+    }
+    // Chapter 1's image handed in for chapter 2 as well.
+    save(
+        &class.join("bob/chapter-1.png"),
+        &render(1, 160, 120, |_| {}),
+    );
+    save(
+        &class.join("bob/chapter-2.png"),
+        &render(1, 160, 120, |_| {}),
+    );
+    let out = raylab(
+        &["grade", "class", "--gradebook", "gradebook.csv"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let csv = std::fs::read_to_string(dir.path().join("gradebook.csv")).expect("gradebook");
+    let rows: Vec<Vec<&str>> = csv.lines().map(|line| line.split(',').collect()).collect();
+    let columns = 5 + usize::from(LAST) + 1;
+    assert_eq!(
+        rows[0][..5],
+        ["Student", "ID", "SIS User ID", "SIS Login ID", "Section"]
+    );
+    assert_eq!(rows[0][5], "raylab chapter 1");
+    assert_eq!(rows[0][columns - 1], format!("raylab total ({LAST})"));
+    assert_eq!(rows.len(), 3, "{csv}");
+    let mut expected_ann = vec!["ann", "", "", "ann", "", "1", "1"];
+    expected_ann.extend(std::iter::repeat_n("0", usize::from(LAST) - 2));
+    expected_ann.push("2");
+    assert_eq!(rows[1], expected_ann, "{csv}");
+    assert_eq!(rows[2][5..7], ["1", "0"], "{csv}");
+    assert_eq!(rows[2][columns - 1], "1", "{csv}");
+    for row in &rows {
+        assert_eq!(row.len(), columns, "{csv}");
+    }
+    // One student's folder has no gradebook.
+    let out = raylab(
+        &["grade", "class/ann", "--gradebook", "one.csv"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }

@@ -1,0 +1,207 @@
+//! What a learning management system imports from `raylab grade`:
+//! Gradescope's autograder results (`results.json`, one submission) and a
+//! gradebook CSV that Canvas and Moodle import (one row per student).
+//!
+//! Each chapter is worth one point: it passes or it does not. These only
+//! read what grading gave; how it was graded is none of their business.
+
+use std::fmt::Write as _;
+
+use super::class::{Class, Outcome, Student, csv_field};
+use super::code::CodeRun;
+use crate::chapters::LAST_CHAPTER;
+
+/// Gradescope's `results.json` (its autograder specification): the total
+/// score, what the student reads at the top, and one test per chapter.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct GradescopeResults {
+    /// The sum of the tests' scores.
+    pub score: f64,
+    /// Shown above the tests: the status, with its reason.
+    pub output: String,
+    /// What Gradescope shows of the tests: `visible` to the student.
+    pub visibility: String,
+    /// What the autograder printed is the instructor's alone.
+    pub stdout_visibility: String,
+    pub tests: Vec<GradescopeTest>,
+    /// Marks the file as raylab's, so that a later run may replace it.
+    pub extra_data: GradescopeExtra,
+}
+
+/// One test of [`GradescopeResults`].
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct GradescopeTest {
+    pub name: String,
+    /// The chapter's number (Gradescope sorts tests by it).
+    pub number: String,
+    pub score: f64,
+    pub max_score: f64,
+    /// `passed` or `failed`.
+    pub status: String,
+    pub visibility: String,
+    pub output: String,
+}
+
+/// raylab's own field of [`GradescopeResults`].
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct GradescopeExtra {
+    /// The version of the file's layout.
+    pub raylab_gradescope: u32,
+    /// The run's status in raylab's words (`pass`, `build error`, ...).
+    pub status: String,
+}
+
+/// The layout of [`GradescopeResults`] that this raylab writes.
+pub const GRADESCOPE_VERSION: u32 = 1;
+
+/// The results of one submission's `run`, chapters 1 to `up_to` each a
+/// test worth a point, then each hidden scene a test worth a point.
+pub fn gradescope_results(run: &CodeRun, up_to: u8) -> GradescopeResults {
+    let status = Student::status_with_reason(run);
+    let mut tests = Vec::new();
+    for chapter in 1..=up_to {
+        let title = crate::chapters::chapter(chapter).map_or("", |info| info.title);
+        let passes = run
+            .chapters
+            .iter()
+            .any(|score| score.chapter == chapter && score.passes);
+        let output = chapter_block(&run.stdout, chapter)
+            .unwrap_or_else(|| format!("no verdict: the run ended with {status}"));
+        tests.push(test(
+            format!("Chapter {chapter}: {title}"),
+            chapter.to_string(),
+            passes,
+            output,
+        ));
+    }
+    for (index, scene) in run.scenes.iter().enumerate() {
+        tests.push(test(
+            format!("Hidden scene: {}", scene.name),
+            format!("{}.{}", up_to.saturating_add(1), index + 1),
+            scene.passed,
+            scene.detail.clone(),
+        ));
+    }
+    GradescopeResults {
+        score: tests.iter().map(|test| test.score).sum(),
+        output: format!(
+            "raylab grade --code: {status}\n\n{}",
+            Student::code_summary(run)
+        ),
+        visibility: "visible".into(),
+        stdout_visibility: "hidden".into(),
+        tests,
+        extra_data: GradescopeExtra {
+            raylab_gradescope: GRADESCOPE_VERSION,
+            status: run.status.name().into(),
+        },
+    }
+}
+
+fn test(name: String, number: String, passes: bool, output: String) -> GradescopeTest {
+    GradescopeTest {
+        name,
+        number,
+        score: if passes { 1.0 } else { 0.0 },
+        max_score: 1.0,
+        status: if passes { "passed" } else { "failed" }.into(),
+        visibility: "visible".into(),
+        output,
+    }
+}
+
+/// The block of the check's verdicts `text` about `chapter`: from its
+/// line `chapter N: ...` to the blank line after it.
+fn chapter_block(text: &str, chapter: u8) -> Option<String> {
+    let start = format!("chapter {chapter}: ");
+    text.split("\n\n")
+        .find(|block| block.starts_with(&start))
+        .map(|block| block.trim_end().to_string())
+}
+
+/// The first columns of the gradebook CSV: those Canvas's gradebook import
+/// reads a student by (`SIS Login ID` holds the student's folder name;
+/// Moodle maps it to a user field on import).
+pub const GRADEBOOK_HEADER: &str = "Student,ID,SIS User ID,SIS Login ID,Section";
+
+/// The gradebook of a graded class: one row per student, named by their
+/// folder, a column per chapter (1 when it passes, else 0) and the total.
+pub fn gradebook_csv(class: &Class) -> String {
+    let mut csv = String::from(GRADEBOOK_HEADER);
+    for chapter in 1..=LAST_CHAPTER {
+        let _ = write!(csv, ",raylab chapter {chapter}");
+    }
+    let _ = writeln!(csv, ",raylab total ({LAST_CHAPTER})");
+    for student in &class.students {
+        let name = csv_field(&student.name);
+        let _ = write!(csv, "{name},,,{name},");
+        let mut total = 0;
+        for chapter in 1..=LAST_CHAPTER {
+            let passes = chapter_passes(student, chapter);
+            total += usize::from(passes);
+            let _ = write!(csv, ",{}", u8::from(passes));
+        }
+        let _ = writeln!(csv, ",{total}");
+    }
+    csv
+}
+
+/// Whether `student`'s `chapter` passes: their render of it, or their
+/// code's.
+fn chapter_passes(student: &Student, chapter: u8) -> bool {
+    match &student.outcome {
+        Outcome::Renders(grade) => grade
+            .graded
+            .iter()
+            .any(|graded| graded.chapter == chapter && graded.passes()),
+        Outcome::Code(run) => run
+            .chapters
+            .iter()
+            .any(|score| score.chapter == chapter && score.passes),
+        Outcome::Refused(_) => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grade::code::{ChapterScore, CodeStatus};
+
+    /// Each chapter that passes is a point, and so is each hidden scene;
+    /// the total is their sum.
+    #[test]
+    fn a_passing_chapter_is_a_point_and_the_total_adds_up() {
+        let run = CodeRun {
+            status: CodeStatus::Fail,
+            exit_code: Some(0),
+            stdout: "chapter 1: Ray-plane intersection - pass\n  checkpoints: 17 of 17 pass\n\n\
+                     chapter 2: Ray-sphere intersection - FAIL\n  checkpoints: 3 of 9 pass\n\n"
+                .into(),
+            stderr: String::new(),
+            timeout: std::time::Duration::from_secs(60),
+            chapters_passed: 1,
+            scenes: Vec::new(),
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: None,
+            chapters: vec![
+                ChapterScore {
+                    chapter: 1,
+                    passes: true,
+                },
+                ChapterScore {
+                    chapter: 2,
+                    passes: false,
+                },
+            ],
+        };
+        let results = gradescope_results(&run, 3);
+        assert_eq!(results.tests.len(), 3);
+        assert_eq!(results.score, 1.0);
+        assert_eq!(results.tests[0].status, "passed");
+        assert_eq!(results.tests[1].score, 0.0);
+        assert!(results.tests[1].output.contains("3 of 9 pass"));
+        assert!(results.tests[2].output.starts_with("no verdict"));
+    }
+}
