@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The browser page's tests (tests/browser/page.test.mjs): builds the page
+# The browser tests: `raylab grade`'s HTML reports
+# (tests/browser/report.test.mjs), then the browser page's
+# (tests/browser/page.test.mjs), which builds the page
 # (scripts/build-web.sh), then drives it in headless Chromium with
 # playwright-core from the npm registry (pinned by its lock file). Each
 # piece that this machine cannot provide is skipped with a message saying
@@ -18,6 +20,16 @@ command -v node >/dev/null && command -v npm >/dev/null || skip "no node and npm
 node_major="$(node -p 'process.versions.node.split(".")[0]')"
 [[ $node_major -ge 20 ]] || skip "node $node_major is older than playwright-core needs (20)"
 
+if [[ ! -d tests/browser/node_modules/playwright-core ]]; then
+    npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error \
+        || skip "npm could not install playwright-core"
+fi
+# grade's HTML reports need no page: tested first, whether or not the page
+# can be built here.
+command -v cargo >/dev/null || skip "no cargo on the PATH (the report's class has workspaces to build)"
+RAYLAB_BIN="$RAYLAB_BIN" CHROMIUM="$CHROMIUM" RAYLAB_ARTIFACTS=target/browser \
+    node --test tests/browser/report.test.mjs
+
 status=0
 # The crate docs scripts/test.sh built just before, if they are there.
 RAYLAB_DOCS="$PWD/target/doc" bash scripts/build-web.sh --out target/web || status=$?
@@ -25,10 +37,6 @@ if [[ $status -eq 3 ]]; then
     skip "the page cannot be built here (above)"
 elif [[ $status -ne 0 ]]; then
     exit "$status"
-fi
-if [[ ! -d tests/browser/node_modules/playwright-core ]]; then
-    npm ci --prefix tests/browser --no-audit --no-fund --loglevel=error \
-        || skip "npm could not install playwright-core"
 fi
 RAYLAB_PAGE=target/web RAYLAB_BIN="$RAYLAB_BIN" CHROMIUM="$CHROMIUM" RAYLAB_ARTIFACTS=target/browser \
     node --test tests/browser/page.test.mjs

@@ -63,7 +63,7 @@ install_package() {
 install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
-install_package chromium "the browser page's tests are skipped"
+install_package chromium "the browser tests (grade's reports, the page) are skipped"
 time cargo test --all-targets --features embree --no-run
 time cargo test --all-targets --features embree
 time cargo test --doc --features embree
@@ -80,7 +80,8 @@ bash scripts/check-docs-no-source.sh
 # without the feature is made.
 time cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
 time cargo bench --no-run
-# The browser page: built for WebAssembly, then tested in headless Chromium
-# against the debug binary the tests above built (skipped, with a message,
-# where this machine cannot build it or has no browser).
+# grade's HTML reports, then the browser page (built for WebAssembly), in
+# headless Chromium against the debug binary the tests above built (skipped,
+# with a message, where this machine cannot build the page or has no
+# browser).
 time bash scripts/test-browser.sh target/debug/raylab

@@ -304,7 +304,9 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         );
         run.stdout = format!("{}\n{reason}", run.stdout);
         run.stderr = format!("{}\n{reason}", run.stderr);
-        run.reason = Some(format!("not counted: {}", not_counted.join("; ")));
+        if run.status == CodeStatus::Error {
+            run.reason = Some(format!("not counted: {}", not_counted.join("; ")));
+        }
     }
     Ok(run)
 }
