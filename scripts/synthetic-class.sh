@@ -3,15 +3,16 @@
 #
 # Makes CLASS_DIR with STUDENTS folders of 640x480 hand-ins, one of four
 # kinds in turn: every chapter right; every odd chapter wrong (the previous
-# chapter's image handed in for it); chapters 4 to 11 missing; and hostile
+# chapter's image handed in for it); chapters 4 on missing; and hostile
 # (the right images, plus a FIFO, a symbolic link out of the folder, a
 # folder named chapter-2.png, a PNG whose header declares 16384x2441 pixels
 # and a file named with a terminal escape). Then, unless --make-only, it
 # grades the class with /usr/bin/time and prints the wall time and the peak
-# resident memory.
+# resident memory, and checks the gradebook CSV (--gradebook) it wrote: a
+# row per student, each kind's total what it should be.
 #
 # Usage: scripts/synthetic-class.sh STUDENTS CLASS_DIR [--make-only]
-#   The images are hard links to eleven renders made once, so a class of
+#   The images are hard links to one render per chapter, made once, so a class of
 #   500 takes a few megabytes of disk. CLASS_DIR is emptied first.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -22,10 +23,14 @@ fi
 students=$1
 class=$2
 make_only=${3:-}
-chapters=11
-
-cargo build --release --quiet --manifest-path "$root/Cargo.toml"
-raylab="${CARGO_TARGET_DIR:-$root/target}/release/raylab"
+# RAYLAB_BIN: a raylab already built (the release build otherwise).
+raylab=${RAYLAB_BIN:-}
+if [[ -z $raylab ]]; then
+    cargo build --release --quiet --manifest-path "$root/Cargo.toml"
+    raylab="${CARGO_TARGET_DIR:-$root/target}/release/raylab"
+fi
+# As many chapters as this raylab's registry lists, one a line.
+chapters=$("$raylab" chapters | wc -l)
 
 rm -rf "$class"
 mkdir -p "$class"
@@ -88,6 +93,26 @@ if [[ $make_only == --make-only ]]; then
 fi
 status=0
 /usr/bin/time -f '%e s wall, %M KB peak resident' \
-    "$raylab" grade "$class" >/dev/null 2>"$class.time" || status=$?
+    "$raylab" grade "$class" --gradebook "$class.gradebook.csv" --force \
+    >/dev/null 2>"$class.time" || status=$?
 tail -1 "$class.time"
 echo "grade exited $status (1: some students fail, as they should)"
+
+# The gradebook: the header, then one row per student whose total is their
+# kind's: every chapter; the even ones and chapter 1; chapters 1 to 3; and
+# chapters 3 on (the hostile kind's chapter 1 is refused, its 2 a folder).
+python3 - "$class.gradebook.csv" "$students" "$chapters" <<'CHECK'
+import csv, sys
+path, students, chapters = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+rows = list(csv.reader(open(path, newline="")))
+header, rows = rows[0], rows[1:]
+assert header[:5] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section"], header
+assert header[5:] == [f"raylab chapter {n}" for n in range(1, chapters + 1)] + [f"raylab total ({chapters})"], header
+assert len(rows) == students, f"{len(rows)} rows for {students} students"
+expected = {0: chapters, 1: 1 + chapters // 2, 2: 3, 3: chapters - 2}
+for row in rows:
+    index = int(row[0].removeprefix("student-"))
+    scores = [int(cell) for cell in row[5:5 + chapters]]
+    assert int(row[-1]) == sum(scores) == expected[index % 4], (row, expected[index % 4])
+print(f"gradebook: {len(rows)} students, {chapters} chapters, each total as expected: {path}")
+CHECK
