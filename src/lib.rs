@@ -99,7 +99,8 @@ pub use ray::{Ray, unit_vector};
 pub use record::{RayRecorder, record_rays};
 pub use render::bsdf;
 pub use render::{
-    CastRay, RayCounts, RayKind, RayLog, RenderError, Rendered, Stage, Tracer, render, render_with,
+    CastRay, RayCounts, RayKind, RayLog, RenderError, Rendered, Stage, Tracer, render,
+    render_linear_with, render_with,
 };
 pub use scene::{Material, RenderSettings, Sampling, Scene, SceneError};
 pub use shapes::{Plane, Shape, Sphere, SurfacePoint};

@@ -1,4 +1,5 @@
-//! Turning linear light into an 8-bit sRGB PNG, hashing it, writing it safely.
+//! Turning linear light into an 8-bit sRGB PNG or keeping it as OpenEXR,
+//! hashing it, writing it safely.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -190,6 +191,25 @@ pub enum OutputError {
     },
     #[error("{option} {}: raylab writes PNG images; give a name ending in .png", path.display())]
     NotPngName { option: String, path: PathBuf },
+    #[error(
+        "{option} {}: raylab writes PNG (8-bit sRGB) or OpenEXR (linear light) images; \
+         give a name ending in .png or .exr",
+        path.display()
+    )]
+    NotImageName { option: String, path: PathBuf },
+    /// `values` floats of linear RGB where the size needs `needed`.
+    #[error(
+        "cannot encode an OpenEXR image: {values} linear values for a {width}x{height} image, \
+         which needs {needed}"
+    )]
+    LinearWrongSize {
+        width: u32,
+        height: u32,
+        values: usize,
+        needed: u64,
+    },
+    #[error("cannot encode an OpenEXR image: {0}")]
+    Exr(exr::error::Error),
 }
 
 /// The error for writing `path`, for `map_err`.
@@ -286,6 +306,119 @@ pub fn is_raylab_png(path: &Path) -> bool {
         rest = rest.get(8 + length + 4..).unwrap_or_default();
     }
     false
+}
+
+/// The two kinds of image raylab writes, told by the output's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageKind {
+    /// 8-bit sRGB: what a screen shows, clamped to `[0, 1]`.
+    Png,
+    /// 32-bit float linear RGB: the radiance itself, for other tools.
+    Exr,
+}
+
+/// The kind of image a name asks for: `.png` or `.exr` (any case). Any
+/// other name is refused: PNG bytes under `render.jpg` would mislead every
+/// viewer, and silently writing 8-bit under `render.hdr` would lose the
+/// very range asked for.
+pub fn image_kind(option: &str, path: &Path) -> Result<ImageKind, OutputError> {
+    let extension = path.extension().unwrap_or_default();
+    if extension.eq_ignore_ascii_case("png") {
+        Ok(ImageKind::Png)
+    } else if extension.eq_ignore_ascii_case("exr") {
+        Ok(ImageKind::Exr)
+    } else {
+        Err(OutputError::NotImageName {
+            option: option.to_string(),
+            path: path.to_path_buf(),
+        })
+    }
+}
+
+/// Encodes linear RGB (3 `f32`s a pixel, row by row from the top) as an
+/// OpenEXR file's bytes: one layer of 32-bit float R, G, B channels, ZIP
+/// compressed (lossless: every value reads back bit for bit, NaN and
+/// infinities included), marked as raylab's like its PNGs (see
+/// [`is_raylab_exr`]). A buffer of the wrong size is an error.
+pub fn encode_exr(width: u32, height: u32, linear: &[f32]) -> Result<Vec<u8>, OutputError> {
+    use exr::prelude::WritableImage;
+    use exr::prelude::{Encoding, Image, Layer, LayerAttributes, SpecificChannels, Text, Vec2};
+    if width == 0 || height == 0 {
+        return Err(OutputError::NoPixels { width, height });
+    }
+    let needed = 3 * u64::from(width) * u64::from(height);
+    if linear.len() as u64 != needed {
+        return Err(OutputError::LinearWrongSize {
+            width,
+            height,
+            values: linear.len(),
+            needed,
+        });
+    }
+    let row = width as usize;
+    let mut attributes = LayerAttributes::default();
+    attributes.software_name = Some(Text::from(MARKER_TEXT));
+    let layer = Layer::new(
+        (width as usize, height as usize),
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        SpecificChannels::rgb(|position: Vec2<usize>| {
+            let at = 3 * (position.y() * row + position.x());
+            (linear[at], linear[at + 1], linear[at + 2])
+        }),
+    );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .map_err(OutputError::Exr)?;
+    Ok(bytes.into_inner())
+}
+
+/// The 4 bytes every OpenEXR file starts with.
+pub const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// Whether `path` is an OpenEXR file that raylab wrote (its header's
+/// `software` attribute is raylab's marker). Only the file's first 64 KiB
+/// are read, and only if it is a regular file.
+pub fn is_raylab_exr(path: &Path) -> bool {
+    use std::io::Read;
+    let Ok(file) = crate::input::open_regular(path, crate::input::Links::Follow) else {
+        return false;
+    };
+    let mut head = Vec::new();
+    if file.take(64 << 10).read_to_end(&mut head).is_err() || !head.starts_with(&EXR_MAGIC) {
+        return false;
+    }
+    let Ok(meta) = exr::meta::MetaData::read_from_buffered(head.as_slice(), false) else {
+        return false;
+    };
+    let marker = exr::prelude::Text::from(MARKER_TEXT);
+    meta.headers
+        .iter()
+        .any(|header| header.own_attributes.software_name.as_ref() == Some(&marker))
+}
+
+/// [`check_replaceable_png`] for either kind of image.
+pub fn check_replaceable_image(
+    option: &str,
+    path: &Path,
+    force: bool,
+    kind: ImageKind,
+) -> Result<(), OutputError> {
+    match kind {
+        ImageKind::Png => check_replaceable_png(option, path, force),
+        ImageKind::Exr => {
+            if force || std::fs::symlink_metadata(path).is_err() || is_raylab_exr(path) {
+                return Ok(());
+            }
+            Err(OutputError::NotRaylabs {
+                option: option.to_string(),
+                path: path.to_path_buf(),
+            })
+        }
+    }
 }
 
 /// Refuses to replace an existing image raylab did not write, unless

@@ -9,7 +9,8 @@ use clap::Args;
 
 use crate::chapters::{CHAPTERS, LAST_CHAPTER};
 use crate::effects::Effects;
-use crate::render::Rendered;
+use crate::output::ImageKind;
+use crate::render::{KeepLinear, Rendered};
 use crate::shapes::MarchHistogram;
 use crate::{RayCounts, RayKind, RenderSettings, Sampling, Scene, builtin};
 
@@ -32,11 +33,15 @@ pub struct RenderArgs {
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub overrides: SettingsOverrides,
-    /// Where to write the PNG [default: chapter-N.png for a built-in scene;
-    /// with --scene my-scene.toml, my-scene.png, or my-scene-chN.png with
-    /// --chapter N]. An existing file is replaced only if raylab wrote it
-    /// and it is writable; anything else needs --force.
-    #[arg(short, long, value_name = "OUT.png")]
+    /// Where to write the image [default: chapter-N.png for a built-in
+    /// scene; with --scene my-scene.toml, my-scene.png, or my-scene-chN.png
+    /// with --chapter N]. A name ending in .png gets 8-bit sRGB (clamped
+    /// to what a screen shows); one ending in .exr gets OpenEXR, 32-bit
+    /// float linear RGB: the radiance before the sRGB encoding, for other
+    /// tools and `raylab diff` in linear light. An existing file is
+    /// replaced only if raylab wrote it and it is writable; anything else
+    /// needs --force.
+    #[arg(short, long, value_name = "OUT.png|OUT.exr")]
     pub output: Option<PathBuf>,
     /// Replace the output even if raylab did not write it or it is
     /// read-only (it keeps its permissions).
@@ -397,7 +402,7 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         args.chapter,
         chapter,
     );
-    crate::output::check_png_name("-o", &output)?;
+    let kind = crate::output::image_kind("-o", &output)?;
     let mut outputs = vec![("-o", output.as_path())];
     if let Some(path) = &args.stats_json {
         outputs.push(("--stats-json", path.as_path()));
@@ -417,7 +422,7 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         .chain(models.iter().map(PathBuf::as_path))
         .collect();
     crate::output::check_outputs(&inputs, &outputs, args.force)?;
-    crate::output::check_replaceable_png("-o", &output, args.force)?;
+    crate::output::check_replaceable_image("-o", &output, args.force, kind)?;
     if let Some(path) = &args.stats_json {
         crate::output::check_replaceable_text(
             "--stats-json",
@@ -447,9 +452,18 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         settings.sphere_formula == crate::scene::SphereFormula::Stable
             && settings.triangle_test == crate::scene::TriangleTest::Watertight,
     );
-    let rendered = args
-        .overrides
-        .in_pool(|| crate::render_with::<C>(&scene, chapter, &settings, progress.as_ref()))??;
+    let rendered = args.overrides.in_pool(|| {
+        crate::render::render_keeping::<C>(
+            &scene,
+            chapter,
+            &settings,
+            progress.as_ref(),
+            match kind {
+                ImageKind::Png => KeepLinear::No,
+                ImageKind::Exr => KeepLinear::Yes,
+            },
+        )
+    })??;
     if let Some(bar) = progress {
         bar.finish_and_clear();
     }
@@ -463,14 +477,30 @@ pub fn render<C: Chapters>(args: &RenderArgs) -> Result<i32> {
         );
     }
     // The image and its statistics together or not at all.
-    let png = crate::output::encode_png(rendered.width, rendered.height, &rendered.rgb)?;
+    let image = match kind {
+        ImageKind::Png => {
+            crate::output::encode_png(rendered.width, rendered.height, &rendered.rgb)?
+        }
+        ImageKind::Exr => {
+            let not_finite = rendered.linear.iter().filter(|v| !v.is_finite()).count();
+            if not_finite > 0 {
+                // Written as computed: the file is the renderer's answer,
+                // and `raylab diff` names the first such pixel.
+                eprintln!(
+                    "warning: {not_finite} linear values are NaN or infinite; \
+                     the OpenEXR image keeps them (the PNG would show them black or white)"
+                );
+            }
+            crate::output::encode_exr(rendered.width, rendered.height, &rendered.linear)?
+        }
+    };
     let json = args.stats_json.as_ref().map(|path| {
         (
             path,
             format!("{:#}\n", stats_json(chapter, &settings, &rendered)),
         )
     });
-    let mut files = vec![(output.as_path(), png.as_slice())];
+    let mut files = vec![(output.as_path(), image.as_slice())];
     if let Some((path, text)) = &json {
         files.push((path.as_path(), text.as_bytes()));
     }

@@ -357,6 +357,11 @@ pub struct Rendered {
     pub height: u32,
     /// sRGB-encoded pixels, row by row from the top, 3 bytes each.
     pub rgb: Vec<u8>,
+    /// The linear radiance the sRGB codes were encoded from, 3 `f32`s a
+    /// pixel in the same order: unclamped, before any encoding. Empty
+    /// unless asked for ([`render_linear_with`]): it takes four times the
+    /// memory of `rgb`.
+    pub linear: Vec<f32>,
     /// The effects that were simulated.
     pub effects: Effects,
     pub rays: RayCounts,
@@ -392,29 +397,61 @@ pub fn render_with<C: Chapters>(
     settings: &RenderSettings,
     progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
+    render_keeping::<C>(scene, chapter, settings, progress, KeepLinear::No)
+}
+
+/// Whether a render keeps its linear radiance beside the sRGB codes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeepLinear {
+    No,
+    Yes,
+}
+
+/// [`render_with`], keeping the linear radiance in [`Rendered::linear`]
+/// (for OpenEXR output and errors measured in linear light). The sRGB
+/// codes are the same bytes [`render_with`] gives.
+pub fn render_linear_with<C: Chapters>(
+    scene: &Scene,
+    chapter: u8,
+    settings: &RenderSettings,
+    progress: Option<&Progress>,
+) -> Result<Rendered, RenderError> {
+    render_keeping::<C>(scene, chapter, settings, progress, KeepLinear::Yes)
+}
+
+/// [`render_with`] or [`render_linear_with`], as `keep` says.
+pub fn render_keeping<C: Chapters>(
+    scene: &Scene,
+    chapter: u8,
+    settings: &RenderSettings,
+    progress: Option<&Progress>,
+    keep: KeepLinear,
+) -> Result<Rendered, RenderError> {
     use crate::course::Textbook;
     fn run<C: Chapters>(
         scene: &Scene,
         chapter: u8,
         settings: &RenderSettings,
         progress: Option<&Progress>,
+        keep: KeepLinear,
     ) -> Result<Rendered, RenderError> {
-        render_stage(
+        render_stage_keeping(
             &Stage::<C>::with_chapters(scene, chapter, *settings)?,
             progress,
+            keep,
         )
     }
     let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
     match (settings.sphere_formula, textbook_triangle) {
-        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, progress),
+        (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, progress, keep),
         (SphereFormula::Textbook, false) => {
-            run::<Textbook<C, true, false>>(scene, chapter, settings, progress)
+            run::<Textbook<C, true, false>>(scene, chapter, settings, progress, keep)
         }
         (SphereFormula::Stable, true) => {
-            run::<Textbook<C, false, true>>(scene, chapter, settings, progress)
+            run::<Textbook<C, false, true>>(scene, chapter, settings, progress, keep)
         }
         (SphereFormula::Textbook, true) => {
-            run::<Textbook<C, true, true>>(scene, chapter, settings, progress)
+            run::<Textbook<C, true, true>>(scene, chapter, settings, progress, keep)
         }
     }
 }
@@ -424,17 +461,35 @@ pub fn render_stage<C: Chapters>(
     stage: &Stage<'_, C>,
     progress: Option<&Progress>,
 ) -> Result<Rendered, RenderError> {
+    render_stage_keeping(stage, progress, KeepLinear::No)
+}
+
+/// [`render_stage`], keeping the linear radiance if `keep` says so.
+pub fn render_stage_keeping<C: Chapters>(
+    stage: &Stage<'_, C>,
+    progress: Option<&Progress>,
+    keep: KeepLinear,
+) -> Result<Rendered, RenderError> {
     stage.check_image_budget()?;
     let start = Instant::now();
     let (width, height) = (stage.settings.width, stage.settings.height);
     // Before the rows, which all read it.
     let light_counts = stage.light_image().map(|light| light.counts);
-    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    let values = width as usize * height as usize * 3;
+    let mut rgb = vec![0u8; values];
+    let mut linear = vec![0f32; if keep == KeepLinear::Yes { values } else { 0 }];
+    // Without a linear buffer each row gets an empty slice, and keeps none.
+    let linear_rows: Vec<&mut [f32]> = if linear.is_empty() {
+        (0..height).map(|_| <&mut [f32]>::default()).collect()
+    } else {
+        linear.chunks_mut(width as usize * 3).collect()
+    };
     let rays = rgb
         .par_chunks_mut(width as usize * 3)
+        .zip(linear_rows)
         .enumerate()
-        .map(|(y, row)| {
-            let counts = render_row(stage, y as u32, row);
+        .map(|(y, (row, linear_row))| {
+            let counts = render_row(stage, y as u32, row, linear_row);
             if let Some(bar) = progress {
                 bar.inc(1);
             }
@@ -446,6 +501,7 @@ pub fn render_stage<C: Chapters>(
         width,
         height,
         rgb,
+        linear,
         effects: stage.effects,
         rays,
         seconds: start.elapsed().as_secs_f64(),
@@ -493,7 +549,7 @@ impl<C: Chapters> RowRenderer for Stage<'_, C> {
             _ => RayCounts::default(),
         };
         for (row, y) in rgb.chunks_exact_mut(row_bytes).zip(rows) {
-            counts = counts.add(render_row(self, y, row));
+            counts = counts.add(render_row(self, y, row, &mut []));
         }
         Ok((rgb, counts))
     }
@@ -531,9 +587,15 @@ pub fn row_renderer<'a, C: Chapters>(
     }
 }
 
-/// Row `y` of `stage`'s image into `row` (sRGB, 3 bytes a pixel), and the
-/// rays it cast.
-fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayCounts {
+/// Row `y` of `stage`'s image into `row` (sRGB, 3 bytes a pixel) and, if
+/// `linear_row` is not empty, its linear radiance (3 `f32`s a pixel); and
+/// the rays it cast.
+fn render_row<C: Chapters>(
+    stage: &Stage<'_, C>,
+    y: u32,
+    row: &mut [u8],
+    linear_row: &mut [f32],
+) -> RayCounts {
     let mut tracer = stage.tracer(None);
     let light = stage.light_image();
     let (evaluations, marches) = (
@@ -551,6 +613,9 @@ fn render_row<C: Chapters>(stage: &Stage<'_, C>, y: u32, row: &mut [u8]) -> RayC
             self_shadowed_pixels += 1;
         }
         pixel.copy_from_slice(&color.to_array().map(linear_to_srgb8));
+        if let Some(values) = linear_row.get_mut(3 * x..3 * x + 3) {
+            values.copy_from_slice(&color.to_array());
+        }
     }
     let mut counts = tracer.counts();
     counts.self_shadowed_pixels = self_shadowed_pixels;
