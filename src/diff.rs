@@ -2,8 +2,9 @@
 //! false-colour heatmap of where they differ (used by `raylab diff` and
 //! `raylab grade`).
 //!
-//! All differences are in 8-bit sRGB levels (0 to 255), the units of the PNG
-//! files themselves:
+//! Between PNGs, all differences are in 8-bit sRGB levels (0 to 255), the
+//! units of the files themselves (OpenEXR images are compared in linear
+//! light instead: see [`linear`]):
 //!
 //! - *max*: the largest absolute difference of any channel of any pixel;
 //! - *mean*: the mean absolute difference over all `3 * width * height`
@@ -21,6 +22,9 @@ use std::path::{Path, PathBuf};
 
 use crate::input::InputError;
 use crate::output::OutputError;
+
+pub mod linear;
+pub use linear::{LinearComparison, LinearCriteria, LinearImage, compare_linear};
 
 /// Why an image was not read, two images not compared, or a heatmap not
 /// drawn. Each message is whole, the decoder's reason included.
@@ -82,6 +86,92 @@ pub enum DiffError {
     },
     #[error("cannot draw a heatmap: {0}")]
     HeatmapTooLarge(InputError),
+    #[error("not an OpenEXR file (it does not start with the OpenEXR magic number)")]
+    NotExr,
+    #[error("corrupted OpenEXR: {0}")]
+    CorruptedExr(exr::error::Error),
+    /// A channel's value that no error can be measured against.
+    #[error(
+        "pixel x={x}, y={y} has {channel} = {value}: raylab compares finite linear values only"
+    )]
+    NotFinite {
+        x: u32,
+        y: u32,
+        channel: &'static str,
+        value: f32,
+    },
+    /// Neither signature: `path` is the file.
+    #[error(
+        "{}: neither a PNG nor an OpenEXR file (it starts with neither's signature)",
+        path.display()
+    )]
+    NotAnImage { path: PathBuf },
+    /// One PNG, one OpenEXR: `kinds` say which is which.
+    #[error(
+        "{} is {} but {} is {}: 8-bit sRGB and linear light cannot be compared; \
+         render both as .png, or both as .exr for errors in linear light",
+        names.0,
+        kinds.0,
+        names.1,
+        kinds.1
+    )]
+    MixedKinds {
+        names: (String, String),
+        kinds: (&'static str, &'static str),
+    },
+}
+
+/// An image as `raylab diff` reads it: by its signature, not its name.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyImage {
+    Srgb(Image),
+    Linear(LinearImage),
+}
+
+impl AnyImage {
+    /// Reads a PNG or an OpenEXR file, whichever its first bytes say it is.
+    pub fn load(path: &Path) -> Result<AnyImage, DiffError> {
+        let bytes = crate::input::read_bounded(
+            path,
+            crate::input::MAX_PNG_FILE_BYTES.max(linear::MAX_EXR_FILE_BYTES),
+            "PNG or OpenEXR image",
+            crate::input::Links::Follow,
+        )?;
+        let in_file = |error| DiffError::InFile {
+            path: path.to_path_buf(),
+            error: Box::new(error),
+        };
+        if bytes.starts_with(&PNG_SIGNATURE) {
+            if bytes.len() as u64 > crate::input::MAX_PNG_FILE_BYTES {
+                return Err(crate::input::InputError::TooLarge {
+                    path: path.to_path_buf(),
+                    size: bytes.len().to_string(),
+                    what: "PNG".into(),
+                    max: crate::input::MAX_PNG_FILE_BYTES,
+                }
+                .into());
+            }
+            Image::decode_png(&bytes)
+                .map(AnyImage::Srgb)
+                .map_err(in_file)
+        } else if bytes.starts_with(&crate::output::EXR_MAGIC) {
+            LinearImage::decode_exr(&bytes)
+                .map(AnyImage::Linear)
+                .map_err(in_file)
+        } else {
+            Err(DiffError::NotAnImage {
+                path: path.to_path_buf(),
+            })
+        }
+    }
+
+    /// What the image holds, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            AnyImage::Srgb(_) => "a PNG (8-bit sRGB)",
+            AnyImage::Linear(_) => "an OpenEXR image (linear light)",
+        }
+    }
 }
 
 /// An 8-bit RGB image, row by row from the top.

@@ -1,0 +1,380 @@
+//! Comparing two OpenEXR renders in linear light: the radiance itself,
+//! before any clamp, tone curve or 8-bit rounding.
+//!
+//! Image B is the reference. Over all `3 * width * height` channel values:
+//!
+//! - *max* and *mean*: the largest and the mean absolute difference `|a - b|`,
+//!   in the images' own linear units;
+//! - *RMSE*: the root of the mean of `(a - b)^2`, in the same units;
+//! - *relative MSE*: the mean of `(a - b)^2 / (b^2 + 0.01)`, the usual
+//!   measure of a Monte Carlo render's error (its `0.01` keeps black
+//!   pixels from dividing by zero);
+//! - *mean relative error*: the mean of `|a - b| / (|b| + 0.01)`;
+//! - a pixel is *over* the tolerance when one of its channels' relative
+//!   error `|a - b| / (|b| + 0.01)` exceeds it (strictly).
+//!
+//! Two images pass when the share of pixels over the tolerance is at most
+//! the allowed percentage, as for PNGs.
+
+use std::path::Path;
+
+use super::DiffError;
+
+/// What keeps a black reference pixel from dividing by zero: added to `b^2`
+/// in the relative MSE and to `|b|` in the relative error.
+pub const RELATIVE_FLOOR: f64 = 0.01;
+
+/// The largest OpenEXR file read, in bytes: 16 bytes a pixel (32-bit RGBA,
+/// uncompressed) and a sixteenth more for the file's own tables.
+pub const MAX_EXR_FILE_BYTES: u64 =
+    16 * crate::input::MAX_IMAGE_PIXELS + 16 * crate::input::MAX_IMAGE_PIXELS / 16;
+
+/// A linear RGB image: 3 finite `f32`s a pixel, row by row from the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearImage {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<f32>,
+}
+
+impl LinearImage {
+    /// Reads an OpenEXR file's R, G and B channels as 32-bit floats
+    /// (half-float and integer channels are converted, an alpha channel is
+    /// ignored). Errors name the file: missing, not a regular file, too
+    /// large, not an OpenEXR file, damaged, without R, G and B, or holding
+    /// a NaN or an infinity (no error can be measured against one).
+    pub fn load_exr(path: &Path) -> Result<LinearImage, DiffError> {
+        let bytes = crate::input::read_bounded(
+            path,
+            MAX_EXR_FILE_BYTES,
+            "OpenEXR image",
+            crate::input::Links::Follow,
+        )?;
+        LinearImage::decode_exr(&bytes).map_err(|error| DiffError::InFile {
+            path: path.to_path_buf(),
+            error: Box::new(error),
+        })
+    }
+
+    /// Decodes OpenEXR bytes (see [`LinearImage::load_exr`]). Every layer's
+    /// declared size is checked against [`crate::input::check_image_size`]
+    /// before any pixel is decoded: a small file can declare a huge image.
+    pub fn decode_exr(bytes: &[u8]) -> Result<LinearImage, DiffError> {
+        use exr::prelude::ReadChannels;
+        use exr::prelude::ReadLayers;
+        if !bytes.starts_with(&crate::output::EXR_MAGIC) {
+            return Err(DiffError::NotExr);
+        }
+        let meta = exr::meta::MetaData::read_from_buffered(bytes, false)
+            .map_err(DiffError::CorruptedExr)?;
+        for header in &meta.headers {
+            let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
+            crate::input::check_image_size(
+                side(header.layer_size.width()),
+                side(header.layer_size.height()),
+            )?;
+        }
+        let read = exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgb_channels(
+                |size, _channels| (size.width(), vec![0f32; 3 * size.area()]),
+                |(width, values): &mut (usize, Vec<f32>),
+                 position: exr::prelude::Vec2<usize>,
+                 (r, g, b): (f32, f32, f32)| {
+                    let at = 3 * (position.y() * *width + position.x());
+                    if let Some(pixel) = values.get_mut(at..at + 3) {
+                        pixel.copy_from_slice(&[r, g, b]);
+                    }
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(std::io::Cursor::new(bytes))
+            .map_err(DiffError::CorruptedExr)?;
+        let size = read.layer_data.size;
+        let (_, rgb) = read.layer_data.channel_data.pixels;
+        let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
+        let image = LinearImage {
+            width: side(size.width()),
+            height: side(size.height()),
+            rgb,
+        };
+        if let Some(index) = image.rgb.iter().position(|value| !value.is_finite()) {
+            let pixel = (index / 3) as u64;
+            let row = u64::from(image.width.max(1));
+            return Err(DiffError::NotFinite {
+                x: (pixel % row) as u32,
+                y: (pixel / row) as u32,
+                channel: ["R", "G", "B"][index % 3],
+                value: image.rgb[index],
+            });
+        }
+        Ok(image)
+    }
+
+    pub(super) fn size(&self) -> String {
+        format!("{}x{}", self.width, self.height)
+    }
+}
+
+/// When two linear images count as the same.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearCriteria {
+    /// A pixel is over when one of its channels' relative error
+    /// `|a - b| / (|b| + 0.01)` exceeds this.
+    pub tolerance: f64,
+    /// The percentage (0 to 100) of pixels that may be over.
+    pub allowed_percent: f64,
+}
+
+impl Default for LinearCriteria {
+    /// One percent absorbs the last digits of float arithmetic done in
+    /// another order (another renderer, another machine); no pixel may be
+    /// over it.
+    fn default() -> LinearCriteria {
+        LinearCriteria {
+            tolerance: 0.01,
+            allowed_percent: 0.0,
+        }
+    }
+}
+
+/// The numbers that summarise how two linear images differ (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearMetrics {
+    pub width: u32,
+    pub height: u32,
+    pub max: f64,
+    /// The first pixel (in reading order) with the `max` difference, if any differs.
+    pub max_at: Option<(u32, u32)>,
+    pub mean: f64,
+    pub rmse: f64,
+    pub relative_mse: f64,
+    pub mean_relative: f64,
+    pub pixels_over: u64,
+    pub pixels: u64,
+}
+
+/// Two linear images compared.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearComparison {
+    pub metrics: LinearMetrics,
+    pub criteria: LinearCriteria,
+}
+
+/// Compares two linear images of the same size, `b` the reference. The
+/// error names both sizes; `names` says what to call the images in it.
+pub fn compare_linear(
+    a: &LinearImage,
+    b: &LinearImage,
+    criteria: LinearCriteria,
+    names: (&str, &str),
+) -> Result<LinearComparison, DiffError> {
+    let names = || (names.0.to_string(), names.1.to_string());
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(DiffError::SizeMismatch {
+            names: names(),
+            sizes: (a.size(), b.size()),
+        });
+    }
+    let pixels = u64::from(a.width) * u64::from(a.height);
+    if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
+        return Err(DiffError::NoPixels { names: names() });
+    }
+    Ok(compare_linear_values(&a.rgb, &b.rgb, a.width, criteria))
+}
+
+/// Compares two linear RGB buffers of the same length, `width` pixels a row
+/// (the caller checks the sizes), `b` the reference. Sums are in `f64`, so
+/// a million small differences are not lost against a large one.
+pub fn compare_linear_values(
+    a: &[f32],
+    b: &[f32],
+    width: u32,
+    criteria: LinearCriteria,
+) -> LinearComparison {
+    let pixels = (a.len().min(b.len()) / 3) as u64;
+    let (mut sum, mut sum_squares, mut sum_relative_squares, mut sum_relative) =
+        (0f64, 0f64, 0f64, 0f64);
+    let (mut max, mut max_index, mut pixels_over) = (0f64, None, 0u64);
+    for (index, (pa, pb)) in a.chunks_exact(3).zip(b.chunks_exact(3)).enumerate() {
+        let (mut largest, mut over) = (0f64, false);
+        for (&ca, &cb) in pa.iter().zip(pb) {
+            let (ca, cb) = (f64::from(ca), f64::from(cb));
+            let d = (ca - cb).abs();
+            let relative = d / (cb.abs() + RELATIVE_FLOOR);
+            sum += d;
+            sum_squares += d * d;
+            sum_relative_squares += d * d / (cb * cb + RELATIVE_FLOOR);
+            sum_relative += relative;
+            largest = largest.max(d);
+            over |= relative > criteria.tolerance;
+        }
+        if largest > max {
+            max = largest;
+            max_index = Some(index as u64);
+        }
+        if over {
+            pixels_over += 1;
+        }
+    }
+    let values = (3 * pixels).max(1) as f64;
+    let row = u64::from(width.max(1));
+    LinearComparison {
+        metrics: LinearMetrics {
+            width,
+            height: (pixels / row) as u32,
+            max,
+            max_at: max_index.map(|i| ((i % row) as u32, (i / row) as u32)),
+            mean: sum / values,
+            rmse: (sum_squares / values).sqrt(),
+            relative_mse: sum_relative_squares / values,
+            mean_relative: sum_relative / values,
+            pixels_over,
+            pixels,
+        },
+        criteria,
+    }
+}
+
+impl LinearComparison {
+    /// Whether the share of pixels over the tolerance is within the allowance.
+    pub fn passes(&self) -> bool {
+        self.metrics.pixels_over as f64
+            <= self.criteria.allowed_percent / 100.0 * self.metrics.pixels as f64
+    }
+
+    /// The percentage of pixels over the tolerance.
+    pub fn percent_over(&self) -> f64 {
+        100.0 * self.metrics.pixels_over as f64 / self.metrics.pixels.max(1) as f64
+    }
+
+    /// The metrics as JSON (`"light": "linear"` tells them from a PNG
+    /// comparison's 8-bit levels).
+    pub fn json(&self) -> serde_json::Value {
+        let m = &self.metrics;
+        serde_json::json!({
+            "light": "linear",
+            "width": m.width,
+            "height": m.height,
+            "max_abs_difference": m.max,
+            "max_at": m.max_at.map(|(x, y)| serde_json::json!({"x": x, "y": y})),
+            "mean_abs_difference": m.mean,
+            "rmse": m.rmse,
+            "relative_mse": m.relative_mse,
+            "mean_relative_error": m.mean_relative,
+            "tolerance": self.criteria.tolerance,
+            "allowed_percent": self.criteria.allowed_percent,
+            "pixels_over_tolerance": m.pixels_over,
+            "pixels": m.pixels,
+            "percent_over_tolerance": self.percent_over(),
+            "pass": self.passes(),
+        })
+    }
+
+    /// The metrics as the lines `raylab diff` prints.
+    pub fn report_text(&self) -> String {
+        let m = &self.metrics;
+        let at = m
+            .max_at
+            .map(|(x, y)| format!(" (first at x={x}, y={y})"))
+            .unwrap_or_default();
+        format!(
+            "size: {}x{} (OpenEXR, linear light; B is the reference)\n\
+             max abs difference: {:.6e}{at}\n\
+             mean abs difference: {:.6e}\n\
+             RMSE: {:.6e}\n\
+             relative MSE: {:.6e}\n\
+             mean relative error: {:.6e}\n\
+             pixels over relative tolerance {}: {} of {} ({:.4}%, allowed {}%)\n\
+             result: {}\n",
+            m.width,
+            m.height,
+            m.max,
+            m.mean,
+            m.rmse,
+            m.relative_mse,
+            m.mean_relative,
+            self.criteria.tolerance,
+            m.pixels_over,
+            m.pixels,
+            self.percent_over(),
+            self.criteria.allowed_percent,
+            if self.passes() { "PASS" } else { "FAIL" },
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(width: u32, height: u32, value: f32) -> LinearImage {
+        LinearImage {
+            width,
+            height,
+            rgb: vec![value; (width * height * 3) as usize],
+        }
+    }
+
+    #[test]
+    fn differences_above_white_count_in_linear_light() {
+        // 5 and 10 are both white on a screen: the same sRGB code 255.
+        let (a, b) = (flat(2, 2, 5.0), flat(2, 2, 10.0));
+        let compared =
+            compare_linear(&a, &b, LinearCriteria::default(), ("a", "b")).expect("same size");
+        assert_eq!(compared.metrics.mean, 5.0);
+        assert_eq!(compared.metrics.rmse, 5.0);
+        assert!((compared.metrics.relative_mse - 25.0 / 100.01).abs() < 1e-12);
+        assert_eq!(compared.metrics.pixels_over, 4);
+        assert!(!compared.passes());
+    }
+
+    #[test]
+    fn the_tolerance_is_relative_and_strict() {
+        let b = flat(1, 1, 1.0);
+        let mut a = b.clone();
+        a.rgb[0] = 1.5;
+        // Exactly at the tolerance is within it.
+        let criteria = LinearCriteria {
+            tolerance: 0.5 / (1.0 + RELATIVE_FLOOR),
+            allowed_percent: 0.0,
+        };
+        let compared = compare_linear(&a, &b, criteria, ("a", "b")).expect("same size");
+        assert_eq!(compared.metrics.pixels_over, 0, "{compared:?}");
+        a.rgb[0] = 1.5f32.next_up();
+        let compared = compare_linear(&a, &b, criteria, ("a", "b")).expect("same size");
+        assert_eq!(compared.metrics.pixels_over, 1, "{compared:?}");
+    }
+
+    #[test]
+    fn broken_exr_bytes_are_errors_not_panics() {
+        let text = LinearImage::decode_exr(b"hello").unwrap_err().to_string();
+        assert!(text.starts_with("not an OpenEXR file"), "{text}");
+        let exr = crate::output::encode_exr(4, 3, &[0.25; 36]).expect("encodes");
+        assert_eq!(
+            LinearImage::decode_exr(&exr).expect("decodes"),
+            flat(4, 3, 0.25)
+        );
+        for length in [4, 8, exr.len() / 2, exr.len() - 1] {
+            let text = LinearImage::decode_exr(&exr[..length])
+                .unwrap_err()
+                .to_string();
+            assert!(text.starts_with("corrupted OpenEXR"), "at {length}: {text}");
+        }
+    }
+
+    #[test]
+    fn nan_and_infinite_pixels_are_named() {
+        let mut values = [0.5f32; 12];
+        values[7] = f32::NAN;
+        let exr = crate::output::encode_exr(2, 2, &values).expect("encodes");
+        let text = LinearImage::decode_exr(&exr).unwrap_err().to_string();
+        assert!(text.contains("x=0, y=1") && text.contains("G"), "{text}");
+        values[7] = f32::INFINITY;
+        let exr = crate::output::encode_exr(2, 2, &values).expect("encodes");
+        let text = LinearImage::decode_exr(&exr).unwrap_err().to_string();
+        assert!(text.contains("inf"), "{text}");
+    }
+}
