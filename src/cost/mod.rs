@@ -169,7 +169,8 @@ pub struct Measurement {
     pub pareto: bool,
 }
 
-/// How far an image is from the reference, in 8-bit sRGB codes.
+/// How far an image is from the reference: in 8-bit sRGB codes, and in
+/// linear light where both renders kept their radiance.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ImageError {
     pub rmse: f64,
@@ -177,6 +178,11 @@ pub struct ImageError {
     pub psnr_db: f64,
     /// Share (0 to 1) of pixels with a channel more than 1 code off.
     pub share_off: f64,
+    /// The relative MSE of the linear radiance, as `raylab diff` measures
+    /// two OpenEXR images ([`crate::diff::linear`]): the noise a clamp and
+    /// 8-bit rounding hide above white and exaggerate in the dark. `None`
+    /// when either render kept no radiance.
+    pub relative_mse: Option<f64>,
 }
 
 /// Why a sweep stopped: a render refused, or an image that cannot be
@@ -214,7 +220,35 @@ impl ImageError {
             rmse: metrics.rmse,
             psnr_db: metrics.psnr_db,
             share_off: metrics.pixels_over as f64 / metrics.pixels.max(1) as f64,
+            relative_mse: None,
         })
+    }
+
+    /// [`ImageError::between`] two renders' codes, and the relative MSE of
+    /// their linear radiance when both kept it (the same length, or it is
+    /// a size error like the codes').
+    pub fn between_renders(
+        image: &crate::Rendered,
+        reference: &crate::Rendered,
+    ) -> Result<ImageError, CostError> {
+        let mut error = ImageError::between(&image.rgb, &reference.rgb)?;
+        if image.linear.is_empty() || reference.linear.is_empty() {
+            return Ok(error);
+        }
+        if image.linear.len() != reference.linear.len() {
+            return Err(CostError::SizeMismatch {
+                image: image.linear.len(),
+                reference: reference.linear.len(),
+            });
+        }
+        let compared = crate::diff::linear::compare_linear_values(
+            &image.linear,
+            &reference.linear,
+            image.width,
+            crate::diff::LinearCriteria::default(),
+        );
+        error.relative_mse = Some(compared.metrics.relative_mse);
+        Ok(error)
     }
 }
 
@@ -258,6 +292,37 @@ mod tests {
         // One channel of six off by 2: RMSE = sqrt(4 / 6).
         assert!((error.rmse - (4.0f64 / 6.0).sqrt()).abs() < 1e-12);
         assert!((error.psnr_db - 20.0 * (255.0 / error.rmse).log10()).abs() < 1e-9);
+    }
+
+    /// A render of `value` everywhere in linear light, 2x1 pixels.
+    fn flat_render(value: f32) -> crate::Rendered {
+        let linear = vec![value; 6];
+        crate::Rendered {
+            width: 2,
+            height: 1,
+            rgb: linear
+                .iter()
+                .map(|&v| crate::output::linear_to_srgb8(v))
+                .collect(),
+            linear,
+            effects: crate::effects::Effects::for_chapter(1),
+            rays: crate::RayCounts::default(),
+            seconds: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_linear_error_sees_what_the_screen_clamps() {
+        // 2 and 4 are both white on a screen: no error in sRGB codes.
+        let error =
+            ImageError::between_renders(&flat_render(2.0), &flat_render(4.0)).expect("same size");
+        assert_eq!(error.rmse, 0.0);
+        let relative_mse = error.relative_mse.expect("both kept their radiance");
+        assert!((relative_mse - 4.0 / 16.01).abs() < 1e-12, "{relative_mse}");
+        let mut without = flat_render(2.0);
+        without.linear.clear();
+        let error = ImageError::between_renders(&without, &flat_render(4.0)).expect("same size");
+        assert_eq!(error.relative_mse, None);
     }
 
     #[test]

@@ -36,7 +36,8 @@ pub fn run<C: crate::Chapters>(
     let chapter = config.chapter;
     let repeats = config.repeats.max(1);
     let render = |scene: &Scene, settings: &RenderSettings| {
-        let rendered = crate::render_with::<C>(scene, chapter, settings, None)?;
+        // Linear radiance too: the error in linear light (relative MSE).
+        let rendered = crate::render_linear_with::<C>(scene, chapter, settings, None)?;
         if let Some(bar) = progress {
             bar.inc(1);
         }
@@ -78,7 +79,7 @@ pub fn run<C: crate::Chapters>(
             false,
             vec![rendered.clone()],
         );
-        row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
+        row.error = ImageError::between_renders(&rendered, &rendered)?;
         rows.push(row);
         Some(rendered)
     } else {
@@ -93,7 +94,7 @@ pub fn run<C: crate::Chapters>(
             (Some(march), Some(Knob::March | Knob::Normals)) => march,
             _ => reference_of(&references, job.far_sphere),
         };
-        let error = ImageError::between(&job_runs[0].rgb, &reference.rgb)?;
+        let error = ImageError::between_renders(&job_runs[0], reference)?;
         let mut row = measured(job.knob, job.label, job.settings, job.far_sphere, job_runs);
         row.error = error;
         rows.push(row);
@@ -219,7 +220,7 @@ fn reference_rows(
                 *far_sphere,
                 vec![rendered.clone()],
             );
-            row.error = ImageError::between(&rendered.rgb, &rendered.rgb)?;
+            row.error = ImageError::between_renders(rendered, rendered)?;
             Ok(row)
         })
         .collect()
@@ -249,7 +250,9 @@ fn render_repeats(
         for (job, job_runs) in jobs.iter().zip(&mut runs) {
             let mut rendered = render(job)?;
             if !job_runs.is_empty() {
-                rendered.rgb = Vec::new(); // only the first image is compared
+                // Only the first image is compared.
+                rendered.rgb = Vec::new();
+                rendered.linear = Vec::new();
             }
             job_runs.push(rendered);
         }

@@ -24,6 +24,11 @@ impl Measurement {
     }
 }
 
+/// A relative MSE for the table: three significant digits, `-` without one.
+fn format_relative_mse(relative_mse: Option<f64>) -> String {
+    relative_mse.map_or_else(|| "-".into(), |value| format!("{value:.2e}"))
+}
+
 fn format_psnr(psnr: f64) -> String {
     if psnr.is_finite() {
         format!("{psnr:.1}")
@@ -58,7 +63,7 @@ impl CostReport {
         let reference = self.rows.first().map(|r| r.settings);
         let _ = writeln!(
             text,
-            "Chapter {} stage, {} ({}x{}); time: median of {}; error against the reference in 8-bit sRGB codes.",
+            "Chapter {} stage, {} ({}x{}); time: median of {}; error against the reference in 8-bit sRGB codes, and its relative MSE in linear light.",
             self.chapter,
             self.scene_name,
             self.width,
@@ -96,13 +101,13 @@ impl CostReport {
         }
         text.push('\n');
         text.push_str(
-            "| knob | setting | time (ms) | rays | RMSE | PSNR (dB) | pixels off > 1/255 | acne pixels | Pareto |\n",
+            "| knob | setting | time (ms) | rays | RMSE | PSNR (dB) | pixels off > 1/255 | relMSE (linear) | acne pixels | Pareto |\n",
         );
-        text.push_str("|---|---|---:|---:|---:|---:|---:|---:|:-:|\n");
+        text.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|:-:|\n");
         for row in &self.rows {
             let _ = writeln!(
                 text,
-                "| {} | {} | {:.1} | {} | {:.3} | {} | {:.2}% | {} | {} |",
+                "| {} | {} | {:.1} | {} | {:.3} | {} | {:.2}% | {} | {} | {} |",
                 row.knob_name(),
                 row.label,
                 row.seconds * 1e3,
@@ -110,6 +115,7 @@ impl CostReport {
                 row.error.rmse,
                 format_psnr(row.error.psnr_db),
                 row.error.share_off * 100.0,
+                format_relative_mse(row.error.relative_mse),
                 row.rays.self_shadowed_pixels,
                 if row.pareto { "yes" } else { "" },
             );
@@ -127,7 +133,9 @@ impl CostReport {
         for kind in RayKind::ALL {
             let _ = write!(text, ",rays_{}", kind.name());
         }
-        text += ",rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto\n";
+        // The linear column comes last: scripts that read the columns
+        // before it by position keep working.
+        text += ",rmse_srgb8,psnr_db,share_pixels_off,self_shadowed_pixels,pareto,relative_mse_linear\n";
         for row in &self.rows {
             let s = &row.settings;
             let scene = if row.far_sphere {
@@ -158,7 +166,7 @@ impl CostReport {
             }
             let _ = writeln!(
                 text,
-                ",{:.6},{},{:.6},{},{}",
+                ",{:.6},{},{:.6},{},{},{}",
                 row.error.rmse,
                 if row.error.psnr_db.is_finite() {
                     format!("{:.3}", row.error.psnr_db)
@@ -168,6 +176,10 @@ impl CostReport {
                 row.error.share_off,
                 row.rays.self_shadowed_pixels,
                 row.pareto,
+                row.error
+                    .relative_mse
+                    .map(|value| format!("{value:.6e}"))
+                    .unwrap_or_default(),
             );
         }
         text
@@ -229,7 +241,7 @@ mod tests {
         assert_eq!(column("rays_total"), rays.total());
         assert_eq!(kinds, rays.total(), "{csv}");
         // Each kind's column carries its own count (`rays_<name>`), and the
-        // header is the one cost.csv has always had.
+        // header is cost.csv's, with the linear error last.
         for kind in RayKind::ALL {
             assert_eq!(column(&format!("rays_{}", kind.name())), rays.of(kind));
         }
@@ -238,7 +250,7 @@ mod tests {
             "chapter,scene,knob,setting,samples,sampling,max_depth,min_contribution,ray_offset,\
              fixed_epsilon,sphere_formula,runs,seconds_median,rays_total,rays_primary,rays_shadow,\
              rays_reflection,rays_refraction,rays_bounce,rays_light,rays_to_camera,rmse_srgb8,\
-             psnr_db,share_pixels_off,self_shadowed_pixels,pareto"
+             psnr_db,share_pixels_off,self_shadowed_pixels,pareto,relative_mse_linear"
         );
     }
 }
