@@ -8,6 +8,7 @@ mod cli;
 mod cli_options;
 mod cost;
 mod diff;
+mod exr;
 mod figures;
 mod grade;
 mod lesson_api;
