@@ -102,7 +102,7 @@ pub enum DiffError {
     },
     /// Neither signature: `path` is the file.
     #[error(
-        "{}: neither a PNG nor an OpenEXR file (it starts with neither's signature)",
+        "{}: not a PNG file nor an OpenEXR file (it starts with neither's signature)",
         path.display()
     )]
     NotAnImage { path: PathBuf },
