@@ -356,8 +356,10 @@ pub fn encode_exr(width: u32, height: u32, linear: &[f32]) -> Result<Vec<u8>, Ou
         });
     }
     let row = width as usize;
-    let mut attributes = LayerAttributes::default();
-    attributes.software_name = Some(Text::from(MARKER_TEXT));
+    let attributes = LayerAttributes {
+        software_name: Some(Text::from(MARKER_TEXT)),
+        ..LayerAttributes::default()
+    };
     let layer = Layer::new(
         (width as usize, height as usize),
         attributes,
