@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need,
 # then runs every test in debug, the pinned images again in release (the
-# pixels must not depend on the build profile), and compiles the benchmarks.
+# pixels must not depend on the build profile); the benchmarks are built and
+# run once each as tests by the first step (--all-targets), not timed.
 # The optional Embree backend is always built and tested here, so that its
 # cross-check of every chapter runs in CI (set-up: docs/embree.md).
 set -euo pipefail
@@ -79,7 +80,6 @@ bash scripts/check-docs-no-source.sh
 # no Embree and says how to get it, is tested there, and no debug build
 # without the feature is made.
 time cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
-time cargo bench --no-run
 # grade's HTML reports, then the browser page (built for WebAssembly), in
 # headless Chromium against the debug binary the tests above built (skipped,
 # with a message, where this machine cannot build the page or has no
