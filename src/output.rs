@@ -482,7 +482,7 @@ pub mod markers {
     /// `grade --gradescope`'s results.json.
     pub const GRADESCOPE_RESULTS: &str = "\"raylab_gradescope\"";
     /// `grade --gradebook`'s CSV.
-    pub const GRADEBOOK_CSV: &str = crate::grade::lms::GRADEBOOK_HEADER;
+    pub const GRADEBOOK_CSV: &str = "Student,ID,SIS User ID,SIS Login ID,Section";
 }
 
 /// Checks, before any work is done, that every output can be written and

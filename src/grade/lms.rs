@@ -122,7 +122,7 @@ fn chapter_block(text: &str, chapter: u8) -> Option<String> {
 /// The first columns of the gradebook CSV: those Canvas's gradebook import
 /// reads a student by (`SIS Login ID` holds the student's folder name;
 /// Moodle maps it to a user field on import).
-pub const GRADEBOOK_HEADER: &str = "Student,ID,SIS User ID,SIS Login ID,Section";
+pub const GRADEBOOK_HEADER: &str = crate::output::markers::GRADEBOOK_CSV;
 
 /// The gradebook of a graded class: one row per student, named by their
 /// folder, a column per chapter (1 when it passes, else 0) and the total.
