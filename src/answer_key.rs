@@ -30,12 +30,21 @@ static SEALED: AtomicBool = AtomicBool::new(false);
 
 /// Answers reported outside any `recording` (a render's worker threads).
 static REPORTED: Mutex<Vec<&'static str>> = Mutex::new(Vec::new());
+/// How many times [`take_reported`] has emptied `REPORTED`.
+static REPORTS_TAKEN: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
 thread_local! {
     /// How deep this thread is inside `raylab_own`.
     static OWN_USE: Cell<u32> = const { Cell::new(0) };
     /// The answers this thread's `recording` has seen, when one runs.
     static RECORDING: RefCell<Option<Vec<&'static str>>> = const { RefCell::new(None) };
+    /// The answers this thread has already put in `REPORTED`: an answer
+    /// run in a render's inner loop (a dispersive index per wavelength)
+    /// reports millions of times from every thread, and taking the lock
+    /// each time kept the process in the kernel, fighting over it.
+    /// (With the [`REPORTS_TAKEN`] count it was made under: a take empties
+    /// `REPORTED`, and every thread's list with it.)
+    static REPORTED_HERE: RefCell<(u64, Vec<&'static str>)> = const { RefCell::new((0, Vec::new())) };
 }
 
 /// From now on, in this process, every answer that runs outside
@@ -100,11 +109,26 @@ fn report(answer: &'static str) {
         }
         None => false,
     });
-    if !recorded
-        && let Ok(mut reported) = REPORTED.lock()
-        && !reported.contains(&answer)
-    {
-        reported.push(answer);
+    if recorded {
+        return;
+    }
+    let taken = REPORTS_TAKEN.load(Ordering::Acquire);
+    let reported_here = REPORTED_HERE.with(|here| {
+        let (since, answers) = &*here.borrow();
+        *since == taken && answers.contains(&answer)
+    });
+    if !reported_here && let Ok(mut reported) = REPORTED.lock() {
+        if !reported.contains(&answer) {
+            reported.push(answer);
+        }
+        REPORTED_HERE.with(|here| {
+            let (since, answers) = &mut *here.borrow_mut();
+            if *since != taken {
+                *since = taken;
+                answers.clear();
+            }
+            answers.push(answer);
+        });
     }
 }
 
@@ -156,7 +180,10 @@ pub(crate) fn recording<T>(work: impl FnOnce() -> T) -> (T, Vec<&'static str>) {
 pub(crate) fn take_reported() -> Vec<&'static str> {
     REPORTED
         .lock()
-        .map(|mut reported| std::mem::take(&mut *reported))
+        .map(|mut reported| {
+            REPORTS_TAKEN.fetch_add(1, Ordering::AcqRel);
+            std::mem::take(&mut *reported)
+        })
         .unwrap_or_default()
 }
 
@@ -174,5 +201,30 @@ mod tests {
             report("intersect_sphere");
         });
         assert_eq!(answers, ["intersect_sphere"]);
+    }
+
+    #[test]
+    fn an_answer_reported_again_after_a_take_is_reported_again() {
+        // A serve process takes the reports after each question: the next
+        // question's use of the same answer must be seen too, whatever
+        // this thread remembers having reported.
+        let answer = "answer_key::tests::reported_again";
+        let present = || {
+            REPORTED
+                .lock()
+                .map(|reported| reported.contains(&answer))
+                .unwrap_or(false)
+        };
+        // Another test's take may fall between a report and the look: a
+        // few tries tell that from a report that never lands.
+        let lands = || {
+            (0..3).any(|_| {
+                report(answer);
+                present()
+            })
+        };
+        assert!(lands(), "the first report");
+        let _ = take_reported();
+        assert!(lands(), "the report after a take");
     }
 }
