@@ -278,7 +278,7 @@ fn terminating_signals() -> Vec<libc::c_int> {
 }
 
 /// Makes every signal whose default action ends the process (see
-/// [`terminating_signals`]: SIGINT, SIGTERM, SIGHUP, a closed pipe, a
+/// `terminating_signals`: SIGINT, SIGTERM, SIGHUP, a closed pipe, a
 /// file-size or CPU limit, the timers SIGALRM, SIGVTALRM and SIGPROF, a
 /// fault sent by `kill`, the real-time signals, ...) remove the live
 /// temporary files first. Then a fault (SIGSEGV, SIGBUS, SIGILL, SIGFPE,

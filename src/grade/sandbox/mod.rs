@@ -8,10 +8,10 @@
 //! `firejail` is setuid and configured by profiles; `systemd-run` needs
 //! systemd.
 //!
-//! Each student's run ([`Run`]) sees only what a build needs ([`view`]):
+//! Each student's run ([`Run`]) sees only what a build needs (`view`):
 //! the system's programs and libraries, the toolchain, cargo's cache of
 //! crates, raylab's checkout without its `target/`, and a copy of the
-//! workspace with the workspace's `target/` ([`workdir`]); not the
+//! workspace with the workspace's `target/` (`workdir`); not the
 //! grader's binary, home, environment or outputs, the instructor's hidden
 //! scenes, other workspaces, `/etc/shadow`, `/run` or `/tmp`. It has no
 //! network (a new network namespace has only its own loopback, which also
@@ -20,11 +20,11 @@
 //! process ends: a `setsid` child cannot outlive the run, and the
 //! grader's processes cannot be seen. When the grader is root, the run's
 //! processes are the unprivileged user `nobody`, with no capability
-//! ([`RunAs`]).
+//! (`RunAs`).
 //!
 //! Limits: the memory and the processes of the whole run (its build, then
 //! all its answering processes at once) are capped by cgroups of the run
-//! where raylab may make them ([`cgroups`]); where it may not, each
+//! where raylab may make them (`cgroups`); where it may not, each
 //! process's address space is capped instead (a resource limit). What the
 //! run writes to disk is measured while it runs, and a run past its disk
 //! limit is stopped and its `target/` removed. CPU time and the size of
