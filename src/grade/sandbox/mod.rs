@@ -329,13 +329,26 @@ pub struct Sandbox {
     trust_targets: bool,
 }
 
+/// Whether raylab runs as root (never, where there are no users: the
+/// browser page's WebAssembly build).
+fn running_as_root() -> bool {
+    #[cfg(unix)]
+    {
+        // SAFETY: geteuid has no preconditions.
+        unsafe { libc::geteuid() == 0 }
+    }
+    #[cfg(not(unix))]
+    {
+        false
+    }
+}
+
 impl Sandbox {
     /// The `bwrap` on the PATH, once it has run a program in a sandbox
     /// like those of the runs (as `nobody`, when raylab is root).
     pub fn find(limits: Limits) -> Result<Sandbox, SandboxError> {
         let bwrap = on_path("bwrap").ok_or(SandboxError::Missing)?;
-        // SAFETY: geteuid has no preconditions.
-        let run_as = if unsafe { libc::geteuid() } == 0 {
+        let run_as = if running_as_root() {
             let setpriv = on_path("setpriv")
                 .or_else(|| Some(PathBuf::from("/usr/bin/setpriv")).filter(|path| path.is_file()))
                 .ok_or(SandboxError::NoSetpriv)?;
