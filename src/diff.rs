@@ -370,18 +370,37 @@ pub fn compare(
     criteria: Criteria,
     names: (&str, &str),
 ) -> Result<Comparison, DiffError> {
+    same_size(
+        ((a.width, a.height), a.rgb.len()),
+        ((b.width, b.height), b.rgb.len()),
+        (a.size(), b.size()),
+        names,
+    )?;
+    Ok(compare_pixels(&a.rgb, &b.rgb, a.width, criteria))
+}
+
+/// Whether two images, each `((width, height), values)` with 3 values a
+/// pixel, have the same size and at least one pixel, whatever their
+/// pixels' type; the error names both `sizes` as shown and the images by
+/// `names`.
+pub(crate) fn same_size(
+    a: ((u32, u32), usize),
+    b: ((u32, u32), usize),
+    sizes: (String, String),
+    names: (&str, &str),
+) -> Result<(), DiffError> {
     let names = || (names.0.to_string(), names.1.to_string());
-    if (a.width, a.height) != (b.width, b.height) {
+    if a.0 != b.0 {
         return Err(DiffError::SizeMismatch {
             names: names(),
-            sizes: (a.size(), b.size()),
+            sizes,
         });
     }
-    let pixels = u64::from(a.width) * u64::from(a.height);
-    if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
+    let pixels = u64::from(a.0.0) * u64::from(a.0.1);
+    if pixels == 0 || a.1 as u64 != 3 * pixels || b.1 != a.1 {
         return Err(DiffError::NoPixels { names: names() });
     }
-    Ok(compare_pixels(&a.rgb, &b.rgb, a.width, criteria))
+    Ok(())
 }
 
 /// Compares two RGB8 buffers of the same length, `width` pixels a row (the

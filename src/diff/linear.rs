@@ -171,17 +171,12 @@ pub fn compare_linear(
     criteria: LinearCriteria,
     names: (&str, &str),
 ) -> Result<LinearComparison, DiffError> {
-    let names = || (names.0.to_string(), names.1.to_string());
-    if (a.width, a.height) != (b.width, b.height) {
-        return Err(DiffError::SizeMismatch {
-            names: names(),
-            sizes: (a.size(), b.size()),
-        });
-    }
-    let pixels = u64::from(a.width) * u64::from(a.height);
-    if pixels == 0 || a.rgb.len() as u64 != 3 * pixels || b.rgb.len() != a.rgb.len() {
-        return Err(DiffError::NoPixels { names: names() });
-    }
+    super::same_size(
+        ((a.width, a.height), a.rgb.len()),
+        ((b.width, b.height), b.rgb.len()),
+        (a.size(), b.size()),
+        names,
+    )?;
     Ok(compare_linear_values(&a.rgb, &b.rgb, a.width, criteria))
 }
 
