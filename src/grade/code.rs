@@ -527,28 +527,66 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
     }
     for (path, entry) in &snapshot.entries {
         let shown = || crate::text::visible_name(path.as_os_str());
+        let rust = path.extension().is_some_and(|ext| ext == "rs");
         let text = match entry {
             Entry::Link => return Some(format!("{} is a symbolic link", shown())),
-            Entry::Source(Some(bytes)) if path.extension().is_some_and(|ext| ext == "rs") => {
-                String::from_utf8_lossy(bytes)
+            Entry::Source(Some(bytes)) if rust => String::from_utf8_lossy(bytes),
+            // Too large (or unreadable) to be read, it would be neither
+            // checked here nor compared, yet the compiler reads it whole.
+            Entry::Source(None) if rust => {
+                return Some(format!(
+                    "{} could not be read (a Rust file is at most {} MiB), so it cannot be \
+                     checked",
+                    shown(),
+                    super::snapshot::MAX_SOURCE_BYTES >> 20
+                ));
             }
             _ => continue,
         };
-        if let Some((line, what)) = outside_reference(&text) {
+        // Tokens the checks cannot read could hide anything from them.
+        let readings: Vec<&str> = readings(&text)
+            .into_iter()
+            .filter(|reading| reading.parse::<proc_macro2::TokenStream>().is_ok())
+            .collect();
+        if readings.is_empty() {
             return Some(format!(
-                "{}:{line} takes code from another file with {what}",
+                "{} is not Rust whose tokens raylab can read, so it cannot be checked",
                 shown()
             ));
         }
-        if let Some((line, what)) = unsafe_code(&text) {
-            return Some(format!(
-                "{}:{line} uses {what}, which the course never needs and which could \
-                 reach the pipes the grader reads the answers from",
-                shown()
-            ));
+        for reading in readings {
+            if let Some((line, what)) = outside_reference(reading) {
+                return Some(format!(
+                    "{}:{line} takes code from another file with {what}",
+                    shown()
+                ));
+            }
+            if let Some((line, what)) = unsafe_code(reading) {
+                return Some(format!(
+                    "{}:{line} uses {what}, which the course never needs and which could \
+                     reach the pipes the grader reads the answers from",
+                    shown()
+                ));
+            }
         }
     }
     None
+}
+
+/// The ways the compiler may read the Rust file `text`: without a leading
+/// byte order mark, and, where its first line starts with `#!`, both with
+/// and without that line. rustc skips such a line (a shebang) unless an
+/// inner attribute's `[` follows; read whole, a quote on it opens a
+/// string that would hide every token after it (`unsafe`, `#[path]`)
+/// from the checks, so each reading is checked. The line is cut, not its
+/// end: the line numbers stay the file's.
+fn readings(text: &str) -> Vec<&str> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut readings = vec![text];
+    if text.starts_with("#!") {
+        readings.push(text.find('\n').map_or("", |end| &text[end..]));
+    }
+    readings
 }
 
 /// Where `manifest` (of the workspace in `workspace`) is not of the shape
@@ -1140,6 +1178,73 @@ mod tests {
             let found = code_from_outside(&workspace).unwrap_or_default();
             assert!(found.contains(expected), "{name}: {found:?}");
         }
+    }
+
+    /// rustc skips a first line that starts with `#!` (a shebang): a quote
+    /// on it must not hide the file's code from the checks as a string;
+    /// and a Rust file too large for the snapshot to read is not passed
+    /// over unchecked (the compiler reads it whole).
+    #[test]
+    fn a_shebang_line_or_a_source_too_large_to_read_hides_no_code() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let raylab = Path::new(crate::workspace::RAYLAB_DIR);
+        let made = crate::workspace::files("w", raylab, true).expect("the files");
+        let chapter = made
+            .0
+            .iter()
+            .map(|(name, _)| name.clone())
+            .find(|name| name.starts_with("src/chapters/ch"))
+            .expect("a chapter file");
+        let planted: [(&str, String, &str); 4] = [
+            (
+                "shebang-path",
+                "#!/bin/x \"\n#[path = \"../../notes/key.txt\"] mod key; // \"\n".into(),
+                ":2 takes code from another file with a #[path] attribute",
+            ),
+            (
+                "shebang-unsafe",
+                "\u{feff}#!/bin/x \"\npub fn f() -> u8 { unsafe { *(&1u8 as *const u8) } } // \"\n"
+                    .into(),
+                ":2 uses unsafe code",
+            ),
+            (
+                "too-large",
+                format!(
+                    "include!(\"../../notes/key.txt\");\n/*{}*/\n",
+                    " ".repeat((super::super::snapshot::MAX_SOURCE_BYTES + 1) as usize)
+                ),
+                "could not be read",
+            ),
+            (
+                "no-tokens",
+                "pub fn f() -> &'static str { \"unterminated }\n".into(),
+                "is not Rust whose tokens raylab can read",
+            ),
+        ];
+        for (name, text, expected) in planted {
+            let workspace = folder.path().join(name);
+            for (file, made_text) in &made.0 {
+                let path = workspace.join(file);
+                std::fs::create_dir_all(path.parent().expect("a folder")).expect("mkdir");
+                std::fs::write(path, made_text).expect("write");
+            }
+            std::fs::write(workspace.join(&chapter), text).expect("write");
+            let found = code_from_outside(&workspace).unwrap_or_default();
+            assert!(found.contains(expected), "{name}: {found:?}");
+        }
+        // An inner attribute on the first line is not a shebang, and is fine.
+        let workspace = folder.path().join("attribute");
+        for (file, made_text) in &made.0 {
+            let path = workspace.join(file);
+            std::fs::create_dir_all(path.parent().expect("a folder")).expect("mkdir");
+            let text = if *file == chapter {
+                format!("#![allow(\n    unused_imports,\n)]\n{made_text}")
+            } else {
+                made_text.clone()
+            };
+            std::fs::write(path, text).expect("write");
+        }
+        assert_eq!(code_from_outside(&workspace), None);
     }
 
     #[test]
