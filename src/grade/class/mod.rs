@@ -343,7 +343,11 @@ impl Student {
                 }
                 text
             }
-            CodeStatus::BuildError | CodeStatus::Error if run.stdout.trim().is_empty() => {
+            // A build error's why is on stderr (the compiler's errors, a
+            // build script's output), whatever note its stdout holds: a
+            // note that the code is not counted also ends stderr.
+            CodeStatus::BuildError => last_lines(&run.stderr, SUMMARY_LINES),
+            CodeStatus::Error if run.stdout.trim().is_empty() => {
                 last_lines(&run.stderr, SUMMARY_LINES)
             }
             CodeStatus::Error => format!(
@@ -422,6 +426,34 @@ mod tests {
         );
         assert!(!summary.contains("still todo!()"), "{summary}");
         assert_eq!(verdict_summary(&summary), summary);
+    }
+
+    /// A build that failed in a build script, which is not counted: its
+    /// summary shows what cargo wrote on stderr (the script's own
+    /// output), not only the note that the code is not counted.
+    #[test]
+    fn a_build_error_shows_its_stderr_beside_a_note_on_stdout() {
+        let note = "not counted: the workspace has a build script, build.rs.";
+        let run = CodeRun {
+            status: CodeStatus::BuildError,
+            exit_code: Some(101),
+            stdout: format!("\n{note}"),
+            stderr: format!(
+                "error: failed to run custom build command for `ann`\n\nCaused by:\n  \
+                 --- stderr\n  the build script says why\n\n{note}"
+            ),
+            timeout: std::time::Duration::from_secs(600),
+            chapters_passed: 0,
+            scenes: Vec::new(),
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: None,
+            chapters: Vec::new(),
+        };
+        let summary = Student::code_summary(&run);
+        assert!(summary.contains("the build script says why"), "{summary}");
+        assert!(summary.contains(note), "{summary}");
     }
 
     /// The summary starts at a chapter's first line: a chapter that does
