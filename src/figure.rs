@@ -13,7 +13,7 @@
 use std::fmt::Write as _;
 
 use crate::course::Chapters;
-use crate::ray_tree::{PixelTrace, TracedRay, trace_pixel};
+use crate::ray_tree::{PixelTrace, TracedRay, light_paths_into_pixel, trace_pixel};
 use crate::render::Stage;
 use crate::seam::RayKind;
 use crate::shapes::{Implicit, Shape};
@@ -29,6 +29,10 @@ pub struct FigureOptions {
     /// thousandth of it, where a shadow ray's offset from its surface
     /// becomes visible.
     pub zoom: f32,
+    /// How many of chapter 14's light paths that light the pixel to draw
+    /// too (the first ones, in path order): each from its light through
+    /// the scene to the point joined to the camera.
+    pub light_paths: usize,
 }
 
 impl Default for FigureOptions {
@@ -36,6 +40,7 @@ impl Default for FigureOptions {
         FigureOptions {
             sample: None,
             zoom: 1.0,
+            light_paths: 0,
         }
     }
 }
@@ -261,7 +266,8 @@ pub struct DrawnRay {
     /// Where it met something, and the shading normal there (a unit
     /// vector of the figure's coordinates, as projected).
     pub hit: Option<((f64, f64), (f64, f64))>,
-    /// A shadow ray that something blocked.
+    /// A shadow ray, or a light path's ray toward the camera, that
+    /// something blocked.
     pub blocked: bool,
     /// How far the ray's origin is off the plane (0 for the camera ray).
     pub off_plane: f64,
@@ -331,8 +337,9 @@ pub fn figure<C: Chapters>(
     // The scene's up, not the image's: a camera looking down tilts the
     // image's, and the floor would be drawn slanted.
     let slice = Slice::through(&first.ray, stage.scene().camera.up);
+    let light_paths = light_paths_into_pixel(stage, pixel, options.light_paths);
     let mut all = Vec::new();
-    for root in &roots {
+    for root in roots.iter().copied().chain(&light_paths) {
         flatten(root, &mut all);
     }
     let view = view_of(&slice, &all, first, options.zoom);
@@ -454,7 +461,9 @@ fn drawn(traced: &TracedRay, slice: &Slice, view: &View) -> DrawnRay {
         from,
         to: slice.coordinates(end),
         hit,
-        blocked: traced.kind == RayKind::Shadow && traced.hit.is_some(),
+        // A shadow ray, or a light path's ray toward the camera, that met
+        // something on its way.
+        blocked: matches!(traced.kind, RayKind::Shadow | RayKind::ToCamera) && traced.hit.is_some(),
         off_plane: slice.height(traced.ray.origin),
     }
 }
@@ -496,8 +505,8 @@ fn ray_style(kind: RayKind) -> &'static str {
         RayKind::Reflection => "#1f77b4",
         RayKind::Refraction => "#17a398",
         RayKind::Bounce => "#8e44ad",
-        RayKind::Light => "#c9a000",
-        RayKind::ToCamera => "#7f7f7f",
+        RayKind::Light => "#e377c2",
+        RayKind::ToCamera => "#8c564b",
     }
 }
 
@@ -666,7 +675,7 @@ impl Figure {
                 ray_style(kind),
                 y,
                 kind.name(),
-                if kind == RayKind::Shadow {
+                if matches!(kind, RayKind::Shadow | RayKind::ToCamera) {
                     "; dashed where blocked"
                 } else {
                     ""

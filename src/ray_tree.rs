@@ -246,6 +246,32 @@ pub fn trace_pixel<C: Chapters>(stage: &Stage<'_, C>, (x, y): (u32, u32)) -> Opt
     })
 }
 
+/// Up to `most` of chapter 14's light paths that light pixel `(x, y)`, in
+/// path order, each ray by ray: the first leaves a light, the last goes
+/// toward the camera. Empty where the stage traces no light paths or the
+/// pixel is outside the image.
+pub fn light_paths_into_pixel<C: Chapters>(
+    stage: &Stage<'_, C>,
+    (x, y): (u32, u32),
+    most: usize,
+) -> Vec<TracedRay> {
+    let (width, height) = (stage.settings.width, stage.settings.height);
+    if most == 0 || x >= width || y >= height {
+        return Vec::new();
+    }
+    let describer = stage.tracer(None);
+    let mut paths = Vec::new();
+    for index in stage.light_paths_lighting(y * width + x, most) {
+        let mut log = TreeLog::default();
+        stage.record_light_paths(index..index + 1, &mut log);
+        for mut root in log.into_roots() {
+            describe(stage, &describer, &mut root);
+            paths.push(root);
+        }
+    }
+    paths
+}
+
 /// Sets each ray's [`TracedRay::contribution`] (its colour and shares
 /// scaled by `per_sample`, the share of one sample in the pixel) and its
 /// running sum, in the order the rays were cast.

@@ -31,6 +31,11 @@ pub struct FigureArgs {
     /// every ray; some 1000 shows how far a new ray starts off its surface).
     #[arg(long, default_value_t = 1.0, value_name = "FACTOR")]
     pub zoom: f32,
+    /// Also draw the first N of chapter 14's light paths that light this
+    /// pixel: each from its light through the scene, then toward the
+    /// camera (every path of the image is traced to find them).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub draw_light_paths: usize,
     /// The SVG file to write.
     #[arg(short, long, default_value = "figure.svg", value_name = "FILE")]
     pub output: std::path::PathBuf,
@@ -46,6 +51,7 @@ pub fn figure<C: Chapters>(args: &FigureArgs) -> Result<i32> {
     let options = FigureOptions {
         sample: args.sample,
         zoom: args.zoom,
+        light_paths: args.draw_light_paths,
     };
     let drawn = lay_out(&stage, chapter, args.pixel, &options)?;
     write_text_atomic(&args.output, &drawn.svg())?;

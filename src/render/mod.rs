@@ -278,6 +278,34 @@ impl<'a, C: Chapters> Stage<'a, C> {
         }
     }
 
+    /// The first `most` of the image's light paths, in path order, that
+    /// light pixel `pixel` (counted row by row from the top-left corner),
+    /// found by tracing every path as the render does (chapter 14).
+    pub fn light_paths_lighting(&self, pixel: u32, most: usize) -> Vec<u64> {
+        let total = self.light_path_count();
+        let own = crate::answer_key::inside_own();
+        let chunk = |number: u64| {
+            crate::answer_key::own_if(own, || {
+                let mut tracer = self.tracer(None);
+                let mut lighting = Vec::new();
+                for index in number * LIGHT_CHUNK..((number + 1) * LIGHT_CHUNK).min(total) {
+                    tracer.light_path(index);
+                    if tracer.splats.iter().any(|(lit, _)| *lit == pixel) {
+                        lighting.push(index);
+                    }
+                    tracer.splats.clear();
+                }
+                lighting
+            })
+        };
+        let chunks = 0..total.div_ceil(LIGHT_CHUNK);
+        #[cfg(not(target_arch = "wasm32"))]
+        let found: Vec<Vec<u64>> = chunks.into_par_iter().map(chunk).collect();
+        #[cfg(target_arch = "wasm32")]
+        let found: Vec<Vec<u64>> = chunks.map(chunk).collect();
+        found.into_iter().flatten().take(most).collect()
+    }
+
     /// Traces `light_paths` paths per pixel of the image from the lights,
     /// by the chapters' `trace_light_path`, and adds up what they splat,
     /// each path's light divided by the number of paths. Path `i` draws

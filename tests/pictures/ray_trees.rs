@@ -3,7 +3,7 @@
 //! tree holds the rays the stage casts for that pixel, nested.
 
 use raylab::RayKind;
-use raylab::ray_tree::{TracedRay, trace_pixel};
+use raylab::ray_tree::{TracedRay, light_paths_into_pixel, trace_pixel};
 
 fn count(ray: &TracedRay) -> usize {
     1 + ray.children.iter().map(count).sum::<usize>()
@@ -131,6 +131,42 @@ fn shadow_rays_name_their_light_and_bounces_nest_under_their_point() {
     assert!((bounce.ray.origin - hit.point).length() < 1e-3);
     // Outside the image: no pixel.
     assert!(trace_pixel(&stage, (scene.render.width, 0)).is_none());
+}
+
+/// The light paths drawn for a pixel (`raylab figure --draw-light-paths`)
+/// are paths that light it: each starts with a ray from a light, and one
+/// of its rays toward the camera arrives unblocked from a point the camera
+/// sees in that pixel.
+#[test]
+fn a_pixels_light_paths_start_at_a_light_and_reach_the_camera_through_it() {
+    let scene = raylab::builtin::scene(14).expect("built-in scene");
+    let settings = raylab::RenderSettings {
+        width: 160,
+        height: 120,
+        ..scene.render
+    };
+    let stage = raylab::Stage::new(&scene, 14, settings).expect("valid settings");
+    // A pixel of the caustic under the glass ball.
+    let pixel = (81, 104);
+    let paths = light_paths_into_pixel(&stage, pixel, 2);
+    assert_eq!(paths.len(), 2);
+    for path in &paths {
+        assert_eq!(path.kind, RayKind::Light);
+        let mut rays = vec![path];
+        let mut reaches = false;
+        while let Some(ray) = rays.pop() {
+            rays.extend(&ray.children);
+            let seen = stage.camera().project(ray.ray.origin);
+            reaches |= ray.kind == RayKind::ToCamera
+                && ray.hit.is_none()
+                && seen.map(|(x, y)| (x as u32, y as u32)) == Some(pixel);
+        }
+        assert!(reaches, "{path:#?}");
+    }
+    // A stage without light paths has none to draw.
+    let scene = raylab::builtin::scene(8).expect("built-in scene");
+    let stage = raylab::Stage::new(&scene, 8, scene.render).expect("valid settings");
+    assert!(light_paths_into_pixel(&stage, (10, 10), 2).is_empty());
 }
 
 /// At a Phong stage, each unblocked shadow ray carries what its light adds
