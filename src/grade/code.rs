@@ -711,7 +711,7 @@ fn unsafe_code(text: &str) -> Option<(usize, &'static str)> {
         for token in stream {
             match token {
                 TokenTree::Ident(ident) => {
-                    let what = match ident.to_string().as_str() {
+                    let what = match resolved(&ident).as_str() {
                         "unsafe" => "unsafe code",
                         "no_mangle" => "#[no_mangle]",
                         "export_name" => "#[export_name]",
@@ -734,36 +734,92 @@ fn unsafe_code(text: &str) -> Option<(usize, &'static str)> {
     walk(text.parse().ok()?)
 }
 
+/// An identifier as the compiler resolves it: `r#path` is `path`,
+/// `r#include!` the `include!` macro.
+fn resolved(ident: &proc_macro2::Ident) -> String {
+    let name = ident.to_string();
+    match name.strip_prefix("r#") {
+        Some(plain) => plain.to_string(),
+        None => name,
+    }
+}
+
 /// The line and the form of the first `#[path = ...]` attribute or
 /// `include!`-family macro in Rust source `text`, read as tokens (so a
 /// comment or a string that mentions one is not one).
+///
+/// A macro by example can put either together from its arguments, so
+/// that no `#[path` or `include!` is ever written: the include-family
+/// macros count wherever they are named (`use std::include as inc;`, an
+/// argument `via!(include)` that the macro calls as `$m!`), and an
+/// attribute counts wherever its `#`, its brackets or what is inside
+/// them can come from a macro's arguments (`#[$($t)*]`, `# $b`,
+/// `$h [...]`, or brackets handed to a macro whole, `[path = "..."]`).
+/// No chapter needs a macro that makes attributes.
 fn outside_reference(text: &str) -> Option<(usize, &'static str)> {
-    use proc_macro2::{TokenStream, TokenTree};
+    use proc_macro2::{Delimiter, TokenStream, TokenTree};
+    const MADE: &str = "an attribute made from a macro's arguments";
     fn walk(stream: TokenStream, in_attribute: bool) -> Option<(usize, &'static str)> {
         let tokens: Vec<TokenTree> = stream.into_iter().collect();
+        let punct = |at: Option<usize>| match at.and_then(|at| tokens.get(at)) {
+            Some(TokenTree::Punct(p)) => Some(p.as_char()),
+            _ => None,
+        };
         for (index, token) in tokens.iter().enumerate() {
+            let back = |by: usize| index.checked_sub(by);
             match token {
                 TokenTree::Ident(ident) => {
-                    let name = ident.to_string();
-                    let bang = matches!(tokens.get(index + 1), Some(TokenTree::Punct(p)) if p.as_char() == '!');
-                    if bang && matches!(name.as_str(), "include" | "include_str" | "include_bytes")
-                    {
+                    let name = resolved(ident);
+                    if matches!(name.as_str(), "include" | "include_str" | "include_bytes") {
                         return Some((ident.span().start().line, "an include! macro"));
                     }
                     if in_attribute && name == "path" {
                         return Some((ident.span().start().line, "a #[path] attribute"));
                     }
                 }
-                TokenTree::Group(group) => {
-                    let punct = |back: usize| match index.checked_sub(back).map(|at| &tokens[at]) {
-                        Some(TokenTree::Punct(p)) => Some(p.as_char()),
-                        _ => None,
+                TokenTree::Punct(p) if p.as_char() == '$' && in_attribute => {
+                    return Some((p.span().start().line, MADE));
+                }
+                TokenTree::Punct(p) if p.as_char() == '#' => {
+                    // `# $b` or `#! $b`: brackets from a macro's argument.
+                    let next = if punct(Some(index + 1)) == Some('!') {
+                        index + 2
+                    } else {
+                        index + 1
                     };
+                    if punct(Some(next)) == Some('$') {
+                        return Some((p.span().start().line, MADE));
+                    }
+                }
+                TokenTree::Group(group) => {
+                    let bracket = group.delimiter() == Delimiter::Bracket;
                     // `#[...]` or `#![...]`, not `vec![...]`.
-                    let attribute = in_attribute
-                        || (group.delimiter() == proc_macro2::Delimiter::Bracket
-                            && (punct(1) == Some('#')
-                                || (punct(1) == Some('!') && punct(2) == Some('#'))));
+                    let after_hash = punct(back(1)) == Some('#')
+                        || (punct(back(1)) == Some('!') && punct(back(2)) == Some('#'));
+                    // `$h [...]`: the `#` may be a macro's argument.
+                    let after_argument =
+                        matches!(back(1).map(|at| &tokens[at]), Some(TokenTree::Ident(_)))
+                            && punct(back(2)) == Some('$');
+                    // Brackets a macro may put a `#` before: `[path = ...]`,
+                    // `[cfg_attr(...)]` or `[$...]`, but not a macro call's
+                    // own (`vec![$($x),*]`).
+                    let mut inside = group.stream().into_iter();
+                    let looks_like = punct(back(1)) != Some('!')
+                        && match (inside.next(), inside.next()) {
+                            (Some(TokenTree::Ident(first)), second) => {
+                                match resolved(&first).as_str() {
+                                    "cfg_attr" => true,
+                                    "path" => {
+                                        matches!(second, Some(TokenTree::Punct(p)) if p.as_char() == '=')
+                                    }
+                                    _ => false,
+                                }
+                            }
+                            (Some(TokenTree::Punct(p)), _) => p.as_char() == '$',
+                            _ => false,
+                        };
+                    let attribute =
+                        in_attribute || (bracket && (after_hash || after_argument || looks_like));
                     if let Some(found) = walk(group.stream(), attribute) {
                         return Some(found);
                     }
@@ -1003,6 +1059,43 @@ mod tests {
         assert_eq!(
             found(
                 "// #[path = \"x\"] include!()\nfn h(path: u8) -> Vec<u8> { let _ = \"include!(\"; vec![path] }"
+            ),
+            None
+        );
+    }
+
+    /// The compiler resolves a raw identifier as the plain one, and a
+    /// macro by example can put together, from its arguments, an
+    /// attribute or a macro call that its text never spells out: each of
+    /// these compiled with rustc 1.95 and took code from `key.txt`.
+    #[test]
+    fn code_from_other_files_is_found_through_raw_names_and_macros() {
+        let found = |text: &str| outside_reference(text).map(|(line, _)| line);
+        // The line is the route's first token the checks see: the call or
+        // the macro's definition.
+        let routes = [
+            "fn a() {}\n#[r#path = \"key.txt\"]\nmod k;",
+            "fn a() {}\nmod k { r#include!(\"key.txt\"); }",
+            "fn a() {}\nuse std::include as inc;\nmod k { super::inc!(\"key.txt\"); }",
+            "macro_rules! via { ($m:ident) => { $m!(\"key.txt\"); } }\nmod k { via!(include); }",
+            "fn a() {}\nmacro_rules! m { ($($t:tt)*) => { #[$($t)*] mod k; } }\nm!(path = \"key.txt\");",
+            "fn a() {}\nmacro_rules! m { ($b:tt) => { # $b mod k; } }\nm!([path = \"key.txt\"]);",
+            "fn a() {}\nmacro_rules! s { ($h:tt , $b:tt) => { $h $b mod k; } }\ns!(# , [path = \"key.txt\"]);",
+            "fn a() {}\nmacro_rules! o { ($p:ident) => { s!(# , [$p = \"key.txt\"]); } }\no!(path);",
+            "fn a() {}\nmacro_rules! s { ($h:tt $($t:tt)*) => { $h [$($t)*] mod k; } }\ns!(# path = \"key.txt\");",
+        ];
+        for route in routes {
+            assert!(matches!(found(route), Some(2 | 3)), "{route}");
+        }
+        assert_eq!(
+            unsafe_code("fn a() {}\n#[r#no_mangle]\npub extern \"C\" fn g() {}"),
+            Some((2, "#[no_mangle]"))
+        );
+        // An array, a vec! of a macro's arguments, a variable named path:
+        // none of them.
+        assert_eq!(
+            found(
+                "macro_rules! v { ($($x:expr),*) => { vec![$($x),*] } }\nfn f(path: u8) -> [u8; 1] { [path] }"
             ),
             None
         );
