@@ -23,6 +23,46 @@ const MAX_ENTRIES: u64 = 100_000;
 /// The least a file or folder counts for on disk: its inode and block.
 const LEAST_ON_DISK: u64 = 4096;
 
+/// How the name of a run's folder starts, before its grader's pid.
+const RUN_PREFIX: &str = "raylab-run-";
+
+/// Removes the run folders in `parent` of graders that are no longer
+/// running (ended by a signal before they could remove them): only real
+/// folders of this user, never a link someone else put there.
+fn remove_abandoned(parent: &Path) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|name| name.strip_prefix(RUN_PREFIX))
+            .and_then(|rest| rest.split('-').next())
+            .filter(|pid| !pid.is_empty() && pid.bytes().all(|byte| byte.is_ascii_digit()))
+        else {
+            continue;
+        };
+        if pid == std::process::id().to_string() || Path::new("/proc").join(pid).exists() {
+            continue;
+        }
+        let Ok(meta) = std::fs::symlink_metadata(entry.path()) else {
+            continue;
+        };
+        #[cfg(unix)]
+        let ours = {
+            use std::os::unix::fs::MetadataExt;
+            // SAFETY: geteuid has no preconditions.
+            meta.uid() == unsafe { libc::geteuid() }
+        };
+        #[cfg(not(unix))]
+        let ours = true;
+        if meta.is_dir() && ours {
+            remove_tree(&entry.path());
+        }
+    }
+}
+
 /// A run's folder, removed when dropped.
 #[derive(Debug)]
 pub(super) struct RunFolder {
@@ -72,8 +112,12 @@ impl RunFolder {
             }
             Err(error) => return Err(failed("read", &target)(error)),
         }
+        remove_abandoned(&std::env::temp_dir());
+        // The grader's pid in the name: a grader ended by a signal (its
+        // handler can only unlink files) leaves its run's folder, a copy
+        // of a student's workspace, which the next run removes.
         let folder = tempfile::Builder::new()
-            .prefix("raylab-run-")
+            .prefix(&format!("{RUN_PREFIX}{}-", std::process::id()))
             .tempdir()
             .map_err(failed("make", &std::env::temp_dir()))?
             .keep();
@@ -339,6 +383,36 @@ mod tests {
             .expect("date");
         assert_ne!(tree_state(&target), state);
         assert_eq!(tree_state(&folder.path().join("none")), None);
+    }
+
+    /// A run folder that a grader ended by a signal left (its pid is of
+    /// no process) is removed when the next run starts; a link of that
+    /// name is not followed, and a live grader's folder stays.
+    #[test]
+    fn run_folders_of_graders_ended_by_a_signal_are_removed() {
+        let temp = std::env::temp_dir();
+        // No process has a pid above the kernel's pid_max (at most 2^22).
+        let abandoned = temp.join(format!("{RUN_PREFIX}4294967295-adv3"));
+        let link = temp.join(format!("{RUN_PREFIX}4294967294-adv3"));
+        let live = temp.join(format!("{RUN_PREFIX}1-adv3"));
+        let kept = tempfile::tempdir().expect("a folder");
+        std::fs::write(kept.path().join("file"), "kept").expect("write");
+        for folder in [&abandoned, &live] {
+            std::fs::create_dir_all(folder.join("workspace/src")).expect("mkdir");
+            std::fs::write(folder.join("workspace/src/lib.rs"), "pub struct Ann;").expect("write");
+        }
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(kept.path(), &link).expect("ln");
+        let folder = tempfile::tempdir().expect("a folder");
+        let workspace = folder.path().join("ann");
+        std::fs::create_dir_all(workspace.join("src")).expect("mkdir");
+        let run = RunFolder::new(&workspace, 1 << 20, None, false).expect("a run folder");
+        assert!(!abandoned.exists());
+        assert!(live.join("workspace/src/lib.rs").exists());
+        assert!(kept.path().join("file").exists());
+        drop(run);
+        let _ = std::fs::remove_file(&link);
+        remove_tree(&live);
     }
 
     /// The copy holds the workspace but `target/` and `.git/`, with its
