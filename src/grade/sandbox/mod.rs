@@ -516,6 +516,13 @@ impl Sandbox {
         cgroups: Option<&RunCgroups>,
     ) -> Result<Sandboxed, SandboxError> {
         let mut options = view.options();
+        // bubblewrap's root, on which the view is made, and its `/dev`
+        // are folders in memory that a sandbox's user with a user
+        // namespace of its own owns: writable, they would hold what the
+        // disk limit does not count (up to half the machine's memory), and
+        // the answering processes could write. Read-only once made (the
+        // devices still work); the mounts in them keep their own rights.
+        options.extend(["--remount-ro", "/", "--remount-ro", "/dev"].map(OsString::from));
         options.extend(
             [
                 "--unshare-ipc",
@@ -949,6 +956,45 @@ mod tests {
             folders.iter().all(|folder| !folder.exists()),
             "{folders:?} left"
         );
+    }
+
+    /// bubblewrap builds the view on a folder in memory (its root), which
+    /// the sandbox's user owns where it has a user namespace of its own
+    /// (an ordinary user's grading): there a build could write up to half
+    /// the machine's memory outside the folders the disk limit counts, and
+    /// the answering processes, to have nothing writable, could write
+    /// too. Only the run's folders are writable, and `/tmp` for the build.
+    #[test]
+    fn a_run_writes_only_to_its_own_folders() {
+        let Ok(mut sandbox) = Sandbox::find(Limits::DEFAULT) else {
+            eprintln!("skipped: no working bubblewrap here");
+            return;
+        };
+        // As for an ordinary user: a user namespace, no switch to nobody.
+        sandbox.run_as = None;
+        let folder = tempfile::tempdir().expect("a folder");
+        let workspace = folder.path().join("ann");
+        std::fs::create_dir(&workspace).expect("mkdir");
+        // What both run: the build as `sh serve`, the answers as
+        // `/bin/sh serve` (the binary's one argument).
+        let script = "for f in /x /etc/x /usr/x /dev/x /dev/shm/x /tmp/x; do \
+                      (echo 1 > $f) 2>/dev/null && echo wrote $f; done; true";
+        std::fs::write(workspace.join("serve"), script).expect("write");
+        let run = sandbox.start(&workspace).expect("a run");
+        let ran = |sandboxed: Sandboxed| {
+            let out = sandboxed
+                .into_parts()
+                .0
+                .output()
+                .expect("the sandbox starts");
+            String::from_utf8_lossy(&out.stdout).into_owned()
+        };
+        let built = ran(run
+            .build_command("sh".as_ref(), &["serve".into()], &[])
+            .expect("a command"));
+        assert_eq!(built, "wrote /tmp/x\n");
+        let answered = ran(run.serve_command(Path::new("/bin/sh")).expect("a command"));
+        assert_eq!(answered, "");
     }
 
     #[test]
