@@ -84,10 +84,10 @@ pub fn gradescope_results(run: &CodeRun, up_to: u8) -> GradescopeResults {
     }
     GradescopeResults {
         score: tests.iter().map(|test| test.score).sum(),
-        output: format!(
+        output: crate::text::terminal_safe(&format!(
             "raylab grade --code: {status}\n\n{}",
             Student::code_summary(run)
-        ),
+        )),
         visibility: "visible".into(),
         stdout_visibility: "hidden".into(),
         tests,
@@ -98,9 +98,15 @@ pub fn gradescope_results(run: &CodeRun, up_to: u8) -> GradescopeResults {
     }
 }
 
+/// A test of the results. Gradescope shows its name and output as they
+/// are, and a build error's output is the student's text (the compiler
+/// quotes a `compile_error!`, a build script prints what it likes): its
+/// invisible characters, bidi controls and escape sequences are escaped,
+/// as in the report and the CSV, so that it cannot pass for raylab's.
 fn test(name: String, number: String, passes: bool, output: String) -> GradescopeTest {
+    let output = crate::text::terminal_safe(&output);
     GradescopeTest {
-        name,
+        name: crate::text::terminal_safe(&name),
         number,
         score: if passes { 1.0 } else { 0.0 },
         max_score: 1.0,
@@ -203,5 +209,41 @@ mod tests {
         assert_eq!(results.tests[1].score, 0.0);
         assert!(results.tests[1].output.contains("3 of 9 pass"));
         assert!(results.tests[2].output.starts_with("no verdict"));
+    }
+
+    /// What Gradescope shows is text the student's code wrote, for a build
+    /// error (the compiler's errors quote a `compile_error!`'s message,
+    /// a build script prints what it likes): its invisible characters, bidi
+    /// overrides, line separators and escape sequences arrive escaped, as in
+    /// the report and the CSV, so that it cannot pass for raylab's text.
+    #[test]
+    fn a_students_text_reaches_gradescope_escaped() {
+        let forged = "error: \u{202e}41/41 ssap\u{202c} \u{200b}\u{2028}\u{1b}[2J ok";
+        let run = CodeRun {
+            status: CodeStatus::BuildError,
+            exit_code: Some(101),
+            stdout: String::new(),
+            stderr: format!("   Compiling ann v0.1.0\n{forged}\n"),
+            timeout: std::time::Duration::from_secs(60),
+            chapters_passed: 0,
+            scenes: Vec::new(),
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: Some(forged.into()),
+            chapters: Vec::new(),
+        };
+        let results = gradescope_results(&run, 2);
+        let texts =
+            std::iter::once(&results.output).chain(results.tests.iter().map(|test| &test.output));
+        for text in texts {
+            assert!(text.contains("u{202e}"), "{text}");
+            assert!(
+                !text
+                    .chars()
+                    .any(|c| (c.is_control() && c != '\n') || crate::text::invisible(c)),
+                "{text:?}"
+            );
+        }
     }
 }
