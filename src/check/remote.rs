@@ -374,19 +374,40 @@ pub(crate) fn kill_group(child: &mut Child) {
 }
 
 /// How a process ended, in words: "exited with status 0", "was killed by
-/// signal 11".
+/// signal 11", with the limit of a process that ended it where a signal
+/// says so (the sandbox's limits of CPU time and file size end a process
+/// by SIGXCPU and SIGXFSZ; bubblewrap exits with 128 and the signal).
 pub fn process_end(status: std::process::ExitStatus) -> String {
     #[cfg(unix)]
     {
         use std::os::unix::process::ExitStatusExt;
         if let Some(signal) = status.signal() {
-            return format!("was killed by signal {signal}");
+            return format!("was killed by signal {signal}{}", limit_of(signal));
         }
     }
     match status.code() {
-        Some(code) => format!("exited with status {code}"),
+        Some(code) => {
+            let limit = code.checked_sub(128).map(limit_of).unwrap_or_default();
+            format!("exited with status {code}{limit}")
+        }
         None => "ended".to_string(),
     }
+}
+
+/// The limit a process ended by `signal` reached, in words, if the signal
+/// is one a limit sends.
+fn limit_of(signal: i32) -> &'static str {
+    #[cfg(unix)]
+    {
+        if signal == libc::SIGXCPU {
+            return " (SIGXCPU: it reached the CPU time limit of a process)";
+        }
+        if signal == libc::SIGXFSZ {
+            return " (SIGXFSZ: it reached the file size limit)";
+        }
+    }
+    let _ = signal;
+    ""
 }
 
 #[cfg(all(test, unix))]

@@ -613,7 +613,15 @@ impl Sandbox {
                     if !memory_capped {
                         set_limit(libc::RLIMIT_AS, limits.memory_bytes)?;
                     }
-                    set_limit(libc::RLIMIT_CPU, limits.cpu_seconds)?;
+                    // SIGXCPU at the limit ends the process by a signal
+                    // that names the limit (at a hard limit the kernel
+                    // sends SIGKILL, which names nothing); SIGKILL a
+                    // second later if it catches that.
+                    set_limits(
+                        libc::RLIMIT_CPU,
+                        limits.cpu_seconds,
+                        limits.cpu_seconds.saturating_add(1),
+                    )?;
                     set_limit(libc::RLIMIT_FSIZE, limits.file_bytes)?;
                     if !processes_capped {
                         set_limit(libc::RLIMIT_NPROC, limits.processes)?;
@@ -841,9 +849,15 @@ type Resource = libc::c_int;
 
 #[cfg(unix)]
 fn set_limit(resource: Resource, value: u64) -> std::io::Result<()> {
+    set_limits(resource, value, value)
+}
+
+/// Sets the soft and the hard limit of `resource` (see [`set_limit`]).
+#[cfg(unix)]
+fn set_limits(resource: Resource, soft: u64, hard: u64) -> std::io::Result<()> {
     let limit = libc::rlimit {
-        rlim_cur: value as libc::rlim_t,
-        rlim_max: value as libc::rlim_t,
+        rlim_cur: soft as libc::rlim_t,
+        rlim_max: hard as libc::rlim_t,
     };
     // SAFETY: a plain system call on a value on the stack.
     if unsafe { libc::setrlimit(resource, &limit) } == 0 {
@@ -995,6 +1009,34 @@ mod tests {
         assert_eq!(built, "wrote /tmp/x\n");
         let answered = ran(run.serve_command(Path::new("/bin/sh")).expect("a command"));
         assert_eq!(answered, "");
+    }
+
+    /// A process that reaches the CPU time limit is said to have: the
+    /// kernel's SIGKILL at a hard limit named nothing ("exited with status
+    /// 137", as a process killed for any reason).
+    #[test]
+    fn a_process_ended_by_the_cpu_time_limit_is_said_to_be() {
+        let limits = Limits {
+            cpu_seconds: 1,
+            ..Limits::DEFAULT
+        };
+        let Some((_folder, run)) = run_of(limits) else {
+            return;
+        };
+        let sandboxed = run
+            .build_command(
+                "sh".as_ref(),
+                &["-c".into(), "while :; do :; done".into()],
+                &[],
+            )
+            .expect("a command");
+        let status = sandboxed
+            .into_parts()
+            .0
+            .status()
+            .expect("the sandbox starts");
+        let said = crate::check::remote::process_end(status);
+        assert!(said.contains("the CPU time limit"), "{said}");
     }
 
     #[test]
