@@ -101,6 +101,28 @@ pub fn checkpoints() -> Vec<Case> {
             expect: Expect::Miss,
         }),
         Case::from(PlaneQuestion {
+            name: "plane-behind-negative-t-min",
+            section: EQUATION_1,
+            says: "a ray from (0, 1, 0) going up has the floor y = 0 behind it at t = -1, and \
+                   the caller asks for t_min = -10 < t: expected a hit at t = -1 (\"behind\" \
+                   means below t_min, which is the caller's to choose, not below 0)",
+            plane: floor,
+            ray: (Vec3::new(0.0, 1.0, 0.0), Vec3::Y),
+            range: (-10.0, INF),
+            expect: Expect::Hit,
+        }),
+        Case::from(PlaneQuestion {
+            name: "plane-close-ahead",
+            section: EQUATION_1,
+            says: "a ray from (0, 0.001, 0) straight down meets the floor at t = 0.001 > t_min = \
+                   0: a hit however near (a distance of your own below which hits are dropped \
+                   loses it; t_min is the caller's)",
+            plane: floor,
+            ray: (Vec3::new(0.0, 0.001, 0.0), -Vec3::Y),
+            range: IN_FRONT,
+            expect: Expect::Hit,
+        }),
+        Case::from(PlaneQuestion {
             name: "plane-origin-on-it",
             section: EQUATION_1,
             says: "a ray starting on the floor, from (0, 0, 0) along (0, -1, 0), meets it at t = \

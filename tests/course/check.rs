@@ -990,6 +990,32 @@ fn gallery_plane_ignoring_t_min() {
     assert_caught::<IgnoresTMin>(1, "plane-before-t-min");
 }
 
+/// Chapter 1 with a minimum distance of its own: hits less than 0.5
+/// ahead dropped whatever `t_min` says (every other checkpoint's hit
+/// ahead is at `t >= 1`, and the image's camera is far from the floor).
+struct DropsNearHits;
+plant! {
+    DropsNearHits;
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        Reference::intersect_plane(plane, ray, t_min, t_max).filter(|t| *t <= 0.0 || *t > 0.5)
+    }
+}
+
+/// Chapter 1 that takes "behind the origin" for `t <= 0`, not `t <= t_min`.
+struct BehindMeansNegative;
+plant! {
+    BehindMeansNegative;
+    fn intersect_plane(plane: &Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        Reference::intersect_plane(plane, ray, t_min, t_max).filter(|t| *t > 0.0)
+    }
+}
+
+#[test]
+fn gallery_plane_with_a_minimum_distance_or_a_fixed_behind() {
+    assert_caught::<DropsNearHits>(1, "plane-close-ahead");
+    assert_caught::<BehindMeansNegative>(1, "plane-behind-negative-t-min");
+}
+
 // Chapters 9 to 11 keep their bug galleries in their folders (gallery.rs),
 // beside their hand-computed values: chapter 9's Schlick with n1 and n2
 // swapped, chapter 10's one-sided triangle test and Moller-Trumbore,
