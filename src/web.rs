@@ -12,7 +12,8 @@
 //!
 //! Requests (`op` names the operation):
 //! - `{"op": "chapters"}`: every chapter's number, title, what it adds and
-//!   its built-in scene's TOML, and the chapter the page opens at.
+//!   its built-in scene's TOML, the chapter the page opens at, and how the
+//!   same chapters run on the command line.
 //! - `{"op": "prepare", "job": JOB}`: the job's size, samples and the
 //!   effects its stage simulates, or the scene's error with its line and
 //!   column.
@@ -152,10 +153,17 @@ fn answer<C: Chapters>(request: &[u8]) -> Result<Answer, WebError> {
         Request::Chapters => Ok(Answer {
             // raylab's own chapters open at chapter 8 (glass, a reflection
             // and a refraction to click on); a student's at chapter 1.
-            json: serde_json::json!({
-                "chapters": chapters(),
-                "start": if std::any::TypeId::of::<C>() == std::any::TypeId::of::<crate::Reference>() { 8 } else { 1 },
-            }),
+            json: {
+                let own = std::any::TypeId::of::<C>() == std::any::TypeId::of::<crate::Reference>();
+                serde_json::json!({
+                    "chapters": chapters(),
+                    "start": if own { 8 } else { 1 },
+                    // How the same chapters run on the command line: a
+                    // workspace's are its own binary, and an installed
+                    // `raylab` refuses to run inside a workspace.
+                    "command": if own { "raylab" } else { "cargo run --release --" },
+                })
+            },
             pixels: Vec::new(),
         }),
         Request::Prepare { job } => {
@@ -558,6 +566,20 @@ mod tests {
 
     fn json(answer: Answer) -> serde_json::Value {
         answer.json
+    }
+
+    /// The page names the command that traces the same pixel: raylab's
+    /// own chapters are `raylab`'s, a workspace's its own binary's (an
+    /// installed `raylab` refuses to run inside a workspace).
+    #[test]
+    fn the_command_line_named_is_the_chapters_own() {
+        let chapters = br#"{"op": "chapters"}"#;
+        let own = json(call::<Reference>(chapters));
+        assert_eq!(own["command"], "raylab");
+        assert_eq!(own["start"], 8);
+        let student = json(call::<crate::check::planted::Planted>(chapters));
+        assert_eq!(student["command"], "cargo run --release --");
+        assert_eq!(student["start"], 1);
     }
 
     #[test]

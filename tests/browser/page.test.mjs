@@ -193,6 +193,9 @@ test("a click on a pixel draws its ray tree, which ends in that pixel's colour",
   assert.deepEqual(shown, canvas);
   const native = JSON.parse(execFileSync(RAYLAB, ["trace", "--chapter", "8", "--width", String(width), "--height", String(height), "--pixel", `${x},${y}`, "--json"], { encoding: "utf8" }));
   assert.deepEqual(shown, native.srgb);
+  // raylab's own page names raylab's command (a workspace's page names
+  // its own binary, `cargo run --release --`: src/web.rs's tests).
+  assert.match(await page.textContent("#tree-command"), new RegExp(`^raylab trace --chapter 8 .* --pixel ${x},${y}$`));
   const rows = await page.$$eval("#tree tbody tr", (rows) => rows.length);
   const lines = await page.$$eval("#overlay line", (lines) => lines.length);
   assert.ok(rows > 1 && lines >= 1, `${rows} rows, ${lines} lines`);

@@ -49,6 +49,8 @@ async function start() {
   page.module = await WebAssembly.compile(bytes);
   page.raylab = await Raylab.instantiate(page.module);
   const course = page.raylab.call({ op: "chapters" }).json;
+  // How these chapters run on the command line (a workspace's own binary).
+  page.command = course.command || "raylab";
   page.chapters = course.chapters;
   for (const chapter of page.chapters) {
     const option = document.createElement("option");
@@ -455,7 +457,7 @@ function listTree(trace) {
   const [r, g, b] = trace.srgb;
   const job = page.render.job;
   $("tree-title").textContent = `Ray tree of pixel ${x},${y} (${trace.sample_count} sample${trace.sample_count === 1 ? "" : "s"})`;
-  $("tree-command").textContent = `raylab trace --chapter ${job.chapter} --width ${job.width} --height ${job.height} --samples ${job.samples} --depth ${job.depth}${job.epsilon === null ? "" : ` --epsilon ${job.epsilon}`}${job.without.length ? ` --without ${job.without.join(",")}` : ""} --pixel ${x},${y}${job.scene === null ? "" : " --scene YOUR-SCENE.toml"}`;
+  $("tree-command").textContent = `${page.command} trace --chapter ${job.chapter} --width ${job.width} --height ${job.height} --samples ${job.samples} --depth ${job.depth}${job.epsilon === null ? "" : ` --epsilon ${job.epsilon}`}${job.without.length ? ` --without ${job.without.join(",")}` : ""} --pixel ${x},${y}${job.scene === null ? "" : " --scene YOUR-SCENE.toml"}`;
   $("pixel-value").innerHTML = `${swatch(trace.color)}pixel ${x},${y}: linear ${triple(trace.color)} → sRGB <span id="pixel-srgb">${r}, ${g}, ${b}</span>, as the render writes it`;
 }
 
