@@ -85,9 +85,12 @@ libm = "0.2"
 [workspace]
 
 # Renders in debug builds take seconds rather than minutes, and the images
-# are the same bit for bit (Rust never reorders float arithmetic).
+# are the same bit for bit (Rust never reorders float arithmetic). Line
+# tables are all a backtrace needs; full debug info only makes each binary
+# larger and slower to link.
 [profile.dev]
 opt-level = 1
+debug = "line-tables-only"
 
 [profile.dev.package."*"]
 opt-level = 2
