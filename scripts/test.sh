@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need,
-# then runs every test in debug, the pinned images again in release (the
-# pixels must not depend on the build profile); the benchmarks are built and
-# run once each as tests by the first step (--all-targets), not timed.
+# then runs every test in debug. The benchmarks are not built here: their
+# code is type-checked by `cargo clippy --all-targets` (.ci/run), and
+# building criterion's tree and three more binaries to run each
+# benchmark once, untimed, tested nothing else. That the pixels do
+# not depend on the build is tested by the browser page's tests: every
+# chapter's image from the page's optimised WebAssembly build must be the
+# debug binary's, bit for bit (tests/browser/page.test.mjs). The default
+# build, without Embree, is a student workspace's (tests/cli/workspace.rs).
 # The optional Embree backend is always built and tested here, so that its
 # cross-check of every chapter runs in CI (set-up: docs/embree.md).
 set -euo pipefail
@@ -65,8 +70,8 @@ install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
 install_package chromium "the browser tests (grade's reports, the page) are skipped"
-time cargo test --all-targets --features embree --no-run
-time cargo test --all-targets --features embree
+time cargo test --lib --bins --tests --features embree --no-run
+time cargo test --lib --bins --tests --features embree
 time cargo test --doc --features embree
 # The lessons are the crate docs: they must build with no broken link, and
 # without raylab's source, the answer key (rustdoc leaves old pages in
@@ -74,12 +79,6 @@ time cargo test --doc --features embree
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
 time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
-# Exactly the snapshot and determinism modules of the `pictures` test
-# binary, and the default build's own test (tests/default_build.rs): the
-# release build has no optional feature, so the default build, which needs
-# no Embree and says how to get it, is tested there, and no debug build
-# without the feature is made.
-time cargo test --release --test pictures --test default_build -- snapshots:: determinism:: without_embree
 # grade's HTML reports, then the browser page (built for WebAssembly), in
 # headless Chromium against the debug binary the tests above built (skipped,
 # with a message, where this machine cannot build the page or has no

@@ -262,6 +262,38 @@ fn run_student_with(binary: &str, args: &[&str], dir: &Path, backtrace: Option<&
         .unwrap_or_else(|error| panic!("run {}: {error}", path.display()))
 }
 
+/// A workspace builds raylab without the optional `embree` feature (its
+/// manifest asks only for `student`), so its binary is the default build
+/// this suite needs no other copy of: `crosscheck` says how to get Embree
+/// and `probe` traces its ray on raylab's side only.
+#[test]
+fn a_build_without_embree_says_how_to_enable_it() {
+    let ws = workspaces();
+    let crosscheck = run_student(
+        "student-answer",
+        &["crosscheck", "--chapter", "1"],
+        &ws.answer,
+    );
+    assert_eq!(crosscheck.status.code(), Some(2));
+    let message = stderr(&crosscheck);
+    for hint in [
+        "scripts/setup-embree.sh",
+        "--features embree",
+        "docs/embree.md",
+    ] {
+        assert!(message.contains(hint), "{hint} not in {message}");
+    }
+    let probe = run_student(
+        "student-answer",
+        &["probe", "--ray", "0,1,-5,0,0,1"],
+        &ws.answer,
+    );
+    assert!(probe.status.success(), "{}", stderr(&probe));
+    let shown = stdout(&probe);
+    assert!(shown.contains("ours:"), "{shown}");
+    assert!(shown.contains("embree: not built in"), "{shown}");
+}
+
 fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|error| panic!("{}: {error}", path.display()))
 }
