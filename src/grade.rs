@@ -21,6 +21,7 @@ pub mod class;
 pub mod code;
 pub mod hidden;
 pub mod lms;
+pub mod origin;
 pub mod sandbox;
 pub mod similarity;
 pub mod snapshot;

@@ -1,5 +1,5 @@
 //! A student workspace's sources as they were before its build: what the
-//! code-origin check reads (`grade::code::code_from_outside`), what the
+//! code-origin check reads (`grade::origin::code_from_outside`), what the
 //! similarity report compares, and what those files must still be once
 //! the run is over.
 //!
