@@ -245,21 +245,8 @@ fn parents() -> Vec<(PathBuf, bool, Option<Version>)> {
 
 /// Removes the empty cgroups of graders that are no longer running.
 fn remove_abandoned(parent: &Path) {
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name
-            .to_str()
-            .and_then(|name| name.strip_prefix(PREFIX))
-            .and_then(|rest| rest.split('-').next())
-        else {
-            continue;
-        };
-        if pid != std::process::id().to_string() && !Path::new("/proc").join(pid).exists() {
-            let _ = std::fs::remove_dir(entry.path());
-        }
+    for entry in super::abandoned_entries(parent, PREFIX) {
+        let _ = std::fs::remove_dir(entry.path());
     }
 }
 

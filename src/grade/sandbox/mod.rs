@@ -910,6 +910,29 @@ fn on_path(name: &str) -> Option<PathBuf> {
         })
 }
 
+/// The entries of `parent` named `PREFIX` + a pid + `-...` whose grader
+/// is no longer running (ended by a signal before it could remove them):
+/// the cgroups and run folders a later run tidies up.
+fn abandoned_entries(parent: &Path, prefix: &str) -> Vec<std::fs::DirEntry> {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return Vec::new();
+    };
+    entries
+        .flatten()
+        .filter(|entry| {
+            let name = entry.file_name();
+            let pid = name
+                .to_str()
+                .and_then(|name| name.strip_prefix(prefix))
+                .and_then(|rest| rest.split('-').next())
+                .filter(|pid| !pid.is_empty() && pid.bytes().all(|byte| byte.is_ascii_digit()));
+            pid.is_some_and(|pid| {
+                pid != std::process::id().to_string() && !Path::new("/proc").join(pid).exists()
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

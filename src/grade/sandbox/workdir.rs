@@ -30,22 +30,7 @@ const RUN_PREFIX: &str = "raylab-run-";
 /// running (ended by a signal before they could remove them): only real
 /// folders of this user, never a link someone else put there.
 fn remove_abandoned(parent: &Path) {
-    let Ok(entries) = std::fs::read_dir(parent) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name
-            .to_str()
-            .and_then(|name| name.strip_prefix(RUN_PREFIX))
-            .and_then(|rest| rest.split('-').next())
-            .filter(|pid| !pid.is_empty() && pid.bytes().all(|byte| byte.is_ascii_digit()))
-        else {
-            continue;
-        };
-        if pid == std::process::id().to_string() || Path::new("/proc").join(pid).exists() {
-            continue;
-        }
+    for entry in super::abandoned_entries(parent, RUN_PREFIX) {
         let Ok(meta) = std::fs::symlink_metadata(entry.path()) else {
             continue;
         };
