@@ -1593,6 +1593,9 @@ fn the_grader_judges_real_workspaces_itself() {
         "3".into(),
         "--gradescope".into(),
         results.display().to_string(),
+        // The test's own build, as in `grade_built`: a fresh build here
+        // would compile every dependency again, in the sandbox.
+        "--trust-targets".into(),
     ];
     args.extend(
         sandbox_or_skip("the_grader_judges_real_workspaces_itself")

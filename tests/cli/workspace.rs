@@ -844,9 +844,12 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
              ch08_refraction::refract(d, n, eta) }",
         );
     std::fs::write(&glue, text).expect("write the glue");
+    // `build`, not `check`: it fails at the same errors, and reuses the
+    // dependencies the workspaces above were built with, where `check`
+    // would check every one of them again.
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
-        .args(["check", "--offline", "--quiet"])
+        .args(["build", "--offline", "--quiet"])
         .current_dir(&copy)
         .env("CARGO_TARGET_DIR", &ws.target)
         .output()
