@@ -71,16 +71,29 @@ install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
 install_package chromium "the browser tests (grade's reports, the page) are skipped"
 time cargo test --lib --bins --tests --features embree --no-run
-time cargo test --lib --bins --tests --features embree
-time cargo test --doc --features embree
 # The lessons are the crate docs: they must build with no broken link, and
 # without raylab's source, the answer key (rustdoc leaves old pages in
 # place, so those of an earlier build go first).
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
 time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
-# grade's HTML reports, then the browser page (built for WebAssembly), in
-# headless Chromium against the debug binary the tests above built (skipped,
-# with a message, where this machine cannot build the page or has no
-# browser).
-time bash scripts/test-browser.sh target/debug/raylab
+# The browser page is built for WebAssembly (in web/target, a folder of
+# its own) while the tests below run: they keep the two cores busy only
+# about half the time (many wait on a build or a sandbox), and the page's
+# compiler, at the lowest priority, takes what they leave.
+page_log=$(mktemp)
+page_status=$(mktemp)
+# Its own process group (setsid), so that a failing test ends it whole.
+setsid bash -c 'status=0
+    RAYLAB_DOCS="$3" nice -n 19 bash scripts/build-web.sh --out target/web >"$1" 2>&1 || status=$?
+    echo "$status" >"$2"' build-web "$page_log" "$page_status" "$PWD/${CARGO_TARGET_DIR:-target}/doc" &
+page_build=$!
+trap 'kill -- "-$page_build" 2>/dev/null || true; rm -f "$page_log" "$page_status"' EXIT
+time cargo test --lib --bins --tests --features embree
+time cargo test --doc --features embree
+time wait "$page_build"
+cat "$page_log" >&2
+# grade's HTML reports, then the browser page, in headless Chromium against
+# the debug binary the tests above built (skipped, with a message, where
+# this machine cannot build the page or has no browser).
+time RAYLAB_PAGE_BUILD_STATUS="$(cat "$page_status")" bash scripts/test-browser.sh target/debug/raylab
