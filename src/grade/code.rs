@@ -189,6 +189,13 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         .as_ref()
         .map_or(workspace.as_path(), |run| run.workspace());
     let built = build(workspace, job, sandboxed.as_deref())?;
+    if built.exit.is_some_and(|status| status.success()) {
+        not_counted.extend(super::origin::compiled_from_outside(
+            &built.compiled,
+            &snapshot,
+            workspace,
+        ));
+    }
     let mut run = CodeRun {
         status: CodeStatus::BuildError,
         exit_code: built.exit.and_then(|status| status.code()),
@@ -357,6 +364,8 @@ struct Built {
     stderr: String,
     /// The workspace's binary, as cargo names it.
     binary: Option<PathBuf>,
+    /// The workspace's own crates, as cargo's messages name them.
+    compiled: Vec<super::origin::Compiled>,
 }
 
 /// `cargo build --profile P --offline` in `workspace` (inside the run's
@@ -434,7 +443,50 @@ fn build(
         over_disk: waited.over_disk || sandboxed.is_some_and(Run::over_disk_limit),
         stderr,
         binary: built_binary(&stdout, workspace),
+        compiled: compiled_crates(&stdout, workspace),
     })
+}
+
+/// The workspace's own crates in cargo's JSON messages (those of its
+/// `Cargo.toml`), each with the compiler's dep-info of a library: cargo
+/// names the library's metadata `deps/libNAME-HASH.rmeta`, beside which
+/// rustc wrote `deps/NAME-HASH.d`.
+fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::origin::Compiled> {
+    let manifest = workspace.join("Cargo.toml");
+    messages
+        .lines()
+        .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
+        .filter(|message| message["reason"] == "compiler-artifact")
+        .filter(|message| message["manifest_path"].as_str().map(Path::new) == Some(&manifest))
+        .map(|message| {
+            let target = &message["target"];
+            let kinds = target["kind"]
+                .as_array()
+                .map(|kinds| {
+                    kinds
+                        .iter()
+                        .filter_map(|kind| kind.as_str().map(String::from))
+                        .collect()
+                })
+                .unwrap_or_default();
+            let dep_info = message["filenames"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(|name| name.as_str().map(PathBuf::from))
+                .find_map(|file| {
+                    let stem = file.file_name()?.to_str()?.strip_suffix(".rmeta")?;
+                    let crate_and_hash = stem.strip_prefix("lib")?;
+                    Some(file.with_file_name(format!("{crate_and_hash}.d")))
+                })
+                .filter(|file| file.starts_with(workspace.join("target")));
+            super::origin::Compiled {
+                kinds,
+                root: PathBuf::from(target["src_path"].as_str().unwrap_or_default()),
+                dep_info,
+            }
+        })
+        .collect()
 }
 
 /// The binary of the workspace's package in cargo's JSON messages: the
