@@ -77,23 +77,70 @@ time cargo test --lib --bins --tests --features embree --no-run
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
 time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
-# The browser page is built for WebAssembly (in web/target, a folder of
-# its own) while the tests below run: they keep the two cores busy only
-# about half the time (many wait on a build or a sandbox), and the page's
-# compiler, at the lowest priority, takes what they leave.
-page_log=$(mktemp)
-page_status=$(mktemp)
-# Its own process group (setsid), so that a failing test ends it whole.
-setsid bash -c 'status=0
-    RAYLAB_DOCS="$3" nice -n 19 bash scripts/build-web.sh --out target/web >"$1" 2>&1 || status=$?
-    echo "$status" >"$2"' build-web "$page_log" "$page_status" "$PWD/${CARGO_TARGET_DIR:-target}/doc" &
-page_build=$!
-trap 'kill -- "-$page_build" 2>/dev/null || true; rm -f "$page_log" "$page_status"' EXIT
-time cargo test --lib --bins --tests --features embree
-time cargo test --doc --features embree
-time wait "$page_build"
-cat "$page_log" >&2
+# Then four jobs at once, each in a process group of its own (so that an
+# interrupted run ends them whole), each with its own log, shown whole when
+# it ends: the library's unit tests, the command-line tests, the other
+# test binaries and the doc tests, and the browser page's WebAssembly
+# build (in web/target, a folder of its own). Run one after the other they
+# kept the two cores busy only about two thirds of the time (the
+# command-line tests wait on workspace builds and sandboxes).
+jobs_dir=$(mktemp -d)
+job_pids=()
+declare -A job_names
+trap 'for pid in "${job_pids[@]}"; do kill -- "-$pid" 2>/dev/null || true; done; rm -rf "$jobs_dir"' EXIT
+export TIMEFORMAT
+start_job() {
+    local name=$1
+    shift
+    setsid bash -c 'name=$1; shift
+        status=0
+        { time "$@"; } >"$name.log" 2>&1 || status=$?
+        echo "$status" >"$name.status"' job "$jobs_dir/$name" "$@" &
+    job_pids+=("$!")
+    job_names[$!]=$name
+}
+# Every integration test binary but cli's, found as cargo finds them.
+shopt -s nullglob
+other_tests=()
+for file in tests/*.rs tests/*/main.rs; do
+    name=${file#tests/}
+    name=${name%.rs}
+    name=${name%/main}
+    [[ $name == cli ]] || other_tests+=(--test "$name")
+done
+start_job lib cargo test --lib --features embree
+start_job cli cargo test --test cli --features embree
+start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
+# The page is built with the docs just built (RAYLAB_DOCS); its status 3
+# means it cannot be built here, which the browser tests report as a skip.
+start_job page env RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web
+failed=()
+page_status=0
+running=("${job_pids[@]}")
+while [[ ${#running[@]} -gt 0 ]]; do
+    finished=""
+    wait -n -p finished "${running[@]}" || true
+    [[ -n $finished ]] || break
+    still=()
+    for pid in "${running[@]}"; do
+        [[ $pid == "$finished" ]] || still+=("$pid")
+    done
+    running=("${still[@]}")
+    name=${job_names[$finished]}
+    status=$(cat "$jobs_dir/$name.status" 2>/dev/null || echo 1)
+    echo "test.sh: --- $name (exit status $status) ---" >&2
+    cat "$jobs_dir/$name.log" >&2
+    if [[ $name == page ]]; then
+        page_status=$status
+        [[ $status -eq 0 || $status -eq 3 ]] && continue
+    fi
+    [[ $status -eq 0 ]] || failed+=("$name")
+done
+if [[ ${#failed[@]} -gt 0 ]]; then
+    echo "test.sh: failed: ${failed[*]} (their logs are above)" >&2
+    exit 1
+fi
 # grade's HTML reports, then the browser page, in headless Chromium against
 # the debug binary the tests above built (skipped, with a message, where
 # this machine cannot build the page or has no browser).
-time RAYLAB_PAGE_BUILD_STATUS="$(cat "$page_status")" bash scripts/test-browser.sh target/debug/raylab
+time RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
