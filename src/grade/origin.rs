@@ -165,7 +165,11 @@ pub fn compiled_from_outside(
     snapshot: &Snapshot,
     workspace: &Path,
 ) -> Option<String> {
-    let shown = |path: &Path| crate::text::visible_name(path.as_os_str());
+    // Relative to the workspace where it is inside, as the report names
+    // the workspace's files.
+    let shown = |path: &Path| {
+        crate::text::visible_name(path.strip_prefix(workspace).unwrap_or(path).as_os_str())
+    };
     for unit in compiled {
         let lib = unit.kinds.iter().any(|kind| kind == "lib");
         let bin = unit.kinds.iter().any(|kind| kind == "bin");

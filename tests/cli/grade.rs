@@ -1485,6 +1485,65 @@ fn code_mode_compares_all_of_src_as_it_was_before_the_build() {
     );
 }
 
+/// `grade --code` counts only code the compiler read from the workspace's
+/// Rust files under `src/`, as the compiler itself lists them: a library
+/// that includes a text file (from `src/` or beside it) and a workspace
+/// with a second program are not counted, each named.
+#[cfg(unix)]
+#[test]
+fn code_the_compiler_read_from_other_files_is_not_counted() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let passing = verdict_writer(&[(1, "pass", true, false)], true, "");
+    let ivy = fake_workspace(&class, "ivy", &passing);
+    std::fs::write(ivy.join("src/notes.txt"), "fn key() {}").expect("write");
+    std::fs::write(ivy.join("key.txt"), "fn key() {}").expect("write");
+    std::fs::write(
+        ivy.join("src/lib.rs"),
+        "pub struct Mine;
+pub const NOTES: &str = include_str!(\"notes.txt\");
+         pub const KEY: &str = include_str!(concat!(\"..\", \"/key.txt\"));
+",
+    )
+    .expect("write");
+    let joe = fake_workspace(&class, "joe", &passing);
+    std::fs::create_dir_all(joe.join("src/bin")).expect("mkdir");
+    std::fs::write(joe.join("src/bin/other.rs"), "fn main() {}\n").expect("write");
+    let mut args = vec!["grade", "--code", "class", "--build-profile", "dev"];
+    args.extend(sandbox_or_skip(
+        "code_the_compiler_read_from_other_files_is_not_counted",
+    ));
+    let out = raylab(&args, dir.path());
+    let csv = std::fs::read_to_string(class.join("grades.csv"))
+        .unwrap_or_else(|error| panic!("no CSV ({error}): {}", stderr(&out)));
+    // Each row from its student's name to the next student's.
+    let row = |student: &str| {
+        let start = csv
+            .find(&format!("\n{student},"))
+            .unwrap_or_else(|| panic!("no row for {student}: {csv}"));
+        let rest = &csv[start + 1..];
+        let end = rest
+            .find("\njoe,")
+            .filter(|_| student != "joe")
+            .unwrap_or(rest.len());
+        rest[..end].to_string()
+    };
+    let ivy = row("ivy");
+    assert!(
+        ivy.contains(
+            "the compiler read src/notes.txt, which is not one of the workspace's Rust files"
+        ),
+        "{ivy}"
+    );
+    assert!(ivy.starts_with("ivy,all,error,"), "{ivy}");
+    let joe = row("joe");
+    assert!(
+        joe.contains("the workspace builds a program of its own, src/bin/other.rs"),
+        "{joe}"
+    );
+    assert!(joe.starts_with("joe,all,error,"), "{joe}");
+}
+
 /// The workspaces tests/cli/workspace.rs builds (into this test's target
 /// folder, in the dev profile), each given a `target/` of hard links to
 /// that folder's `debug/`, so that `grade --code --build-profile dev`
