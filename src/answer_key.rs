@@ -49,6 +49,8 @@ thread_local! {
 
 /// From now on, in this process, every answer that runs outside
 /// `raylab_own` is reported.
+// Called by the command line, which the browser page's build leaves out.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 pub(crate) fn seal() {
     SEALED.store(true, Ordering::SeqCst);
 }
@@ -65,6 +67,7 @@ pub fn sealed() -> bool {
 static STRICT: AtomicBool = AtomicBool::new(false);
 
 /// Makes comparison wrappers report (`true`) or not.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 pub(crate) fn set_strict(strict: bool) {
     STRICT.store(strict, Ordering::SeqCst);
 }
