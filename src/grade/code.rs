@@ -447,17 +447,14 @@ fn build(
     })
 }
 
-/// The workspace's own crates in cargo's JSON messages (those of its
-/// `Cargo.toml`), each with the compiler's dep-info of a library: cargo
-/// names the library's metadata `deps/libNAME-HASH.rmeta`, beside which
-/// rustc wrote `deps/NAME-HASH.d`.
+/// The crates of cargo's JSON messages, each with the compiler's dep-info
+/// of a library: cargo names the library's metadata
+/// `deps/libNAME-HASH.rmeta`, beside which rustc wrote `deps/NAME-HASH.d`.
 fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::origin::Compiled> {
-    let manifest = workspace.join("Cargo.toml");
     messages
         .lines()
         .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
         .filter(|message| message["reason"] == "compiler-artifact")
-        .filter(|message| message["manifest_path"].as_str().map(Path::new) == Some(&manifest))
         .map(|message| {
             let target = &message["target"];
             let kinds = target["kind"]
@@ -481,6 +478,13 @@ fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::origin::Compi
                 })
                 .filter(|file| file.starts_with(workspace.join("target")));
             super::origin::Compiled {
+                manifest: PathBuf::from(message["manifest_path"].as_str().unwrap_or_default()),
+                // Cargo's ids: `registry+URL#name@version` (or, before
+                // cargo 1.77, `name version (registry+URL)`); anything
+                // else (a path, a git repository) is not a registry's.
+                local: !message["package_id"]
+                    .as_str()
+                    .is_some_and(|id| id.starts_with("registry+") || id.contains("(registry+")),
                 kinds,
                 root: PathBuf::from(target["src_path"].as_str().unwrap_or_default()),
                 dep_info,

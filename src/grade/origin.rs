@@ -55,7 +55,25 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
         .source("Cargo.toml")
         .map(String::from_utf8_lossy)
         .unwrap_or_default();
-    if let Ok(manifest) = manifest.parse::<toml::Table>() {
+    // Cargo's own parser may take what this one refuses (a newer TOML: a
+    // trailing comma in an inline table); unread, the checks below would
+    // not run at all.
+    let manifest = match manifest.parse::<toml::Table>() {
+        Ok(manifest) => Some(manifest),
+        Err(error) => {
+            let why = error
+                .message()
+                .lines()
+                .next()
+                .unwrap_or_default()
+                .to_string();
+            return Some(format!(
+                "Cargo.toml is not TOML raylab can read ({}), so its shape cannot be checked:                  keep the manifest `raylab new` writes",
+                crate::text::terminal_safe(&why)
+            ));
+        }
+    };
+    if let Some(manifest) = manifest {
         if manifest
             .get("package")
             .and_then(|package| package.get("build"))
@@ -140,6 +158,11 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
 /// compiler's list of the files it read (rustc's dep-info, `deps/NAME-HASH.d`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Compiled {
+    /// The manifest of its package.
+    pub manifest: std::path::PathBuf,
+    /// Whether its package is not a registry's (a folder on this machine,
+    /// a git repository).
+    pub local: bool,
     pub kinds: Vec<String>,
     pub root: std::path::PathBuf,
     pub dep_info: Option<std::path::PathBuf>,
@@ -170,7 +193,23 @@ pub fn compiled_from_outside(
     let shown = |path: &Path| {
         crate::text::visible_name(path.strip_prefix(workspace).unwrap_or(path).as_os_str())
     };
+    let raylab = Path::new(crate::workspace::RAYLAB_DIR).join("Cargo.toml");
+    let same = |a: &Path, b: &Path| {
+        a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+    };
     for unit in compiled {
+        if !same(&unit.manifest, &workspace.join("Cargo.toml")) {
+            // Registry crates are the dependencies' own (libm, raylab's);
+            // a folder other than the grader's raylab is code of the
+            // student's choosing, whatever the manifest said.
+            if unit.local && !same(&unit.manifest, &raylab) {
+                return Some(format!(
+                    "the build compiled a crate `raylab new` does not write, from {}",
+                    shown(&unit.manifest)
+                ));
+            }
+            continue;
+        }
         let lib = unit.kinds.iter().any(|kind| kind == "lib");
         let bin = unit.kinds.iter().any(|kind| kind == "bin");
         if bin && !lib {
@@ -358,6 +397,17 @@ fn manifest_shape(manifest: &toml::Table, workspace: &Path) -> Option<String> {
     {
         return Some("Cargo.toml's [workspace] is not the empty one `raylab new` writes".into());
     }
+    let edition = manifest
+        .get("package")
+        .and_then(|package| package.get("edition"))
+        .and_then(toml::Value::as_str);
+    if edition != Some(crate::workspace::EDITION) {
+        return Some(format!(
+            "Cargo.toml's edition is not {}, the one `raylab new` writes (in it, code that links \
+             other code in, an `unsafe extern` block, is unsafe code)",
+            crate::workspace::EDITION
+        ));
+    }
     let dependencies = manifest.get("dependencies").and_then(toml::Value::as_table);
     let raylab = dependencies.and_then(|table| table.get("raylab"));
     if !is_graders_raylab(raylab, workspace) {
@@ -509,6 +559,21 @@ fn outside_reference(text: &str) -> Option<(usize, &'static str)> {
                     }
                     if in_attribute && name == "path" {
                         return Some((ident.span().start().line, "a #[path] attribute"));
+                    }
+                    // A native library the linker takes in: code no Rust
+                    // file holds, and that the compiler's list of the
+                    // files it read does not name.
+                    if in_attribute
+                        && matches!(name.as_str(), "link" | "link_name" | "link_ordinal")
+                    {
+                        return Some((ident.span().start().line, "a #[link] attribute"));
+                    }
+                    let starts_block = |at: usize| matches!(tokens.get(at), Some(TokenTree::Group(group)) if group.delimiter() == Delimiter::Brace);
+                    let abi = matches!(tokens.get(index + 1), Some(TokenTree::Literal(_)));
+                    if name == "extern"
+                        && (starts_block(index + 1) || (abi && starts_block(index + 2)))
+                    {
+                        return Some((ident.span().start().line, "an extern block"));
                     }
                 }
                 TokenTree::Punct(p) if p.as_char() == '$' && in_attribute => {
@@ -689,7 +754,71 @@ mod tests {
                 .clone();
             workspace.join(name)
         };
-        let planted: [(&str, Plant, &str); 12] = [
+        let planted: [(&str, Plant, &str); 17] = [
+            (
+                // TOML 1.1, which cargo reads and raylab's parser does not.
+                "unreadable-manifest",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(
+                        &path,
+                        text.replace("features = [\"student\"] }", "features = [\"student\"], }"),
+                    )
+                    .expect("write");
+                },
+                "Cargo.toml is not TOML raylab can read",
+            ),
+            (
+                "edition",
+                |workspace, _| {
+                    let path = workspace.join("Cargo.toml");
+                    let text = std::fs::read_to_string(&path).expect("read");
+                    std::fs::write(
+                        &path,
+                        text.replace("edition = \"2024\"", "edition = \"2021\""),
+                    )
+                    .expect("write");
+                },
+                "Cargo.toml's edition is not 2024",
+            ),
+            (
+                "link",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    std::fs::write(file, format!("{text}\n#[link(name = \"answers\", kind = \"dylib\")]\nextern \"C\" {{}}\n"))
+                        .expect("write");
+                },
+                "takes code from another file with a #[link] attribute",
+            ),
+            (
+                "link-in-cfg-attr",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    std::fs::write(
+                        file,
+                        format!(
+                            "{text}\n#[cfg_attr(all(), r#link(name = \"answers\"))]\nextern {{}}\n"
+                        ),
+                    )
+                    .expect("write");
+                },
+                "takes code from another file with a #[link] attribute",
+            ),
+            (
+                "extern-block",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    std::fs::write(
+                        file,
+                        format!(
+                            "{text}\nextern \"C\" {{\n    fn hypot(x: f64, y: f64) -> f64;\n}}\n"
+                        ),
+                    )
+                    .expect("write");
+                },
+                "takes code from another file with an extern block",
+            ),
             (
                 "include",
                 |_, file| {
@@ -950,6 +1079,8 @@ mod tests {
                 .expect("rustc");
             assert!(status.success(), "{text}");
             let unit = Compiled {
+                manifest: workspace.join("Cargo.toml"),
+                local: true,
                 kinds: vec!["lib".into()],
                 root: workspace.join("src/lib.rs"),
                 dep_info: Some(deps.join("w-1.d")),
@@ -979,6 +1110,8 @@ mod tests {
             );
         }
         let unit = |kind: &str, root: &str, dep_info: Option<&str>| Compiled {
+            manifest: workspace.join("Cargo.toml"),
+            local: true,
             kinds: vec![kind.into()],
             root: workspace.join(root),
             dep_info: dep_info.map(|name| workspace.join(name)),
@@ -1008,6 +1141,34 @@ mod tests {
         assert_eq!(
             compiled_from_outside(&[unit("bin", "src/main.rs", None)], &snapshot, &workspace),
             None
+        );
+        // Another crate: the grader's raylab or a registry's is fine; any
+        // other folder is not, whatever the manifest said.
+        let other = |manifest: &Path, local: bool| Compiled {
+            manifest: manifest.to_path_buf(),
+            local,
+            kinds: vec!["lib".into()],
+            root: manifest.with_file_name("src/lib.rs"),
+            dep_info: None,
+        };
+        let raylab = Path::new(crate::workspace::RAYLAB_DIR).join("Cargo.toml");
+        let registry = Path::new("/cargo/registry/libm-0.2/Cargo.toml");
+        let vendored = workspace.join("vendor/key/Cargo.toml");
+        assert_eq!(
+            compiled_from_outside(
+                &[other(&raylab, true), other(registry, false)],
+                &snapshot,
+                &workspace
+            ),
+            None
+        );
+        let found = compiled_from_outside(&[other(&vendored, true)], &snapshot, &workspace)
+            .unwrap_or_default();
+        assert!(
+            found.contains(
+                "compiled a crate `raylab new` does not write, from vendor/key/Cargo.toml"
+            ),
+            "{found}"
         );
     }
 }

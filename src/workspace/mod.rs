@@ -144,6 +144,10 @@ const RAYLAB_LOCK: &str = include_str!("../../Cargo.lock");
 /// The student's type, in the workspace's `src/lib.rs`.
 pub const STUDENT_TYPE: &str = "Mine";
 
+/// The Rust edition of a workspace's crate: `grade --code` counts no other
+/// (in it an `extern` block, code linked in from elsewhere, is `unsafe`).
+pub const EDITION: &str = "2024";
+
 /// Names cargo or the workspace itself cannot use as a package name.
 const RESERVED: &[&str] = &[
     "raylab",

@@ -63,11 +63,12 @@ opt-level = 3
 pub(super) fn cargo_toml(package: &str, raylab_dir: &str) -> String {
     // A TOML string, escaped: a path may hold quotes or backslashes.
     let path = toml::Value::String(raylab_dir.to_string());
+    let edition = super::EDITION;
     format!(
         r#"[package]
 name = "{package}"
 version = "0.1.0"
-edition = "2024"
+edition = "{edition}"
 publish = false
 
 [dependencies]
