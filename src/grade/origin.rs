@@ -197,13 +197,16 @@ pub fn compiled_from_outside(
     let same = |a: &Path, b: &Path| {
         a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
     };
+    // Every finding, not the first: a stand-in crate would hide an
+    // include from the report.
+    let mut found = Vec::new();
     for unit in compiled {
         if !same(&unit.manifest, &workspace.join("Cargo.toml")) {
             // Registry crates are the dependencies' own (libm, raylab's);
             // a folder other than the grader's raylab is code of the
             // student's choosing, whatever the manifest said.
             if unit.local && !same(&unit.manifest, &raylab) {
-                return Some(format!(
+                found.push(format!(
                     "the build compiled a crate `raylab new` does not write, from {}",
                     shown(&unit.manifest)
                 ));
@@ -216,7 +219,7 @@ pub fn compiled_from_outside(
             // Its text is checked to be the one `raylab new` writes, which
             // reads no other file.
             if unit.root != workspace.join("src/main.rs") {
-                return Some(format!(
+                found.push(format!(
                     "the workspace builds a program of its own, {}",
                     shown(&unit.root)
                 ));
@@ -224,24 +227,27 @@ pub fn compiled_from_outside(
             continue;
         }
         if !lib || unit.root != workspace.join("src/lib.rs") {
-            return Some(format!(
+            found.push(format!(
                 "the workspace builds a crate `raylab new` does not write, {}",
                 shown(&unit.root)
             ));
+            continue;
         }
         let Some(dep_info) = &unit.dep_info else {
-            return Some("the compiler's list of the files it read is missing".into());
+            found.push("the compiler's list of the files it read is missing".into());
+            continue;
         };
         let text = match read_bounded(dep_info) {
             Ok(text) => text,
             Err(why) => {
-                return Some(format!(
+                found.push(format!(
                     "the compiler's list of the files it read, {}, {why}",
                     shown(dep_info)
                 ));
+                continue;
             }
         };
-        for read in dep_info_files(&text) {
+        let outside = dep_info_files(&text).into_iter().find_map(|read| {
             let inside = lexically_inside(&read, workspace);
             let counted = inside.as_deref().is_some_and(|relative| {
                 relative.starts_with("src")
@@ -250,16 +256,17 @@ pub fn compiled_from_outside(
                         .to_str()
                         .is_some_and(|path| snapshot.source(path).is_some())
             });
-            if !counted {
-                let named = inside.unwrap_or(read);
-                return Some(format!(
-                    "the compiler read {}, which is not one of the workspace's Rust files                      under src/",
-                    shown(&named)
-                ));
-            }
+            (!counted).then(|| inside.unwrap_or(read))
+        });
+        if let Some(named) = outside {
+            found.push(format!(
+                "the compiler read {}, which is not one of the workspace's Rust files under src/",
+                shown(&named)
+            ));
         }
     }
-    None
+    found.dedup();
+    (!found.is_empty()).then(|| found.join("; "))
 }
 
 /// The file at `path`, as text, if it is a regular file of at most

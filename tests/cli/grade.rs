@@ -1487,8 +1487,9 @@ fn code_mode_compares_all_of_src_as_it_was_before_the_build() {
 
 /// `grade --code` counts only code the compiler read from the workspace's
 /// Rust files under `src/`, as the compiler itself lists them: a library
-/// that includes a text file (from `src/` or beside it) and a workspace
-/// with a second program are not counted, each named.
+/// that includes a text file (from `src/` or beside it), a workspace with
+/// a second program, and a crate built from a folder of the student's are
+/// not counted, each named.
 #[cfg(unix)]
 #[test]
 fn code_the_compiler_read_from_other_files_is_not_counted() {
@@ -1536,6 +1537,14 @@ pub const NOTES: &str = include_str!(\"notes.txt\");
         "{ivy}"
     );
     assert!(ivy.starts_with("ivy,all,error,"), "{ivy}");
+    // The stand-in raylab is a crate from a folder of the student's: the
+    // build's own messages name it, whatever the manifest says.
+    assert!(
+        ivy.contains(
+            "the build compiled a crate `raylab new` does not write, from stand-in/Cargo.toml"
+        ),
+        "{ivy}"
+    );
     let joe = row("joe");
     assert!(
         joe.contains("the workspace builds a program of its own, src/bin/other.rs"),
