@@ -1062,7 +1062,7 @@ fn code_mode_takes_no_verdict_from_the_students_process_and_has_a_time_limit() {
     // (a build past the limit would be killed the same way).
     // Into its own target/, where grading builds each workspace whatever
     // CARGO_TARGET_DIR says.
-    let built = std::process::Command::new(env!("CARGO"))
+    let built = common::cargo()
         .args(["build", "--release", "--offline", "--quiet"])
         .current_dir(&sleeper)
         .env("CARGO_TARGET_DIR", sleeper.join("target"))
@@ -1148,7 +1148,7 @@ fn a_target_built_from_other_sources_is_not_run() {
     let class = dir.path().join("class");
     let sleeps = "fn main() {\n    std::thread::sleep(std::time::Duration::from_secs(3600));\n}\n";
     let forger = fake_workspace(&class, "forger", sleeps);
-    let built = std::process::Command::new(env!("CARGO"))
+    let built = common::cargo()
         .args(["build", "--profile", "dev", "--offline", "--quiet"])
         .current_dir(&forger)
         .env("CARGO_TARGET_DIR", forger.join("target"))

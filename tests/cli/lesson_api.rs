@@ -21,7 +21,6 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::Command;
 
 use crate::workspace::target_dir;
 use common::{raylab, stderr};
@@ -131,8 +130,7 @@ fn every_name_a_lesson_calls_resolves_in_a_student_workspace() {
     let mut text = std::fs::read_to_string(&lib).expect("read src/lib.rs");
     text.push_str(&modules);
     std::fs::write(&lib, text).expect("write src/lib.rs");
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = Command::new(cargo)
+    let output = common::cargo()
         .args(["build", "--offline", "--quiet", "--lib"])
         .current_dir(&workspace)
         .env("CARGO_TARGET_DIR", target_dir())

@@ -90,8 +90,7 @@ pub(crate) fn workspaces() -> &'static Workspaces {
         .expect("write main.rs");
         let target = target_dir();
         for dir in [&todo, &answer, &cheat, &main_cheat] {
-            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-            let output = Command::new(cargo)
+            let output = common::cargo()
                 .args(["build", "--offline", "--quiet"])
                 .current_dir(dir)
                 .env("CARGO_TARGET_DIR", &target)
@@ -847,8 +846,7 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
     // `build`, not `check`: it fails at the same errors, and reuses the
     // dependencies the workspaces above were built with, where `check`
     // would check every one of them again.
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = Command::new(cargo)
+    let output = common::cargo()
         .args(["build", "--offline", "--quiet"])
         .current_dir(&copy)
         .env("CARGO_TARGET_DIR", &ws.target)

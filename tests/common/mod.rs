@@ -16,6 +16,17 @@ pub fn raylab(args: &[&str], dir: &Path) -> Output {
         .expect("run raylab")
 }
 
+/// The cargo running these tests, to build a workspace that `grade
+/// --code` builds on later: without `CARGO_INCREMENTAL` (scripts/test.sh
+/// sets it in CI), which the grader's sandbox clears and which cargo
+/// counts in the profile of a path dependency. With it, every graded
+/// build of a workspace built here would compile raylab again.
+pub fn cargo() -> Command {
+    let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+    command.env_remove("CARGO_INCREMENTAL");
+    command
+}
+
 pub fn stdout(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
