@@ -123,6 +123,13 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
             }
             _ => continue,
         };
+        if super::similarity::nesting(&text) > super::similarity::MAX_NESTING {
+            return Some(format!(
+                "{} nests brackets more than {} deep, so it cannot be checked",
+                shown(),
+                super::similarity::MAX_NESTING
+            ));
+        }
         // Tokens the checks cannot read could hide anything from them.
         let readings: Vec<&str> = readings(&text)
             .into_iter()
@@ -761,7 +768,25 @@ mod tests {
                 .clone();
             workspace.join(name)
         };
-        let planted: [(&str, Plant, &str); 17] = [
+        let planted: [(&str, Plant, &str); 18] = [
+            (
+                // Deep enough to overflow the grader's stack if walked.
+                "deep-brackets",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    let deep = 30_000;
+                    std::fs::write(
+                        file,
+                        format!(
+                            "{text}\nconst _: () = {}{};\n",
+                            "(".repeat(deep),
+                            ")".repeat(deep)
+                        ),
+                    )
+                    .expect("write");
+                },
+                "nests brackets more than 256 deep, so it cannot be checked",
+            ),
             (
                 // TOML 1.1, which cargo reads and raylab's parser does not.
                 "unreadable-manifest",
