@@ -10,8 +10,9 @@
 //!
 //! Each student's run ([`Run`]) sees only what a build needs (`view`):
 //! the system's programs and libraries, the toolchain, cargo's cache of
-//! crates, raylab's checkout without its `target/`, and a copy of the
-//! workspace with the workspace's `target/` (`workdir`); not the
+//! crates, raylab's checkout without its builds (`target/`,
+//! `web/target/`), and a copy of the workspace with the workspace's
+//! `target/` (`workdir`); not the
 //! grader's binary, home, environment or outputs, the instructor's hidden
 //! scenes, other workspaces, `/etc/shadow`, `/run` or `/tmp`. It has no
 //! network (a new network namespace has only its own loopback, which also
@@ -470,7 +471,8 @@ impl Sandbox {
     }
 
     /// The view every sandbox starts from: the system, the toolchain,
-    /// cargo's cache of crates, raylab's checkout without its `target/`;
+    /// cargo's cache of crates, raylab's checkout without its builds
+    /// (`target/`, `web/target/`);
     /// then `then`'s mounts, and the hidden paths covered, the workspace's
     /// neighbours too (the other workspaces of a class).
     fn view(&self, then: Option<(&Path, Vec<Mount>)>) -> View {
@@ -486,7 +488,12 @@ impl Sandbox {
         }
         if let Some(raylab) = &self.raylab {
             view.show(raylab);
-            view.hide(&raylab.join("target"));
+            // Its builds: raylab's reference chapters compiled without
+            // `student` (the browser page's WebAssembly among them), which
+            // report nothing when they run.
+            for built in ["target", "web/target"] {
+                view.hide(&raylab.join(built));
+            }
         }
         let mut hidden = self.hidden.clone();
         if let Some(home) = &self.toolchain.cargo_home {
