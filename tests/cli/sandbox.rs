@@ -278,8 +278,15 @@ fn probe() -> &'static Probe {
         let home = std::env::var("HOME").unwrap_or_else(|_| "/root".into());
         let tag = format!("{}", std::process::id());
         let ssh = Path::new(&home).join(".ssh");
+        // raylab's own chapters built without `student` (the browser
+        // page's WebAssembly) live in the checkout's web/target.
+        let web_target = Path::new(env!("CARGO_MANIFEST_DIR")).join("web/target");
+        std::fs::create_dir_all(&web_target).expect("mkdir web/target");
+        let page_build = web_target.join(format!("probe-{}.txt", std::process::id()));
+        std::fs::write(&page_build, &marker).expect("write");
         let secrets: Vec<String> = [
             Path::new("/etc/shadow"),
+            &page_build,
             &scene,
             &reference,
             &credentials,
@@ -331,6 +338,7 @@ fn probe() -> &'static Probe {
             .env("RAYLAB_PROBE_SECRET", &marker)
             .env("CARGO_HOME", &cargo_home);
         let out = common::output_or_blocked(command);
+        let _ = std::fs::remove_file(&page_build);
         let report =
             std::fs::read_to_string(workspace.join("target/probe-report.txt")).unwrap_or_default();
         Probe {
