@@ -2380,3 +2380,28 @@ fn lifted_terminator_points_are_not_counted_as_acne() {
     let rendered = raylab::render::render(&scene, 11, &settings, None).expect("renders");
     assert_eq!(rendered.rays.self_shadow_hits, 0);
 }
+
+/// The reference's tests, asserting that the judge never calls them as
+/// raylab's own: there, a student's test could run raylab's answers (the
+/// reference walks, say) without their being reported.
+struct TestsNeverRaylabsOwn;
+plant! {
+    TestsNeverRaylabsOwn;
+    fn intersect_plane(plane: &raylab::Plane, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        assert!(!raylab::answer_key::inside_own(), "intersect_plane run as raylab's own");
+        <Reference as Chapters>::intersect_plane(plane, ray, t_min, t_max)
+    }
+    fn intersect_sphere(sphere: &raylab::Sphere, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        assert!(!raylab::answer_key::inside_own(), "intersect_sphere run as raylab's own");
+        <Reference as Chapters>::intersect_sphere(sphere, ray, t_min, t_max)
+    }
+    fn intersect_triangle(triangle: &Triangle, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        assert!(!raylab::answer_key::inside_own(), "intersect_triangle run as raylab's own");
+        <Reference as Chapters>::intersect_triangle(triangle, ray, t_min, t_max)
+    }
+}
+
+#[test]
+fn the_judge_never_runs_the_chapters_tests_as_raylabs_own() {
+    assert_robust::<TestsNeverRaylabsOwn>();
+}
