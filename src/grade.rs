@@ -19,6 +19,7 @@
 
 pub mod class;
 pub mod code;
+pub mod compiled;
 pub mod hidden;
 pub mod lms;
 pub mod origin;

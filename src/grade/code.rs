@@ -190,7 +190,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         .map_or(workspace.as_path(), |run| run.workspace());
     let built = build(workspace, job, sandboxed.as_deref())?;
     if built.exit.is_some_and(|status| status.success()) {
-        not_counted.extend(super::origin::compiled_from_outside(
+        not_counted.extend(super::compiled::compiled_from_outside(
             &built.compiled,
             &snapshot,
             workspace,
@@ -365,7 +365,7 @@ struct Built {
     /// The workspace's binary, as cargo names it.
     binary: Option<PathBuf>,
     /// The workspace's own crates, as cargo's messages name them.
-    compiled: Vec<super::origin::Compiled>,
+    compiled: Vec<super::compiled::Compiled>,
 }
 
 /// `cargo build --profile P --offline` in `workspace` (inside the run's
@@ -450,7 +450,7 @@ fn build(
 /// The crates of cargo's JSON messages, each with the compiler's dep-info
 /// of a library: cargo names the library's metadata
 /// `deps/libNAME-HASH.rmeta`, beside which rustc wrote `deps/NAME-HASH.d`.
-fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::origin::Compiled> {
+fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::compiled::Compiled> {
     messages
         .lines()
         .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
@@ -477,7 +477,7 @@ fn compiled_crates(messages: &str, workspace: &Path) -> Vec<super::origin::Compi
                     Some(file.with_file_name(format!("{crate_and_hash}.d")))
                 })
                 .filter(|file| file.starts_with(workspace.join("target")));
-            super::origin::Compiled {
+            super::compiled::Compiled {
                 manifest: PathBuf::from(message["manifest_path"].as_str().unwrap_or_default()),
                 // Cargo's ids: `registry+URL#name@version` (or, before
                 // cargo 1.77, `name version (registry+URL)`); anything
