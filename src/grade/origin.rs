@@ -532,6 +532,12 @@ mod tests {
         );
     }
 
+    /// Rewrites the file at `path` with `change`.
+    fn edit(path: &Path, change: impl FnOnce(String) -> String) {
+        let text = std::fs::read_to_string(path).expect("read");
+        std::fs::write(path, change(text)).expect("write");
+    }
+
     /// Plants a route in a workspace (given it and one of its chapter files).
     type Plant = fn(&Path, &Path);
 
@@ -591,72 +597,58 @@ mod tests {
                 // TOML 1.1, which cargo reads and raylab's parser does not.
                 "unreadable-manifest",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(
-                        &path,
-                        text.replace("features = [\"student\"] }", "features = [\"student\"], }"),
-                    )
-                    .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        text.replace("features = [\"student\"] }", "features = [\"student\"], }")
+                    });
                 },
                 "Cargo.toml is not TOML raylab can read",
             ),
             (
                 "edition",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(
-                        &path,
-                        text.replace("edition = \"2024\"", "edition = \"2021\""),
-                    )
-                    .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        text.replace("edition = \"2024\"", "edition = \"2021\"")
+                    });
                 },
                 "Cargo.toml's edition is not 2024",
             ),
             (
                 "link",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    std::fs::write(file, format!("{text}\n#[link(name = \"answers\", kind = \"dylib\")]\nextern \"C\" {{}}\n"))
-                        .expect("write");
+                    edit(file, |text| {
+                        format!(
+                            "{text}\n#[link(name = \"answers\", kind = \"dylib\")]\nextern \"C\" {{}}\n"
+                        )
+                    });
                 },
                 "takes code from another file with a #[link] attribute",
             ),
             (
                 "link-in-cfg-attr",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    std::fs::write(
-                        file,
+                    edit(file, |text| {
                         format!(
                             "{text}\n#[cfg_attr(all(), r#link(name = \"answers\"))]\nextern {{}}\n"
-                        ),
-                    )
-                    .expect("write");
+                        )
+                    });
                 },
                 "takes code from another file with a #[link] attribute",
             ),
             (
                 "extern-block",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    std::fs::write(
-                        file,
+                    edit(file, |text| {
                         format!(
                             "{text}\nextern \"C\" {{\n    fn hypot(x: f64, y: f64) -> f64;\n}}\n"
-                        ),
-                    )
-                    .expect("write");
+                        )
+                    });
                 },
                 "takes code from another file with an extern block",
             ),
             (
                 "include",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    std::fs::write(file, format!("{text}\ninclude!(\"../../k.rs\");"))
-                        .expect("write");
+                    edit(file, |text| format!("{text}\ninclude!(\"../../k.rs\");"));
                 },
                 "takes code from another file with an include! macro",
             ),
@@ -671,10 +663,11 @@ mod tests {
             (
                 "target-dependency",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(&path, format!("{text}\n[target.'cfg(all())'.dependencies]\nkey = {{ path = \"/k\" }}\n"))
-                        .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        format!(
+                            "{text}\n[target.'cfg(all())'.dependencies]\nkey = {{ path = \"/k\" }}\n"
+                        )
+                    });
                 },
                 "adds `key`",
             ),
@@ -731,49 +724,36 @@ mod tests {
             (
                 "raylab-without-student",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(&path, text.replace(", features = [\"student\"]", ""))
-                        .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        text.replace(", features = [\"student\"]", "")
+                    });
                 },
                 "the raylab dependency is not the one `raylab new` writes",
             ),
             (
                 "lib-path",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(
-                        &path,
-                        format!("{text}\n[lib]\npath = \"../classmate/src/lib.rs\"\n"),
-                    )
-                    .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        format!("{text}\n[lib]\npath = \"../classmate/src/lib.rs\"\n")
+                    });
                 },
                 "Cargo.toml has [lib], which `raylab new` does not write",
             ),
             (
                 "patch",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(
-                        &path,
-                        format!("{text}\n[patch.crates-io]\nlibm = {{ path = \".git/libm\" }}\n"),
-                    )
-                    .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        format!("{text}\n[patch.crates-io]\nlibm = {{ path = \".git/libm\" }}\n")
+                    });
                 },
                 "Cargo.toml has [patch], which `raylab new` does not write",
             ),
             (
                 "libm-path",
                 |workspace, _| {
-                    let path = workspace.join("Cargo.toml");
-                    let text = std::fs::read_to_string(&path).expect("read");
-                    std::fs::write(
-                        &path,
-                        text.replace("libm = \"0.2\"", "libm = { path = \".git/libm\" }"),
-                    )
-                    .expect("write");
+                    edit(&workspace.join("Cargo.toml"), |text| {
+                        text.replace("libm = \"0.2\"", "libm = { path = \".git/libm\" }")
+                    });
                 },
                 "the libm dependency is not the one `raylab new` writes",
             ),
