@@ -68,7 +68,8 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
                 .unwrap_or_default()
                 .to_string();
             return Some(format!(
-                "Cargo.toml is not TOML raylab can read ({}), so its shape cannot be checked:                  keep the manifest `raylab new` writes",
+                "Cargo.toml is not TOML raylab can read ({}), so its shape cannot be checked: \
+                 keep the manifest `raylab new` writes",
                 crate::text::terminal_safe(&why)
             ));
         }
@@ -123,18 +124,24 @@ pub fn outside_code(snapshot: &Snapshot, workspace: &Path) -> Option<String> {
             }
             _ => continue,
         };
-        if super::similarity::nesting(&text) > super::similarity::MAX_NESTING {
+        // Tokens the checks cannot read could hide anything from them.
+        let parsed: Vec<(&str, proc_macro2::TokenStream)> = readings(&text)
+            .into_iter()
+            .filter_map(|reading| Some((reading, reading.parse().ok()?)))
+            .collect();
+        // The walks below recurse once per bracket: a file nested deeper
+        // than the grader's stack holds is refused before them.
+        if parsed
+            .iter()
+            .any(|(_, stream)| super::similarity::nesting(stream) > super::similarity::MAX_NESTING)
+        {
             return Some(format!(
                 "{} nests brackets more than {} deep, so it cannot be checked",
                 shown(),
                 super::similarity::MAX_NESTING
             ));
         }
-        // Tokens the checks cannot read could hide anything from them.
-        let readings: Vec<&str> = readings(&text)
-            .into_iter()
-            .filter(|reading| reading.parse::<proc_macro2::TokenStream>().is_ok())
-            .collect();
+        let readings: Vec<&str> = parsed.into_iter().map(|(reading, _)| reading).collect();
         if readings.is_empty() {
             return Some(format!(
                 "{} is not Rust whose tokens raylab can read, so it cannot be checked",
@@ -574,7 +581,7 @@ mod tests {
                 .clone();
             workspace.join(name)
         };
-        let planted: [(&str, Plant, &str); 18] = [
+        let planted: [(&str, Plant, &str); 19] = [
             (
                 // Deep enough to overflow the grader's stack if walked.
                 "deep-brackets",
@@ -594,6 +601,24 @@ mod tests {
                 "nests brackets more than 256 deep, so it cannot be checked",
             ),
             (
+                // As deep, each closing bracket in a string beside an
+                // opening one: a count of characters sees no depth at all.
+                "deep-brackets-beside-strings",
+                |_, file| {
+                    let text = std::fs::read_to_string(file).expect("read");
+                    let deep = 30_000;
+                    std::fs::write(
+                        file,
+                        format!(
+                            "{text}\nconst _: () = {}();\n",
+                            "(\")\", ".repeat(deep) + &")".repeat(deep)
+                        ),
+                    )
+                    .expect("write");
+                },
+                "nests brackets more than 256 deep, so it cannot be checked",
+            ),
+            (
                 // TOML 1.1, which cargo reads and raylab's parser does not.
                 "unreadable-manifest",
                 |workspace, _| {
@@ -601,7 +626,7 @@ mod tests {
                         text.replace("features = [\"student\"] }", "features = [\"student\"], }")
                     });
                 },
-                "Cargo.toml is not TOML raylab can read",
+                "so its shape cannot be checked: keep the manifest `raylab new` writes",
             ),
             (
                 "edition",

@@ -56,18 +56,18 @@ pub struct NotRust(String);
 /// comes near it.
 pub const MAX_NESTING: usize = 256;
 
-/// How deep `source`'s brackets nest, counted on its characters (those in
-/// strings and comments too: never less than the tokens' nesting).
-pub fn nesting(source: &str) -> usize {
-    let (mut depth, mut deepest) = (0usize, 0usize);
-    for c in source.chars() {
-        match c {
-            '(' | '[' | '{' => {
-                depth += 1;
-                deepest = deepest.max(depth);
+/// How deep `stream`'s groups nest, counted without recursion (the
+/// tokeniser and a stream's drop do not recurse either): what the walks
+/// over the tokens, which do, are asked to go through.
+pub fn nesting(stream: &TokenStream) -> usize {
+    let mut deepest = 0;
+    let mut pending = vec![(stream.clone(), 0usize)];
+    while let Some((stream, depth)) = pending.pop() {
+        deepest = deepest.max(depth);
+        for tree in stream {
+            if let TokenTree::Group(group) = tree {
+                pending.push((group.stream(), depth + 1));
             }
-            ')' | ']' | '}' => depth = depth.saturating_sub(1),
-            _ => {}
         }
     }
     deepest
@@ -75,12 +75,12 @@ pub fn nesting(source: &str) -> usize {
 
 /// The normalised tokens of `source`, each with its line.
 pub fn tokens(source: &str) -> Result<Vec<(u64, usize)>, NotRust> {
-    if nesting(source) > MAX_NESTING {
+    let stream = TokenStream::from_str(source).map_err(|error| NotRust(error.to_string()))?;
+    if nesting(&stream) > MAX_NESTING {
         return Err(NotRust(format!(
             "brackets nested more than {MAX_NESTING} deep"
         )));
     }
-    let stream = TokenStream::from_str(source).map_err(|error| NotRust(error.to_string()))?;
     let mut out = Vec::new();
     flatten(stream, &mut out);
     Ok(out)
@@ -425,7 +425,12 @@ mod tests {
         assert!(tokens(&format!("const _: () = {deep};")).is_err());
         let shallow = "(".repeat(MAX_NESTING) + &")".repeat(MAX_NESTING);
         assert!(tokens(&format!("const _: () = {shallow};")).is_ok());
-        assert_eq!(nesting("fn f() { [1, (2)] }"), 3);
+        let stream = |text: &str| TokenStream::from_str(text).expect("Rust tokens");
+        assert_eq!(nesting(&stream("fn f() { [1, (2)] }")), 3);
+        // A closing bracket in a string closes nothing.
+        let hidden = "(\")\", ".repeat(100_000) + &")".repeat(100_000);
+        assert!(tokens(&format!("const _: () = {hidden};")).is_err());
+        assert_eq!(nesting(&stream("(\")\", (\")\", ()))")), 3);
     }
 
     use super::*;
