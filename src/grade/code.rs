@@ -189,7 +189,16 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         .as_ref()
         .map_or(workspace.as_path(), |run| run.workspace());
     let built = build(workspace, job, sandboxed.as_deref())?;
-    if built.exit.is_some_and(|status| status.success()) {
+    // An incomplete snapshot is already not counted, and would make every
+    // file it left out look foreign to the compiler's list.
+    if built.exit.is_some_and(|status| status.success()) && snapshot.incomplete.is_none() {
+        if built.messages_cut {
+            not_counted.push(
+                "cargo's report of the crates it compiled was too long to read whole, so what \
+                 the compiler read cannot be checked"
+                    .into(),
+            );
+        }
         not_counted.extend(super::compiled::compiled_from_outside(
             &built.compiled,
             &snapshot,
@@ -364,8 +373,12 @@ struct Built {
     stderr: String,
     /// The workspace's binary, as cargo names it.
     binary: Option<PathBuf>,
-    /// The workspace's own crates, as cargo's messages name them.
+    /// The crates compiled from outside the registry, as cargo's messages
+    /// name them.
     compiled: Vec<super::compiled::Compiled>,
+    /// Some of those messages could not be kept whole: `compiled` may miss
+    /// a crate.
+    messages_cut: bool,
 }
 
 /// `cargo build --profile P --offline` in `workspace` (inside the run's
@@ -436,7 +449,7 @@ fn build(
     let waited = wait_within(&mut child, job.timeout, sandboxed);
     // Whatever the build left behind in its group goes too.
     kill_group(&mut child);
-    let [stdout, stderr] = received_outputs(&receiver);
+    let [(stdout, messages_cut), (stderr, _)] = received_outputs(&receiver);
     Ok(Built {
         exit: waited.exit,
         timed_out: waited.timed_out,
@@ -444,6 +457,7 @@ fn build(
         stderr,
         binary: built_binary(&stdout, workspace),
         compiled: compiled_crates(&stdout, workspace),
+        messages_cut,
     })
 }
 
@@ -507,9 +521,11 @@ fn built_binary(messages: &str, workspace: &Path) -> Option<PathBuf> {
 }
 
 /// Reads the child's stdout and stderr on threads of their own (one full
-/// pipe must not block the other), each sending its kept tail with its
-/// index, 0 for stdout and 1 for stderr.
-fn read_outputs(child: &mut Child) -> mpsc::Receiver<(usize, String)> {
+/// pipe must not block the other), each sending what it kept with its
+/// index, 0 for stdout (cargo's messages of the crates compiled from
+/// outside the registry, and whether some were cut) and 1 for stderr (its
+/// tail).
+fn read_outputs(child: &mut Child) -> mpsc::Receiver<(usize, (String, bool))> {
     let (sender, receiver) = mpsc::channel();
     let readers = [
         child
@@ -524,8 +540,12 @@ fn read_outputs(child: &mut Child) -> mpsc::Receiver<(usize, String)> {
     for (index, reader) in readers.into_iter().enumerate() {
         let sender = sender.clone();
         std::thread::spawn(move || {
-            let tail = reader.map(read_tail).unwrap_or_default();
-            let _ = sender.send((index, tail));
+            let kept = match (index, reader) {
+                (0, Some(reader)) => read_artifacts(reader),
+                (_, Some(reader)) => (read_tail(reader), false),
+                (_, None) => (String::new(), false),
+            };
+            let _ = sender.send((index, kept));
         });
     }
     receiver
@@ -594,8 +614,8 @@ fn wait_within(child: &mut Child, timeout: Duration, sandboxed: Option<&Run>) ->
 
 /// The stdout and stderr the readers send, waiting at most
 /// [`OUTPUT_GRACE`] for them; an empty string for one that did not come.
-fn received_outputs(receiver: &mpsc::Receiver<(usize, String)>) -> [String; 2] {
-    let mut outputs = [String::new(), String::new()];
+fn received_outputs(receiver: &mpsc::Receiver<(usize, (String, bool))>) -> [(String, bool); 2] {
+    let mut outputs = [(String::new(), false), (String::new(), false)];
     let grace_end = Instant::now() + OUTPUT_GRACE;
     for _ in 0..2 {
         let left = grace_end.saturating_duration_since(Instant::now());
@@ -630,6 +650,79 @@ pub fn classify(report: &CheckReport) -> CodeStatus {
             } else {
                 CodeStatus::NotStarted
             }
+        }
+    }
+}
+
+/// The longest line of cargo's messages kept, and the most kept in all:
+/// a build's messages about its own crates are a few kilobytes.
+const MAX_MESSAGE_BYTES: usize = 1 << 20;
+const MAX_MESSAGES_BYTES: usize = 16 << 20;
+
+/// cargo's JSON messages on `reader` about the crates it compiled from
+/// outside the registry (the workspace's, raylab's, any other folder's),
+/// read line by line as they come, the others dropped: a tail of the whole
+/// output could cut the one that matters (a long package version makes a
+/// message tens of kilobytes). `true` with them if one was too long or
+/// they were too many to keep.
+fn read_artifacts(reader: Box<dyn Read + Send>) -> (String, bool) {
+    use std::io::BufRead;
+    let mut reader = std::io::BufReader::new(reader);
+    let (mut kept, mut cut) = (String::new(), false);
+    let mut line = Vec::new();
+    loop {
+        line.clear();
+        // At most one byte past the bound, so that a longer line is seen
+        // as such; its rest is then skipped to the line's end.
+        match (&mut reader)
+            .take(MAX_MESSAGE_BYTES as u64 + 1)
+            .read_until(b'\n', &mut line)
+        {
+            Ok(0) => break,
+            Ok(_) => {}
+            Err(error) if error.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(_) => break,
+        }
+        if line.len() > MAX_MESSAGE_BYTES {
+            cut = true;
+            if !skip_line(&mut reader) {
+                break;
+            }
+            continue;
+        }
+        let Ok(message) = serde_json::from_slice::<serde_json::Value>(&line) else {
+            continue;
+        };
+        let registry = message["package_id"]
+            .as_str()
+            .is_some_and(|id| id.starts_with("registry+") || id.contains("(registry+"));
+        if message["reason"] != "compiler-artifact" || registry {
+            continue;
+        }
+        if kept.len() + line.len() > MAX_MESSAGES_BYTES {
+            cut = true;
+            continue;
+        }
+        kept.push_str(&String::from_utf8_lossy(&line));
+    }
+    (kept, cut)
+}
+
+/// Reads past the end of the current line; `false` at the end of input.
+fn skip_line(reader: &mut impl std::io::BufRead) -> bool {
+    loop {
+        let (done, used) = match reader.fill_buf() {
+            Ok([]) => return false,
+            Ok(buffer) => match buffer.iter().position(|&byte| byte == b'\n') {
+                Some(end) => (true, end + 1),
+                None => (false, buffer.len()),
+            },
+            Err(error) if error.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(_) => return false,
+        };
+        reader.consume(used);
+        if done {
+            return true;
         }
     }
 }
@@ -726,6 +819,32 @@ mod tests {
             CodeStatus::Error
         );
         assert_eq!(classify(&report(Vec::new(), None)), CodeStatus::Fail);
+    }
+
+    /// cargo's messages about the crates compiled from outside the
+    /// registry are kept whole, however much else cargo says and however
+    /// long each is; one too long to keep is said to be cut.
+    #[test]
+    fn the_messages_of_the_crates_compiled_are_kept_whole() {
+        let message = |id: &str, version: &str| {
+            format!(
+                "{{\"reason\":\"compiler-artifact\",\"package_id\":\"{id}\",\"version\":\"{version}\"}}\n"
+            )
+        };
+        let registry = message(
+            "registry+https://github.com/rust-lang/crates.io-index#libm@0.2.1",
+            "",
+        );
+        let student = message("path+file:///class/alice#alice@0.1.0", &"9".repeat(40_000));
+        let noise = registry.repeat(2_000) + &"not json\n".repeat(10_000);
+        let read = |text: String| read_artifacts(Box::new(std::io::Cursor::new(text.into_bytes())));
+        let (kept, cut) = read(noise.clone() + &student + &noise);
+        assert!(!cut);
+        assert_eq!(kept, student);
+        let huge = message("path+file:///class/alice#alice@0.1.0", &"9".repeat(2 << 20));
+        let (kept, cut) = read(huge + &student);
+        assert!(cut);
+        assert_eq!(kept, student);
     }
 
     #[test]

@@ -55,6 +55,19 @@ pub fn compiled_from_outside(
     // Every finding, not the first: a stand-in crate would hide an
     // include from the report.
     let mut found = Vec::new();
+    // Its dep-info is what says which files the student's code came from:
+    // a build cargo did not report is not one to take on trust.
+    let library_reported = compiled.iter().any(|unit| {
+        same(&unit.manifest, &workspace.join("Cargo.toml"))
+            && unit.kinds.iter().any(|kind| kind == "lib")
+    });
+    if !library_reported {
+        found.push(
+            "cargo did not report building the workspace's library, so the files the compiler \
+             read cannot be checked"
+                .into(),
+        );
+    }
     for unit in compiled {
         if !same(&unit.manifest, &workspace.join("Cargo.toml")) {
             // Registry crates are the dependencies' own (libm, raylab's);
@@ -329,9 +342,15 @@ mod tests {
             let found = compiled_from_outside(&units, &snapshot, &workspace).unwrap_or_default();
             assert!(found.contains(expected), "{found}");
         }
+        // The generated program is fine; a build that reported no library
+        // is not.
+        let found =
+            compiled_from_outside(&[unit("bin", "src/main.rs", None)], &snapshot, &workspace)
+                .unwrap_or_default();
         assert_eq!(
-            compiled_from_outside(&[unit("bin", "src/main.rs", None)], &snapshot, &workspace),
-            None
+            found,
+            "cargo did not report building the workspace's library, so the files the compiler \
+             read cannot be checked"
         );
         // Another crate: the grader's raylab or a registry's is fine; any
         // other folder is not, whatever the manifest said.
@@ -345,13 +364,15 @@ mod tests {
         let raylab = Path::new(crate::workspace::RAYLAB_DIR).join("Cargo.toml");
         let registry = Path::new("/cargo/registry/libm-0.2/Cargo.toml");
         let vendored = workspace.join("vendor/key/Cargo.toml");
-        assert_eq!(
-            compiled_from_outside(
-                &[other(&raylab, true), other(registry, false)],
-                &snapshot,
-                &workspace
-            ),
-            None
+        let found = compiled_from_outside(
+            &[other(&raylab, true), other(registry, false)],
+            &snapshot,
+            &workspace,
+        )
+        .unwrap_or_default();
+        assert!(
+            !found.contains("a crate `raylab new` does not write"),
+            "{found}"
         );
         let found = compiled_from_outside(&[other(&vendored, true)], &snapshot, &workspace)
             .unwrap_or_default();

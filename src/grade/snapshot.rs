@@ -20,8 +20,9 @@ pub const MAX_RUST_FILES: usize = 1000;
 pub const MAX_SOURCE_BYTES: u64 = crate::input::MAX_SCENE_BYTES;
 
 /// The most bytes of sources read in all: a course's workspace is a few
-/// hundred kilobytes.
-pub const MAX_SNAPSHOT_BYTES: u64 = 64 << 20;
+/// hundred kilobytes, and the checks hold each file's tokens, tens of
+/// times its text, for every student graded at once.
+pub const MAX_SNAPSHOT_BYTES: u64 = 16 << 20;
 
 /// One entry of the workspace, as the snapshot saw it.
 #[derive(Debug, Clone, PartialEq, Eq)]
