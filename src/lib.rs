@@ -34,7 +34,7 @@
 #![doc(html_no_source)]
 
 // The browser page (web/) builds this crate for WebAssembly without the
-// command line, the cost tables and their plots: see Cargo.toml.
+// command line, grading, the cost tables and their plots: see Cargo.toml.
 
 // The chapter files name raylab's items as `raylab::...`, as a student
 // workspace does, so that the same text compiles in both places.
@@ -52,25 +52,19 @@ pub mod check;
 pub mod cleanup;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
-#[cfg(not(target_arch = "wasm32"))]
-pub mod cost;
 pub mod course;
-pub mod crosscheck;
 pub mod diff;
 pub mod effects;
 #[cfg(feature = "embree")]
 pub mod embree;
-pub mod figure;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod grade;
-pub mod implicit_probe;
 pub mod input;
 pub mod limits;
 pub mod medium;
 pub mod mesh;
 mod number;
 pub mod output;
-#[cfg(not(target_arch = "wasm32"))]
-pub mod plots;
 pub mod ray;
 pub mod ray_tree;
 pub mod record;
@@ -82,6 +76,32 @@ pub mod spectrum;
 pub mod text;
 pub mod web;
 pub mod workspace;
+
+/// raylab's tools over a student's chapters: the cost sweeps, the
+/// cross-checks, the figures, the implicit surfaces' probe and the plots.
+/// Each computes with raylab's own answers (its oracles, its reference
+/// chapters) and reports none of it, so in a student's build (feature
+/// `student`) they are raylab's alone: a chapter that called one would
+/// pass with raylab's answer.
+macro_rules! tools {
+    ($($(#[$attribute:meta])* $module:ident;)*) => {$(
+        $(#[$attribute])*
+        #[cfg(not(feature = "student"))]
+        pub mod $module;
+        $(#[$attribute])*
+        #[cfg(feature = "student")]
+        pub(crate) mod $module;
+    )*};
+}
+tools! {
+    #[cfg(not(target_arch = "wasm32"))]
+    cost;
+    crosscheck;
+    figure;
+    implicit_probe;
+    #[cfg(not(target_arch = "wasm32"))]
+    plots;
+}
 
 /// The 3-vector used everywhere: points, directions and linear RGB colours.
 pub use glam::Vec3;

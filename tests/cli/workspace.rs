@@ -835,7 +835,10 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
         )
         .replace(
             "        ch06_reflection::reflect(d, n)",
-            "        { let _ = raylab::check::by_chapter::checkpoints(6); ch06_reflection::reflect(d, n) }",
+            "        { let _ = raylab::check::by_chapter::checkpoints(6); \
+             use raylab::crosscheck as _; use raylab::implicit_probe as _; \
+             use raylab::plots as _; use raylab::cost as _; use raylab::figure as _; \
+             ch06_reflection::reflect(d, n) }",
         )
         .replace(
             "        ch08_refraction::refract(d, n, eta)",
@@ -866,6 +869,13 @@ fn a_workspace_cannot_name_the_reference_chapters_nor_the_judges_cases() {
         message.contains("function `check_chapter` is private"),
         "{message}"
     );
+    // raylab's tools compute with its answers: none is a student's to call.
+    for tool in ["crosscheck", "implicit_probe", "plots", "cost", "figure"] {
+        assert!(
+            message.contains(&format!("module `{tool}` is private")),
+            "{tool}: {message}"
+        );
+    }
 }
 
 /// Every call of `intersect_plane` that raylab's check of chapter 1 makes
