@@ -171,12 +171,20 @@ fn checkpoints(number: u8, fresh: Option<u64>) -> Vec<Case> {
 fn run_cases(
     info: &ChapterInfo,
     cases: &[Case],
+    first_failure_only: bool,
     asker: &mut dyn Asker,
     collected: &mut Collected,
 ) -> (usize, Vec<(usize, Outcome)>) {
     let mut passed = 0;
     let mut failures = Vec::new();
     for (index, case) in cases.iter().enumerate() {
+        if first_failure_only
+            && failures
+                .iter()
+                .any(|(_, outcome)| !matches!(outcome, Outcome::Todo(_)))
+        {
+            break;
+        }
         let outcome = if collected.stopped.is_some() {
             Outcome::Error("not asked: the check stopped".into())
         } else {
@@ -287,7 +295,7 @@ fn cases_image_robustness(
 ) -> ChapterVerdict {
     let chapter = info.number;
     let cases = checkpoints(info.number, options.fresh);
-    let (passed, failures) = run_cases(info, &cases, asker, collected);
+    let (passed, failures) = run_cases(info, &cases, options.first_failure_only, asker, collected);
     let mut verdict = ChapterVerdict {
         chapter,
         title: info.title,
@@ -447,7 +455,7 @@ fn run_robustness(
     collected: &mut Collected,
 ) -> Robustness {
     let hard = by_chapter::robustness(info.number);
-    let (passed, failures) = run_cases(info, &hard, asker, collected);
+    let (passed, failures) = run_cases(info, &hard, false, asker, collected);
     Robustness {
         passed,
         total: hard.len(),

@@ -208,6 +208,12 @@ pub struct CheckOptions {
     /// for each chapter's camera (`grade --code --fresh SEED`); `None`:
     /// the lessons' own inputs.
     pub fresh: Option<u64>,
+    /// Stop asking a chapter's checkpoints at the first that fails (not
+    /// one left unwritten: a `todo!()` is still told apart from a wrong
+    /// answer): the verdict names the same case, but counts as passed only
+    /// the checkpoints before it. For raylab's bug galleries, which assert
+    /// which case catches each bug; a student is told how many pass.
+    pub first_failure_only: bool,
 }
 
 impl Default for CheckOptions {
@@ -217,6 +223,7 @@ impl Default for CheckOptions {
             write_images: true,
             forbid_answer_key: false,
             fresh: None,
+            first_failure_only: false,
         }
     }
 }

@@ -135,7 +135,13 @@ pub fn calling<P: Plant, R>(body: impl FnOnce() -> R) -> R {
 /// earlier chapter to blame: how a gallery shows that a case catches the
 /// bug it was written for.
 pub fn assert_caught<P: Plant>(chapter: u8, case: &str, options: &CheckOptions) -> ChapterVerdict {
-    let verdict = check_chapter::<P>(chapter, options);
+    // The first failing checkpoint is all this asserts: the ones after it
+    // would cost the statistical cases' time for nothing.
+    let options = CheckOptions {
+        first_failure_only: true,
+        ..options.clone()
+    };
+    let verdict = check_chapter::<P>(chapter, &options);
     let text = verdict.text();
     assert_eq!(verdict.status, crate::check::Status::Fail, "{text}");
     assert_eq!(verdict.failing_case(), Some(case), "{text}");
@@ -348,6 +354,49 @@ mod tests {
         let nearest = || Planted::nearest_hit(&objects, &ray, 0.0, f32::INFINITY);
         assert!(with::<Reference, _>(nearest).is_some());
         assert_eq!(with::<NoSphere, _>(nearest), None);
+    }
+
+    /// Stopping at the first failing checkpoint changes nothing a gallery
+    /// asserts: the same status and case, only fewer checkpoints asked;
+    /// and a chapter with nothing written is still "not started", not
+    /// failed at its first case.
+    #[test]
+    fn the_first_failure_alone_gives_the_same_verdict() {
+        struct NothingWritten;
+        impl Plant for NothingWritten {
+            fn plants() -> Plants {
+                Plants::nothing_written()
+            }
+        }
+        let every = CheckOptions {
+            write_images: false,
+            ..CheckOptions::default()
+        };
+        let first = CheckOptions {
+            first_failure_only: true,
+            ..every.clone()
+        };
+        let whole = check_chapter::<NoSphere>(2, &every);
+        let cut = check_chapter::<NoSphere>(2, &first);
+        assert_eq!(whole.status, crate::check::Status::Fail, "{}", whole.text());
+        assert_eq!(cut.status, whole.status, "{}", cut.text());
+        assert_eq!(cut.failing_case(), whole.failing_case(), "{}", cut.text());
+        assert_eq!(cut.cases_total, whole.cases_total);
+        // A sphere never hit still passes the checkpoints of rays that
+        // miss it, after the first failure: those are not asked.
+        assert!(
+            cut.cases_passed < whole.cases_passed,
+            "the checkpoints after the first failure were asked:\n{}\n{}",
+            cut.text(),
+            whole.text()
+        );
+        let untouched = check_chapter::<NothingWritten>(2, &first);
+        assert_eq!(
+            untouched.status,
+            crate::check::Status::NotStarted,
+            "{}",
+            untouched.text()
+        );
     }
 
     /// The galleries' assertion can fail: the reference is caught by no
