@@ -3,11 +3,14 @@
 # files (web/page/) and the lessons (rustdoc's pages of the chapters), in
 # one folder any static web server can serve.
 #
-# Usage: scripts/build-web.sh [--crate DIR] [--out DIR]
+# Usage: scripts/build-web.sh [--crate DIR] [--out DIR] [--wasm-only]
 #   --crate DIR  the cdylib crate to build (default: web/, raylab's own
 #                chapters; `raylab web` in a student workspace passes one
 #                that names the student's chapters)
 #   --out DIR    where the page goes (default: target/web)
+#   --wasm-only  compile the WebAssembly and stop: a later run puts the
+#                page together (scripts/test.sh compiles it while the
+#                native build runs, before the lessons are built)
 # Then: python3 -m http.server -d target/web 8000, and open
 # http://localhost:8000/ (a file:// page cannot start Web Workers).
 #
@@ -19,11 +22,13 @@ set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 CRATE="$REPO/web"
 OUT="$REPO/target/web"
+WASM_ONLY=0
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --crate) CRATE="$(cd "$2" && pwd)"; shift 2 ;;
         --out) mkdir -p "$2"; OUT="$(cd "$2" && pwd)"; shift 2 ;;
-        *) echo "build-web: unknown option '$1' (use --crate DIR or --out DIR)" >&2; exit 2 ;;
+        --wasm-only) WASM_ONLY=1; shift ;;
+        *) echo "build-web: unknown option '$1' (use --crate DIR, --out DIR or --wasm-only)" >&2; exit 2 ;;
     esac
 done
 log() { echo "build-web: $*" >&2; }
@@ -60,6 +65,7 @@ wasm="$(find "$TARGET_DIR/wasm32-unknown-unknown/release" -maxdepth 1 -name '*.w
 [[ -n "$wasm" ]] || wasm="$(find "$TARGET_DIR/wasm32-unknown-unknown/release" -maxdepth 1 -name '*.wasm' -print -quit)"
 [[ -n "$wasm" ]] || { log "cargo built no .wasm in $TARGET_DIR"; exit 1; }
 log "WebAssembly built in $(( $(date +%s) - start )) s ($WASM_MODE): $(du -k "$wasm" | cut -f1) KB"
+[[ $WASM_ONLY == 0 ]] || exit 0
 
 # The lessons: rustdoc's pages of raylab's chapters (the crate docs): the
 # ones RAYLAB_DOCS names if it is given (scripts/test.sh has just built

@@ -70,20 +70,15 @@ install_package assimp-testmodels "tests/cli/mesh.rs uses its own small models"
 install_package bubblewrap "the grade --code tests run unsandboxed"
 install_package parallel "the grading-jobs test runs its jobs one by one"
 install_package chromium "the browser tests (grade's reports, the page) are skipped"
-time cargo test --lib --bins --tests --features embree --no-run
-# The lessons are the crate docs: they must build with no broken link, and
-# without raylab's source, the answer key (rustdoc leaves old pages in
-# place, so those of an earlier build go first).
-rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
-time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
-bash scripts/check-docs-no-source.sh
-# Then four jobs at once, each in a process group of its own (so that an
+# Jobs run at once, each in a process group of its own (so that an
 # interrupted run ends them whole), each with its own log, shown whole when
-# it ends: the library's unit tests, the command-line tests, the other
-# test binaries and the doc tests, and the browser page's WebAssembly
-# build (in web/target, a folder of its own). Run one after the other they
-# kept the two cores busy only about two thirds of the time (the
-# command-line tests wait on workspace builds and sandboxes).
+# it ends: the browser page's WebAssembly compile (in web/target, a folder
+# of its own) from the start, beside the native build; then, once that
+# build and the lessons are done, the library's unit tests, the
+# command-line tests, and the other test binaries with the doc tests. One
+# after the other they kept the two cores busy only about two thirds of
+# the time (the command-line tests wait on workspace builds and sandboxes,
+# a compile waits on its slowest crate).
 jobs_dir=$(mktemp -d)
 job_pids=()
 declare -A job_names
@@ -99,6 +94,16 @@ start_job() {
     job_pids+=("$!")
     job_names[$!]=$name
 }
+# Status 3: the page cannot be built here, which the browser tests report
+# as a skip.
+start_job page bash scripts/build-web.sh --wasm-only
+time cargo test --lib --bins --tests --features embree --no-run
+# The lessons are the crate docs: they must build with no broken link, and
+# without raylab's source, the answer key (rustdoc leaves old pages in
+# place, so those of an earlier build go first).
+rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
+time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
+bash scripts/check-docs-no-source.sh
 # Every integration test binary but cli's, found as cargo finds them.
 shopt -s nullglob
 other_tests=()
@@ -111,34 +116,43 @@ done
 start_job lib cargo test --lib --features embree
 start_job cli cargo test --test cli --features embree
 start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
-# The page is built with the docs just built (RAYLAB_DOCS); its status 3
-# means it cannot be built here, which the browser tests report as a skip.
-start_job page env RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web
+# Each job writes its status file as it ends; one that died without
+# writing it (killed) failed. Polled, as `wait -n` does not report a job
+# that ended before it was called (the page's compile may end during the
+# build).
 failed=()
 page_status=0
 running=("${job_pids[@]}")
 while [[ ${#running[@]} -gt 0 ]]; do
-    finished=""
-    wait -n -p finished "${running[@]}" || true
-    [[ -n $finished ]] || break
     still=()
     for pid in "${running[@]}"; do
-        [[ $pid == "$finished" ]] || still+=("$pid")
+        name=${job_names[$pid]}
+        if [[ ! -f $jobs_dir/$name.status ]] && kill -0 "$pid" 2>/dev/null; then
+            still+=("$pid")
+            continue
+        fi
+        wait "$pid" 2>/dev/null || true
+        status=$(cat "$jobs_dir/$name.status" 2>/dev/null || echo 1)
+        echo "test.sh: --- $name (exit status $status) ---" >&2
+        cat "$jobs_dir/$name.log" >&2
+        if [[ $name == page ]]; then
+            page_status=$status
+            [[ $status -eq 0 || $status -eq 3 ]] && continue
+        fi
+        [[ $status -eq 0 ]] || failed+=("$name")
     done
     running=("${still[@]}")
-    name=${job_names[$finished]}
-    status=$(cat "$jobs_dir/$name.status" 2>/dev/null || echo 1)
-    echo "test.sh: --- $name (exit status $status) ---" >&2
-    cat "$jobs_dir/$name.log" >&2
-    if [[ $name == page ]]; then
-        page_status=$status
-        [[ $status -eq 0 || $status -eq 3 ]] && continue
-    fi
-    [[ $status -eq 0 ]] || failed+=("$name")
+    [[ ${#running[@]} -eq 0 ]] || sleep 1
 done
 if [[ ${#failed[@]} -gt 0 ]]; then
     echo "test.sh: failed: ${failed[*]} (their logs are above)" >&2
     exit 1
+fi
+# The page put together: its WebAssembly compiled above, the lessons just
+# built (RAYLAB_DOCS).
+if [[ $page_status -eq 0 ]]; then
+    RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
+        || page_status=$?
 fi
 # grade's HTML reports, then the browser page, in headless Chromium against
 # the debug binary the tests above built (skipped, with a message, where
