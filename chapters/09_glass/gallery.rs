@@ -745,7 +745,7 @@ fn caught_by_check<C: Plant>(case: &str) {
             write_images: false,
             forbid_answer_key: false,
             fresh: None,
-            first_failure_only: false,
+            ..Default::default()
         };
         let verdict = raylab::check::check_chapter::<Planted>(9, &options);
         let text = verdict.text();

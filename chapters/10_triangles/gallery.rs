@@ -20,7 +20,7 @@ fn options() -> CheckOptions {
         write_images: false,
         forbid_answer_key: false,
         fresh: None,
-        first_failure_only: false,
+        ..Default::default()
     }
 }
 

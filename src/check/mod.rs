@@ -214,6 +214,11 @@ pub struct CheckOptions {
     /// the checkpoints before it. For raylab's bug galleries, which assert
     /// which case catches each bug; a student is told how many pass.
     pub first_failure_only: bool,
+    /// Chapters 1 to this one, before the chapter checked alone
+    /// ([`judge::Which::One`]), are taken as passing without being asked:
+    /// set by [`planted::check_chapter`] for a variant that changes
+    /// nothing in them. 0: every earlier chapter is asked.
+    pub earlier_known_to_pass: u8,
 }
 
 impl Default for CheckOptions {
@@ -224,6 +229,7 @@ impl Default for CheckOptions {
             forbid_answer_key: false,
             fresh: None,
             first_failure_only: false,
+            earlier_known_to_pass: 0,
         }
     }
 }

@@ -60,6 +60,11 @@ thread_local! {
 
 /// Runs `body` with `P`'s functions planted in [`Planted`].
 pub fn with<P: Plant, R>(body: impl FnOnce() -> R) -> R {
+    with_table(P::plants(), body)
+}
+
+/// Runs `body` with the functions of `plants` planted in [`Planted`].
+pub fn with_table<R>(plants: Plants, body: impl FnOnce() -> R) -> R {
     let turn = if HOLDING.get() {
         None
     } else {
@@ -71,7 +76,7 @@ pub fn with<P: Plant, R>(body: impl FnOnce() -> R) -> R {
     };
     // Leaked, not freed: a worker thread the judge gave up on may still be
     // reading it after the check returns.
-    let table: &'static mut Plants = Box::leak(Box::new(P::plants()));
+    let table: &'static mut Plants = Box::leak(Box::new(plants));
     let before = INSTALLED.swap(table, Ordering::AcqRel);
     struct Restore {
         before: *mut Plants,
@@ -93,9 +98,39 @@ pub fn with<P: Plant, R>(body: impl FnOnce() -> R) -> R {
     body()
 }
 
-/// [`crate::check::check_chapter`] of the variant `P`.
+/// [`crate::check::check_chapter`] of the variant `P`. The chapters before
+/// the first one whose function `P` plants are the reference's, whose
+/// checkpoints pass and call no later chapter's function
+/// (`a_chapters_checkpoints_call_no_later_chapters_function`, in
+/// `check::judge`): they are
+/// taken as passing, not asked again for every variant.
 pub fn check_chapter<P: Plant>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
-    with::<P, _>(|| crate::check::check_chapter::<Planted>(chapter, options))
+    check_chapter_with(P::plants(), chapter, options)
+}
+
+/// [`check_chapter`] of the variant whose table is `plants`.
+pub fn check_chapter_with(plants: Plants, chapter: u8, options: &CheckOptions) -> ChapterVerdict {
+    let unchanged = plants
+        .first_planted_chapter()
+        .unwrap_or(chapter)
+        .min(chapter)
+        .saturating_sub(1);
+    let options = CheckOptions {
+        earlier_known_to_pass: options.earlier_known_to_pass.max(unchanged),
+        ..options.clone()
+    };
+    with_table(plants, || {
+        crate::check::check_chapter::<Planted>(chapter, &options)
+    })
+}
+
+/// The chapter whose student writes `function`; one no chapter lists
+/// counts as chapter 1's, the earliest.
+fn chapter_of(function: &str) -> u8 {
+    crate::chapters::CHAPTERS
+        .iter()
+        .find(|info| info.functions.contains(&function))
+        .map_or(1, |info| info.number)
 }
 
 /// [`crate::check::check_all`] of the variant `P`.
@@ -206,6 +241,24 @@ macro_rules! plants {
                         not_written
                     }),)*
                 }
+            }
+
+            /// The earliest chapter one of whose functions is planted;
+            /// `None` for the reference.
+            pub fn first_planted_chapter(&self) -> Option<u8> {
+                [$(self.$name.is_some().then(|| chapter_of(stringify!($name))),)*]
+                    .into_iter()
+                    .flatten()
+                    .min()
+            }
+
+            /// This table with the functions of chapters 1 to `chapter`
+            /// back to the reference's.
+            pub fn after(mut self, chapter: u8) -> Plants {
+                $(if chapter_of(stringify!($name)) <= chapter {
+                    self.$name = None;
+                })*
+                self
             }
         }
 
@@ -397,6 +450,20 @@ mod tests {
             "{}",
             untouched.text()
         );
+    }
+
+    /// What a variant's check may take as passing: nothing for the
+    /// reference's table, the chapters before its first planted function
+    /// for a variant's.
+    #[test]
+    fn a_variant_changes_nothing_before_its_first_planted_chapter() {
+        assert_eq!(Plants::default().first_planted_chapter(), None);
+        assert_eq!(NoSphere::plants().first_planted_chapter(), Some(2));
+        assert_eq!(
+            Plants::nothing_written().after(13).first_planted_chapter(),
+            Some(14)
+        );
+        assert_eq!(Plants::nothing_written().first_planted_chapter(), Some(1));
     }
 
     /// The galleries' assertion can fail: the reference is caught by no

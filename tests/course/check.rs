@@ -18,7 +18,7 @@ fn options() -> CheckOptions {
         write_images: false,
         forbid_answer_key: false,
         fresh: None,
-        first_failure_only: false,
+        ..Default::default()
     }
 }
 
@@ -893,7 +893,7 @@ fn a_failing_image_is_written_with_its_heatmap() {
         write_images: true,
         forbid_answer_key: false,
         fresh: None,
-        first_failure_only: false,
+        ..Default::default()
     };
     // A bug only the picture shows (no checkpoint of chapter 1 is further
     // than t = 10): the floor clipped beyond t = 100.
@@ -944,7 +944,7 @@ fn foreign_files_in_the_failures_folder_are_kept() {
         write_images: true,
         forbid_answer_key: false,
         fresh: None,
-        first_failure_only: false,
+        ..Default::default()
     };
     let own = folder.path().join("chapter-1.png");
     std::fs::write(&own, "a student's own picture").expect("write");
