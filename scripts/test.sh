@@ -75,10 +75,11 @@ install_package chromium "the browser tests (grade's reports, the page) are skip
 # it ends: the browser page's WebAssembly compile (in web/target, a folder
 # of its own) from the start, beside the native build; then, once that
 # build and the lessons are done, the library's unit tests, the
-# command-line tests, and the other test binaries with the doc tests. One
-# after the other they kept the two cores busy only about two thirds of
-# the time (the command-line tests wait on workspace builds and sandboxes,
-# a compile waits on its slowest crate).
+# command-line tests, the other test binaries with the doc tests, and the
+# browser tests. One after the other they kept the two cores busy only
+# about two thirds of the time (the command-line tests wait on workspace
+# builds and sandboxes, the browser tests on the browser, a compile on its
+# slowest crate).
 jobs_dir=$(mktemp -d)
 job_pids=()
 declare -A job_names
@@ -94,6 +95,43 @@ start_job() {
     job_pids+=("$!")
     job_names[$!]=$name
 }
+# Waits for every job started and not yet waited for, showing each one's
+# log as it ends; a job's status file is written as it ends, and one that
+# died without writing it (killed) failed. Polled, as `wait -n` does not
+# report a job that ended before it was called (the page's compile may end
+# during the build).
+failed=()
+page_status=0
+waited=()
+finish_jobs() {
+    local pid name status still
+    local running=()
+    for pid in "${job_pids[@]}"; do
+        [[ " ${waited[*]} " == *" $pid "* ]] || running+=("$pid")
+    done
+    while [[ ${#running[@]} -gt 0 ]]; do
+        still=()
+        for pid in "${running[@]}"; do
+            name=${job_names[$pid]}
+            if [[ ! -f $jobs_dir/$name.status ]] && kill -0 "$pid" 2>/dev/null; then
+                still+=("$pid")
+                continue
+            fi
+            wait "$pid" 2>/dev/null || true
+            waited+=("$pid")
+            status=$(cat "$jobs_dir/$name.status" 2>/dev/null || echo 1)
+            echo "test.sh: --- $name (exit status $status) ---" >&2
+            cat "$jobs_dir/$name.log" >&2
+            if [[ $name == page ]]; then
+                page_status=$status
+                [[ $status -eq 0 || $status -eq 3 ]] && continue
+            fi
+            [[ $status -eq 0 ]] || failed+=("$name")
+        done
+        running=("${still[@]}")
+        [[ ${#running[@]} -eq 0 ]] || sleep 1
+    done
+}
 # Status 3: the page cannot be built here, which the browser tests report
 # as a skip.
 start_job page bash scripts/build-web.sh --wasm-only
@@ -104,6 +142,13 @@ time cargo test --lib --bins --tests --features embree --no-run
 rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
 time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
 bash scripts/check-docs-no-source.sh
+# The page put together once its WebAssembly is compiled: that, and the
+# lessons just built (RAYLAB_DOCS).
+finish_jobs
+if [[ $page_status -eq 0 ]]; then
+    RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
+        || page_status=$?
+fi
 # Every integration test binary but cli's, found as cargo finds them.
 shopt -s nullglob
 other_tests=()
@@ -116,45 +161,13 @@ done
 start_job lib cargo test --lib --features embree
 start_job cli cargo test --test cli --features embree
 start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
-# Each job writes its status file as it ends; one that died without
-# writing it (killed) failed. Polled, as `wait -n` does not report a job
-# that ended before it was called (the page's compile may end during the
-# build).
-failed=()
-page_status=0
-running=("${job_pids[@]}")
-while [[ ${#running[@]} -gt 0 ]]; do
-    still=()
-    for pid in "${running[@]}"; do
-        name=${job_names[$pid]}
-        if [[ ! -f $jobs_dir/$name.status ]] && kill -0 "$pid" 2>/dev/null; then
-            still+=("$pid")
-            continue
-        fi
-        wait "$pid" 2>/dev/null || true
-        status=$(cat "$jobs_dir/$name.status" 2>/dev/null || echo 1)
-        echo "test.sh: --- $name (exit status $status) ---" >&2
-        cat "$jobs_dir/$name.log" >&2
-        if [[ $name == page ]]; then
-            page_status=$status
-            [[ $status -eq 0 || $status -eq 3 ]] && continue
-        fi
-        [[ $status -eq 0 ]] || failed+=("$name")
-    done
-    running=("${still[@]}")
-    [[ ${#running[@]} -eq 0 ]] || sleep 1
-done
+# grade's HTML reports, then the browser page, in headless Chromium against
+# the debug binary built above (skipped, with a message, where this machine
+# cannot build the page or has no browser): mostly waiting on the browser,
+# so beside the other tests.
+start_job browser env RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
+finish_jobs
 if [[ ${#failed[@]} -gt 0 ]]; then
     echo "test.sh: failed: ${failed[*]} (their logs are above)" >&2
     exit 1
 fi
-# The page put together: its WebAssembly compiled above, the lessons just
-# built (RAYLAB_DOCS).
-if [[ $page_status -eq 0 ]]; then
-    RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
-        || page_status=$?
-fi
-# grade's HTML reports, then the browser page, in headless Chromium against
-# the debug binary the tests above built (skipped, with a message, where
-# this machine cannot build the page or has no browser).
-time RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
