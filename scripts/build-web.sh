@@ -52,14 +52,17 @@ if [[ $WASM_MODE == rustup ]]; then
 else
     # rustup's linker for wasm (rust-lld) and cargo, Debian's compiler,
     # which builds std from the source beside it. RUSTC_BOOTSTRAP unlocks
-    # -Zbuild-std on a stable compiler, for this build only.
+    # -Zbuild-std on a stable compiler, for this build only. std without
+    # its features: unwinding (the page aborts on a panic) and backtraces'
+    # symbols (object, gimli, addr2line), which a browser cannot use, are
+    # crates to compile for nothing.
     toolchain="$REPO/.wasm-toolchain/root"
     lld="$(rustc --print sysroot)/lib/rustlib/x86_64-unknown-linux-gnu/bin/rust-lld"
     [[ -x "$lld" ]] || { log "rustup's toolchain has no rust-lld at $lld"; exit 3; }
     LD_LIBRARY_PATH="$toolchain/usr/lib/x86_64-linux-gnu${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
         RUSTC="$toolchain/usr/bin/rustc" RUSTC_BOOTSTRAP=1 \
         RUSTFLAGS="-C linker=$lld" \
-        cargo "${build[@]}" -Zbuild-std=std,panic_abort
+        cargo "${build[@]}" -Zbuild-std=std,panic_abort -Zbuild-std-features=
 fi
 wasm="$(find "$TARGET_DIR/wasm32-unknown-unknown/release" -maxdepth 1 -name '*.wasm' -newer "$CRATE/Cargo.toml" -print -quit)"
 [[ -n "$wasm" ]] || wasm="$(find "$TARGET_DIR/wasm32-unknown-unknown/release" -maxdepth 1 -name '*.wasm' -print -quit)"
