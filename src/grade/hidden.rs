@@ -92,6 +92,9 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
     Ok(texts)
 }
 
+/// Why a hidden scene's failure says no more.
+const WITHHELD: &str = "its text is not shown: the scene is hidden";
+
 /// Renders each of `scenes` with the student's chapters, asked through
 /// `asker` (the workspace's binary answering as `serve`), and compares the
 /// image with the scene's reference.
@@ -120,28 +123,25 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
                     used,
                     escaped,
                 }) => {
-                    let ran: Vec<String> = used.into_iter().chain(escaped).collect();
-                    if !ran.is_empty() {
-                        return failed(format!(
-                            "the render ran raylab's own answers instead of the student's: {}",
-                            crate::text::terminal_safe(&ran.join(", "))
-                        ));
+                    if !used.is_empty() || !escaped.is_empty() {
+                        return failed(
+                            "the render ran raylab's own answers instead of the student's".into(),
+                        );
                     }
                     Image { width, height, rgb }
                 }
+                // What the student's process says (a panic's message, an
+                // error's text, the names of the answers it ran) is never
+                // shown: code that read the hidden scene could write it
+                // there, and the report is the student's to read.
                 Ok(Reply::Answer {
-                    answer: Answered::Panicked(panic),
+                    answer: Answered::Panicked(_),
                     ..
-                }) => {
-                    return failed(format!(
-                        "the render failed: a panic: {}",
-                        crate::text::terminal_safe(&panic.message)
-                    ));
-                }
+                }) => return failed(format!("the render failed: a panic ({WITHHELD})")),
                 Ok(Reply::Answer {
-                    answer: Answered::Error(error),
+                    answer: Answered::Error(_),
                     ..
-                }) => return failed(format!("the render failed: {error}")),
+                }) => return failed(format!("the render failed: an error ({WITHHELD})")),
                 Ok(_) => return failed("the render failed: no image came back".into()),
                 Err(Ended::TimedOut) => return failed("timed out".into()),
                 Err(Ended::Died(how)) => {
@@ -168,4 +168,70 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::Panic;
+
+    /// Answers every render with what `reply` makes of the scene's text.
+    struct Leaking(fn(&str) -> Answered);
+    impl Asker for Leaking {
+        fn ask(&mut self, request: &Request, _: &Step) -> Result<Reply, Ended> {
+            let Request::Render { scene, .. } = request else {
+                return Err(Ended::Refused("not a render".into()));
+            };
+            Ok(Reply::Answer {
+                answer: (self.0)(scene),
+                used: vec![scene.clone()],
+                escaped: Vec::new(),
+            })
+        }
+    }
+
+    /// Whatever the student's process sends back about a hidden scene, the
+    /// outcome, which the student reads, does not carry the scene's text.
+    #[test]
+    fn a_hidden_scene_never_comes_back_in_what_the_student_reads() {
+        let scene = HiddenScene {
+            name: "hidden.toml".into(),
+            text: "[camera]\nsecret_position = [1.5, 2.5, 3.5]\n".into(),
+            chapter: 4,
+            reference: Image {
+                width: 1,
+                height: 1,
+                rgb: vec![0; 3],
+            },
+        };
+        let leaks: [fn(&str) -> Answered; 2] = [
+            |scene| {
+                Answered::Panicked(Panic {
+                    message: scene.to_string(),
+                    location: Some(scene.to_string()),
+                    file: None,
+                })
+            },
+            |scene| Answered::Error(scene.to_string()),
+        ];
+        for leak in leaks {
+            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Leaking(leak));
+            let shown = format!("{outcomes:?}");
+            assert!(!shown.contains("secret_position"), "{shown}");
+            assert!(outcomes.iter().all(|outcome| !outcome.passed), "{shown}");
+        }
+        // An image, but with raylab's answers reported: their names are the
+        // student's text too.
+        let ran = grade_scenes(
+            std::slice::from_ref(&scene),
+            &mut Leaking(|_| Answered::Rgb {
+                width: 1,
+                height: 1,
+                rgb: vec![0; 3],
+            }),
+        );
+        let shown = format!("{ran:?}");
+        assert!(!shown.contains("secret_position"), "{shown}");
+        assert!(shown.contains("raylab's own answers"), "{shown}");
+    }
 }
