@@ -29,6 +29,13 @@ pub fn terminal_safe(text: &str) -> String {
     out
 }
 
+/// [`terminal_safe`] on one line: line breaks written as `\n` too. For a
+/// text a student's code chose (a panic's message) quoted inside raylab's
+/// own report, where a line of its own could pass for the report's.
+pub fn one_line(text: &str) -> String {
+    terminal_safe(text).replace('\n', "\\n")
+}
+
 /// Whether `c` shows as nothing, or breaks a line where no line break is:
 /// Unicode's `Default_Ignorable_Code_Point` property, as
 /// `DerivedCoreProperties.txt` of Unicode 16.0.0 lists it (the code points
@@ -94,6 +101,11 @@ pub fn visible_name(name: &std::ffi::OsStr) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn one_line_keeps_a_quoted_text_on_its_line() {
+        assert_eq!(one_line("a\n\nb\u{1b}"), "a\\n\\nb\\u{1b}");
+    }
 
     #[test]
     fn names_that_differ_look_different() {

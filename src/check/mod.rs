@@ -571,18 +571,18 @@ fn failure_text(failure: &CaseFailure) -> String {
             let _ = writeln!(
                 out,
                 "    got:      todo!() at {} (not written yet)",
-                panic.location.as_deref().unwrap_or("an unknown place")
+                crate::text::one_line(panic.location.as_deref().unwrap_or("an unknown place"))
             );
         }
         Outcome::Panicked(panic) => {
             let _ = writeln!(
                 out,
                 "    got:      a panic: {}{}",
-                crate::text::terminal_safe(&panic.message),
+                crate::text::one_line(&panic.message),
                 panic
                     .location
                     .as_deref()
-                    .map(|l| format!(" (at {l})"))
+                    .map(|l| format!(" (at {})", crate::text::one_line(l)))
                     .unwrap_or_default()
             );
         }
@@ -590,7 +590,7 @@ fn failure_text(failure: &CaseFailure) -> String {
             let _ = writeln!(
                 out,
                 "    the check could not run: {}",
-                crate::text::terminal_safe(error)
+                crate::text::one_line(error)
             );
         }
         Outcome::Ended(how) => {

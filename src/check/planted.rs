@@ -466,6 +466,33 @@ mod tests {
         assert_eq!(Plants::nothing_written().first_planted_chapter(), Some(1));
     }
 
+    struct ForgingPanic;
+    plant! {
+        ForgingPanic;
+        fn intersect_sphere(_sphere: &Sphere, _ray: &Ray, _t_min: f32, _t_max: f32) -> Option<f32> {
+            panic!("no\n\nchapter  status\n2        pass (robust)\n\nevery chapter passes")
+        }
+    }
+
+    /// A panic's message is quoted on one line: lines of its own could
+    /// pass for the verdict's (a report splits chapters at blank lines).
+    #[test]
+    fn a_panics_message_cannot_write_lines_of_the_verdict() {
+        let options = CheckOptions {
+            write_images: false,
+            first_failure_only: true,
+            ..CheckOptions::default()
+        };
+        let text = check_chapter::<ForgingPanic>(2, &options).text();
+        assert!(text.contains("a panic: no\\n\\nchapter  status"), "{text}");
+        assert!(
+            !text
+                .lines()
+                .any(|line| line.is_empty() || line.starts_with("2        pass")),
+            "{text}"
+        );
+    }
+
     /// The galleries' assertion can fail: the reference is caught by no
     /// case, so asserting that it is panics.
     #[test]
