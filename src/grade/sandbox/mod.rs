@@ -439,9 +439,12 @@ impl Sandbox {
                 error,
             })?;
         let owner = self.run_as.as_ref().map(|user| (user.uid, user.gid));
-        // A `target/` is built on only as a run of raylab's left it: one
-        // the student made or changed since could hold a binary built
-        // from other sources, which cargo would take for up to date.
+        // A `target/` is built on only as a run of raylab's left it, and
+        // only for the sources that run built: one the student made or
+        // changed since, or one built from sources changed since (dated
+        // back, cargo would take its binary for up to date), could hold a
+        // binary built from other sources.
+        let sources = workdir::sources_state(&workspace);
         let record = self
             .records
             .as_ref()
@@ -449,10 +452,17 @@ impl Sandbox {
         let recorded = record
             .as_ref()
             .and_then(|record| std::fs::read_to_string(record).ok())
-            .and_then(|text| text.trim().parse::<u64>().ok());
+            .and_then(|text| {
+                let mut states = text
+                    .split_whitespace()
+                    .map(|state| state.parse::<u64>().ok());
+                Some((states.next()??, states.next()??))
+            });
         let keep_target = self.trust_targets
-            || recorded
-                .is_some_and(|state| workdir::tree_state(&workspace.join("target")) == Some(state));
+            || recorded.is_some_and(|(target, built_from)| {
+                workdir::tree_state(&workspace.join("target")) == Some(target)
+                    && sources == Some(built_from)
+            });
         // Used once: only this run, if it is vouched for, notes it again.
         if let Some(record) = &record {
             let _ = std::fs::remove_file(record);
@@ -463,6 +473,7 @@ impl Sandbox {
             sandbox: self.clone(),
             workspace,
             record,
+            sources,
             folder,
             cgroups: RunCgroups::create(&self.limits),
             baseline,
@@ -666,6 +677,9 @@ pub struct Run {
     workspace: PathBuf,
     /// Where to note the state of its `target/` (see [`Run::vouch_for_build`]).
     record: Option<PathBuf>,
+    /// The state of the workspace's sources when the run started: what
+    /// its build compiled.
+    sources: Option<u64>,
     folder: RunFolder,
     cgroups: RunCgroups,
     /// What the run's folders held on disk before it started.
@@ -782,11 +796,13 @@ impl Run {
         if self.over_disk.load(Ordering::Relaxed) {
             return;
         }
-        if let Some(state) = workdir::tree_state(&self.folder.target) {
+        if let (Some(state), Some(sources)) =
+            (workdir::tree_state(&self.folder.target), self.sources)
+        {
             let written = record
                 .parent()
                 .map_or(Ok(()), std::fs::create_dir_all)
-                .and_then(|()| std::fs::write(record, state.to_string()));
+                .and_then(|()| std::fs::write(record, format!("{state} {sources}")));
             if written.is_err() {
                 let _ = std::fs::remove_file(record);
             }
@@ -1039,6 +1055,47 @@ mod tests {
         assert_eq!(built, "wrote /tmp/x\n");
         let answered = ran(run.serve_command(Path::new("/bin/sh")).expect("a command"));
         assert_eq!(answered, "");
+    }
+
+    /// A `target/` a vouched run left is built on only while the sources
+    /// are the ones it built: sources changed since, even dated back to
+    /// before that build, empty it (cargo would run the old binary).
+    #[test]
+    fn a_target_is_built_on_only_for_the_sources_it_was_built_from() {
+        let Ok(mut sandbox) = Sandbox::find(Limits::DEFAULT) else {
+            eprintln!("skipped: no working bubblewrap here");
+            return;
+        };
+        let folder = tempfile::tempdir().expect("a folder");
+        sandbox.records = Some(folder.path().join("records"));
+        sandbox.trust_targets = false;
+        let workspace = folder.path().join("ann");
+        std::fs::create_dir_all(workspace.join("src")).expect("mkdir");
+        let lib = workspace.join("src/lib.rs");
+        std::fs::write(&lib, "pub fn answer() {}\n").expect("write");
+        let built = workspace.join("target/built");
+        let vouched_run = |make: bool| {
+            let run = sandbox.start(&workspace).expect("a run");
+            let kept = built.exists();
+            if make {
+                std::fs::write(&built, "a binary").expect("write");
+            }
+            run.vouch_for_build();
+            kept
+        };
+        assert!(!vouched_run(true), "no note yet: an empty target/");
+        assert!(vouched_run(false), "the same sources: built on");
+        assert!(vouched_run(false), "still the same sources");
+        let dated = std::fs::metadata(&lib)
+            .and_then(|meta| meta.modified())
+            .expect("a time");
+        std::fs::write(&lib, "pub fn answer() { todo!() }\n").expect("write");
+        std::fs::File::options()
+            .write(true)
+            .open(&lib)
+            .and_then(|file| file.set_modified(dated))
+            .expect("date");
+        assert!(!vouched_run(false), "other sources: an empty target/");
     }
 
     /// A process that reaches the CPU time limit is said to have: the

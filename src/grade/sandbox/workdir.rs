@@ -234,6 +234,16 @@ fn give(tree: &Path, uid: u32, gid: u32) -> Result<(), SandboxError> {
 /// but the kernel sets (a file rewritten and dated back has a new one).
 /// `None` when `tree` cannot be read.
 pub(super) fn tree_state(tree: &Path) -> Option<u64> {
+    state_of(tree, None)
+}
+
+/// [`tree_state`] of a workspace's sources: all of it but its `target/`.
+pub(super) fn sources_state(workspace: &Path) -> Option<u64> {
+    state_of(workspace, Some("target"))
+}
+
+/// [`tree_state`], leaving out the top-level entry named `skipped`.
+fn state_of(tree: &Path, skipped: Option<&str>) -> Option<u64> {
     use std::hash::{Hash, Hasher};
     #[cfg(unix)]
     use std::os::unix::fs::MetadataExt;
@@ -246,6 +256,9 @@ pub(super) fn tree_state(tree: &Path) -> Option<u64> {
     while let Some(folder) = stack.pop() {
         for entry in std::fs::read_dir(&folder).ok()? {
             let entry = entry.ok()?;
+            if folder == tree && skipped.is_some_and(|name| entry.file_name() == name) {
+                continue;
+            }
             let meta = std::fs::symlink_metadata(entry.path()).ok()?;
             if meta.is_dir() {
                 stack.push(entry.path());
