@@ -77,7 +77,7 @@ pub fn next_event<C: Chapters>(tracer: &mut Tracer<C>, point: &HitPoint, lobe: &
     if cosine <= 0.0 || !point.faces(light.position) {
         return Vec3::ZERO;
     }
-    let scattered = lobe.value(point, light.direction);
+    let scattered = lobe.value::<C>(point, light.direction);
     if scattered == Vec3::ZERO || C::in_shadow(tracer, point, light.position) {
         return Vec3::ZERO;
     }

@@ -519,7 +519,7 @@ fn light_sample<C: Chapters>(
     if cosine <= 0.0 || (slip != FacesUntested && !point.faces(light.position)) {
         return Vec3::ZERO;
     }
-    let value = lobe.value(point, light.direction);
+    let value = lobe.value::<C>(point, light.direction);
     let scattered = if slip == LambertsF && value != Vec3::ZERO {
         point.albedo / PI
     } else {

@@ -53,7 +53,7 @@ pub fn connect_to_camera<C: Chapters>(
     let to_camera = camera.origin() - point.surface.point;
     let distance = to_camera.length();
     let direction = to_camera / distance;
-    let scattered = lobe.value(point, direction);
+    let scattered = lobe.value::<C>(point, direction);
     if scattered == Vec3::ZERO || tracer.blocked_from_camera(point) {
         return;
     }

@@ -187,7 +187,7 @@ plant! {
         let direction = to_camera / distance;
         // The lobe's value on the lit side, wherever the camera is.
         let lit_side = direction - 2.0 * direction.dot(point.normal).min(0.0) * point.normal;
-        let scattered = lobe.value(point, lit_side);
+        let scattered = lobe.value::<Planted>(point, lit_side);
         if scattered == Vec3::ZERO || tracer.blocked_from_camera(point) {
             return;
         }
@@ -346,7 +346,7 @@ plant! {
         let to_camera = camera.origin() - point.surface.point;
         let distance = to_camera.length();
         let direction = to_camera / distance;
-        let scattered = lobe.value(point, direction);
+        let scattered = lobe.value::<Planted>(point, direction);
         if scattered == Vec3::ZERO {
             return;
         }
@@ -377,7 +377,7 @@ plant! {
         let to_camera = camera.origin() - point.surface.point;
         let distance = to_camera.length();
         let direction = to_camera / distance;
-        let scattered = lobe.value(point, direction);
+        let scattered = lobe.value::<Planted>(point, direction);
         if scattered == Vec3::ZERO || tracer.blocked_from_camera(point) {
             return;
         }

@@ -72,8 +72,9 @@ impl Lobe {
     }
 
     /// `f(wo, wi)`: the share of light arriving along `to_light` that
-    /// leaves toward the eye, per unit solid angle and projected area.
-    pub fn value(&self, point: &HitPoint, to_light: Vec3) -> Vec3 {
+    /// leaves toward the eye, per unit solid angle and projected area. A
+    /// glossy lobe is centred on the mirror direction of `C`'s chapter 6.
+    pub fn value<C: Chapters>(&self, point: &HitPoint, to_light: Vec3) -> Vec3 {
         if point.normal.dot(to_light) <= 0.0 {
             return Vec3::ZERO;
         }
@@ -82,7 +83,7 @@ impl Lobe {
             // `libm`'s powers and sines throughout, not the platform's: the
             // same bits on every machine and in the browser page.
             Lobe::Glossy { albedo, exponent } => {
-                let cos_alpha = mirrored(point).dot(to_light).max(0.0);
+                let cos_alpha = mirrored::<C>(point).dot(to_light).max(0.0);
                 albedo * ((exponent + 2.0) / (2.0 * PI) * libm::powf(cos_alpha, exponent))
             }
             Lobe::Mirror { .. } | Lobe::Glass => Vec3::ZERO,
@@ -95,7 +96,7 @@ impl Lobe {
         match *self {
             Lobe::Diffuse { .. } => C::cosine_pdf(point.normal.dot(direction)),
             Lobe::Glossy { exponent, .. } => {
-                let cos_alpha = mirrored(point).dot(direction).max(0.0);
+                let cos_alpha = mirrored::<C>(point).dot(direction).max(0.0);
                 (exponent + 1.0) / (2.0 * PI) * libm::powf(cos_alpha, exponent)
             }
             Lobe::Mirror { .. } | Lobe::Glass => 0.0,
@@ -135,7 +136,7 @@ impl Lobe {
                 let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
                 let (sin, cos) = libm::sincosf(2.0 * PI * tracer.random());
                 let local = Vec3::new(sin_alpha * cos, sin_alpha * sin, cos_alpha);
-                let direction = to_world(mirrored(point), local);
+                let direction = to_world(mirrored::<C>(point), local);
                 let cosine = point.normal.dot(direction);
                 let pdf = self.pdf::<C>(point, direction);
                 if cosine <= 0.0 || !(pdf > 0.0) {
@@ -143,12 +144,12 @@ impl Lobe {
                 }
                 Some(bounce(
                     direction,
-                    self.value(point, direction) * (cosine / pdf),
+                    self.value::<C>(point, direction) * (cosine / pdf),
                     pdf,
                 ))
             }
             Lobe::Mirror { albedo } => Some(Scattered {
-                direction: mirrored(point),
+                direction: mirrored::<C>(point),
                 weight: albedo,
                 kind: RayKind::Reflection,
                 arrival: Arrival::Specular,
@@ -159,9 +160,11 @@ impl Lobe {
     }
 }
 
-/// The mirror direction of the ray arriving at `point`.
-fn mirrored(point: &HitPoint) -> Vec3 {
-    crate::reflect(point.ray.dir.normalize(), point.normal)
+/// The mirror direction of the ray arriving at `point`, by `C`'s chapter
+/// 6: never raylab's own, which would make these public methods a way to
+/// its answer.
+fn mirrored<C: Chapters>(point: &HitPoint) -> Vec3 {
+    C::reflect(point.ray.dir.normalize(), point.normal)
 }
 
 /// Chapter 9's boundary as a choice: reflected with probability `R`
@@ -242,4 +245,40 @@ pub fn to_world(normal: Vec3, local: Vec3) -> Vec3 {
     );
     let bitangent = Vec3::new(b, sign + normal.y * normal.y * a, -normal.y);
     local.x * tangent + local.y * bitangent + local.z * normal
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::{Plane, Shape};
+    use crate::{Ray, Reference};
+
+    /// Chapters whose chapter 6 mirrors every ray straight up.
+    struct StraightUp;
+    impl Chapters for StraightUp {
+        fn reflect(_d: Vec3, _n: Vec3) -> Vec3 {
+            Vec3::Y
+        }
+    }
+
+    /// A glossy lobe is centred on the mirror direction of the chapters
+    /// asked, never on raylab's own: its public methods are then no way to
+    /// raylab's chapter 6 answer.
+    #[test]
+    fn a_glossy_lobe_is_centred_on_the_chapters_own_mirror_direction() {
+        let floor = Shape::Plane(Plane::new(Vec3::ZERO, Vec3::Y));
+        let material = Material::default();
+        let ray = Ray::new(Vec3::new(-1.0, 1.0, 0.0), Vec3::new(1.0, -1.0, 0.0));
+        let point = HitPoint::new(0, &floor, &material, &ray, 1.0);
+        let lobe = Lobe::Glossy {
+            albedo: Vec3::ONE,
+            exponent: 200.0,
+        };
+        let mirror = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let peak = |value: Vec3| value.x > 1.0;
+        assert!(peak(lobe.value::<Reference>(&point, mirror)));
+        assert!(!peak(lobe.value::<StraightUp>(&point, mirror)));
+        assert!(peak(lobe.value::<StraightUp>(&point, Vec3::Y)));
+        assert!(lobe.pdf::<StraightUp>(&point, mirror) < lobe.pdf::<StraightUp>(&point, Vec3::Y));
+    }
 }
