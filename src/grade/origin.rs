@@ -547,6 +547,8 @@ mod tests {
 
     /// Plants a route in a workspace (given it and one of its chapter files).
     type Plant = fn(&Path, &Path);
+    /// Deep enough to overflow the grader's stack if walked.
+    const DEEP: usize = 30_000;
 
     /// A workspace as `raylab new` writes it takes nothing from outside;
     /// each route planted in a copy of it is found, one at a time.
@@ -586,17 +588,13 @@ mod tests {
                 // Deep enough to overflow the grader's stack if walked.
                 "deep-brackets",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    let deep = 30_000;
-                    std::fs::write(
-                        file,
+                    edit(file, |text| {
                         format!(
                             "{text}\nconst _: () = {}{};\n",
-                            "(".repeat(deep),
-                            ")".repeat(deep)
-                        ),
-                    )
-                    .expect("write");
+                            "(".repeat(DEEP),
+                            ")".repeat(DEEP)
+                        )
+                    });
                 },
                 "nests brackets more than 256 deep, so it cannot be checked",
             ),
@@ -605,16 +603,10 @@ mod tests {
                 // opening one: a count of characters sees no depth at all.
                 "deep-brackets-beside-strings",
                 |_, file| {
-                    let text = std::fs::read_to_string(file).expect("read");
-                    let deep = 30_000;
-                    std::fs::write(
-                        file,
-                        format!(
-                            "{text}\nconst _: () = {}();\n",
-                            "(\")\", ".repeat(deep) + &")".repeat(deep)
-                        ),
-                    )
-                    .expect("write");
+                    edit(file, |text| {
+                        let deep = "(\")\", ".repeat(DEEP) + &")".repeat(DEEP);
+                        format!("{text}\nconst _: () = {deep}();\n")
+                    });
                 },
                 "nests brackets more than 256 deep, so it cannot be checked",
             ),
