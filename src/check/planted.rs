@@ -105,11 +105,7 @@ pub fn with_table<R>(plants: Plants, body: impl FnOnce() -> R) -> R {
 /// `check::judge`): they are
 /// taken as passing, not asked again for every variant.
 pub fn check_chapter<P: Plant>(chapter: u8, options: &CheckOptions) -> ChapterVerdict {
-    check_chapter_with(P::plants(), chapter, options)
-}
-
-/// [`check_chapter`] of the variant whose table is `plants`.
-pub fn check_chapter_with(plants: Plants, chapter: u8, options: &CheckOptions) -> ChapterVerdict {
+    let plants = P::plants();
     let unchanged = plants
         .first_planted_chapter()
         .unwrap_or(chapter)
