@@ -15,6 +15,14 @@
 //! them private to raylab); what is left is reached through the trait and
 //! those methods, and each of them reports here before it answers.
 //!
+//! In a student's build (the `student` feature) none of those answers is
+//! there to run: each reports, then panics ([`left_out`]). The reports are
+//! plain state of the student's own process, which safe code can rewrite
+//! through a soundness hole of the compiler; what is not in the binary
+//! cannot be run by any trick. raylab's own binary judges
+//! ([`crate::check::own_binary`]); the reports still name, in its
+//! verdict, the answer a chapter reached for.
+//!
 //! `seal` turns the reports on, once, in a student's binary. raylab's own
 //! uses of its answers during a student's run (a tree compared with the
 //! loop over every object, say) run inside `raylab_own` and are not
@@ -58,6 +66,22 @@ pub(crate) fn seal() {
 /// Whether `seal` was called.
 pub fn sealed() -> bool {
     SEALED.load(Ordering::Relaxed)
+}
+
+/// What each of raylab's answers runs instead in a student's build:
+/// the answer key is left out of the binary a student's code runs in, so
+/// that no trick inside that process (a soundness hole of the compiler
+/// that clears [`sealed`]'s flag, say) can reach it. `answer` names the
+/// answer as a student would look for it. raylab's own binary, which
+/// judges, has them all.
+#[cold]
+#[inline(never)]
+#[track_caller]
+pub fn left_out(answer: &'static str) -> ! {
+    panic!(
+        "{answer} is raylab's answer, which a student's build of raylab leaves out: \
+         write your own (raylab judges with its own binary)"
+    )
 }
 
 /// Whether comparison wrappers ([`crate::course::Textbook`]) report too:

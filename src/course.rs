@@ -340,8 +340,32 @@ macro_rules! for_each_course_function {
 }
 pub(crate) use for_each_course_function;
 
+/// The body of one of raylab's answers outside the trait (an inherent
+/// method, a free function): reports `$name` to [`crate::answer_key`],
+/// then returns `$answer`. A student's build leaves the answer out (see
+/// [`crate::answer_key::left_out`]): the report names it in the verdict.
+macro_rules! answer {
+    ($name:expr => $answer:expr) => {{
+        crate::answer_key::answered($name);
+        #[cfg(feature = "student")]
+        crate::answer_key::left_out($name);
+        #[cfg(not(feature = "student"))]
+        return $answer;
+    }};
+}
+
 /// The call of a function's reference code, `chNN_name::function(...)`,
-/// with the running chapters named where the entry says `[generic]`.
+/// with the running chapters named where the entry says `[generic]`. A
+/// student's build leaves the reference code out: the call is then
+/// [`crate::answer_key::left_out`].
+#[cfg(feature = "student")]
+macro_rules! reference_call {
+    ($chapters:ty, $module:ident :: $name:ident, [$($marker:ident)*], ($($argument:ident),*)) => {{
+        $(let _ = $argument;)*
+        crate::answer_key::left_out(concat!("Chapters::", stringify!($name)))
+    }};
+}
+#[cfg(not(feature = "student"))]
 macro_rules! reference_call {
     ($chapters:ty, $module:ident :: $name:ident, [generic], ($($argument:ident),*)) => {
         crate::chapters::$module::$name::<$chapters>($($argument),*)
@@ -427,12 +451,23 @@ macro_rules! textbook_forwards {
     };
     (@call [$flag:ident $module:ident $function:ident] $name:ident ($($argument:ident),*)) => {
         if $flag {
-            crate::answer_key::answered_by(true, concat!("Textbook::", stringify!($name)));
-            crate::chapters::$module::$function($($argument),*)
+            textbook_forwards!(@textbook $name $module::$function($($argument),*))
         } else {
             C::$name($($argument),*)
         }
     };
+    (@textbook $name:ident $module:ident :: $function:ident ($($argument:ident),*)) => {{
+        crate::answer_key::answered_by(true, concat!("Textbook::", stringify!($name)));
+        #[cfg(feature = "student")]
+        {
+            $(let _ = $argument;)*
+            crate::answer_key::left_out(concat!("Textbook::", stringify!($name)))
+        }
+        #[cfg(not(feature = "student"))]
+        {
+            crate::chapters::$module::$function($($argument),*)
+        }
+    }};
     (@call [] $name:ident ($($argument:ident),*)) => {
         C::$name($($argument),*)
     };
@@ -594,41 +629,24 @@ impl<'a, C: Chapters> Objects<'a, C> {
     /// The nearest hit by chapter 3's reference loop over every object,
     /// with `C`'s own intersections: what a tree must agree with.
     pub fn nearest_hit_by_loop(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        crate::answer_key::answered("Objects::nearest_hit_by_loop");
-        ch03_nearest::nearest_hit(self, ray, t_min, t_max)
-    }
-
-    /// Chapter 3's loop over the chapters' own tests, as the judge runs it
-    /// beside a student's walk: the loop is raylab's and goes unreported,
-    /// but the tests it calls are the chapters' and report as they always
-    /// do. Inside [`crate::answer_key::raylab_own`] they would not, and a
-    /// student's test could run raylab's answers unseen.
-    pub(crate) fn nearest_hit_by_raylabs_loop(
-        &self,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-    ) -> Option<Hit> {
-        ch03_nearest::nearest_hit(self, ray, t_min, t_max)
+        answer!("Objects::nearest_hit_by_loop" => ch03_nearest::nearest_hit(self, ray, t_min, t_max))
     }
 }
 
 /// The closest hit among `shapes` by raylab's reference chapters (chapter
 /// 3's [`ch03_nearest::nearest_hit`] over chapter 1 and 2's tests).
 pub fn nearest_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-    crate::answer_key::answered("raylab::nearest_hit");
-    ch03_nearest::nearest_hit(
+    answer!("raylab::nearest_hit" => ch03_nearest::nearest_hit(
         &Objects::<crate::chapters::Reference>::new(shapes),
         ray,
         t_min,
         t_max,
-    )
+    ))
 }
 
 /// The first hit in list order among `shapes`, by the reference tests.
 pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-    crate::answer_key::answered("raylab::first_hit");
-    Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max)
+    answer!("raylab::first_hit" => Objects::<crate::chapters::Reference>::new(shapes).first_hit(ray, t_min, t_max))
 }
 
 // The shapes' intersections and the glass's Cauchy index, answered by
@@ -638,8 +656,7 @@ pub fn first_hit(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<
 impl Shape {
     /// The nearest hit with `t_min < t < t_max`, by the reference chapters.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::answer_key::answered("Shape::intersect");
-        self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max)
+        answer!("Shape::intersect" => self.intersect_with::<crate::chapters::Reference>(ray, t_min, t_max))
     }
 
     /// The nearest hit with `t_min < t < t_max`, by the chapters `C`: the
@@ -665,8 +682,7 @@ impl Cauchy {
     /// of chapter 14's `cauchy_ior`: in a student's run it reports to
     /// [`crate::answer_key`], as the trait's defaults do.
     pub fn index_at(&self, nanometres: f32) -> f32 {
-        crate::answer_key::answered("Cauchy::index_at");
-        crate::chapters::ch14_caustics::cauchy_ior(self, nanometres)
+        answer!("Cauchy::index_at" => crate::chapters::ch14_caustics::cauchy_ior(self, nanometres))
     }
 }
 
@@ -674,8 +690,7 @@ impl Plane {
     /// The nearest `t` with `t_min < t < t_max` where `ray` meets the plane,
     /// by the reference solution of chapter 1.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::answer_key::answered("Plane::intersect");
-        ch01_plane::intersect_plane(self, ray, t_min, t_max)
+        answer!("Plane::intersect" => ch01_plane::intersect_plane(self, ray, t_min, t_max))
     }
 }
 
@@ -683,20 +698,17 @@ impl Sphere {
     /// Both parameters where the ray's line meets the sphere, smaller first
     /// (chapter 2's reference solution).
     pub fn roots(&self, ray: &Ray) -> Option<(f32, f32)> {
-        crate::answer_key::answered("Sphere::roots");
-        ch02_sphere::sphere_roots(self, ray)
+        answer!("Sphere::roots" => ch02_sphere::sphere_roots(self, ray))
     }
 
     /// The nearest `t` with `t_min < t < t_max` where `ray` meets the sphere
     /// (chapter 2's reference solution).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::answer_key::answered("Sphere::intersect");
-        ch02_sphere::intersect_sphere(self, ray, t_min, t_max)
+        answer!("Sphere::intersect" => ch02_sphere::intersect_sphere(self, ray, t_min, t_max))
     }
 
     /// The same with the textbook quadratic formula, kept for comparison.
     pub fn intersect_textbook(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
-        crate::answer_key::answered("Sphere::intersect_textbook");
-        ch02_sphere::intersect_sphere_textbook(self, ray, t_min, t_max)
+        answer!("Sphere::intersect_textbook" => ch02_sphere::intersect_sphere_textbook(self, ray, t_min, t_max))
     }
 }

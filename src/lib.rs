@@ -25,9 +25,13 @@
 // without a separate test is deliberate, and the lessons explain it.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 // Built for a student workspace, the reference chapters' code is private
-// (see the `student` feature): what only a student could have called is
-// then unused, which is the point.
-#![cfg_attr(feature = "student", allow(dead_code, unused_imports))]
+// and raylab's answers are left out (see the `student` feature): what only
+// a student could have called, and the arguments of an answer left out,
+// are then unused, which is the point.
+#![cfg_attr(
+    feature = "student",
+    allow(dead_code, unused_imports, unused_variables, unreachable_code)
+)]
 // The crate docs are the lessons, which students read (`cargo doc --open`,
 // the browser page): a "Source" link would open the reference solutions,
 // the answer key. scripts/check-docs-no-source.sh fails if one comes back.

@@ -868,6 +868,41 @@ pub const REQUIRE_ROBUST_VAR: &str = "RAYLAB_CHECK_ROBUST";
 /// test` has one test per chapter that calls this with
 /// `env!("CARGO_BIN_EXE_...")`. Robustness is reported apart, as by
 /// `check`, unless [`REQUIRE_ROBUST_VAR`] is `1`.
+///
+/// In a student's build, raylab's own binary judges (see
+/// [`super::own_binary`]): this runs its `check`, which asks `binary`.
+#[cfg(feature = "student")]
+pub fn assert_chapter(binary: &str, chapter: u8) {
+    let judge = match super::own_binary::judge_binary() {
+        Ok(judge) => judge,
+        Err(error) => panic!("\n{error}"),
+    };
+    let mut command = std::process::Command::new(&judge);
+    command
+        .arg("check")
+        .arg("--answers-from")
+        .arg(binary)
+        .arg("--chapter")
+        .arg(chapter.to_string())
+        .stdin(std::process::Stdio::null());
+    if std::env::var_os(REQUIRE_ROBUST_VAR).is_some_and(|v| v == "1") {
+        command.arg("--require-robust");
+    }
+    let output = match command.output() {
+        Ok(output) => output,
+        Err(error) => panic!("\ncannot run raylab's judge {}: {error}", judge.display()),
+    };
+    if !output.status.success() {
+        panic!(
+            "\n{}{}",
+            String::from_utf8_lossy(&output.stdout),
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+}
+
+/// [`assert_chapter`] in raylab's own build: this process judges.
+#[cfg(not(feature = "student"))]
 pub fn assert_chapter(binary: &str, chapter: u8) {
     let binary = PathBuf::from(binary);
     let spawn: Arc<Spawn> = Arc::new(move || {

@@ -56,6 +56,8 @@ pub(crate) mod judge;
 // Only the command line's `serve` calls it, and the page has no command line.
 #[cfg(not(target_arch = "wasm32"))]
 pub(crate) mod no_programs;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod own_binary;
 mod panics;
 #[cfg(not(feature = "student"))]
 #[doc(hidden)]

@@ -44,23 +44,47 @@ pub struct CheckArgs {
     /// fails.
     #[arg(long, value_name = "SEED")]
     pub fresh: Option<u64>,
+    /// The student's binary whose chapters answer (started as `serve`):
+    /// how a workspace's `check`, in a build that holds none of raylab's
+    /// answers, hands the judging to raylab's own binary.
+    #[arg(long, value_name = "BINARY", hide = true)]
+    pub answers_from: Option<PathBuf>,
+    /// Fail (exit 1) unless every checked chapter is robust too: a
+    /// workspace's `cargo test` under `RAYLAB_CHECK_ROBUST=1`.
+    #[arg(long, hide = true)]
+    pub require_robust: bool,
 }
 
 /// Runs the checks with the chapters `C` and prints the verdicts and the
 /// summary table; returns the exit status. raylab's own chapters are
 /// asked in this process; a student's answer in children of this binary
 /// started as `serve`, and this process judges.
+// A student's build judges with raylab's own binary, not with `C`.
+#[cfg_attr(feature = "student", allow(clippy::extra_unused_type_parameters))]
 pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
-    let student = crate::answer_key::sealed();
+    #[cfg(feature = "student")]
+    return hand_to_own_binary(args);
+    #[cfg(not(feature = "student"))]
+    judge_here::<C>(args)
+}
+
+/// [`check`] in raylab's own build, which judges in this process.
+#[cfg(not(feature = "student"))]
+fn judge_here<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
+    let answering = match &args.answers_from {
+        Some(binary) => Some(binary.clone()),
+        None if crate::answer_key::sealed() => {
+            Some(std::env::current_exe().context("cannot find this program to run the check")?)
+        }
+        None => None,
+    };
     let options = CheckOptions {
         failures_dir: args.failures_dir.clone(),
-        forbid_answer_key: student,
+        forbid_answer_key: answering.is_some(),
         fresh: args.fresh,
         ..CheckOptions::default()
     };
-    let report = if student {
-        let binary =
-            std::env::current_exe().context("cannot find this program to run the check")?;
+    let report = if let Some(binary) = answering {
         let spawn: Arc<Spawn> = Arc::new(move || {
             let mut command = std::process::Command::new(&binary);
             command.arg("serve");
@@ -90,7 +114,49 @@ pub fn check<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
         check_all::<C>(args.chapter, &options)
     };
     print!("{}", report.text());
-    Ok(exit_status(&report))
+    let status = exit_status(&report);
+    if status == 0 && args.require_robust && !report.verdicts.iter().all(|v| v.robust()) {
+        return Ok(super::EXIT_FAILED_CHECK);
+    }
+    Ok(status)
+}
+
+/// A student's build holds none of raylab's answers, which judging
+/// needs: raylab's own binary judges, asking this one (see
+/// [`crate::check::own_binary`]). On Unix it takes this process's place.
+#[cfg(feature = "student")]
+fn hand_to_own_binary(args: &CheckArgs) -> Result<i32> {
+    let judge = crate::check::own_binary::judge_binary()?;
+    let this = std::env::current_exe().context("cannot find this program to run the check")?;
+    let mut command = std::process::Command::new(&judge);
+    command
+        .arg("check")
+        .arg("--answers-from")
+        .arg(this)
+        .arg("--failures-dir")
+        .arg(&args.failures_dir);
+    if let Some(chapter) = args.chapter {
+        command.arg("--chapter").arg(chapter.to_string());
+    }
+    if let Some(seed) = args.fresh {
+        command.arg("--fresh").arg(seed.to_string());
+    }
+    if args.require_robust {
+        command.arg("--require-robust");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        let error = command.exec();
+        Err(error).with_context(|| format!("cannot run raylab's judge {}", judge.display()))
+    }
+    #[cfg(not(unix))]
+    {
+        let status = command
+            .status()
+            .with_context(|| format!("cannot run raylab's judge {}", judge.display()))?;
+        Ok(status.code().unwrap_or(super::EXIT_ERROR))
+    }
 }
 
 fn exit_status(report: &CheckReport) -> i32 {

@@ -2,6 +2,8 @@
 
 use clap::{Parser, Subcommand};
 
+use check::CheckArgs;
+
 mod bench;
 mod check;
 mod cost;
@@ -66,6 +68,10 @@ pub enum Command {
     /// `check` and `raylab grade --code` ask a student's chapters.
     #[command(hide = true)]
     Serve,
+    /// Print the fingerprint of the source this binary was built from: how
+    /// a student's build finds raylab's own binary of the same source.
+    #[command(hide = true)]
+    Fingerprint,
 }
 
 /// Exit status for "the command ran, and the answer is no" (a diff over its
@@ -134,10 +140,14 @@ fn is_reference<C: crate::Chapters>() -> bool {
 /// could call raylab's answers), or raylab's own `check` or `render` run
 /// inside a student's workspace (they would judge raylab's answers).
 fn refusal<C: crate::Chapters>(command: &Command) -> Option<String> {
+    // A check that names the binary whose chapters answer judges those,
+    // wherever it runs.
     let judges_chapters = matches!(
         command,
-        Command::Check(_)
-            | Command::Serve
+        Command::Check(CheckArgs {
+            answers_from: None,
+            ..
+        }) | Command::Serve
             | Command::Render(_)
             | Command::Trace(_)
             | Command::Web(_)
@@ -192,6 +202,40 @@ fn typed_arguments() -> String {
         .join(" ")
 }
 
+/// Runs this command line with raylab's own binary (see
+/// [`crate::check::own_binary`]), in this process's place on Unix.
+#[cfg(feature = "student")]
+fn hand_to_raylab() -> anyhow::Result<i32> {
+    use anyhow::Context;
+    let raylab = crate::check::own_binary::judge_binary()?;
+    let mut command = std::process::Command::new(&raylab);
+    command.args(std::env::args_os().skip(1));
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::CommandExt;
+        let error = command.exec();
+        Err(error).with_context(|| format!("cannot run raylab's own {}", raylab.display()))
+    }
+    #[cfg(not(unix))]
+    {
+        let status = command
+            .status()
+            .with_context(|| format!("cannot run raylab's own {}", raylab.display()))?;
+        Ok(status.code().unwrap_or(EXIT_ERROR))
+    }
+}
+
+/// The error for a command that measures chapters against raylab's
+/// answers, in a student's build, which leaves them out.
+#[cfg(feature = "student")]
+fn compares_with_answers(command: &str) -> anyhow::Result<i32> {
+    Err(anyhow::anyhow!(
+        "`{command}` measures chapters against raylab's own answers, which a student's build \
+         of raylab leaves out (so that no code in it can run them): run `raylab {command}` in \
+         raylab's folder, on raylab's chapters"
+    ))
+}
+
 /// What every raylab binary (raylab's own, and a student workspace's,
 /// which calls [`main_with`] from its `main`) sets up first, before any
 /// other thread exists.
@@ -215,24 +259,52 @@ fn run<C: crate::Chapters>(cli: Cli) -> i32 {
         eprintln!("error: {}", crate::text::terminal_safe(&refusal));
         return EXIT_ERROR;
     }
+    // A student's build leaves out the commands that compute with raylab's
+    // answers (their oracles, reference images, the judge): those that do
+    // not run the student's chapters are raylab's own binary's to run,
+    // and those that would compare them with raylab's answers say so.
     let result = match cli.command {
         Command::Render(args) => render::render::<C>(&args),
         Command::Chapters => render::chapters(),
         Command::Scene(args) => render::scene(&args),
         Command::Bench(args) => bench::bench::<C>(&args),
+        #[cfg(not(feature = "student"))]
         Command::Cost(args) => cost::cost::<C>(&args),
+        #[cfg(not(feature = "student"))]
         Command::Diff(args) => diff::diff(&args),
+        #[cfg(not(feature = "student"))]
         Command::Grade(args) => grade::grade(&args),
+        #[cfg(not(feature = "student"))]
         Command::Crosscheck(args) => crosscheck::crosscheck::<C>(&args),
         Command::Probe(args) => crosscheck::probe::<C>(&args),
         Command::Trace(args) => trace::trace::<C>(&args),
+        #[cfg(not(feature = "student"))]
         Command::Figure(args) => figure::figure::<C>(&args),
         Command::Check(args) => check::check::<C>(&args),
+        #[cfg(not(feature = "student"))]
         Command::New(args) => new::new(&args),
+        #[cfg(not(feature = "student"))]
         Command::Mesh(args) => mesh::mesh(&args),
+        #[cfg(not(feature = "student"))]
         Command::Race(args) => race::race(&args),
+        #[cfg(feature = "student")]
+        Command::Diff(_)
+        | Command::Grade(_)
+        | Command::New(_)
+        | Command::Mesh(_)
+        | Command::Race(_) => hand_to_raylab(),
+        #[cfg(feature = "student")]
+        Command::Cost(_) => compares_with_answers("cost"),
+        #[cfg(feature = "student")]
+        Command::Crosscheck(_) => compares_with_answers("crosscheck"),
+        #[cfg(feature = "student")]
+        Command::Figure(_) => compares_with_answers("figure"),
         Command::Web(args) => web::web::<C>(&args),
         Command::Serve => check::serve::<C>(),
+        Command::Fingerprint => {
+            println!("{}", crate::check::protocol::SOURCE);
+            Ok(0)
+        }
     };
     match result {
         Ok(status) => status,

@@ -77,6 +77,13 @@ pub enum RenderError {
     /// The settings could cast more rays than a budget allows.
     #[error(transparent)]
     TooManyRays(#[from] BudgetError),
+    /// A comparison setting in a student's build, which leaves raylab's
+    /// textbook formulas out with its other answers.
+    #[error(
+        "{0} asks for raylab's textbook formula, which a student's build of raylab leaves \
+         out: render the comparison with raylab itself, in its folder"
+    )]
+    TextbookLeftOut(&'static str),
 }
 
 /// A scene prepared for one chapter's stage: what every thread shares.
@@ -470,6 +477,7 @@ pub fn render_keeping<C: Chapters>(
         )
     }
     let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
+    textbook_left_out(settings)?;
     match (settings.sphere_formula, textbook_triangle) {
         (SphereFormula::Stable, false) => run::<C>(scene, chapter, settings, progress, keep),
         (SphereFormula::Textbook, false) => {
@@ -481,6 +489,24 @@ pub fn render_keeping<C: Chapters>(
         (SphereFormula::Textbook, true) => {
             run::<Textbook<C, true, true>>(scene, chapter, settings, progress, keep)
         }
+    }
+}
+
+/// In a student's build, the error for settings that ask for a textbook
+/// formula (see [`RenderError::TextbookLeftOut`]).
+fn textbook_left_out(settings: &RenderSettings) -> Result<(), RenderError> {
+    if !cfg!(feature = "student") {
+        Ok(())
+    } else if settings.sphere_formula == SphereFormula::Textbook {
+        Err(RenderError::TextbookLeftOut(
+            "sphere_formula = \"textbook\"",
+        ))
+    } else if settings.triangle_test == TriangleTest::MollerTrumbore {
+        Err(RenderError::TextbookLeftOut(
+            "triangle_test = \"moller-trumbore\"",
+        ))
+    } else {
+        Ok(())
     }
 }
 
@@ -601,6 +627,7 @@ pub fn row_renderer<'a, C: Chapters>(
         )?))
     }
     let textbook_triangle = settings.triangle_test == TriangleTest::MollerTrumbore;
+    textbook_left_out(settings)?;
     match (settings.sphere_formula, textbook_triangle) {
         (SphereFormula::Stable, false) => boxed::<C>(scene, chapter, settings),
         (SphereFormula::Textbook, false) => {

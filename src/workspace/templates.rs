@@ -158,9 +158,19 @@ plain `cargo test` compiles a second raylab, in debug, in `target/debug/`
 (minutes again, and about 1.5 GB more on disk) for the same verdicts.
 `web` builds the page for the browser, a build of its own.
 
-Chapter N's image needs your chapters 1 to N. The binary has every
-subcommand of `raylab` (`render`, `diff`, `bench`, `probe`, ...), all
-running your code: `cargo run --release -- --help`.
+Chapter N's image needs your chapters 1 to N. Where a lesson says
+`raylab render ...`, type `cargo run --release -- render ...` here: the
+binary runs raylab's commands with your code (`render`, `trace`, `scene`,
+`bench`, `probe`, ...: `cargo run --release -- --help`).
+
+It holds none of raylab's answers, so that nothing in it can stand in for
+your code. The verdict comes from raylab's own binary, built from the same
+raylab ({raylab_dir}): `check` and `cargo test` run the `raylab` on your
+`PATH` if it was built from that source, else the release build in that
+folder (which `cargo run --release` there made), and build it the first
+time if neither is there. `diff`, `grade` and `mesh` run there too; `cost`,
+`figure` and `crosscheck`, which measure against raylab's answers, are
+raylab's commands, in its folder.
 
 ## The chapters
 

@@ -252,6 +252,7 @@ fn run_student_with(binary: &str, args: &[&str], dir: &Path, backtrace: Option<&
     let path = workspaces().target.join("debug").join(binary);
     let mut command = Command::new(&path);
     command.args(args).current_dir(dir);
+    common::judged_by_this_raylab(&mut command);
     match backtrace {
         Some(value) => command.env("RUST_BACKTRACE", value),
         None => command.env_remove("RUST_BACKTRACE"),
@@ -261,12 +262,126 @@ fn run_student_with(binary: &str, args: &[&str], dir: &Path, backtrace: Option<&
         .unwrap_or_else(|error| panic!("run {}: {error}", path.display()))
 }
 
-/// A workspace builds raylab without the optional `embree` feature (its
-/// manifest asks only for `student`), so its binary is the default build
-/// this suite needs no other copy of: `crosscheck` says how to get Embree
-/// and `probe` traces its ray on raylab's side only.
+/// A student's binary holds none of raylab's answers: not the reference
+/// chapters, nor the judge's oracles and expectations, nor the tools that
+/// compute with them (the cost sweeps, the figures, grading). Its code
+/// could otherwise run them by any trick that reaches the process's
+/// memory (a soundness hole of the compiler, say), out of sight of the
+/// answer key's reports. Read from the symbols of a workspace's binary,
+/// the answer key's, whose chapters are all written.
 #[test]
-fn a_build_without_embree_says_how_to_enable_it() {
+fn a_student_binary_holds_none_of_raylabs_answers() {
+    let ws = workspaces();
+    let binary = ws.target.join("debug").join("student-answer");
+    let output = Command::new("nm")
+        .args(["--demangle", "--defined-only"])
+        .arg(&binary)
+        .output()
+        .expect("run nm (binutils)");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let symbols = stdout(&output);
+    // raylab's own code the binary must have, so that an empty listing
+    // (a stripped binary) does not pass.
+    assert!(symbols.contains("raylab::check::serve::"), "no serve");
+    // Random draws of the cases' inputs live beside the oracles.
+    let allowed = ["raylab::check::exact::Xorshift::"];
+    let left_out = [
+        "raylab::chapters::Reference as ",
+        "raylab::course::Textbook<raylab::chapters::Reference",
+        "raylab::check::exact::",
+        "raylab::check::judge::",
+        "raylab::check::sampled::",
+        "raylab::check::catalog::",
+        "raylab::check::by_chapter::",
+        "raylab::cost::",
+        "raylab::figure::",
+        "raylab::crosscheck::",
+        "raylab::implicit_probe::",
+        "raylab::plots::",
+        "raylab::grade::code::",
+        "raylab::grade::class::",
+        "raylab::bvh_reports::race::",
+        "raylab::bvh_reports::measure::",
+    ];
+    // A symbol's name is its item's path (or `<Type as Trait>::method`);
+    // raylab's types may appear inside other names (a command-line
+    // option's enum), which is no code of theirs.
+    let mut found: Vec<&str> = symbols
+        .lines()
+        .filter_map(|line| line.splitn(3, ' ').nth(2))
+        .filter(|name| !allowed.iter().any(|ok| name.starts_with(ok)))
+        .filter(|name| {
+            left_out
+                .iter()
+                .any(|item| name.starts_with(item) || name.starts_with(&format!("<{item}")))
+                || chapter_answer(name).is_some()
+        })
+        .collect();
+    found.sort_unstable();
+    found.dedup();
+    assert!(
+        found.is_empty(),
+        "{} symbols of raylab's answers in a student's binary, among them:\n{}",
+        found.len(),
+        found
+            .iter()
+            .take(20)
+            .copied()
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
+
+/// A workspace's `check` is judged by raylab's own binary of the same
+/// source, never by another program: a judge named in `RAYLAB_JUDGE` that
+/// is not one is refused, with what to do.
+#[test]
+fn a_workspace_check_is_judged_only_by_raylab_of_the_same_source() {
+    let ws = workspaces();
+    let binary = ws.target.join("debug").join("student-answer");
+    for (judge, why) in [
+        (
+            "/bin/echo",
+            "which is not raylab built from this workspace's raylab",
+        ),
+        ("/nonexistent/raylab", "cannot run it"),
+    ] {
+        let out = Command::new(&binary)
+            .args(["check", "--chapter", "1"])
+            .current_dir(&ws.answer)
+            .env("RAYLAB_JUDGE", judge)
+            .output()
+            .expect("run the workspace");
+        let message = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{judge}: {message}");
+        assert!(message.contains(why), "{judge}: {message}");
+        assert!(
+            stdout(&out).is_empty(),
+            "{judge}: a verdict without a judge"
+        );
+    }
+}
+
+/// The function of a reference chapter's module a symbol names (its own
+/// code: `raylab::chapters::ch02_sphere::intersect_sphere`), if it does;
+/// the chapters' question kinds (`kinds`), which a student's process
+/// answers, are not answers.
+fn chapter_answer(symbol: &str) -> Option<&str> {
+    let rest = symbol
+        .strip_prefix("raylab::chapters::ch")
+        .or_else(|| symbol.strip_prefix("<raylab::chapters::ch"))?;
+    let mut parts = rest.split("::");
+    let _module = parts.next()?;
+    let item = parts.next()?;
+    (item != "kinds").then_some(item)
+}
+
+/// A workspace builds raylab without the optional `embree` feature (its
+/// manifest asks only for `student`) nor raylab's answers: `crosscheck`,
+/// which compares with them, says to run raylab's own, and `probe` traces
+/// its ray with the workspace's chapters only.
+#[test]
+fn a_student_build_leaves_the_comparisons_to_raylab() {
     let ws = workspaces();
     let crosscheck = run_student(
         "student-answer",
@@ -275,13 +390,10 @@ fn a_build_without_embree_says_how_to_enable_it() {
     );
     assert_eq!(crosscheck.status.code(), Some(2));
     let message = stderr(&crosscheck);
-    for hint in [
-        "scripts/setup-embree.sh",
-        "--features embree",
-        "docs/embree.md",
-    ] {
-        assert!(message.contains(hint), "{hint} not in {message}");
-    }
+    assert!(
+        message.contains("`crosscheck` measures chapters against raylab's own answers"),
+        "{message}"
+    );
     let probe = run_student(
         "student-answer",
         &["probe", "--ray", "0,1,-5,0,0,1"],
@@ -676,14 +788,19 @@ fn a_chapter_that_runs_raylabs_answer_fails_and_an_early_exit_is_no_pass() {
     );
     let render = run_student("student-cheat", &["render", "--chapter", "2"], &dir);
     assert_eq!(render.status.code(), Some(2), "{}", stderr(&render));
+    // A student's build holds no answer of raylab's to run: in its
+    // place, a panic that says so.
     assert!(
-        stderr(&render).contains("ran raylab's own answer instead of yours (Sphere::intersect"),
+        stderr(&render).contains(
+            "Sphere::intersect is raylab's answer, which a student's build of raylab leaves out"
+        ),
         "{}",
         stderr(&render)
     );
     assert!(!dir.join("chapter-2.png").exists());
 
     let mut command = Command::new(ws.target.join("debug").join("student-cheat"));
+    common::judged_by_this_raylab(&mut command);
     command
         .args(["check", "--chapter", "1"])
         .current_dir(&dir)
@@ -712,6 +829,7 @@ fn a_check_that_stalls_says_where_it_is() {
     let dir = ws.root.join("loop-out");
     std::fs::create_dir_all(&dir).expect("create");
     let mut command = Command::new(ws.target.join("debug").join("student-cheat"));
+    common::judged_by_this_raylab(&mut command);
     command
         .args(["check", "--chapter", "1"])
         .current_dir(&dir)

@@ -24,7 +24,17 @@ pub fn raylab(args: &[&str], dir: &Path) -> Output {
 pub fn cargo() -> Command {
     let mut command = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
     command.env_remove("CARGO_INCREMENTAL");
+    judged_by_this_raylab(&mut command);
     command
+}
+
+/// Makes a student workspace's check, started by `command` (its binary's
+/// `check`, its `cargo test`), judged by the raylab binary this suite
+/// built: a student's build holds none of raylab's answers and hands the
+/// judging to raylab's own binary, which it would otherwise build in
+/// release.
+pub fn judged_by_this_raylab(command: &mut Command) -> &mut Command {
+    command.env("RAYLAB_JUDGE", env!("CARGO_BIN_EXE_raylab"))
 }
 
 pub fn stdout(output: &Output) -> String {

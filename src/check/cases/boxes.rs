@@ -139,9 +139,8 @@ pub struct BoxEdgesCase {
 
 impl Kind for BoxEdgesCase {
     type Call = BoxEdgesCase;
-    /// The first ray the exact slab test says meets the box and the
-    /// chapters refused, with its number and the exact interval.
-    type Answer = Option<RefusedRay>;
+    /// For each ray, in order, whether the chapters say it enters the box.
+    type Answer = Vec<bool>;
 
     fn function(&self) -> &'static str {
         if self.four_at_once {
@@ -177,7 +176,7 @@ impl Kind for BoxEdgesCase {
         self.clone()
     }
 
-    fn ask<C: Chapters>(call: &BoxEdgesCase) -> Result<Option<RefusedRay>, String> {
+    fn ask<C: Chapters>(call: &BoxEdgesCase) -> Result<Vec<bool>, String> {
         Ok(box_edges::<C>(
             &Aabb::new(call.min, call.max),
             call.rays,
@@ -187,40 +186,40 @@ impl Kind for BoxEdgesCase {
     }
 
     /// The same rule at both levels: every ray the exact slab test says
-    /// meets the box is a hit. The judge draws the rays again and checks
-    /// that the refused one is one of them, and meets the box.
-    fn judge(&self, refused: Option<RefusedRay>, _robust: bool) -> Outcome {
-        let Some(refused) = refused else {
-            return Outcome::Pass;
-        };
+    /// meets the box is a hit. The judge draws the rays again and finds
+    /// the first the chapters refused.
+    fn judge(&self, enters: Vec<bool>, _robust: bool) -> Outcome {
+        if enters.len() != self.rays as usize {
+            return super::intersections::wrong_length(self.rays as usize, enters.len());
+        }
         let bounds = Aabb::new(self.min, self.max);
-        let drawn = edge_rays(&bounds, self.rays, self.seed)
-            .nth(refused.index as usize)
-            .is_some_and(|(origin, dir)| origin == refused.origin && dir == refused.dir);
-        if !drawn {
+        for (index, ((origin, dir), entered)) in edge_rays(&bounds, self.rays, self.seed)
+            .zip(enters)
+            .enumerate()
+        {
+            let (entry, exit) = exact::slab_interval(&bounds, origin, dir);
+            // The exact ray meets the box for some t >= 0 (a NaN from a
+            // zero direction component is not counted: no such ray is
+            // drawn).
+            if entered || !(exit >= entry.max(0.0)) {
+                continue;
+            }
             return Outcome::Fail {
-                expected: "a hit for every ray the exact test says meets the box".into(),
+                expected: format!(
+                    "a hit: the exact ray meets the box from t = {} to t = {}",
+                    num64(entry),
+                    num64(exit)
+                ),
                 got: format!(
-                    "an answer about ray {}, which is not the case's",
-                    refused.index + 1
+                    "None for ray {} of {}: from {} along {}",
+                    index + 1,
+                    self.rays,
+                    vec(origin),
+                    vec(dir)
                 ),
             };
         }
-        let (entry, exit) = exact::slab_interval(&bounds, refused.origin, refused.dir);
-        Outcome::Fail {
-            expected: format!(
-                "a hit: the exact ray meets the box from t = {} to t = {}",
-                num64(entry),
-                num64(exit)
-            ),
-            got: format!(
-                "None for ray {} of {}: from {} along {}",
-                refused.index + 1,
-                self.rays,
-                vec(refused.origin),
-                vec(refused.dir)
-            ),
-        }
+        Outcome::Pass
     }
 
     /// Another seed, and the box moved by a motion that keeps the axes.
@@ -234,15 +233,6 @@ impl Kind for BoxEdgesCase {
             ..self.clone()
         })
     }
-}
-
-/// A ray of a [`BoxEdgesCase`] that the chapters refused: its number from
-/// 0, origin and direction.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct RefusedRay {
-    pub index: u32,
-    pub origin: Vec3,
-    pub dir: Vec3,
 }
 
 /// `build_bvh` over the boxes of `shapes` (`Shape::bounds`): the tree
@@ -370,16 +360,33 @@ pub struct WalkCall {
     pub steps: bool,
 }
 
-/// One ray's walk: the walk's hit, chapter 3's loop's over the same
-/// objects with the same chapters, and, for a hit the walk claims, that
-/// object's own test on the ray; when its steps are judged, every object
-/// test the walk made, in order.
+/// One ray's walk: the walk's hit; every object the same chapters' own
+/// tests hit on the ray, with its `t` (what chapter 3's loop would choose
+/// from: the judge finds the nearest, [`Walked::by_loop`], so that no loop
+/// of raylab's runs in the student's process); for a hit the walk claims,
+/// that object's own test on the ray; when its steps are judged, every
+/// object test the walk made, in order.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Walked {
     pub walk: Option<(usize, f32)>,
-    pub by_loop: Option<(usize, f32)>,
+    pub hits: Vec<(usize, f32)>,
     pub own_test: Option<f32>,
     pub asked: Vec<crate::course::Asked>,
+}
+
+impl Walked {
+    /// The hit chapter 3's loop finds among [`Walked::hits`]: the nearest,
+    /// and of equally near ones the first listed (the loop only takes a
+    /// later object that is strictly nearer).
+    pub fn by_loop(&self) -> Option<(usize, f32)> {
+        let mut nearest: Option<(usize, f32)> = None;
+        for &(object, t) in &self.hits {
+            if nearest.is_none_or(|(_, best)| t < best) {
+                nearest = Some((object, t));
+            }
+        }
+        nearest
+    }
 }
 
 /// The trees a walk went through, as the student's process built them.

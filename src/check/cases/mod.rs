@@ -22,8 +22,8 @@ mod tree;
 mod wide;
 
 pub use boxes::{
-    BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCall, HitBoxCase, RefusedRay, TreeCall,
-    WalkCall, Walked, WalkedTrees,
+    BoxEdgesCase, BvhBuildCase, BvhHitsCase, HitBoxCall, HitBoxCase, TreeCall, WalkCall, Walked,
+    WalkedTrees,
 };
 pub use directions::{ReflectCase, ReflectanceCase, RefractCase, TransmittanceCase};
 pub use inputs::{num, num64, range, sdf_text, vec, vec64};
@@ -50,7 +50,7 @@ use super::panics::Panic;
 use crate::bvh::{Aabb, Bvh, BvhOptions};
 use crate::check::exact::{self, U, wide};
 use crate::course::{Chapters, Hit, HitPoint, Objects, PhongTerms};
-use crate::render::{Stage, Tracer};
+use crate::render::Stage;
 use crate::shapes::{SurfacePoint, Triangle};
 use crate::{Material, Plane, Ray, Reference, Sampling, Scene, Shape, Sphere};
 use inputs::*;

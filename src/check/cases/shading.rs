@@ -131,12 +131,14 @@ pub struct ShadowCase {
 }
 
 /// An `in_shadow` call: the scene (TOML), the object, the rays that
-/// find the points on it, and the light.
+/// find the points on it, where each meets it (see [`hit_on`]), and the
+/// light.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ShadowCall {
     pub scene: String,
     pub object: usize,
     pub rays: Vec<Ray>,
+    pub hits: Vec<Result<f32, String>>,
     pub light: Vec3,
 }
 
@@ -170,10 +172,19 @@ impl Kind for ShadowCase {
     }
 
     fn call(&self) -> ShadowCall {
+        let scene = parse(&self.scene);
         ShadowCall {
             scene: self.scene.clone(),
             object: self.object,
             rays: self.rays.clone(),
+            hits: self
+                .rays
+                .iter()
+                .map(|ray| {
+                    let scene = scene.as_ref().map_err(Clone::clone)?;
+                    hit_on(scene, self.object, ray)
+                })
+                .collect(),
             light: self.light,
         }
     }
@@ -184,8 +195,13 @@ impl Kind for ShadowCase {
             Stage::<C>::with_chapters(&scene, 4, scene.render).map_err(|e| e.to_string())?;
         let mut tracer = stage.tracer(None);
         let mut answers = Vec::with_capacity(call.rays.len());
-        for ray in &call.rays {
-            let point = point_on(&scene, &tracer, call.object, ray)?;
+        for (index, ray) in call.rays.iter().enumerate() {
+            let t = call
+                .hits
+                .get(index)
+                .cloned()
+                .unwrap_or_else(|| Err(format!("no hit sent for ray {index}")))?;
+            let point = tracer.hit_point(call.object, ray, t);
             answers.push((
                 point.surface.point,
                 C::in_shadow(&mut tracer, &point, call.light),
@@ -292,8 +308,13 @@ pub struct ShadeCase {
 }
 
 /// A shading call: the case itself, which holds no expectation (the
-/// reference chapters give it, in the judge).
-pub type ShadeCall = ShadeCase;
+/// reference chapters give it, in the judge), and where its ray meets
+/// object 0 (see [`hit_on`]).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ShadeCall {
+    pub case: ShadeCase,
+    pub hit: Result<f32, String>,
+}
 
 impl Kind for ShadeCase {
     type Call = ShadeCall;
@@ -338,18 +359,21 @@ impl Kind for ShadeCase {
         )
     }
 
-    fn call(&self) -> ShadeCase {
-        self.clone()
+    fn call(&self) -> ShadeCall {
+        ShadeCall {
+            case: self.clone(),
+            hit: scene_of(self).and_then(|scene| hit_on(&scene, 0, &self.ray)),
+        }
     }
 
-    fn ask<C: Chapters>(call: &ShadeCase) -> Result<Vec<Vec3>, String> {
+    fn ask<C: Chapters>(call: &ShadeCall) -> Result<Vec<Vec3>, String> {
         shade::<C>(call)
     }
 
     /// Against the reference chapters on the same point, with the same
     /// tolerance at both levels.
     fn judge(&self, got: Vec<Vec3>, _robust: bool) -> Outcome {
-        let expected = match crate::answer_key::raylab_own(|| shade::<Reference>(self)) {
+        let expected = match crate::answer_key::raylab_own(|| shade::<Reference>(&self.call())) {
             Ok(expected) => expected,
             Err(error) => return Outcome::Error(error),
         };
@@ -550,16 +574,13 @@ impl Kind for PhongTermsCase {
     }
 }
 
-/// The point where `ray` meets object `object`, by the reference tests (the
-/// case's inputs do not depend on the code under check).
-fn point_on<'a, C: Chapters>(
-    scene: &Scene,
-    tracer: &Tracer<'a, C>,
-    object: usize,
-    ray: &Ray,
-) -> Result<HitPoint<'a>, String> {
+/// Where `ray` meets object `object` of `scene`, by raylab's own geometry,
+/// when it meets that object first: the case's inputs do not depend on
+/// the code under check. Worked out by the judge and sent with the call,
+/// so that none of raylab's answers runs in the student's process.
+fn hit_on(scene: &Scene, object: usize, ray: &Ray) -> Result<f32, String> {
     match raylab_own(|| crate::nearest_hit(&scene.shapes, ray, 0.0, f32::INFINITY)) {
-        Some(hit) if hit.object == object => Ok(tracer.hit_point(object, ray, hit.t)),
+        Some(hit) if hit.object == object => Ok(hit.t),
         other => Err(format!(
             "the case's ray {} should meet object {object} first, but meets {other:?}",
             ray_text(ray)
@@ -589,7 +610,8 @@ fn scene_of(case: &ShadeCase) -> Result<Scene, String> {
 
 /// The shading function of `case` at its point, by the chapters `C`: the
 /// colour, or for Phong its diffuse and specular terms.
-fn shade<C: Chapters>(case: &ShadeCase) -> Result<Vec<Vec3>, String> {
+fn shade<C: Chapters>(call: &ShadeCall) -> Result<Vec<Vec3>, String> {
+    let case = &call.case;
     let scene = scene_of(case)?;
     let chapter = if case.vertex_normals.is_some() {
         10
@@ -599,7 +621,7 @@ fn shade<C: Chapters>(case: &ShadeCase) -> Result<Vec<Vec3>, String> {
     let stage =
         Stage::<C>::with_chapters(&scene, chapter, scene.render).map_err(|e| e.to_string())?;
     let mut tracer = stage.tracer(None);
-    let point = point_on(&scene, &tracer, 0, &case.ray)?;
+    let point = tracer.hit_point(0, &case.ray, call.hit.clone()?);
     let depth = case.depth;
     Ok(match case.shading {
         Shading::Flat => vec![C::shade_flat(&mut tracer, &point)],

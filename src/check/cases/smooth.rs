@@ -209,8 +209,26 @@ pub struct SmoothHitCase {
     pub transparency: f32,
 }
 
+/// A `smooth_hit_point` call: the case, and where its ray meets the
+/// triangle by the reference test, worked out by the judge (none of
+/// raylab's answers runs in the student's process).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct SmoothHitCall {
+    pub case: SmoothHitCase,
+    pub t: Option<f32>,
+}
+
+impl SmoothHitCase {
+    /// Where the case's ray meets its triangle, by the reference test.
+    fn reference_t(&self) -> Option<f32> {
+        let [a, b, c] = self.corners;
+        let shape = Shape::Triangle(Triangle::new(a, b, c));
+        crate::answer_key::raylab_own(|| shape.intersect(&self.ray, 0.0, f32::INFINITY))
+    }
+}
+
 impl Kind for SmoothHitCase {
-    type Call = SmoothHitCase;
+    type Call = SmoothHitCall;
     /// The point as given (where the reference test found it), and the
     /// student's normal and point.
     type Answer = (Vec3, Vec3, Vec3);
@@ -239,24 +257,26 @@ impl Kind for SmoothHitCase {
         )
     }
 
-    fn call(&self) -> SmoothHitCase {
-        self.clone()
+    fn call(&self) -> SmoothHitCall {
+        SmoothHitCall {
+            case: self.clone(),
+            t: self.reference_t(),
+        }
     }
 
-    fn ask<C: Chapters>(call: &SmoothHitCase) -> Result<(Vec3, Vec3, Vec3), String> {
+    fn ask<C: Chapters>(call: &SmoothHitCall) -> Result<(Vec3, Vec3, Vec3), String> {
         let SmoothHitCase {
             corners,
             normals,
             ray,
             transparency,
-        } = call;
+        } = &call.case;
         let [a, b, c] = *corners;
         let triangle = Triangle::new(a, b, c);
         let shape = Shape::Triangle(triangle);
         // The point comes from the reference test: the case's input
         // does not depend on the code under check.
-        let Some(t) = crate::answer_key::raylab_own(|| shape.intersect(ray, 0.0, f32::INFINITY))
-        else {
+        let Some(t) = call.t else {
             return Err(format!(
                 "the case's ray {} misses its triangle",
                 ray_text(ray)
@@ -282,7 +302,8 @@ impl Kind for SmoothHitCase {
         // The point where the ray meets the triangle, as the reference
         // test finds it: the student's process must have been given it.
         let shape = Shape::Triangle(Triangle::new(corners[0], corners[1], corners[2]));
-        let given = crate::answer_key::raylab_own(|| shape.intersect(ray, 0.0, f32::INFINITY))
+        let given = self
+            .reference_t()
             .map(|t| shape.surface_point(ray, t).point);
         if given != Some(at) {
             return Outcome::Fail {

@@ -34,38 +34,27 @@ pub(super) fn edge_rays(bounds: &Aabb, rays: u32, seed: u64) -> impl Iterator<It
 
 /// `hit_box` on the rays of [`edge_rays`] (`hit_boxes` when
 /// `four_at_once`, the box in lane `i % 4` for ray `i`, the other lanes
-/// empty): the first ray the exact slab test says meets the box and the
-/// chapters refuse.
+/// empty): whether the chapters say each ray enters the box. Which of
+/// them should is the judge's to work out.
 pub(super) fn box_edges<C: Chapters>(
     bounds: &Aabb,
     rays: u32,
     seed: u64,
     four_at_once: bool,
-) -> Option<RefusedRay> {
-    for (index, (origin, dir)) in edge_rays(bounds, rays, seed).enumerate() {
-        let (entry, exit) = exact::slab_interval(bounds, origin, dir);
-        // The exact ray meets the box for some t >= 0 (a NaN from a zero
-        // direction component is not counted: no such ray is drawn).
-        if !(exit >= entry.max(0.0)) {
-            continue;
-        }
-        let enters = if four_at_once {
-            let lane = index % crate::bvh::WIDTH;
-            let mut boxes = crate::bvh::Boxes4::EMPTY;
-            boxes.set(lane, *bounds);
-            !C::hit_boxes(&boxes, origin, dir.recip(), 0.0, f32::INFINITY)[lane].is_nan()
-        } else {
-            C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_some()
-        };
-        if !enters {
-            return Some(RefusedRay {
-                index: index as u32,
-                origin,
-                dir,
-            });
-        }
-    }
-    None
+) -> Vec<bool> {
+    edge_rays(bounds, rays, seed)
+        .enumerate()
+        .map(|(index, (origin, dir))| {
+            if four_at_once {
+                let lane = index % crate::bvh::WIDTH;
+                let mut boxes = crate::bvh::Boxes4::EMPTY;
+                boxes.set(lane, *bounds);
+                !C::hit_boxes(&boxes, origin, dir.recip(), 0.0, f32::INFINITY)[lane].is_nan()
+            } else {
+                C::hit_box(bounds, origin, dir.recip(), 0.0, f32::INFINITY).is_some()
+            }
+        })
+        .collect()
 }
 
 /// What is wrong with `bvh` as a tree over objects with boxes `bounds`, if
@@ -344,10 +333,10 @@ fn nodes_problem(bvh: &Bvh, bounds: &[Option<Aabb>]) -> Option<String> {
 }
 
 /// Runs each ray through a tree over `shapes` (`walk`: the chapters `C`'s
-/// walk) and beside it chapter 3's loop over the same objects (the
-/// chapters `C`'s own object tests, so that only the tree is judged, bit
-/// for bit), with the claimed object's own test; when `record`, with
-/// every object test the walk made, in order.
+/// walk) and beside it every object's own test by the chapters `C` (from
+/// which the judge takes chapter 3's nearest, so that only the tree is
+/// judged, bit for bit), with the claimed object's own test; when
+/// `record`, with every object test the walk made, in order.
 pub(super) fn bvh_hits<C: Chapters>(
     shapes: &[Shape],
     rays: &[Ray],
@@ -359,7 +348,13 @@ pub(super) fn bvh_hits<C: Chapters>(
     let objects = Objects::<C>::new(shapes);
     rays.iter()
         .map(|ray| {
-            let by_loop = objects.nearest_hit_by_raylabs_loop(ray, t_min, t_max);
+            let hits = (0..objects.len())
+                .filter_map(|object| {
+                    objects
+                        .intersect(object, ray, t_min, t_max)
+                        .map(|t| (object, t))
+                })
+                .collect();
             let log = std::sync::Mutex::new(Vec::new());
             let walk = if record {
                 walk(&Objects::recording(shapes, &log), ray)
@@ -371,7 +366,7 @@ pub(super) fn bvh_hits<C: Chapters>(
                 .and_then(|hit| objects.intersect(hit.object, ray, t_min, t_max));
             Walked {
                 walk: walk.map(|hit| (hit.object, hit.t)),
-                by_loop: by_loop.map(|hit| (hit.object, hit.t)),
+                hits,
                 own_test,
                 asked: log
                     .into_inner()
@@ -604,9 +599,9 @@ pub(super) fn judge_walks(rays: &[Ray], any: bool, walked: &[Walked]) -> Outcome
         _ => false,
     };
     for (index, (ray, walked)) in rays.iter().zip(walked).enumerate() {
+        let by_loop = walked.by_loop();
         let Walked {
             walk: got,
-            by_loop,
             own_test,
             ..
         } = *walked;

@@ -419,15 +419,18 @@ pub(super) fn student_section_html(h: &mut String, student: &Student) -> Result<
             let _ = writeln!(h, "<p>{}</p>", html_escape(why));
         }
         Outcome::Code(run) => {
-            let exit = run
-                .exit_code
-                .map(|code| format!("exit status {code}"))
-                .unwrap_or_else(|| "no exit status".into());
+            // The build's exit status: the verdict is raylab's, whatever the
+            // student's process exits with.
+            let build = match run.exit_code {
+                Some(0) => "built".to_string(),
+                Some(code) => format!("build failed (exit status {code})"),
+                None => "build stopped".to_string(),
+            };
             let _ = writeln!(
                 h,
-                "<p><code>cargo run --release --offline -- check</code>: {}, {}</p>\n<pre>{}</pre>",
+                "<p>{}; judged by raylab: {}</p>\n<pre>{}</pre>",
+                html_escape(&build),
                 html_escape(run.status.name()),
-                html_escape(&exit),
                 html_escape(&Student::code_summary(run))
             );
             if !run.scenes.is_empty() {
