@@ -39,9 +39,10 @@ pub struct CheckArgs {
     #[arg(long, value_name = "DIR", default_value = "check-failures")]
     pub failures_dir: PathBuf,
     /// Ask the checkpoints with inputs drawn anew from SEED (as `raylab
-    /// grade --code --fresh` does), and each chapter's image from a camera
-    /// moved a little: code that works for the lesson's numbers only
-    /// fails.
+    /// grade --code --fresh` does): code that works for the lesson's
+    /// numbers only fails. Each chapter's image is its built-in scene's,
+    /// as without it (an instructor's hidden scenes, `grade --code
+    /// --scene`, are the images a student cannot have seen).
     #[arg(long, value_name = "SEED")]
     pub fresh: Option<u64>,
     /// The student's binary whose chapters answer (started as `serve`):

@@ -156,7 +156,12 @@ chapters, in `target/release/`: the first compiles raylab (minutes, about
 in seconds, whichever of them runs next. Keep `--release` on `cargo test`:
 plain `cargo test` compiles a second raylab, in debug, in `target/debug/`
 (minutes again, and about 1.5 GB more on disk) for the same verdicts.
-`web` builds the page for the browser, a build of its own.
+`web` builds the page for the browser, a build of its own: the first
+time it fetches Debian's `rustc-web` toolchain (into raylab's folder,
+`.wasm-toolchain/`) and compiles raylab for WebAssembly, which took 14
+minutes and about 850 MB there, and 500 MB more in `target/`, on a loaded
+2-core machine (`time cargo run --release -- web` measures yours); after
+it, an edit rebuilds the page in seconds.
 
 Chapter N's image needs your chapters 1 to N. Where a lesson says
 `raylab render ...`, type `cargo run --release -- render ...` here: the

@@ -255,8 +255,12 @@ fn verdict_summary(text: &str) -> String {
                 .is_some_and(|line| line.starts_with("  not started:"))
         })
         .collect();
+    // The first chapter that failed a case of its own: the later ones
+    // that build on it say only that, and would push its details out.
+    let first_failure = blocks.iter().position(|block| block.contains("\n    got:"));
+    let reserved = first_failure.map_or(0, |at| blocks[at].lines().count() + 1);
     let mut kept = 0;
-    let mut lines = 0;
+    let mut lines = reserved;
     for block in blocks.iter().rev() {
         let block_lines = block.lines().count() + 1;
         if kept >= 2 && lines + block_lines > SUMMARY_LINES {
@@ -265,7 +269,11 @@ fn verdict_summary(text: &str) -> String {
         kept += 1;
         lines += block_lines;
     }
-    blocks[blocks.len() - kept..].join("\n\n")
+    let tail = blocks.len() - kept;
+    match first_failure {
+        Some(at) if at < tail => format!("{}\n\n{}", blocks[at], blocks[tail..].join("\n\n")),
+        _ => blocks[tail..].join("\n\n"),
+    }
 }
 
 impl Student {
@@ -425,6 +433,34 @@ mod tests {
             "{summary}"
         );
         assert!(!summary.contains("still todo!()"), "{summary}");
+        assert_eq!(verdict_summary(&summary), summary);
+    }
+
+    /// The first chapter that failed a case of its own keeps its details
+    /// ahead of the later chapters that only build on it (a Phong bug
+    /// fails chapters 5 to 14, and only chapter 5 says why).
+    #[test]
+    fn the_summary_keeps_the_first_failing_chapters_details() {
+        let mut text = String::from(
+            "chapter 5: Phong - FAIL\n  checkpoints: 3 of 11 pass\n  checkpoint 4 of 11 \
+             failed (phong_terms: spec):\n    call:     phong_terms(...)\n    expected: \
+             specular 0.5\n    got:      specular 0.25\n\n",
+        );
+        for chapter in 6..=14 {
+            text.push_str(&format!("chapter {chapter}: Title - FAIL\n"));
+            for line in 1..=4 {
+                text.push_str(&format!(
+                    "  builds on chapter 5, which is failing ({line})\n"
+                ));
+            }
+            text.push('\n');
+        }
+        text.push_str("chapter  status\n5        FAIL\n");
+        let summary = verdict_summary(&text);
+        assert!(summary.starts_with("chapter 5: Phong - FAIL"), "{summary}");
+        assert!(summary.contains("got:      specular 0.25"), "{summary}");
+        assert!(summary.ends_with("5        FAIL"), "{summary}");
+        assert!(summary.lines().count() <= SUMMARY_LINES + 1, "{summary}");
         assert_eq!(verdict_summary(&summary), summary);
     }
 
