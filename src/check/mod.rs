@@ -312,6 +312,9 @@ pub struct Robustness {
     pub passed: usize,
     pub total: usize,
     pub first_failure: Option<CaseFailure>,
+    /// The other hard cases that failed, by number (from 1) and name:
+    /// a student fixing one at a time sees what is left.
+    pub also_failing: Vec<(usize, &'static str)>,
 }
 
 /// Everything the check found about one chapter.
@@ -535,6 +538,19 @@ fn robustness_text(robustness: &Robustness) -> String {
         if let Some(failure) = &robustness.first_failure {
             out.push_str(&failure_text(failure));
         }
+        if !robustness.also_failing.is_empty() {
+            let names: Vec<String> = robustness
+                .also_failing
+                .iter()
+                .map(|(number, name)| format!("{number} ({name})"))
+                .collect();
+            let _ = writeln!(
+                out,
+                "  also failing: hard case{} {}",
+                if names.len() == 1 { "" } else { "s" },
+                names.join(", ")
+            );
+        }
     }
     out
 }
@@ -740,6 +756,30 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_verdict_names_every_failing_hard_case() {
+        let robustness = Robustness {
+            passed: 25,
+            total: 28,
+            first_failure: None,
+            also_failing: vec![(7, "grazing"), (12, "far-tiny")],
+        };
+        let text = robustness_text(&robustness);
+        assert!(
+            text.contains("also failing: hard cases 7 (grazing), 12 (far-tiny)"),
+            "{text}"
+        );
+        let one = Robustness {
+            also_failing: vec![(7, "grazing")],
+            ..robustness
+        };
+        assert!(
+            robustness_text(&one).contains("also failing: hard case 7 (grazing)\n"),
+            "{}",
+            robustness_text(&one)
+        );
     }
 
     #[test]

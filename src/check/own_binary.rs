@@ -43,8 +43,10 @@ pub enum NoJudge {
     Build { why: String },
 }
 
-/// raylab's own binary, built from this source: found, or built.
-pub fn judge_binary() -> Result<PathBuf, NoJudge> {
+/// raylab's own binary, built from this source: found, or built (after
+/// `building()`, which the command line has say so: the first build takes
+/// minutes).
+pub fn judge_binary(building: &dyn Fn()) -> Result<PathBuf, NoJudge> {
     if let Some(named) = std::env::var_os(JUDGE_VAR).filter(|named| !named.is_empty()) {
         let path = PathBuf::from(named);
         return match source_of(&path) {
@@ -64,6 +66,7 @@ pub fn judge_binary() -> Result<PathBuf, NoJudge> {
             return Ok(candidate);
         }
     }
+    building();
     let built = build()?;
     match source_of(&built) {
         Ok(source) if source == SOURCE => Ok(built),
@@ -100,13 +103,9 @@ fn on_path(name: &str) -> Option<PathBuf> {
 }
 
 /// Builds raylab's binary in its own folder (its own `target/`, unless
-/// the caller's `CARGO_TARGET_DIR` says otherwise), showing cargo's
-/// progress, and returns where cargo put it.
+/// the caller's `CARGO_TARGET_DIR` says otherwise), cargo's progress on
+/// standard error, and returns where cargo put it.
 fn build() -> Result<PathBuf, NoJudge> {
-    eprintln!(
-        "building raylab's own binary, which judges your chapters (once: a few minutes the first \
-         time)..."
-    );
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo"));
     let manifest = Path::new(RAYLAB_DIR).join("Cargo.toml");
     let output = Command::new(cargo)

@@ -122,12 +122,21 @@ fn judge_here<C: crate::Chapters>(args: &CheckArgs) -> Result<i32> {
     Ok(status)
 }
 
+/// What a student sees before raylab's own binary is built for the check.
+#[cfg(feature = "student")]
+pub(super) fn announce_build() {
+    eprintln!(
+        "building raylab's own binary, which judges your chapters and runs raylab's own \
+         commands (once: minutes the first time)"
+    );
+}
+
 /// A student's build holds none of raylab's answers, which judging
 /// needs: raylab's own binary judges, asking this one (see
 /// [`crate::check::own_binary`]). On Unix it takes this process's place.
 #[cfg(feature = "student")]
 fn hand_to_own_binary(args: &CheckArgs) -> Result<i32> {
-    let judge = crate::check::own_binary::judge_binary()?;
+    let judge = crate::check::own_binary::judge_binary(&announce_build)?;
     let this = std::env::current_exe().context("cannot find this program to run the check")?;
     let mut command = std::process::Command::new(&judge);
     command

@@ -118,18 +118,19 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
                 chapter: scene.chapter,
             };
             let image = match asker.ask(&request, &step) {
+                // Reported whatever came of them: in a student's build an
+                // answer of raylab's reports, then panics.
+                Ok(Reply::Answer { used, escaped, .. })
+                    if !used.is_empty() || !escaped.is_empty() =>
+                {
+                    return failed(
+                        "the render ran raylab's own answers instead of the student's".into(),
+                    );
+                }
                 Ok(Reply::Answer {
                     answer: Answered::Rgb { width, height, rgb },
-                    used,
-                    escaped,
-                }) => {
-                    if !used.is_empty() || !escaped.is_empty() {
-                        return failed(
-                            "the render ran raylab's own answers instead of the student's".into(),
-                        );
-                    }
-                    Image { width, height, rgb }
-                }
+                    ..
+                }) => Image { width, height, rgb },
                 // What the student's process says (a panic's message, an
                 // error's text, the names of the answers it ran) is never
                 // shown: code that read the hidden scene could write it
@@ -219,6 +220,9 @@ mod tests {
             let shown = format!("{outcomes:?}");
             assert!(!shown.contains("secret_position"), "{shown}");
             assert!(outcomes.iter().all(|outcome| !outcome.passed), "{shown}");
+            // Answers reported, then a panic (a student's build has no
+            // answer of raylab's to run): named as answers, not as a panic.
+            assert!(shown.contains("raylab's own answers"), "{shown}");
         }
         // An image, but with raylab's answers reported: their names are the
         // student's text too.
