@@ -242,12 +242,41 @@ pub fn read_frame<T: for<'de> Deserialize<'de>>(
             error.into()
         }
     })?;
-    postcard::from_bytes(&bytes).map_err(|error| ProtocolError::Garbled(error.to_string()))
+    // A frame is one message, whole: bytes left after it mean a frame
+    // whose length was not its own (a reply written over another).
+    match postcard::take_from_bytes(&bytes) {
+        Ok((message, [])) => Ok(message),
+        Ok((_, rest)) => Err(ProtocolError::Garbled(format!(
+            "{} bytes after the message in its frame",
+            rest.len()
+        ))),
+        Err(error) => Err(ProtocolError::Garbled(error.to_string())),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A frame whose length covers more than its message is refused, not
+    /// read for the message at its start.
+    #[test]
+    fn a_frame_with_bytes_after_its_message_is_garbled() {
+        let mut one = Vec::new();
+        write_frame(&mut one, &Hello::ours()).unwrap();
+        let body = &one[4..];
+        let mut padded = Vec::new();
+        padded.extend_from_slice(&((body.len() + 3) as u32).to_le_bytes());
+        padded.extend_from_slice(body);
+        padded.extend_from_slice(&[1, 2, 3]);
+        let read: Result<Hello, _> = read_frame(&mut padded.as_slice());
+        assert!(
+            matches!(read, Err(ProtocolError::Garbled(ref why)) if why.contains("3 bytes after")),
+            "{read:?}"
+        );
+        let read: Result<Hello, _> = read_frame(&mut one.as_slice());
+        assert!(read.is_ok(), "{read:?}");
+    }
 
     #[test]
     fn frames_carry_every_f32_exactly_and_refuse_giants() {

@@ -32,7 +32,9 @@ use crate::check::{CheckOptions, CheckReport, Overall, check_all};
 #[derive(Debug, Args)]
 #[command(long_about)]
 pub struct CheckArgs {
-    /// Check only this chapter (and what it builds on); all by default.
+    /// Check only this chapter; all by default. The chapters it builds on
+    /// are run too, and it fails when one of them does ("needs ch. K"):
+    /// `check --chapter K` then shows that one's failure.
     #[arg(long, value_name = "N", value_parser = crate::chapters::parse_chapter)]
     pub chapter: Option<u8>,
     /// Where your image and the heatmap go when a chapter's image fails.

@@ -182,17 +182,28 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
             }
             out.push('\n');
         }
-        (Some(hit), _) => out.push_str(&format!(
-            "{indent}  hits \"{}\" (shape {}) at t = {}, point {}, geometric normal {}, shading \
-             normal {}, albedo {}\n",
-            name(&hit.name),
-            hit.shape,
-            number(hit.t),
-            show(hit.point),
-            show(hit.geometric_normal),
-            show(hit.shading_normal),
-            show(hit.albedo)
-        )),
+        (Some(hit), _) => {
+            out.push_str(&format!(
+                "{indent}  hits \"{}\" (shape {}) at t = {}, point {}, geometric normal {}, \
+                 shading normal {}, albedo {}\n",
+                name(&hit.name),
+                hit.shape,
+                number(hit.t),
+                show(hit.point),
+                show(hit.geometric_normal),
+                show(hit.shading_normal),
+                show(hit.albedo)
+            ));
+            if let Some((along, distance)) = off_surface(&ray.ray, hit.t, hit.point) {
+                out.push_str(&format!(
+                    "{indent}  but the ray at t = {} is at {}, {} from that point on the \
+                     surface: is t right?\n",
+                    number(hit.t),
+                    show(along),
+                    number(distance)
+                ));
+            }
+        }
         (None, _) => out.push_str(&format!("{indent}  misses everything: the background\n")),
     }
     if let (Some(own), Some(sum)) = (ray.contribution, ray.running_sum) {
@@ -219,6 +230,16 @@ fn ray_text(ray: &TracedRay, depth: usize, out: &mut String) {
     }
 }
 
+/// Where `ray` is at `t`, and how far that is from `point`, the point on
+/// the surface that shading uses (raylab puts a hit back onto its
+/// surface), when they are further apart than rounding explains: a `t`
+/// that is not where the ray meets the shape reads as a point on it.
+fn off_surface(ray: &crate::Ray, t: f32, point: Vec3) -> Option<(Vec3, f32)> {
+    let along = ray.at(t);
+    let distance = along.distance(point);
+    (distance > 1e-3 * (1.0 + along.length().max(point.length()))).then_some((along, distance))
+}
+
 fn light_text(light: Option<usize>) -> String {
     match light {
         Some(index) => format!("light {index}"),
@@ -228,7 +249,23 @@ fn light_text(light: Option<usize>) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, off_surface};
+    use crate::{Ray, Vec3};
+
+    /// A `t` whose point is not on the surface is flagged, with where the
+    /// ray really is; rounding is not.
+    #[test]
+    fn a_hit_whose_t_is_off_its_surface_is_flagged() {
+        let up = Ray::new(Vec3::new(0.0, 1.5, 2.25), Vec3::new(0.0, 0.15, 1.0));
+        let t = 9.834386;
+        let on_floor = Vec3::new(up.at(t).x, 0.0, up.at(t).z);
+        let (along, distance) = off_surface(&up, t, on_floor).expect("flagged");
+        assert!((along.y - 2.975158).abs() < 1e-3, "{along}");
+        assert!((distance - along.y).abs() < 1e-4, "{distance}");
+        let down = Ray::new(Vec3::new(0.0, 2.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        let rounded = down.at(2.0) + Vec3::new(0.0, 1e-6, 0.0);
+        assert_eq!(off_surface(&down, 2.0, rounded), None);
+    }
 
     #[test]
     fn numbers_keep_their_digits_without_a_wall_of_zeros() {

@@ -330,6 +330,18 @@ fn a_student_binary_holds_none_of_raylabs_answers() {
             .collect::<Vec<_>>()
             .join("\n")
     );
+    // Nor the reference images a chapter's render is compared with: a
+    // process that held them could send them back as its render.
+    let bytes = std::fs::read(&binary).expect("read the binary");
+    for info in CHAPTERS {
+        let png = info.reference_png;
+        let middle = &png[png.len() / 2..png.len() / 2 + 64];
+        assert!(
+            !bytes.windows(middle.len()).any(|window| window == middle),
+            "chapter {}'s reference image is in a student's binary",
+            info.number
+        );
+    }
 }
 
 /// A workspace's `check` is judged by raylab's own binary of the same
