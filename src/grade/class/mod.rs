@@ -300,6 +300,18 @@ impl Student {
                     run.chapters_passed
                 )
             }
+            // How far a failing student got, beside the word.
+            Outcome::Code(run) if run.status == CodeStatus::Fail && run.scenes.is_empty() => {
+                format!(
+                    "fail: {} of {} pass",
+                    run.chapters_passed,
+                    if run.chapters.is_empty() {
+                        usize::from(LAST_CHAPTER)
+                    } else {
+                        run.chapters.len()
+                    }
+                )
+            }
             Outcome::Code(run) if !run.scenes.is_empty() => format!(
                 "{}; hidden scenes: {} of {} pass",
                 Student::status_with_reason(run),
@@ -462,6 +474,31 @@ mod tests {
         assert!(summary.ends_with("5        FAIL"), "{summary}");
         assert!(summary.lines().count() <= SUMMARY_LINES + 1, "{summary}");
         assert_eq!(verdict_summary(&summary), summary);
+    }
+
+    /// A failing student's verdict says how many chapters pass.
+    #[test]
+    fn a_failing_students_verdict_counts_the_chapters_that_pass() {
+        let run = CodeRun {
+            status: CodeStatus::Fail,
+            exit_code: Some(0),
+            stdout: String::new(),
+            stderr: String::new(),
+            timeout: std::time::Duration::from_secs(600),
+            chapters_passed: 4,
+            scenes: Vec::new(),
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: None,
+            chapters: Vec::new(),
+        };
+        let student = Student {
+            name: "carol".into(),
+            folder: PathBuf::from("carol"),
+            outcome: Outcome::Code(Box::new(run)),
+        };
+        assert_eq!(student.verdict(), format!("fail: 4 of {LAST_CHAPTER} pass"));
     }
 
     /// A build that failed in a build script, which is not counted: its
