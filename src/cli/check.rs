@@ -156,19 +156,7 @@ fn hand_to_own_binary(args: &CheckArgs) -> Result<i32> {
     if args.require_robust {
         command.arg("--require-robust");
     }
-    #[cfg(unix)]
-    {
-        use std::os::unix::process::CommandExt;
-        let error = command.exec();
-        Err(error).with_context(|| format!("cannot run raylab's judge {}", judge.display()))
-    }
-    #[cfg(not(unix))]
-    {
-        let status = command
-            .status()
-            .with_context(|| format!("cannot run raylab's judge {}", judge.display()))?;
-        Ok(status.code().unwrap_or(super::EXIT_ERROR))
-    }
+    super::run_in_place(command)
 }
 
 fn exit_status(report: &CheckReport) -> i32 {

@@ -206,21 +206,29 @@ fn typed_arguments() -> String {
 /// [`crate::check::own_binary`]), in this process's place on Unix.
 #[cfg(feature = "student")]
 fn hand_to_raylab() -> anyhow::Result<i32> {
-    use anyhow::Context;
     let raylab = crate::check::own_binary::judge_binary(&check::announce_build)?;
     let mut command = std::process::Command::new(&raylab);
     command.args(std::env::args_os().skip(1));
+    run_in_place(command)
+}
+
+/// Runs `command`, raylab's own binary, in this process's place on Unix
+/// (elsewhere as a child, whose exit status this one returns).
+#[cfg(feature = "student")]
+fn run_in_place(mut command: std::process::Command) -> anyhow::Result<i32> {
+    use anyhow::Context;
+    let program = command.get_program().to_string_lossy().into_owned();
     #[cfg(unix)]
     {
         use std::os::unix::process::CommandExt;
         let error = command.exec();
-        Err(error).with_context(|| format!("cannot run raylab's own {}", raylab.display()))
+        Err(error).with_context(|| format!("cannot run raylab's own {program}"))
     }
     #[cfg(not(unix))]
     {
         let status = command
             .status()
-            .with_context(|| format!("cannot run raylab's own {}", raylab.display()))?;
+            .with_context(|| format!("cannot run raylab's own {program}"))?;
         Ok(status.code().unwrap_or(EXIT_ERROR))
     }
 }

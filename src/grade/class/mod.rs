@@ -415,6 +415,24 @@ impl Class {
 mod tests {
     use super::*;
 
+    /// A run of `status` that printed `stdout` and `stderr`, nothing else.
+    fn code_run(status: CodeStatus, stdout: &str, stderr: &str) -> CodeRun {
+        CodeRun {
+            status,
+            exit_code: Some(0),
+            stdout: stdout.to_string(),
+            stderr: stderr.to_string(),
+            timeout: std::time::Duration::from_secs(600),
+            chapters_passed: 0,
+            scenes: Vec::new(),
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: None,
+            chapters: Vec::new(),
+        }
+    }
+
     /// A failing chapter's details survive a class of not-started ones:
     /// the table lists those, and their blocks go first.
     #[test]
@@ -480,18 +498,8 @@ mod tests {
     #[test]
     fn a_failing_students_verdict_counts_the_chapters_that_pass() {
         let run = CodeRun {
-            status: CodeStatus::Fail,
-            exit_code: Some(0),
-            stdout: String::new(),
-            stderr: String::new(),
-            timeout: std::time::Duration::from_secs(600),
             chapters_passed: 4,
-            scenes: Vec::new(),
-            fresh: None,
-            sources: Vec::new(),
-            limits: Vec::new(),
-            reason: None,
-            chapters: Vec::new(),
+            ..code_run(CodeStatus::Fail, "", "")
         };
         let student = Student {
             name: "carol".into(),
@@ -508,21 +516,15 @@ mod tests {
     fn a_build_error_shows_its_stderr_beside_a_note_on_stdout() {
         let note = "not counted: the workspace has a build script, build.rs.";
         let run = CodeRun {
-            status: CodeStatus::BuildError,
             exit_code: Some(101),
-            stdout: format!("\n{note}"),
-            stderr: format!(
-                "error: failed to run custom build command for `ann`\n\nCaused by:\n  \
-                 --- stderr\n  the build script says why\n\n{note}"
-            ),
-            timeout: std::time::Duration::from_secs(600),
-            chapters_passed: 0,
-            scenes: Vec::new(),
-            fresh: None,
-            sources: Vec::new(),
-            limits: Vec::new(),
-            reason: None,
-            chapters: Vec::new(),
+            ..code_run(
+                CodeStatus::BuildError,
+                &format!("\n{note}"),
+                &format!(
+                    "error: failed to run custom build command for `ann`\n\nCaused by:\n  \
+                     --- stderr\n  the build script says why\n\n{note}"
+                ),
+            )
         };
         let summary = Student::code_summary(&run);
         assert!(summary.contains("the build script says why"), "{summary}");
