@@ -74,9 +74,9 @@ install_package chromium "the browser tests (grade's reports, the page) are skip
 # interrupted run ends them whole), each with its own log, shown whole when
 # it ends: the browser page's WebAssembly compile (in web/target, a folder
 # of its own) from the start, beside the native build; then, once that
-# build and the lessons are done, the library's unit tests, the
-# command-line tests, the other test binaries with the doc tests, and the
-# browser tests. One after the other they kept the two cores busy only
+# build is done, the command-line tests, the library's unit tests, the
+# other test binaries with the doc tests, and the lessons' build followed
+# by the browser tests. One after the other they kept the two cores busy only
 # about two thirds of the time (the command-line tests wait on workspace
 # builds and sandboxes, the browser tests on the browser, a compile on its
 # slowest crate).
@@ -132,23 +132,33 @@ finish_jobs() {
         [[ ${#running[@]} -eq 0 ]] || sleep 1
     done
 }
+# The lessons are the crate docs: they must build with no broken link, and
+# without raylab's source, the answer key (rustdoc leaves old pages in
+# place, so those of an earlier build go first). Then the page put together
+# with those lessons (RAYLAB_DOCS), and grade's HTML reports and the page
+# tested in headless Chromium against the debug binary (skipped, with a
+# message, where this machine cannot build the page or has no browser).
+# Under the test profile, as the build above: its build scripts and proc
+# macros serve here too, where `dev` compiled about a hundred host crates
+# again (bindgen, syn, serde_derive...).
+lessons_and_browser() {
+    local page_status=$1
+    rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
+    time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree --profile test || return 1
+    bash scripts/check-docs-no-source.sh || return 1
+    if [[ $page_status -eq 0 ]]; then
+        RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
+            || page_status=$?
+    fi
+    RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
+}
+export -f lessons_and_browser
 # Status 3: the page cannot be built here, which the browser tests report
 # as a skip.
 start_job page bash scripts/build-web.sh --wasm-only
 time cargo test --lib --bins --tests --features embree --no-run
-# The lessons are the crate docs: they must build with no broken link, and
-# without raylab's source, the answer key (rustdoc leaves old pages in
-# place, so those of an earlier build go first).
-rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
-time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree
-bash scripts/check-docs-no-source.sh
-# The page put together once its WebAssembly is compiled: that, and the
-# lessons just built (RAYLAB_DOCS).
+# The page's WebAssembly, compiled beside that build.
 finish_jobs
-if [[ $page_status -eq 0 ]]; then
-    RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
-        || page_status=$?
-fi
 # Every integration test binary but cli's, found as cargo finds them.
 shopt -s nullglob
 other_tests=()
@@ -158,14 +168,12 @@ for file in tests/*.rs tests/*/main.rs; do
     name=${name%/main}
     [[ $name == cli ]] || other_tests+=(--test "$name")
 done
-start_job lib cargo test --lib --features embree
+# The command-line tests first: the longest, waiting on workspace builds
+# and sandboxes, while the others fill the cores.
 start_job cli cargo test --test cli --features embree
+start_job lib cargo test --lib --features embree
 start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
-# grade's HTML reports, then the browser page, in headless Chromium against
-# the debug binary built above (skipped, with a message, where this machine
-# cannot build the page or has no browser): mostly waiting on the browser,
-# so beside the other tests.
-start_job browser env RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
+start_job lessons-browser lessons_and_browser "$page_status"
 finish_jobs
 if [[ ${#failed[@]} -gt 0 ]]; then
     echo "test.sh: failed: ${failed[*]} (their logs are above)" >&2

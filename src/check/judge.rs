@@ -21,9 +21,10 @@ use glam::Vec3;
 
 // The judge's interface: whoever drives it names these from here.
 pub use super::asker::{Asker, Ended, Step};
+use super::cases::Draw;
 use super::cases::{Level, Outcome};
 use super::panics::Panic;
-use super::protocol::{Answered, Hello, Reply, Request};
+use super::protocol::{Answered, Hello, Reply, Request, View};
 use super::question::Case;
 use super::remote::{Remote, Spawn};
 use super::{
@@ -371,9 +372,19 @@ fn judge_image(
         function: "the whole stage".into(),
         case: "the chapter's image".into(),
     };
+    let view = match options.fresh.map(|seed| fresh_view(info.number, seed)) {
+        Some(Err(error)) => {
+            verdict.status = Status::Error;
+            verdict.errors.push(error);
+            return;
+        }
+        Some(Ok(view)) => Some(view),
+        None => None,
+    };
     let asked = asker.ask(
         &Request::Image {
             chapter: info.number,
+            view,
         },
         &step,
     );
@@ -424,7 +435,7 @@ fn judge_image(
             return;
         }
     };
-    match compare_image(info, options, &linear) {
+    match compare_image(info, options, view.as_ref(), &linear) {
         Ok(image) => {
             if !image.passed {
                 verdict.status = Status::Fail;
@@ -513,12 +524,24 @@ fn srgb(linear: &[Vec3]) -> Vec<u8> {
         .collect()
 }
 
+/// Chapter `chapter`'s image's camera under `--fresh SEED`: the built-in
+/// scene's, turned about what it looks at ([`Draw::view`]).
+fn fresh_view(chapter: u8, seed: u64) -> Result<View, String> {
+    let camera = crate::builtin::scene(chapter)
+        .map_err(|error| error.to_string())?
+        .camera;
+    let mut draw = Draw::for_case(seed, &format!("chapter {chapter}'s image"));
+    Ok(draw.view(camera.position, camera.look_at, camera.up))
+}
+
 /// Compares the student's `linear` image with the reference (or, for a
 /// sampled stage, judges it within the noise of the converged one), and
-/// writes the failure images.
+/// writes the failure images. Seen from `view` (`--fresh`), the reference
+/// is raylab's own render of that view, not the shipped image.
 fn compare_image(
     info: &ChapterInfo,
     options: &CheckOptions,
+    view: Option<&View>,
     linear: &[Vec3],
 ) -> Result<ImageCheck, String> {
     if linear.len() != (REFERENCE_WIDTH * REFERENCE_HEIGHT) as usize {
@@ -527,7 +550,7 @@ fn compare_image(
             linear.len()
         ));
     }
-    let scene = crate::builtin::scene(info.number).map_err(|error| error.to_string())?;
+    let scene = super::serve::viewed_scene(info.number, view)?;
     let settings = super::serve::image_settings(&scene);
     // raylab's own stage of the scene: what it simulates and how many
     // samples it takes depend on the scene and the chapter alone.
@@ -536,7 +559,7 @@ fn compare_image(
     })
     .map_err(|error| error.to_string())?;
     let noise = if sampled::is_sampled(&stage, &settings) {
-        let converged = sampled::converged(info, &scene, settings)?;
+        let converged = sampled::converged(info, view, &scene, settings)?;
         if stage.effects.path_tracing {
             let side = sampled::PATH_BLOCK;
             let blocks = sampled::block_means(linear, REFERENCE_WIDTH, side);
@@ -558,8 +581,17 @@ fn compare_image(
         height: REFERENCE_HEIGHT,
         rgb: srgb(linear),
     };
-    let reference = Image::decode_png(info.reference_png)
-        .map_err(|error| format!("the shipped reference image: {error:#}"))?;
+    let reference = match view {
+        None => Image::decode_png(info.reference_png)
+            .map_err(|error| format!("the shipped reference image: {error:#}"))?,
+        Some(view) => Image {
+            width: REFERENCE_WIDTH,
+            height: REFERENCE_HEIGHT,
+            rgb: srgb(&crate::answer_key::raylab_own(|| {
+                super::serve::image::<crate::Reference>(info.number, Some(view))
+            })?),
+        },
+    };
     let comparison = compare(
         &student,
         &reference,
@@ -590,6 +622,7 @@ fn compare_image(
         noise,
         passed,
         written,
+        view: view.copied(),
     })
 }
 
@@ -1055,6 +1088,71 @@ mod tests {
                     case.name
                 );
             }
+        }
+    }
+
+    /// A process that answers every checkpoint as raylab does but sends,
+    /// for the image, the shipped reference's pixels instead of a render
+    /// (the references are public): it passes with the lesson's camera and
+    /// fails under `--fresh`, whose camera no image made beforehand saw.
+    #[test]
+    fn a_pasted_reference_image_fails_under_fresh() {
+        struct Pasting;
+        impl Asker for Pasting {
+            fn ask(&mut self, request: &Request, _step: &Step) -> Result<Reply, Ended> {
+                let Request::Image { chapter, .. } = request else {
+                    return Ok(super::super::serve::answer::<Reference>(request));
+                };
+                let info = CHAPTERS
+                    .iter()
+                    .find(|info| info.number == *chapter)
+                    .unwrap();
+                let shipped = Image::decode_png(info.reference_png).unwrap();
+                // Each code's middle, decoded: it encodes back to that code.
+                let linear = |code: u8| {
+                    let encoded = (f32::from(code) / 255.0 + 0.055) / 1.055;
+                    if code < 11 {
+                        f32::from(code) / 255.0 / 12.92
+                    } else {
+                        encoded.powf(2.4)
+                    }
+                };
+                let pixels = shipped
+                    .rgb
+                    .chunks(3)
+                    .map(|rgb| Vec3::new(linear(rgb[0]), linear(rgb[1]), linear(rgb[2])))
+                    .collect();
+                Ok(Reply::Answer {
+                    answer: Answered::Pixels(pixels),
+                    used: Vec::new(),
+                    escaped: Vec::new(),
+                })
+            }
+        }
+        for chapter in [3, 7] {
+            let info = CHAPTERS.iter().find(|info| info.number == chapter).unwrap();
+            let lesson = CheckOptions {
+                write_images: false,
+                ..CheckOptions::default()
+            };
+            let (verdict, _) = own_verdict(info, &lesson, true, &mut Pasting);
+            assert!(verdict.passes(), "{}", verdict.text());
+            let fresh = CheckOptions {
+                fresh: Some(2027),
+                ..lesson
+            };
+            let (verdict, _) = own_verdict(info, &fresh, true, &mut Pasting);
+            assert_eq!(verdict.status, Status::Fail, "{}", verdict.text());
+            assert!(
+                verdict.image.as_ref().is_some_and(|image| !image.passed),
+                "{}",
+                verdict.text()
+            );
+            assert!(verdict.text().contains("--fresh: the scene seen from"));
+            // raylab's own answers, asked the same, pass the moved view.
+            let (verdict, _) =
+                own_verdict(info, &fresh, true, &mut InProcess::<Reference>::default());
+            assert!(verdict.passes(), "{}", verdict.text());
         }
     }
 }

@@ -304,6 +304,9 @@ pub struct ImageCheck {
     pub passed: bool,
     /// The student's image and the heatmap, when written.
     pub written: Vec<PathBuf>,
+    /// The camera it was seen from under `--fresh` (the reference then
+    /// raylab's own render of that view); `None`: the scene's own.
+    pub view: Option<protocol::View>,
 }
 
 /// The robustness level's result.
@@ -447,6 +450,20 @@ impl ChapterVerdict {
 
 /// The image's lines of the verdict.
 fn image_text(image: &ImageCheck) -> String {
+    let mut out = image_comparison_text(image);
+    if let Some(view) = &image.view {
+        let [x, y, z] = view.position;
+        let _ = writeln!(
+            out,
+            "    (--fresh: the scene seen from a camera moved to ({x}, {y}, {z}); the reference \
+             is raylab's own render of that view)"
+        );
+    }
+    out
+}
+
+/// The image's comparison lines.
+fn image_comparison_text(image: &ImageCheck) -> String {
     let mut out = String::new();
     let m = &image.metrics;
     if let Some(noise) = &image.noise {

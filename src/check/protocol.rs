@@ -58,6 +58,26 @@ impl Hello {
     }
 }
 
+/// Where the camera of a chapter's image stands under `--fresh`: drawn
+/// anew for every seed, so that no image rendered beforehand (the
+/// lessons' references are public) can stand for the student's render.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct View {
+    pub position: [f32; 3],
+    pub look_at: [f32; 3],
+}
+
+impl View {
+    /// `camera` moved to this view (its up and field of view kept).
+    pub fn applied_to(&self, camera: &crate::scene::CameraSpec) -> crate::scene::CameraSpec {
+        crate::scene::CameraSpec {
+            position: Vec3::from_array(self.position),
+            look_at: Vec3::from_array(self.look_at),
+            ..*camera
+        }
+    }
+}
+
 /// What the judge asks.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Request {
@@ -67,8 +87,9 @@ pub enum Request {
     Case(Call),
     /// Chapter `chapter`'s built-in scene at the reference size, every
     /// pixel in linear light, as `check` judges it (path-traced samples
-    /// cut to the screen's white).
-    Image { chapter: u8 },
+    /// cut to the screen's white), seen from `view` where given
+    /// (`--fresh`), else from the scene's own camera.
+    Image { chapter: u8, view: Option<View> },
     /// A scene (TOML) rendered at `chapter`'s stage as `raylab render`
     /// renders it: its sRGB pixels.
     Render { scene: String, chapter: u8 },

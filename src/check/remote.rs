@@ -464,7 +464,10 @@ mod tests {
             function: "f".into(),
             case: "c".into(),
         };
-        let ask = Request::Image { chapter: 1 };
+        let ask = Request::Image {
+            chapter: 1,
+            view: None,
+        };
         let Ok(Reply::Answer {
             answer: Answered::Panicked(panic),
             used,

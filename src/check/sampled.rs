@@ -30,6 +30,7 @@ use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
 
+use super::protocol::View;
 use crate::chapters::ChapterInfo;
 use crate::output::linear_to_srgb8;
 use crate::{Chapters, Reference, RenderSettings, Sampling, Scene, Stage};
@@ -169,19 +170,22 @@ pub fn block_means(image: &[Vec3], width: u32, side: u32) -> Vec<Vec3> {
     means
 }
 
-/// The converged reference of chapter `info`'s stage of `scene` at
-/// `settings`' size, computed once per process and chapter: a class
-/// graded in one run shares it.
+/// The converged reference of chapter `info`'s stage of `scene` (its
+/// built-in scene seen from `view`) at `settings`' size, computed once per
+/// process, chapter and view: a class graded in one run shares it.
 pub fn converged(
     info: &ChapterInfo,
+    view: Option<&View>,
     scene: &Scene,
     settings: RenderSettings,
 ) -> Result<Arc<Converged>, String> {
-    static CACHE: Mutex<Vec<(u8, Arc<Converged>)>> = Mutex::new(Vec::new());
+    type Key = (u8, Option<View>);
+    static CACHE: Mutex<Vec<(Key, Arc<Converged>)>> = Mutex::new(Vec::new());
+    let key = (info.number, view.copied());
     if let Some((_, found)) = CACHE
         .lock()
         .ok()
-        .and_then(|cache| cache.iter().find(|(n, _)| *n == info.number).cloned())
+        .and_then(|cache| cache.iter().find(|(k, _)| *k == key).cloned())
     {
         return Ok(found);
     }
@@ -203,7 +207,7 @@ pub fn converged(
     }
     let converged = Arc::new(converged);
     if let Ok(mut cache) = CACHE.lock() {
-        cache.push((info.number, Arc::clone(&converged)));
+        cache.push((key, Arc::clone(&converged)));
     }
     Ok(converged)
 }

@@ -14,7 +14,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::Vec3;
 
 use super::panics::guarded;
-use super::protocol::{Answered, Hello, ProtocolError, Reply, Request, read_frame, write_frame};
+use super::protocol::{
+    Answered, Hello, ProtocolError, Reply, Request, View, read_frame, write_frame,
+};
 use crate::Chapters;
 use crate::chapters::{REFERENCE_HEIGHT, REFERENCE_WIDTH};
 
@@ -77,7 +79,9 @@ fn work_out<C: Chapters>(request: &Request) -> Result<Answered, String> {
     match request {
         Request::Hello(_) => Err("a second hello".into()),
         Request::Case(call) => call.ask::<C>().map(Answered::Case),
-        Request::Image { chapter } => image::<C>(*chapter).map(Answered::Pixels),
+        Request::Image { chapter, view } => {
+            image::<C>(*chapter, view.as_ref()).map(Answered::Pixels)
+        }
         Request::Render { scene, chapter } => {
             let scene =
                 crate::Scene::parse(scene, "the judge's scene").map_err(|e| e.to_string())?;
@@ -95,9 +99,9 @@ fn work_out<C: Chapters>(request: &Request) -> Result<Answered, String> {
 /// Chapter `chapter`'s built-in scene at the reference size, in linear
 /// light, as [`crate::check`] judges it: the same loop as `raylab render`,
 /// on this thread, each pixel the camera's estimate plus what chapter 14's
-/// light paths brought to it.
-pub fn image<C: Chapters>(chapter: u8) -> Result<Vec<Vec3>, String> {
-    let scene = crate::builtin::scene(chapter).map_err(|error| error.to_string())?;
+/// light paths brought to it. Seen from `view` where given.
+pub fn image<C: Chapters>(chapter: u8, view: Option<&View>) -> Result<Vec<Vec3>, String> {
+    let scene = viewed_scene(chapter, view)?;
     let settings = image_settings(&scene);
     let stage = crate::Stage::<C>::with_chapters(&scene, chapter, settings)
         .map_err(|error| error.to_string())?;
@@ -112,6 +116,16 @@ pub fn image<C: Chapters>(chapter: u8) -> Result<Vec<Vec3>, String> {
         }
     }
     Ok(linear)
+}
+
+/// Chapter `chapter`'s built-in scene, its camera moved to `view` where
+/// given.
+pub fn viewed_scene(chapter: u8, view: Option<&View>) -> Result<crate::Scene, String> {
+    let mut scene = crate::builtin::scene(chapter).map_err(|error| error.to_string())?;
+    if let Some(view) = view {
+        scene.camera = view.applied_to(&scene.camera);
+    }
+    Ok(scene)
 }
 
 /// The settings of the chapter image: the scene's, at the reference size.

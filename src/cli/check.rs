@@ -42,9 +42,10 @@ pub struct CheckArgs {
     pub failures_dir: PathBuf,
     /// Ask the checkpoints with inputs drawn anew from SEED (as `raylab
     /// grade --code --fresh` does): code that works for the lesson's
-    /// numbers only fails. Each chapter's image is its built-in scene's,
-    /// as without it (an instructor's hidden scenes, `grade --code
-    /// --scene`, are the images a student cannot have seen).
+    /// numbers only fails. Each chapter's image is then its built-in scene
+    /// seen from a camera turned a few degrees (drawn from SEED), judged
+    /// against raylab's own render of that view: an image made beforehand
+    /// fails.
     #[arg(long, value_name = "SEED")]
     pub fresh: Option<u64>,
     /// The student's binary whose chapters answer (started as `serve`):

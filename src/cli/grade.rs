@@ -53,7 +53,8 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// build, nothing writable and no /proc for the answers, no network, its
 /// own pid namespace, and limits on memory, CPU time and file size.
 /// Without bubblewrap (`bwrap`), --code refuses to run unless --no-sandbox
-/// is given. --fresh SEED draws every parametrised case's inputs anew. Each
+/// is given. --fresh SEED draws every parametrised case's inputs and each
+/// chapter image's camera anew. Each
 /// student is reported as pass, fail, not started, timed out, build error
 /// or error, with the check's summary table. See docs/instructors.md.
 ///

@@ -869,9 +869,25 @@ fn a_fresh_workspace_is_every_chapter_not_started() {
     assert!(!report.text().contains("panicked at"), "{}", report.text());
 }
 
+/// With fresh inputs, and each image seen from a moved camera: the moved
+/// scenes stay ones the lessons' rules judge (the lessons' own images are
+/// the snapshots, pinned in tests/pictures).
 #[test]
 fn the_reference_passes_every_chapter_at_both_levels() {
-    let report = check_all::<Reference>(None, &options());
+    let fresh = CheckOptions {
+        fresh: Some(11),
+        ..options()
+    };
+    let report = check_all::<Reference>(None, &fresh);
+    for verdict in &report.verdicts {
+        let view = verdict.image.as_ref().and_then(|image| image.view);
+        let lesson = raylab::builtin::scene(verdict.chapter).expect("a built-in scene");
+        assert!(
+            view.is_some_and(|view| Vec3::from_array(view.position) != lesson.camera.position),
+            "chapter {}: {view:?}",
+            verdict.chapter
+        );
+    }
     assert_eq!(
         report.overall(),
         raylab::check::Overall::Pass,

@@ -17,6 +17,7 @@
 use glam::{DMat3, DQuat, DVec3, Vec3};
 
 use crate::Ray;
+use crate::check::protocol::View;
 
 /// The generator of one case's fresh inputs.
 #[derive(Debug, Clone)]
@@ -101,6 +102,39 @@ impl Draw {
         let v = axis * most;
         let w = (1.0 - v.length_squared()).sqrt();
         (DQuat::from_xyzw(v.x, v.y, v.z, w) * direction.as_dvec3()).as_vec3()
+    }
+
+    /// A view of the camera at `position` looking at `look_at`: turned
+    /// about `look_at` by 3 to 8 degrees about `up`, either way, then 2 to
+    /// 5 degrees upward (never down into a floor), `look_at` kept. Every
+    /// pixel then sees another point, so no image rendered beforehand
+    /// matches, while the scene stays in frame.
+    pub fn view(&mut self, position: Vec3, look_at: Vec3, up: Vec3) -> View {
+        let centre = look_at.as_dvec3();
+        let up = up.as_dvec3().normalize_or_zero();
+        // A quaternion's vector part is sin(angle / 2) times its axis; the
+        // sines of 1.5, 4, 1 and 2.5 degrees are written out, as `sin` may
+        // round differently on another machine.
+        let turn = |axis: DVec3, sine: f64, offset: DVec3| {
+            let w = (1.0 - sine * sine).sqrt();
+            let v = axis * sine;
+            DQuat::from_xyzw(v.x, v.y, v.z, w) * offset
+        };
+        let side = if self.below(2) == 0 { 1.0 } else { -1.0 };
+        let yaw = self.between(0.026_176_948, 0.069_756_474);
+        let mut offset = turn(up, side * yaw, position.as_dvec3() - centre);
+        let pitch = self.between(0.017_452_406, 0.043_619_387);
+        let across = offset.cross(up).normalize_or_zero();
+        let [one, other] = [pitch, -pitch].map(|sine| turn(across, sine, offset));
+        offset = if one.dot(up) >= other.dot(up) {
+            one
+        } else {
+            other
+        };
+        View {
+            position: (centre + offset).as_vec3().to_array(),
+            look_at: look_at.to_array(),
+        }
     }
 
     /// A shift uniform in the cube of half side `reach`.
