@@ -531,7 +531,12 @@ fn fresh_view(chapter: u8, seed: u64) -> Result<View, String> {
         .map_err(|error| error.to_string())?
         .camera;
     let mut draw = Draw::for_case(seed, &format!("chapter {chapter}'s image"));
-    Ok(draw.view(camera.position, camera.look_at, camera.up))
+    Ok(View {
+        position: draw
+            .view(camera.position, camera.look_at, camera.up)
+            .to_array(),
+        look_at: camera.look_at.to_array(),
+    })
 }
 
 /// Compares the student's `linear` image with the reference (or, for a

@@ -17,7 +17,6 @@
 use glam::{DMat3, DQuat, DVec3, Vec3};
 
 use crate::Ray;
-use crate::check::protocol::View;
 
 /// The generator of one case's fresh inputs.
 #[derive(Debug, Clone)]
@@ -104,12 +103,12 @@ impl Draw {
         (DQuat::from_xyzw(v.x, v.y, v.z, w) * direction.as_dvec3()).as_vec3()
     }
 
-    /// A view of the camera at `position` looking at `look_at`: turned
-    /// about `look_at` by 3 to 8 degrees about `up`, either way, then 2 to
-    /// 5 degrees upward (never down into a floor), `look_at` kept. Every
-    /// pixel then sees another point, so no image rendered beforehand
-    /// matches, while the scene stays in frame.
-    pub fn view(&mut self, position: Vec3, look_at: Vec3, up: Vec3) -> View {
+    /// Where the camera at `position` looking at `look_at` stands once
+    /// turned about `look_at` by 3 to 8 degrees about `up`, either way,
+    /// then 2 to 5 degrees upward (never down into a floor). Every pixel
+    /// then sees another point, so no image rendered beforehand matches,
+    /// while the scene stays in frame.
+    pub fn view(&mut self, position: Vec3, look_at: Vec3, up: Vec3) -> Vec3 {
         let centre = look_at.as_dvec3();
         let up = up.as_dvec3().normalize_or_zero();
         // A quaternion's vector part is sin(angle / 2) times its axis; the
@@ -131,10 +130,7 @@ impl Draw {
         } else {
             other
         };
-        View {
-            position: (centre + offset).as_vec3().to_array(),
-            look_at: look_at.to_array(),
-        }
+        (centre + offset).as_vec3()
     }
 
     /// A shift uniform in the cube of half side `reach`.
