@@ -138,16 +138,17 @@ finish_jobs() {
 # with those lessons (RAYLAB_DOCS), and grade's HTML reports and the page
 # tested in headless Chromium against the debug binary (skipped, with a
 # message, where this machine cannot build the page or has no browser).
-# Under the test profile, as the build above: its build scripts and proc
-# macros serve here too, where `dev` compiled about a hundred host crates
-# again (bindgen, syn, serde_derive...).
+# In a target folder of their own, shared with .ci/run's clippy: in the
+# tests' folder, cargo's lock on it held the command-line tests' workspace
+# builds back while the lessons built.
 lessons_and_browser() {
     local page_status=$1
-    rm -rf "${CARGO_TARGET_DIR:-target}/doc/src/raylab"
-    time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree --profile test || return 1
-    bash scripts/check-docs-no-source.sh || return 1
+    local lint="${CARGO_TARGET_DIR:-target}/lint"
+    rm -rf "$lint/doc/src/raylab"
+    time RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --features embree --target-dir "$lint" || return 1
+    bash scripts/check-docs-no-source.sh "$lint/doc" || return 1
     if [[ $page_status -eq 0 ]]; then
-        RAYLAB_DOCS="$PWD/${CARGO_TARGET_DIR:-target}/doc" bash scripts/build-web.sh --out target/web \
+        RAYLAB_DOCS="$PWD/$lint/doc" bash scripts/build-web.sh --out target/web \
             || page_status=$?
     fi
     RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
@@ -169,8 +170,9 @@ for file in tests/*.rs tests/*/main.rs; do
     [[ $name == cli ]] || other_tests+=(--test "$name")
 done
 # The command-line tests first: the longest, waiting on workspace builds
-# and sandboxes, while the others fill the cores.
-start_job cli cargo test --test cli --features embree
+# and sandboxes, while the others fill the cores. A third test thread goes
+# on with the tests that need no workspace while two wait on their build.
+start_job cli cargo test --test cli --features embree -- --test-threads 3
 start_job lib cargo test --lib --features embree
 start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
 start_job lessons-browser lessons_and_browser "$page_status"
