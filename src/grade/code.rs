@@ -264,7 +264,13 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         // Hidden scenes only for a binary that answered.
         if !job.scenes.is_empty() && !matches!(run.status, CodeStatus::TimedOut | CodeStatus::Error)
         {
-            run.scenes = super::hidden::grade_scenes(job.scenes, &mut remote());
+            // What the process writes while it renders a hidden scene
+            // could tell the scene: it goes to a buffer of its own, never
+            // shown.
+            let mut unshown = Remote::new(Arc::clone(&spawn))
+                .with_deadline(Some(deadline))
+                .with_stderr_buffer(Arc::new(std::sync::Mutex::new(Vec::new())));
+            run.scenes = super::hidden::grade_scenes(job.scenes, &mut unshown);
         }
         let students = remote().stderr();
         if !students.trim().is_empty() {

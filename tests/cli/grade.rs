@@ -1742,16 +1742,22 @@ fn the_grader_judges_real_workspaces_itself() {
     // render may use.
     let scene_text = "background = [0.2, 0.3, 0.4]\n[camera]\nposition = [0, 1, -4]\n\
         look_at = [0, 0.5, 0]\n[render]\nwidth = 40\nheight = 30\n[[lights]]\n\
-        position = [2, 5, -3]\n[[objects]]\nsphere = { center = [0.3, 0.6, 0], radius = 0.6 }\n\
+        position = [2, 5, -3]\n[[objects]]\nsphere = { center = [0.3, 0.6, 0], radius = 0.6171 }\n\
         [[objects]]\nplane = { point = [0, 0, 0], normal = [0, 1, 0] }\n";
     let scenes = tempfile::tempdir().expect("temp dir");
     let scene = scenes.path().join("private.toml");
     std::fs::write(&scene, scene_text).expect("write");
     let scene = scene.to_str().expect("UTF-8 path");
     let hidden = ["--chapter", "1", "--scene", scene, "--scene-chapter", "6"];
-    let (answer, _) = grade_built("student-answer", &hidden);
+    let (answer, printed) = grade_built("student-answer", &hidden);
     let scenes = &answer["student"]["outcome"]["Code"]["scenes"];
     assert_eq!(scenes[0]["passed"], true, "{scenes}");
+    // Its chapter 2 writes each radius it meets on stderr (chapter 1's
+    // check meets none): none of the hidden scene's comes back, in the
+    // result or in what grade printed.
+    for shown in [answer.to_string(), printed] {
+        assert!(!shown.contains("0.6171"), "{shown}");
+    }
     let (cheat, _) = grade_built("student-cheat", &hidden);
     let scenes = &cheat["student"]["outcome"]["Code"]["scenes"];
     assert_eq!(scenes[0]["passed"], false, "{scenes}");
