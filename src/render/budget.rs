@@ -13,6 +13,13 @@
 //! above a budget: [`PIXEL_RAY_BUDGET`] for one pixel (what `trace` and
 //! the page's ray tree cost), [`IMAGE_RAY_BUDGET`] for a whole render.
 //!
+//! A ray that meets implicit surfaces (chapter 12) costs more than one
+//! that meets spheres: it may evaluate each surface's tree up to
+//! `march_steps` times, and a tree's evaluation costs one visit of each of
+//! its nodes. So the budgets are of time, counted in plain rays: a ray
+//! that may make `N` node visits counts as `1 + N /`
+//! [`NODE_VISITS_PER_RAY`] rays ([`RayEstimate::ray_cost`]).
+//!
 //! The bound holds for raylab's chapters: a point sends at most two rays
 //! on (glass), each ray's weight in the pixel is its parent's times the
 //! share of the light it carries, and the shares of one point add up to at
@@ -38,6 +45,18 @@ pub const PIXEL_RAY_BUDGET: f64 = (1u64 << 28) as f64;
 /// samples, 160x120) is 1.9e12.
 pub const IMAGE_RAY_BUDGET: f64 = (1u64 << 41) as f64;
 
+/// Visits of a node of an implicit surface's tree counted as one plain
+/// ray. `cargo bench --bench ray_cost` measures the ratio, renders side by
+/// side: a plain ray took as long as 19 to 30 visits in four runs here
+/// (325 ns a ray, 17 ns a visit, beside another build). 8 is well below,
+/// so that the budget errs on the side of refusing a long march.
+pub const NODE_VISITS_PER_RAY: f64 = 8.0;
+
+/// The evaluations one ray's meeting with one implicit surface makes
+/// beside its march, at most: the bracket's 33, Newton's 17 values and
+/// gradients, a normal's 7, rounded up.
+const EVALUATIONS_BESIDE_THE_MARCH: f64 = 128.0;
+
 /// The most rays a stage's settings allow, worked out before any is cast.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RayEstimate {
@@ -59,6 +78,14 @@ pub struct RayEstimate {
     pub light_paths: f64,
     /// The most rays of the whole image, its light paths included.
     pub image: f64,
+    /// The implicit surfaces the stage marches.
+    pub implicit_surfaces: usize,
+    /// The most node visits one ray may make marching them all (each
+    /// surface's nodes times its `march_steps` and the evaluations beside).
+    pub march_visits: f64,
+    /// The time one ray may take, in plain rays:
+    /// `1 + march_visits / NODE_VISITS_PER_RAY`.
+    pub ray_cost: f64,
 }
 
 /// Settings whose rays could go beyond a budget.
@@ -81,12 +108,14 @@ impl std::fmt::Display for BudgetError {
         match self {
             BudgetError::Pixel(estimate) => write!(
                 f,
-                "up to {:.1e} rays for one pixel, more than the {PIXEL_RAY_BUDGET:.1e} raylab \
-                 casts for one: {} of up to {:.1e} rays each ({}); {}",
-                estimate.per_pixel,
+                "up to {:.1e} rays for one pixel{}, more than the {PIXEL_RAY_BUDGET:.1e} raylab \
+                 casts for one: {} of up to {:.1e} rays each ({}{}); {}",
+                estimate.per_pixel * estimate.ray_cost,
+                estimate.counted_as(),
                 crate::text::count(u64::from(estimate.samples), "sample"),
                 estimate.per_sample,
                 estimate.why(),
+                estimate.marching(),
                 estimate.remedy()
             ),
             BudgetError::Image {
@@ -96,11 +125,13 @@ impl std::fmt::Display for BudgetError {
             } => {
                 write!(
                     f,
-                    "up to {:.1e} rays for the {width}x{height} image, more than the \
-                     {IMAGE_RAY_BUDGET:.1e} raylab casts for one render: {:.1e} a pixel ({})",
-                    estimate.image,
+                    "up to {:.1e} rays for the {width}x{height} image{}, more than the \
+                     {IMAGE_RAY_BUDGET:.1e} raylab casts for one render: {:.1e} a pixel ({}{})",
+                    estimate.image * estimate.ray_cost,
+                    estimate.counted_as(),
                     estimate.per_pixel,
-                    estimate.why()
+                    estimate.why(),
+                    estimate.marching()
                 )?;
                 if estimate.light_paths > 0.0 {
                     write!(f, ", and {:.1e} for the light paths", estimate.light_paths)?;
@@ -109,10 +140,12 @@ impl std::fmt::Display for BudgetError {
             }
             BudgetError::LightPaths(estimate) => write!(
                 f,
-                "up to {:.1e} rays for the light paths, more than the {IMAGE_RAY_BUDGET:.1e} \
-                 raylab casts for one render (chapter 14 traces all of them for any part of the \
-                 image): lower light_paths, max_depth or the resolution",
-                estimate.light_paths
+                "up to {:.1e} rays for the light paths{}, more than the {IMAGE_RAY_BUDGET:.1e} \
+                 raylab casts for one render (the light paths are all traced for any part of \
+                 the image{}): lower light_paths, max_depth or the resolution",
+                estimate.light_paths * estimate.ray_cost,
+                estimate.counted_as(),
+                estimate.marching()
             ),
         }
     }
@@ -137,13 +170,42 @@ impl RayEstimate {
         )
     }
 
+    /// How the rays are counted, where marching makes one cost more.
+    fn counted_as(&self) -> String {
+        if self.ray_cost > 1.0 {
+            " (counted in the time of plain rays)".to_string()
+        } else {
+            String::new()
+        }
+    }
+
+    /// What marching adds to each ray, where it adds anything.
+    fn marching(&self) -> String {
+        if self.implicit_surfaces == 0 {
+            return String::new();
+        }
+        format!(
+            "; and each ray may march {}, up to {:.1e} visits of their trees' nodes, as long as \
+             {:.1e} plain rays",
+            crate::text::count(self.implicit_surfaces as u64, "implicit surface"),
+            self.march_visits,
+            self.ray_cost
+        )
+    }
+
     /// What lowers the estimate.
     fn remedy(&self) -> &'static str {
-        if self.branching > 1 {
-            "raise min_contribution (no bounce then holds more than 1 / min_contribution rays), \
-             or lower max_depth or the samples"
-        } else {
-            "lower max_depth or the samples"
+        match (self.branching > 1, self.implicit_surfaces > 0) {
+            (true, false) => {
+                "raise min_contribution (no bounce then holds more than 1 / min_contribution \
+                 rays), or lower max_depth or the samples"
+            }
+            (true, true) => {
+                "raise min_contribution (no bounce then holds more than 1 / min_contribution \
+                 rays), or lower march_steps, max_depth or the samples"
+            }
+            (false, true) => "lower march_steps, max_depth or the samples",
+            (false, false) => "lower max_depth or the samples",
         }
     }
 }
@@ -180,6 +242,16 @@ impl<C: Chapters> Stage<'_, C> {
         // the camera by one more.
         let light_paths = self.light_path_count() as f64 * f64::from(max_depth + 1) * 2.0;
         let pixels = f64::from(settings.width) * f64::from(settings.height);
+        let mut implicit_surfaces = 0;
+        let mut march_visits = 0.0;
+        for shape in &self.shapes {
+            if let crate::shapes::Shape::Implicit(surface) = shape {
+                implicit_surfaces += 1;
+                let evaluations =
+                    f64::from(surface.march().max_steps) + EVALUATIONS_BESIDE_THE_MARCH;
+                march_visits += surface.nodes() as f64 * evaluations;
+            }
+        }
         RayEstimate {
             samples,
             branching,
@@ -190,6 +262,9 @@ impl<C: Chapters> Stage<'_, C> {
             per_pixel,
             light_paths,
             image: pixels * per_pixel + light_paths,
+            implicit_surfaces,
+            march_visits,
+            ray_cost: 1.0 + march_visits / NODE_VISITS_PER_RAY,
         }
     }
 
@@ -197,10 +272,10 @@ impl<C: Chapters> Stage<'_, C> {
     /// whole for any pixel), could cast more than the budgets allow.
     pub(super) fn check_pixel_budget(&self) -> Result<(), BudgetError> {
         let estimate = self.ray_estimate();
-        if estimate.per_pixel > PIXEL_RAY_BUDGET {
+        if estimate.per_pixel * estimate.ray_cost > PIXEL_RAY_BUDGET {
             return Err(BudgetError::Pixel(estimate));
         }
-        if estimate.light_paths > IMAGE_RAY_BUDGET {
+        if estimate.light_paths * estimate.ray_cost > IMAGE_RAY_BUDGET {
             return Err(BudgetError::LightPaths(estimate));
         }
         Ok(())
@@ -210,7 +285,7 @@ impl<C: Chapters> Stage<'_, C> {
     /// [`IMAGE_RAY_BUDGET`] rays.
     pub fn check_image_budget(&self) -> Result<(), BudgetError> {
         let estimate = self.ray_estimate();
-        if estimate.image > IMAGE_RAY_BUDGET {
+        if estimate.image * estimate.ray_cost > IMAGE_RAY_BUDGET {
             return Err(BudgetError::Image {
                 estimate,
                 width: self.settings.width,
@@ -266,5 +341,61 @@ mod tests {
                 info.number
             );
         }
+    }
+
+    /// Many rough implicit surfaces at the largest step budget: few rays,
+    /// each marching for long. Counted in rays alone, a trace of 256
+    /// samples passed the budget and ran for most of a minute.
+    #[test]
+    fn marching_counts_in_the_budget() {
+        let mut text = String::from(
+            "[camera]\nposition = [0.0, 0.0, -10.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+             [render]\nwidth = 160\nheight = 120\nsamples = 256\nmarch_steps = 100000\n",
+        );
+        for index in 0..250 {
+            text += &format!(
+                "[[objects]]\nimplicit = {{ displace = {{ amplitude = 0.01, frequency = 1e9, \
+                 shape = {{ sphere = {{ center = [{}, 0.0, 0.0], radius = 0.2 }} }} }} }}\n",
+                f64::from(index) * 0.01
+            );
+        }
+        let scene = crate::Scene::parse(&text, "marching").expect("parses");
+        // The first stage that marches: one ray a sample, as nothing in
+        // the scene reflects or is lit.
+        let chapter = (1..=crate::chapters::LAST_CHAPTER)
+            .find(|&chapter| crate::effects::Effects::for_chapter(chapter).implicit)
+            .expect("a chapter marches");
+        let Err(error) = Stage::new(&scene, chapter, scene.render) else {
+            panic!("256 samples of such marches are beyond the pixel budget");
+        };
+        let message = error.to_string();
+        assert!(message.contains("250 implicit surfaces"), "{message}");
+        assert!(message.contains("lower march_steps"), "{message}");
+        // 36 samples: a pixel within the budget, the image beyond it.
+        let fewer = crate::RenderSettings {
+            samples: 36,
+            ..scene.render
+        };
+        let stage = Stage::new(&scene, chapter, fewer).expect("one pixel is within the budget");
+        let estimate = stage.ray_estimate();
+        // Two nodes a tree, and the evaluations beside the march.
+        assert_eq!(estimate.march_visits, 250.0 * 2.0 * (100_000.0 + 128.0));
+        assert_eq!(
+            estimate.ray_cost,
+            1.0 + estimate.march_visits / NODE_VISITS_PER_RAY
+        );
+        let error = stage
+            .check_image_budget()
+            .expect_err("the image is too much");
+        assert!(
+            error
+                .to_string()
+                .contains("counted in the time of plain rays"),
+            "{error}"
+        );
+        // Without marching a ray costs one ray.
+        let plain = crate::builtin::scene(2).expect("a built-in scene");
+        let stage = Stage::new(&plain, 2, plain.render).expect("within budget");
+        assert_eq!(stage.ray_estimate().ray_cost, 1.0);
     }
 }

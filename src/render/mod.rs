@@ -45,7 +45,9 @@ pub use crate::seam::{Arrival, CastRay, RayCounts, RayKind, RayLog};
 pub mod bsdf;
 mod budget;
 
-pub use budget::{BudgetError, IMAGE_RAY_BUDGET, PIXEL_RAY_BUDGET, RayEstimate};
+pub use budget::{
+    BudgetError, IMAGE_RAY_BUDGET, NODE_VISITS_PER_RAY, PIXEL_RAY_BUDGET, RayEstimate,
+};
 
 pub use crate::scene::RayOffset;
 

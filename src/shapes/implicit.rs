@@ -710,6 +710,15 @@ impl Implicit {
         &self.tree
     }
 
+    /// The nodes of its tree: what one evaluation of the function costs.
+    pub fn nodes(&self) -> usize {
+        let mut nodes = 0;
+        // A surface's tree passed this check when it was made, so it
+        // counts every node.
+        let _ = self.tree.check_node(1, &mut nodes);
+        nodes
+    }
+
     pub fn march(&self) -> &March {
         &self.march
     }
