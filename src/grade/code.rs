@@ -289,11 +289,8 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     if let Some(sandboxed) = &sandboxed {
         run.limits = sandboxed.limits_reached();
     }
-    if !run.limits.is_empty() {
-        let reached: Vec<String> = run.limits.iter().map(ToString::to_string).collect();
-        let line = format!("stopped by {}", reached.join("; and by "));
-        let names: Vec<&str> = run.limits.iter().map(LimitReached::name).collect();
-        run.reason = Some(format!("stopped by {}", names.join(" and ")));
+    if let Some((reason, line)) = limits_text(run.status, &run.limits) {
+        run.reason = Some(reason);
         run.stdout = format!("{}\n{line}", run.stdout).trim_start().to_string();
         run.stderr = format!("{}\n{line}", run.stderr);
     }
@@ -660,6 +657,34 @@ pub fn classify(report: &CheckReport) -> CodeStatus {
     }
 }
 
+/// The limits a run reached, as the overview's reason and as the line
+/// its outputs end with. A limit reached by a run that went on to pass
+/// (a thread that could not start, where the code made do with fewer)
+/// did not stop it, and the words say so.
+fn limits_text(status: CodeStatus, limits: &[LimitReached]) -> Option<(String, String)> {
+    if limits.is_empty() {
+        return None;
+    }
+    let names: Vec<&str> = limits.iter().map(LimitReached::name).collect();
+    let details: Vec<String> = limits.iter().map(ToString::to_string).collect();
+    Some(
+        if matches!(status, CodeStatus::Pass | CodeStatus::NotStarted) {
+            (
+                format!("reached {}, and went on", names.join(" and ")),
+                format!(
+                    "reached {}; the run went on without it, and its verdicts stand",
+                    details.join("; and ")
+                ),
+            )
+        } else {
+            (
+                format!("stopped by {}", names.join(" and ")),
+                format!("stopped by {}", details.join("; and by ")),
+            )
+        },
+    )
+}
+
 /// The longest line of cargo's messages kept, and the most kept in all:
 /// a build's messages about its own crates are a few kilobytes.
 const MAX_MESSAGE_BYTES: usize = 1 << 20;
@@ -790,6 +815,31 @@ pub fn last_lines(text: &str, lines: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_limit_reached_stops_only_a_run_that_did_not_pass() {
+        let processes = [LimitReached::Processes { count: 512 }];
+        assert_eq!(limits_text(CodeStatus::Pass, &[]), None);
+        let (reason, line) = limits_text(CodeStatus::Pass, &processes).expect("a limit");
+        assert_eq!(reason, "reached the process limit, and went on");
+        assert!(
+            line.starts_with("reached the process limit: the run had 512"),
+            "{line}"
+        );
+        assert!(line.ends_with("its verdicts stand"), "{line}");
+        for status in [CodeStatus::Fail, CodeStatus::TimedOut, CodeStatus::Error] {
+            let (reason, line) = limits_text(status, &processes).expect("a limit");
+            assert_eq!(reason, "stopped by the process limit");
+            assert!(line.starts_with("stopped by the process limit: "), "{line}");
+        }
+        let both = [
+            LimitReached::Memory { bytes: 1 << 30 },
+            LimitReached::Processes { count: 8 },
+        ];
+        let (reason, line) = limits_text(CodeStatus::Fail, &both).expect("limits");
+        assert_eq!(reason, "stopped by the memory limit and the process limit");
+        assert!(line.contains("; and by the process limit"), "{line}");
+    }
 
     #[test]
     fn runs_are_sorted_by_their_verdicts() {
