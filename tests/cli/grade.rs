@@ -1990,3 +1990,97 @@ fn a_class_gets_a_gradebook_that_canvas_and_moodle_import() {
     );
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
+
+/// Gradescope's `run_autograder` grades each submission under a fresh
+/// seed of its own and with the zip's hidden scenes, and passes its
+/// settings on: run with a `raylab` that writes down its arguments.
+#[cfg(unix)]
+#[test]
+fn the_autograder_passes_its_settings_on() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path().join("autograder");
+    let template = root.join("template/submission/src");
+    std::fs::create_dir_all(&template).expect("mkdir");
+    for file in ["main.rs", "lib.rs"] {
+        std::fs::write(template.join(file), "").expect("write");
+    }
+    std::fs::create_dir_all(root.join("submission/src")).expect("mkdir");
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).expect("mkdir");
+    let said = dir.path().join("arguments");
+    let stub = bin.join("raylab");
+    std::fs::write(
+        &stub,
+        format!("#!/bin/sh\nprintf '%s\\n' \"$@\" > '{}'\n", said.display()),
+    )
+    .expect("write");
+    std::fs::set_permissions(&stub, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    let script =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/gradescope/run_autograder");
+    let run = |settings: &[(&str, &str)]| -> Vec<String> {
+        let mut command = std::process::Command::new("bash");
+        command
+            .arg(&script)
+            .env("AUTOGRADER_ROOT", &root)
+            .env("HOME", dir.path())
+            .env(
+                "PATH",
+                format!(
+                    "{}:{}",
+                    bin.display(),
+                    std::env::var("PATH").unwrap_or_default()
+                ),
+            );
+        for (name, value) in settings {
+            command.env(name, value);
+        }
+        let out = command.output().expect("bash runs");
+        assert!(out.status.success(), "{}", stderr(&out));
+        std::fs::read_to_string(&said)
+            .expect("the stub ran")
+            .lines()
+            .map(str::to_string)
+            .collect()
+    };
+    let after = |args: &[String], flag: &str| -> Option<String> {
+        let at = args.iter().position(|arg| arg == flag)?;
+        args.get(at + 1).cloned()
+    };
+    let first = run(&[]);
+    let second = run(&[]);
+    let seed = after(&first, "--fresh").expect("a fresh seed by default");
+    assert!(seed.parse::<u64>().is_ok(), "{seed}");
+    assert_ne!(
+        Some(seed),
+        after(&second, "--fresh"),
+        "a new seed each submission"
+    );
+    assert_eq!(
+        after(&first, "--scene"),
+        None,
+        "no scenes folder, no --scene"
+    );
+    std::fs::create_dir_all(root.join("source/scenes")).expect("mkdir");
+    let args = run(&[
+        ("RAYLAB_FRESH", "42"),
+        ("RAYLAB_CHAPTER", "5"),
+        ("RAYLAB_TIMEOUT", "77"),
+        ("RAYLAB_SCENE_CHAPTER", "9"),
+    ]);
+    assert_eq!(after(&args, "--fresh").as_deref(), Some("42"));
+    assert_eq!(after(&args, "--chapter").as_deref(), Some("5"));
+    assert_eq!(after(&args, "--timeout").as_deref(), Some("77"));
+    assert_eq!(after(&args, "--scene-chapter").as_deref(), Some("9"));
+    let scenes = root.join("source/scenes").display().to_string();
+    assert_eq!(after(&args, "--scene"), Some(scenes));
+    let args = run(&[
+        ("RAYLAB_FRESH", "off"),
+        ("RAYLAB_SCENES", "/elsewhere/one.toml"),
+    ]);
+    assert!(!args.iter().any(|arg| arg == "--fresh"), "{args:?}");
+    assert_eq!(
+        after(&args, "--scene").as_deref(),
+        Some("/elsewhere/one.toml")
+    );
+}
