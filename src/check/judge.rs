@@ -530,13 +530,23 @@ fn fresh_view(chapter: u8, seed: u64) -> Result<View, String> {
     let camera = crate::builtin::scene(chapter)
         .map_err(|error| error.to_string())?
         .camera;
-    let mut draw = Draw::for_case(seed, &format!("chapter {chapter}'s image"));
-    Ok(View {
+    Ok(turned_view(
+        &camera,
+        seed,
+        &format!("chapter {chapter}'s image"),
+    ))
+}
+
+/// `camera` turned about what it looks at, as `--fresh SEED` turns it,
+/// drawn for the case called `name`.
+pub fn turned_view(camera: &crate::scene::CameraSpec, seed: u64, name: &str) -> View {
+    let mut draw = Draw::for_case(seed, name);
+    View {
         position: draw
             .view(camera.position, camera.look_at, camera.up)
             .to_array(),
         look_at: camera.look_at.to_array(),
-    })
+    }
 }
 
 /// Compares the student's `linear` image with the reference (or, for a

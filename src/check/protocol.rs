@@ -91,8 +91,13 @@ pub enum Request {
     /// (`--fresh`), else from the scene's own camera.
     Image { chapter: u8, view: Option<View> },
     /// A scene (TOML) rendered at `chapter`'s stage as `raylab render`
-    /// renders it: its sRGB pixels.
-    Render { scene: String, chapter: u8 },
+    /// renders it, seen from `view` where given (`--fresh`): its sRGB
+    /// pixels.
+    Render {
+        scene: String,
+        chapter: u8,
+        view: Option<View>,
+    },
 }
 
 /// What the student's process answers.

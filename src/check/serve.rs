@@ -82,9 +82,16 @@ fn work_out<C: Chapters>(request: &Request) -> Result<Answered, String> {
         Request::Image { chapter, view } => {
             image::<C>(*chapter, view.as_ref()).map(Answered::Pixels)
         }
-        Request::Render { scene, chapter } => {
-            let scene =
+        Request::Render {
+            scene,
+            chapter,
+            view,
+        } => {
+            let mut scene =
                 crate::Scene::parse(scene, "the judge's scene").map_err(|e| e.to_string())?;
+            if let Some(view) = view {
+                scene.camera = view.applied_to(&scene.camera);
+            }
             let rendered = crate::render_with::<C>(&scene, *chapter, &scene.render, None)
                 .map_err(|error| error.to_string())?;
             Ok(Answered::Rgb {

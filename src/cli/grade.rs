@@ -331,7 +331,7 @@ fn grade_class(
                 &code_job(
                     args,
                     sandbox.as_ref(),
-                    &crate::grade::hidden::load(&args.scenes, args.scene_chapter)?,
+                    &crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?,
                 ),
                 skip,
                 &mut |student| {
@@ -414,7 +414,7 @@ fn grade_for_gradescope(args: &GradeArgs, results: &Path) -> Result<i32> {
     } else {
         Some(code_sandbox(args, &[results])?)
     };
-    let scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
+    let scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?;
     let run =
         crate::grade::code::run_check(&args.folder, &code_job(args, sandbox.as_ref(), &scenes))?;
     let up_to = args.chapter.unwrap_or(crate::chapters::LAST_CHAPTER);
@@ -458,7 +458,7 @@ fn grade_one_of_class(
         } else {
             Some(code_sandbox(args, &[result])?)
         };
-        scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter)?;
+        scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?;
         crate::grade::class::Job::Code(code_job(args, sandbox.as_ref(), &scenes))
     } else {
         crate::grade::class::Job::Renders(&mut references)

@@ -3,13 +3,23 @@
 //! image is compared with raylab's reference chapters on the same scene.
 //! A copied reference image proves nothing here: the scene is new, and
 //! the image comes from the student's binary, asked by the grader to
-//! render it (in the sandbox), whose answer key is sealed.
+//! render it (in the sandbox), whose answer key is sealed. Under `--fresh`
+//! each scene's camera is turned as the chapters' images are, so that
+//! pixels rendered in advance from a scene learnt in an earlier round do
+//! not pass either.
+//!
+//! What comes back to the student about a hidden scene is one bit: passed
+//! or not. The student's process chooses its answer, so anything the
+//! outcome carried of it (a panic's text, an exit status, an image's
+//! size, where its largest difference lies) is a channel through which
+//! code that read the scene could write it into the report the student
+//! reads.
 
 use std::path::{Path, PathBuf};
 
 use super::GradeError;
 use crate::check::judge::{Asker, Ended, Step};
-use crate::check::protocol::{Answered, Reply, Request};
+use crate::check::protocol::{Answered, Reply, Request, View};
 use crate::diff::{Criteria, Image, Metrics, compare};
 
 /// A hidden scene, loaded and checked, with its reference image.
@@ -18,6 +28,8 @@ pub struct HiddenScene {
     pub name: String,
     pub text: String,
     pub chapter: u8,
+    /// The camera turned under `--fresh`, from which `reference` is seen.
+    pub view: Option<View>,
     pub reference: Image,
 }
 
@@ -33,18 +45,30 @@ pub struct SceneOutcome {
 
 /// The scenes of `paths` (files, or folders whose `*.toml` files are taken
 /// in the order of their names), rendered by raylab's reference chapters
-/// at `chapter`. A scene that names an OBJ file is refused: the render
-/// runs in a sandbox that sees only the scene.
-pub fn load(paths: &[PathBuf], chapter: u8) -> Result<Vec<HiddenScene>, GradeError> {
+/// at `chapter`, each from its camera turned by `fresh` where given. A
+/// scene that names an OBJ file is refused: the render runs in a sandbox
+/// that sees only the scene.
+pub fn load(
+    paths: &[PathBuf],
+    chapter: u8,
+    fresh: Option<u64>,
+) -> Result<Vec<HiddenScene>, GradeError> {
     let mut scenes = Vec::new();
     for (file, name, text) in texts(paths)? {
         let origin = format!("hidden scene {}", file.display());
-        let scene = crate::Scene::parse(&text, &origin)?;
+        let mut scene = crate::Scene::parse(&text, &origin)?;
+        let view = fresh.map(|seed| {
+            crate::check::judge::turned_view(&scene.camera, seed, &format!("hidden scene {name}"))
+        });
+        if let Some(view) = &view {
+            scene.camera = view.applied_to(&scene.camera);
+        }
         let rendered = crate::render(&scene, chapter, &scene.render, None)?;
         scenes.push(HiddenScene {
             name,
             text,
             chapter,
+            view,
             reference: rendered.into(),
         });
     }
@@ -92,8 +116,8 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
     Ok(texts)
 }
 
-/// Why a hidden scene's failure says no more.
-const WITHHELD: &str = "its text is not shown: the scene is hidden";
+/// Why a hidden scene's outcome says no more.
+const WITHHELD: &str = "how is not shown: the scene is hidden";
 
 /// Renders each of `scenes` with the student's chapters, asked through
 /// `asker` (the workspace's binary answering as `serve`), and compares the
@@ -116,6 +140,7 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
             let request = Request::Render {
                 scene: scene.text.clone(),
                 chapter: scene.chapter,
+                view: scene.view,
             };
             let image = match asker.ask(&request, &step) {
                 // Reported whatever came of them: in a student's build an
@@ -131,24 +156,14 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
                     answer: Answered::Rgb { width, height, rgb },
                     ..
                 }) => Image { width, height, rgb },
-                // What the student's process says (a panic's message, an
-                // error's text, the names of the answers it ran) is never
-                // shown: code that read the hidden scene could write it
-                // there, and the report is the student's to read.
-                Ok(Reply::Answer {
-                    answer: Answered::Panicked(_),
-                    ..
-                }) => return failed(format!("the render failed: a panic ({WITHHELD})")),
-                Ok(Reply::Answer {
-                    answer: Answered::Error(_),
-                    ..
-                }) => return failed(format!("the render failed: an error ({WITHHELD})")),
-                Ok(_) => return failed("the render failed: no image came back".into()),
-                Err(Ended::TimedOut) => return failed("timed out".into()),
-                Err(Ended::Died(how)) => {
-                    return failed(format!("the render failed: the process {how}"));
+                // Whatever else the student's process sends or does (a
+                // panic, an error, another answer, an exit of its
+                // choosing, a reply the judge refuses) is one failure,
+                // told apart by nothing it chose.
+                Ok(_) | Err(Ended::Died(_) | Ended::Refused(_)) => {
+                    return failed(format!("no image came back ({WITHHELD})"));
                 }
-                Err(Ended::Refused(why)) => return failed(format!("the render failed: {why}")),
+                Err(Ended::TimedOut) => return failed("timed out".into()),
             };
             match compare(
                 &image,
@@ -159,13 +174,14 @@ pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneO
                 Ok(comparison) => SceneOutcome {
                     name: scene.name.clone(),
                     passed: comparison.passes(),
-                    metrics: Some(comparison.metrics),
+                    metrics: None,
                     detail: format!(
-                        "compared with raylab's reference chapters on the scene at chapter {}",
+                        "compared with raylab's reference chapters on the scene at chapter {} \
+                         (by how much is not shown: the scene is hidden)",
                         scene.chapter
                     ),
                 },
-                Err(error) => failed(format!("{error:#}")),
+                Err(_) => failed(format!("the image is not the scene's ({WITHHELD})")),
             }
         })
         .collect()
@@ -199,6 +215,7 @@ mod tests {
             name: "hidden.toml".into(),
             text: "[camera]\nsecret_position = [1.5, 2.5, 3.5]\n".into(),
             chapter: 4,
+            view: None,
             reference: Image {
                 width: 1,
                 height: 1,
@@ -237,5 +254,117 @@ mod tests {
         let shown = format!("{ran:?}");
         assert!(!shown.contains("secret_position"), "{shown}");
         assert!(shown.contains("raylab's own answers"), "{shown}");
+    }
+
+    /// Answers every render with a fixed outcome, whatever the scene.
+    struct Fixed(fn() -> Result<Reply, Ended>);
+    impl Asker for Fixed {
+        fn ask(&mut self, _: &Request, _: &Step) -> Result<Reply, Ended> {
+            (self.0)()
+        }
+    }
+
+    fn answered(answer: Answered) -> Result<Reply, Ended> {
+        Ok(Reply::Answer {
+            answer,
+            used: Vec::new(),
+            escaped: Vec::new(),
+        })
+    }
+
+    /// What the student's process chooses (its exit status, its image's
+    /// size, where its image differs) comes back as nothing but a failure:
+    /// each was a way to write a hidden scene's numbers into the report.
+    #[test]
+    fn nothing_the_process_chooses_comes_back_but_pass_or_fail() {
+        let scene = HiddenScene {
+            name: "hidden.toml".into(),
+            text: String::new(),
+            chapter: 4,
+            view: None,
+            reference: Image {
+                width: 2,
+                height: 1,
+                rgb: vec![10; 6],
+            },
+        };
+        let choices: [fn() -> Result<Reply, Ended>; 5] = [
+            || Err(Ended::Died("exited with status 49".into())),
+            || Err(Ended::Refused("a reply of 4949 bytes".into())),
+            || answered(Answered::Error("49".into())),
+            || {
+                answered(Answered::Rgb {
+                    width: 49,
+                    height: 1,
+                    rgb: vec![0; 49 * 3],
+                })
+            },
+            // The second pixel 49 levels off: its place and size chosen.
+            || {
+                answered(Answered::Rgb {
+                    width: 2,
+                    height: 1,
+                    rgb: vec![10, 10, 10, 59, 59, 59],
+                })
+            },
+        ];
+        for choice in choices {
+            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Fixed(choice));
+            let shown = format!("{outcomes:?}");
+            assert!(!shown.contains("49"), "{shown}");
+            assert!(
+                outcomes.iter().all(|o| !o.passed && o.metrics.is_none()),
+                "{shown}"
+            );
+        }
+        let same = grade_scenes(
+            std::slice::from_ref(&scene),
+            &mut Fixed(|| {
+                answered(Answered::Rgb {
+                    width: 2,
+                    height: 1,
+                    rgb: vec![10; 6],
+                })
+            }),
+        );
+        assert!(same[0].passed && same[0].metrics.is_none(), "{same:?}");
+    }
+
+    /// Under `--fresh` a hidden scene is seen from a turned camera: its
+    /// pixels rendered in advance from the scene as written fail.
+    #[test]
+    fn under_fresh_a_hidden_scene_rendered_in_advance_fails() {
+        let folder = tempfile::tempdir().expect("a folder");
+        let file = folder.path().join("hidden.toml");
+        let text = crate::builtin::scene_text(3).expect("chapter 3's scene");
+        let small = text
+            .replace("width = 640", "width = 48")
+            .replace("height = 480", "height = 36");
+        assert_ne!(small, text, "chapter 3's scene sets its size");
+        std::fs::write(&file, small).expect("write");
+        let plain = load(std::slice::from_ref(&file), 3, None).expect("loads");
+        let turned = load(std::slice::from_ref(&file), 3, Some(5)).expect("loads");
+        assert!(plain[0].view.is_none());
+        let view = turned[0].view.expect("a turned view");
+        let again = load(std::slice::from_ref(&file), 3, Some(5)).expect("loads");
+        assert_eq!(again[0].view.map(|v| v.position), Some(view.position));
+        struct Replay(Image);
+        impl Asker for Replay {
+            fn ask(&mut self, _: &Request, _: &Step) -> Result<Reply, Ended> {
+                answered(Answered::Rgb {
+                    width: self.0.width,
+                    height: self.0.height,
+                    rgb: self.0.rgb.clone(),
+                })
+            }
+        }
+        let rendered_in_advance = plain[0].reference.clone();
+        let without = grade_scenes(&plain, &mut Replay(rendered_in_advance.clone()));
+        assert!(without[0].passed, "{without:?}");
+        let with = grade_scenes(&turned, &mut Replay(rendered_in_advance));
+        assert!(!with[0].passed, "{with:?}");
+        // The turned view's own render passes.
+        let honest = grade_scenes(&turned, &mut Replay(turned[0].reference.clone()));
+        assert!(honest[0].passed, "{honest:?}");
     }
 }
