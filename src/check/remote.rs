@@ -387,8 +387,18 @@ pub fn process_end(status: std::process::ExitStatus) -> String {
     }
     match status.code() {
         Some(code) => {
+            // A status is the program's to choose: 152 may be bubblewrap
+            // telling of SIGXCPU, or an exit(152) that would pass for it.
             let limit = code.checked_sub(128).map(limit_of).unwrap_or_default();
-            format!("exited with status {code}{limit}")
+            if limit.is_empty() {
+                format!("exited with status {code}")
+            } else {
+                format!(
+                    "exited with status {code}: 128 + {}, as bubblewrap tells of a process \
+                     ended by that signal{limit}, or a program's own exit with that status",
+                    code - 128
+                )
+            }
         }
         None => "ended".to_string(),
     }
@@ -413,6 +423,27 @@ fn limit_of(signal: i32) -> &'static str {
 #[cfg(all(test, unix))]
 mod tests {
     use super::*;
+
+    /// An exit status is the program's to choose: 152 is named as what
+    /// SIGXCPU gives inside the sandbox, and as what a program may exit
+    /// with, not as a limit reached for certain.
+    #[test]
+    fn a_status_that_looks_like_a_limit_is_not_taken_for_one() {
+        use std::os::unix::process::ExitStatusExt;
+        let said = process_end(std::process::ExitStatus::from_raw(152 << 8));
+        assert!(
+            said.starts_with("exited with status 152: 128 + 24"),
+            "{said}"
+        );
+        assert!(said.contains("or a program's own exit"), "{said}");
+        let killed = process_end(std::process::ExitStatus::from_raw(libc::SIGXCPU));
+        assert!(killed.contains("it reached the CPU time limit"), "{killed}");
+        assert!(!killed.contains("own exit"), "{killed}");
+        assert_eq!(
+            process_end(std::process::ExitStatus::from_raw(3 << 8)),
+            "exited with status 3"
+        );
+    }
     use crate::check::panics::Panic;
     use crate::check::protocol::{Answered, write_frame};
 
