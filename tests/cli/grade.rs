@@ -1748,7 +1748,18 @@ fn the_grader_judges_real_workspaces_itself() {
     let scene = scenes.path().join("private.toml");
     std::fs::write(&scene, scene_text).expect("write");
     let scene = scene.to_str().expect("UTF-8 path");
-    let hidden = ["--chapter", "1", "--scene", scene, "--scene-chapter", "6"];
+    // Under --fresh, seen from a turned camera, which the answer key
+    // renders as raylab does.
+    let hidden = [
+        "--chapter",
+        "1",
+        "--scene",
+        scene,
+        "--scene-chapter",
+        "6",
+        "--fresh",
+        "7",
+    ];
     let (answer, printed) = grade_built("student-answer", &hidden);
     let scenes = &answer["student"]["outcome"]["Code"]["scenes"];
     assert_eq!(scenes[0]["passed"], true, "{scenes}");

@@ -291,14 +291,19 @@ fn state_of(tree: &Path, skipped: Option<&str>) -> Option<u64> {
 
 /// What the trees `roots` hold on disk, in bytes: each file and folder
 /// counted once (hard links too), at least [`LEAST_ON_DISK`] each, links
-/// not followed. What cannot be read counts nothing.
+/// not followed. What cannot be read counts nothing, but for a path longer
+/// than the system takes: folders nested past it hide what they hold from
+/// any walk by path, so such a tree counts as more than any limit.
 pub(super) fn on_disk(roots: &[&Path]) -> u64 {
     let mut seen: std::collections::HashSet<(u64, u64)> = std::collections::HashSet::new();
     let mut total = 0u64;
     let mut stack: Vec<PathBuf> = roots.iter().map(|root| root.to_path_buf()).collect();
+    let too_long = |error: &std::io::Error| error.raw_os_error() == Some(libc::ENAMETOOLONG);
     while let Some(path) = stack.pop() {
-        let Ok(meta) = std::fs::symlink_metadata(&path) else {
-            continue;
+        let meta = match std::fs::symlink_metadata(&path) {
+            Ok(meta) => meta,
+            Err(error) if too_long(&error) => return u64::MAX,
+            Err(_) => continue,
         };
         #[cfg(unix)]
         let bytes = {
@@ -315,8 +320,10 @@ pub(super) fn on_disk(roots: &[&Path]) -> u64 {
         };
         total = total.saturating_add(bytes.max(LEAST_ON_DISK));
         if meta.is_dir() {
-            for entry in std::fs::read_dir(&path).into_iter().flatten().flatten() {
-                stack.push(entry.path());
+            match std::fs::read_dir(&path) {
+                Ok(entries) => stack.extend(entries.flatten().map(|entry| entry.path())),
+                Err(error) if too_long(&error) => return u64::MAX,
+                Err(_) => {}
             }
         }
     }
@@ -354,6 +361,38 @@ fn remove_tree(tree: &Path) {
 #[cfg(all(test, unix))]
 mod tests {
     use super::*;
+
+    /// Folders nested past the longest path the system takes, made one
+    /// inside the other by file descriptor, as a build script can: a walk
+    /// by path cannot see what they hold, so the tree counts as over any
+    /// disk limit rather than as nearly empty.
+    #[test]
+    fn a_tree_deeper_than_the_longest_path_counts_as_over_every_limit() {
+        use std::ffi::CString;
+        let root = tempfile::tempdir().expect("a folder");
+        let plain = on_disk(&[root.path()]);
+        assert!(plain < 1 << 20, "{plain}");
+        let name = CString::new("d".repeat(250)).expect("no NUL");
+        let start = CString::new(root.path().as_os_str().as_encoded_bytes()).expect("no NUL");
+        // SAFETY: plain system calls on descriptors this test opened and
+        // closes, with NUL-terminated names.
+        unsafe {
+            let mut folder = libc::open(start.as_ptr(), libc::O_RDONLY | libc::O_DIRECTORY);
+            assert!(folder >= 0);
+            for _ in 0..20 {
+                assert_eq!(libc::mkdirat(folder, name.as_ptr(), 0o755), 0);
+                let inner = libc::openat(folder, name.as_ptr(), libc::O_RDONLY | libc::O_DIRECTORY);
+                libc::close(folder);
+                assert!(inner >= 0);
+                folder = inner;
+            }
+            libc::close(folder);
+        }
+        assert_eq!(on_disk(&[root.path()]), u64::MAX);
+        // The removal works by descriptor, whatever the depth.
+        remove_tree(root.path());
+        assert!(!root.path().exists());
+    }
 
     /// The state of a tree is the same while nothing changes, and not
     /// once a file is rewritten, even to its old size and dated back.
