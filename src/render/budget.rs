@@ -18,7 +18,11 @@
 //! `march_steps` times, and a tree's evaluation costs one visit of each of
 //! its nodes. So the budgets are of time, counted in plain rays: a ray
 //! that may make `N` node visits counts as `1 + N /`
-//! [`NODE_VISITS_PER_RAY`] rays ([`RayEstimate::ray_cost`]).
+//! [`NODE_VISITS_PER_RAY`] rays ([`RayEstimate::ray_cost`]). Before a
+//! stage has its tree of boxes (chapter 11), every ray tests every
+//! primitive: past [`TESTS_IN_A_PLAIN_RAY`] of them, a ray counts as that
+//! many more rays (a million triangles out of view made one pixel of a
+//! thousand lights cost hours).
 //!
 //! The bound holds for raylab's chapters: a point sends at most two rays
 //! on (glass), each ray's weight in the pixel is its parent's times the
@@ -47,10 +51,16 @@ pub const IMAGE_RAY_BUDGET: f64 = (1u64 << 41) as f64;
 
 /// Visits of a node of an implicit surface's tree counted as one plain
 /// ray. `cargo bench --bench ray_cost` measures the ratio, renders side by
-/// side: a plain ray took as long as 19 to 30 visits in four runs here
-/// (325 ns a ray, 17 ns a visit, beside another build). 8 is well below,
-/// so that the budget errs on the side of refusing a long march.
+/// side: a plain ray took as long as 11 to 18 visits in three runs here
+/// (about 400 ns a ray, 28 ns a visit, beside another build). 8 is below
+/// them, so that the budget errs on the side of refusing a long march.
 pub const NODE_VISITS_PER_RAY: f64 = 8.0;
+
+/// Ray-primitive tests that one plain ray's time covers. `cargo bench
+/// --bench ray_cost` measures the ratio beside the one above: a plain ray
+/// took as long as 32 to 50 sphere tests in the same runs (9 ns a test).
+/// 16 is below them, so that the budget errs on the side of refusing.
+pub const TESTS_IN_A_PLAIN_RAY: f64 = 16.0;
 
 /// The evaluations one ray's meeting with one implicit surface makes
 /// beside its march, at most: the bracket's 33, Newton's 17 values and
@@ -83,8 +93,12 @@ pub struct RayEstimate {
     /// The most node visits one ray may make marching them all (each
     /// surface's nodes times its `march_steps` and the evaluations beside).
     pub march_visits: f64,
+    /// The primitives each ray tests, where the stage has no tree of
+    /// boxes (0 where it has one).
+    pub tests_per_ray: f64,
     /// The time one ray may take, in plain rays:
-    /// `1 + march_visits / NODE_VISITS_PER_RAY`.
+    /// `max(1, tests_per_ray / TESTS_IN_A_PLAIN_RAY) + march_visits /
+    /// NODE_VISITS_PER_RAY`.
     pub ray_cost: f64,
 }
 
@@ -179,22 +193,35 @@ impl RayEstimate {
         }
     }
 
-    /// What marching adds to each ray, where it adds anything.
+    /// What testing every primitive and marching add to each ray, where
+    /// they add anything.
     fn marching(&self) -> String {
-        if self.implicit_surfaces == 0 {
-            return String::new();
+        let mut text = String::new();
+        if self.tests_per_ray > TESTS_IN_A_PLAIN_RAY {
+            text += &format!(
+                "; and with no tree of boxes each ray tests all {:.0} primitives",
+                self.tests_per_ray
+            );
         }
-        format!(
-            "; and each ray may march {}, up to {:.1e} visits of their trees' nodes, as long as \
-             {:.1e} plain rays",
-            crate::text::count(self.implicit_surfaces as u64, "implicit surface"),
-            self.march_visits,
-            self.ray_cost
-        )
+        if self.implicit_surfaces > 0 {
+            text += &format!(
+                "; and each ray may march {}, up to {:.1e} visits of their trees' nodes",
+                crate::text::count(self.implicit_surfaces as u64, "implicit surface"),
+                self.march_visits
+            );
+        }
+        if !text.is_empty() {
+            text += &format!(": each ray as long as {:.1e} plain rays", self.ray_cost);
+        }
+        text
     }
 
     /// What lowers the estimate.
     fn remedy(&self) -> &'static str {
+        if self.tests_per_ray > TESTS_IN_A_PLAIN_RAY && self.implicit_surfaces == 0 {
+            return "use a chapter with a tree of boxes, fewer objects, or lower max_depth or \
+                    the samples";
+        }
         match (self.branching > 1, self.implicit_surfaces > 0) {
             (true, false) => {
                 "raise min_contribution (no bounce then holds more than 1 / min_contribution \
@@ -252,6 +279,12 @@ impl<C: Chapters> Stage<'_, C> {
                 march_visits += surface.nodes() as f64 * evaluations;
             }
         }
+        let tests_per_ray = if self.bvh.is_some() {
+            0.0
+        } else {
+            self.shapes.len() as f64
+        };
+        let testing = (tests_per_ray / TESTS_IN_A_PLAIN_RAY).max(1.0);
         RayEstimate {
             samples,
             branching,
@@ -264,7 +297,8 @@ impl<C: Chapters> Stage<'_, C> {
             image: pixels * per_pixel + light_paths,
             implicit_surfaces,
             march_visits,
-            ray_cost: 1.0 + march_visits / NODE_VISITS_PER_RAY,
+            tests_per_ray,
+            ray_cost: testing + march_visits / NODE_VISITS_PER_RAY,
         }
     }
 
@@ -396,6 +430,52 @@ mod tests {
         // Without marching a ray costs one ray.
         let plain = crate::builtin::scene(2).expect("a built-in scene");
         let stage = Stage::new(&plain, 2, plain.render).expect("within budget");
+        assert_eq!(stage.ray_estimate().ray_cost, 1.0);
+    }
+
+    /// Before a stage has its tree of boxes every ray tests every
+    /// primitive: thousands of them under a thousand lights made a single
+    /// pixel of 4096 samples cost hours within a budget of rays alone.
+    #[test]
+    fn testing_every_primitive_counts_in_the_budget() {
+        let mut text = String::from(
+            "[camera]\nposition = [0.0, 0.0, -10.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+             [render]\nwidth = 1\nheight = 1\nsamples = 4096\n",
+        );
+        for index in 0..1024 {
+            text += &format!("[[lights]]\nposition = [{}, 50.0, 0.0]\n", f64::from(index));
+        }
+        for index in 0..3200 {
+            text += &format!(
+                "[[objects]]\nsphere = {{ center = [{}, 100.0, 0.0], radius = 0.1 }}\n",
+                f64::from(index)
+            );
+        }
+        let scene = crate::Scene::parse(&text, "primitives").expect("parses");
+        // A stage that samples and casts shadow rays, with no tree yet.
+        let chapter = (1..=crate::chapters::LAST_CHAPTER)
+            .find(|&chapter| {
+                let effects = crate::effects::Effects::for_chapter(chapter);
+                effects.antialiasing && effects.shadows && !effects.bvh
+            })
+            .expect("such a chapter");
+        let Err(error) = Stage::new(&scene, chapter, scene.render) else {
+            panic!("4096 samples of 1025 rays testing 3200 spheres are beyond the budget");
+        };
+        let message = error.to_string();
+        assert!(message.contains("tests all 3200 primitives"), "{message}");
+        assert!(message.contains("a tree of boxes"), "{message}");
+        let one = crate::RenderSettings {
+            samples: 1,
+            ..scene.render
+        };
+        let stage = Stage::new(&scene, chapter, one).expect("one sample is within the budget");
+        assert_eq!(stage.ray_estimate().ray_cost, 3200.0 / TESTS_IN_A_PLAIN_RAY);
+        // With its tree, a stage counts a ray as one.
+        let with_tree = (1..=crate::chapters::LAST_CHAPTER)
+            .find(|&chapter| crate::effects::Effects::for_chapter(chapter).bvh)
+            .expect("a chapter builds a tree");
+        let stage = Stage::new(&scene, with_tree, one).expect("within the budget");
         assert_eq!(stage.ray_estimate().ray_cost, 1.0);
     }
 }

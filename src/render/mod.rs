@@ -47,6 +47,7 @@ mod budget;
 
 pub use budget::{
     BudgetError, IMAGE_RAY_BUDGET, NODE_VISITS_PER_RAY, PIXEL_RAY_BUDGET, RayEstimate,
+    TESTS_IN_A_PLAIN_RAY,
 };
 
 pub use crate::scene::RayOffset;
