@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh clone: installs what the tests need,
-# then runs every test in debug, and the lints. The benchmarks are not
-# built here: their code is type-checked by `cargo clippy --all-targets`
-# (the lints job below), and
+# then runs every test in debug. The benchmarks are not built here: their
+# code is type-checked by `cargo clippy --all-targets` (.ci/run), and
 # building criterion's tree and three more binaries to run each
 # benchmark once, untimed, tested nothing else. That the pixels do
 # not depend on the build is tested by the browser page's tests: every
@@ -76,9 +75,9 @@ install_package chromium "the browser tests (grade's reports, the page) are skip
 # it ends: the browser page's WebAssembly compile (in web/target, a folder
 # of its own) from the start, beside the native build; then, once that
 # build is done, the command-line tests, the library's unit tests, the
-# other test binaries with the doc tests, the lessons' build followed by
-# the browser tests, and the lints. One after the other they kept the two
-# cores busy only about two thirds of the time (the command-line tests wait on workspace
+# other test binaries with the doc tests, and the lessons' build followed
+# by the browser tests. One after the other they kept the two cores busy only
+# about two thirds of the time (the command-line tests wait on workspace
 # builds and sandboxes, the browser tests on the browser, a compile on its
 # slowest crate).
 jobs_dir=$(mktemp -d)
@@ -155,19 +154,6 @@ lessons_and_browser() {
     RAYLAB_PAGE_BUILD_STATUS="$page_status" bash scripts/test-browser.sh target/debug/raylab
 }
 export -f lessons_and_browser
-# The lints, the default build's and the Embree backend's, every target
-# (the benchmarks among them, which nothing else compiles), as errors. In
-# the lessons' target folder, whose dependencies `cargo doc` has checked
-# (cargo's lock on it makes them wait for the lessons' build), while the
-# tests wait on workspace builds, sandboxes and the browser: after the
-# tests, one after the other, they kept a core busy and the other idle for
-# about two minutes.
-lints() {
-    local lint="${CARGO_TARGET_DIR:-target}/lint"
-    time cargo clippy --all-targets --target-dir "$lint" -- -D warnings || return 1
-    time cargo clippy --all-targets --features embree --target-dir "$lint" -- -D warnings
-}
-export -f lints
 # Status 3: the page cannot be built here, which the browser tests report
 # as a skip.
 start_job page bash scripts/build-web.sh --wasm-only
@@ -190,7 +176,6 @@ start_job cli cargo test --test cli --features embree -- --test-threads 3
 start_job lib cargo test --lib --features embree
 start_job others bash -c 'cargo test --doc --features embree && cargo test --bins "$@" --features embree' others "${other_tests[@]}"
 start_job lessons-browser lessons_and_browser "$page_status"
-start_job lints lints
 finish_jobs
 if [[ ${#failed[@]} -gt 0 ]]; then
     echo "test.sh: failed: ${failed[*]} (their logs are above)" >&2
