@@ -129,7 +129,7 @@ impl std::fmt::Display for BudgetError {
                 crate::text::count(u64::from(estimate.samples), "sample"),
                 estimate.per_sample,
                 estimate.why(),
-                estimate.marching(),
+                estimate.ray_work(),
                 estimate.remedy()
             ),
             BudgetError::Image {
@@ -145,7 +145,7 @@ impl std::fmt::Display for BudgetError {
                     estimate.counted_as(),
                     estimate.per_pixel,
                     estimate.why(),
-                    estimate.marching()
+                    estimate.ray_work()
                 )?;
                 if estimate.light_paths > 0.0 {
                     write!(f, ", and {:.1e} for the light paths", estimate.light_paths)?;
@@ -159,7 +159,7 @@ impl std::fmt::Display for BudgetError {
                  the image{}): lower light_paths, max_depth or the resolution",
                 estimate.light_paths * estimate.ray_cost,
                 estimate.counted_as(),
-                estimate.marching()
+                estimate.ray_work()
             ),
         }
     }
@@ -195,7 +195,7 @@ impl RayEstimate {
 
     /// What testing every primitive and marching add to each ray, where
     /// they add anything.
-    fn marching(&self) -> String {
+    fn ray_work(&self) -> String {
         let mut text = String::new();
         if self.tests_per_ray > TESTS_IN_A_PLAIN_RAY {
             text += &format!(
