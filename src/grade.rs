@@ -17,6 +17,7 @@
 //! [`class`] grades a folder of students (one subfolder each), and their
 //! workspaces' `check` with `--code`.
 
+pub mod canonical;
 pub mod class;
 pub mod code;
 pub mod compiled;

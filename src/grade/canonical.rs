@@ -1,0 +1,292 @@
+//! One spelling for Rust code that says the same thing, before it is
+//! fingerprinted ([`crate::grade::similarity`]).
+//!
+//! Fingerprints are runs of tokens, so a copy reworded a token at a time
+//! (`(2.0)` for `2.0`, `let x: _ =` for `let x =`, `Option::Some(` for
+//! `Some(`) breaks every run and shares none. The file is parsed (by
+//! `syn`, the parser Rust's procedural macros use) and each such choice
+//! of spelling is made one way, the same for every file:
+//!
+//! - brackets and blocks around a single expression are dropped (`(e)`,
+//!   `{ e }`);
+//! - a path is its last name, without `<T>::` or turbofish (`Some`, `new`);
+//! - `Type::function(a, b)` is `a.function(b)`;
+//! - a `let` binding or closure argument loses its type and its `mut`;
+//! - a last `return e;` is `e`; `Point { x: x }` is `Point { x }`;
+//! - attributes are dropped (the tokeniser drops comments already).
+//!
+//! The canonical form is never compiled or shown: it only needs to be the
+//! same for two spellings of one program. What it cannot see through is
+//! code that does more, or does it in another order (a no-op statement
+//! every few lines, `b * a` for `a * b`): a rewording that changes the
+//! program's shape is left to the instructor's eye (docs/instructors.md).
+
+use proc_macro2::TokenStream;
+use quote::ToTokens;
+use syn::visit_mut::{self, VisitMut};
+use syn::{Expr, Pat, Stmt};
+
+/// How deep a file's brackets may nest for it to be parsed: `syn`'s
+/// parser and the visitor recurse several frames per level, and a
+/// grading thread's stack is 2 MiB. Course code nests about a dozen deep;
+/// a deeper file is fingerprinted as it is written.
+pub const PARSED_NESTING: usize = 48;
+
+/// The canonical tokens of `stream`, or `stream` itself when it is not a
+/// Rust file `syn` can parse or nests deeper than [`PARSED_NESTING`].
+pub fn canonical(stream: TokenStream) -> TokenStream {
+    if super::similarity::nesting(&stream) > PARSED_NESTING {
+        return stream;
+    }
+    let Ok(mut file) = syn::parse2::<syn::File>(stream.clone()) else {
+        return stream;
+    };
+    file.attrs.clear();
+    OneSpelling.visit_file_mut(&mut file);
+    file.into_token_stream()
+}
+
+struct OneSpelling;
+
+impl VisitMut for OneSpelling {
+    fn visit_expr_mut(&mut self, expr: &mut Expr) {
+        loop {
+            let inner = match expr {
+                Expr::Paren(paren) => (*paren.expr).clone(),
+                Expr::Group(group) => (*group.expr).clone(),
+                Expr::Block(block)
+                    if block.label.is_none()
+                        && block.block.stmts.len() == 1
+                        && matches!(block.block.stmts[0], Stmt::Expr(_, None)) =>
+                {
+                    match &block.block.stmts[0] {
+                        Stmt::Expr(inner, None) => inner.clone(),
+                        _ => break,
+                    }
+                }
+                Expr::Call(call) => match method_form(call) {
+                    Some(method) => method,
+                    None => break,
+                },
+                _ => break,
+            };
+            *expr = inner;
+        }
+        visit_mut::visit_expr_mut(self, expr);
+    }
+
+    fn visit_attributes_mut(&mut self, attributes: &mut Vec<syn::Attribute>) {
+        attributes.clear();
+    }
+
+    fn visit_path_mut(&mut self, path: &mut syn::Path) {
+        if let Some(last) = path.segments.pop() {
+            let mut last = last.into_value();
+            last.arguments = match last.arguments {
+                // A type's arguments are part of what it is (`Option<f32>`);
+                // a turbofish only repeats what inference knows.
+                syn::PathArguments::AngleBracketed(arguments)
+                    if arguments.colon2_token.is_none() =>
+                {
+                    syn::PathArguments::AngleBracketed(arguments)
+                }
+                syn::PathArguments::Parenthesized(arguments) => {
+                    syn::PathArguments::Parenthesized(arguments)
+                }
+                _ => syn::PathArguments::None,
+            };
+            path.segments.clear();
+            path.segments.push(last);
+        }
+        path.leading_colon = None;
+        visit_mut::visit_path_mut(self, path);
+    }
+
+    fn visit_expr_path_mut(&mut self, path: &mut syn::ExprPath) {
+        path.qself = None;
+        visit_mut::visit_expr_path_mut(self, path);
+    }
+
+    fn visit_type_path_mut(&mut self, path: &mut syn::TypePath) {
+        path.qself = None;
+        visit_mut::visit_type_path_mut(self, path);
+    }
+
+    fn visit_pat_struct_mut(&mut self, pattern: &mut syn::PatStruct) {
+        pattern.qself = None;
+        visit_mut::visit_pat_struct_mut(self, pattern);
+    }
+
+    fn visit_pat_tuple_struct_mut(&mut self, pattern: &mut syn::PatTupleStruct) {
+        pattern.qself = None;
+        visit_mut::visit_pat_tuple_struct_mut(self, pattern);
+    }
+
+    fn visit_expr_method_call_mut(&mut self, call: &mut syn::ExprMethodCall) {
+        call.turbofish = None;
+        visit_mut::visit_expr_method_call_mut(self, call);
+    }
+
+    fn visit_local_mut(&mut self, local: &mut syn::Local) {
+        untyped(&mut local.pat);
+        visit_mut::visit_local_mut(self, local);
+    }
+
+    fn visit_expr_closure_mut(&mut self, closure: &mut syn::ExprClosure) {
+        closure.inputs.iter_mut().for_each(untyped);
+        closure.output = syn::ReturnType::Default;
+        visit_mut::visit_expr_closure_mut(self, closure);
+    }
+
+    fn visit_block_mut(&mut self, block: &mut syn::Block) {
+        if let Some(Stmt::Expr(Expr::Return(last), Some(_))) = block.stmts.last() {
+            if let Some(value) = &last.expr {
+                let value = (**value).clone();
+                block.stmts.pop();
+                block.stmts.push(Stmt::Expr(value, None));
+            }
+        }
+        visit_mut::visit_block_mut(self, block);
+    }
+
+    fn visit_field_value_mut(&mut self, field: &mut syn::FieldValue) {
+        visit_mut::visit_field_value_mut(self, field);
+        if let (syn::Member::Named(name), Expr::Path(value)) = (&field.member, &field.expr) {
+            if value.path.is_ident(name) {
+                field.colon_token = None;
+            }
+        }
+    }
+}
+
+/// A pattern of a binding, without its type or `mut`.
+fn untyped(pattern: &mut Pat) {
+    if let Pat::Type(typed) = pattern {
+        *pattern = (*typed.pat).clone();
+    }
+    if let Pat::Ident(binding) = pattern {
+        binding.mutability = None;
+    }
+}
+
+/// `Type::method(first, rest...)` as `first.method(rest...)`, when the
+/// call's function is a path of more than one name, its last in lower
+/// case (a function, not a tuple struct or variant such as
+/// `Option::Some`), and it has arguments.
+fn method_form(call: &syn::ExprCall) -> Option<Expr> {
+    let Expr::Path(function) = &*call.func else {
+        return None;
+    };
+    if function.path.segments.len() < 2 && function.qself.is_none() {
+        return None;
+    }
+    let method = function.path.segments.last()?.ident.clone();
+    if method
+        .to_string()
+        .starts_with(|first: char| first.is_uppercase())
+    {
+        return None;
+    }
+    let mut arguments = call.args.iter().cloned();
+    let receiver = arguments.next()?;
+    Some(Expr::MethodCall(syn::ExprMethodCall {
+        attrs: Vec::new(),
+        receiver: Box::new(receiver),
+        dot_token: Default::default(),
+        method,
+        turbofish: None,
+        paren_token: call.paren_token,
+        args: arguments.collect(),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::str::FromStr;
+
+    fn spelled(source: &str) -> String {
+        canonical(TokenStream::from_str(source).expect("Rust tokens")).to_string()
+    }
+
+    /// Each rewording the tokens alone are fooled by reads as the plain
+    /// spelling.
+    #[test]
+    fn rewordings_of_one_program_read_the_same() {
+        let pairs = [
+            (
+                "fn f() { let x = 2.0 * a; }",
+                "fn f() { let x: _ = (2.0) * (a); }",
+            ),
+            (
+                "fn f() { let x = 1; }",
+                "fn f() { let mut x: f32 = { 1 }; }",
+            ),
+            (
+                "fn f() -> Option<f32> { Some(t) }",
+                "fn f() -> Option<f32> { Option::Some(t) }",
+            ),
+            (
+                "fn f() { Vec3::new(1.0, 2.0, 3.0) }",
+                "fn f() { <Vec3>::new(1.0, 2.0, 3.0) }",
+            ),
+            ("fn f() { a.dot(b) }", "fn f() { glam::Vec3::dot(a, b) }"),
+            (
+                "fn f() { v.iter().collect() }",
+                "fn f() { v.iter().collect::<Vec<_>>() }",
+            ),
+            ("fn f() -> f32 { t }", "fn f() -> f32 { return t; }"),
+            ("fn f() { Hit { t } }", "fn f() { Hit { t: t } }"),
+            (
+                "fn f() { xs.map(|x| x + 1.0) }",
+                "fn f() { xs.map(|x: f32| -> f32 { x + 1.0 }) }",
+            ),
+            ("fn f() { }", "#[inline] #[allow(unused)] fn f() { }"),
+            (
+                "fn f() { match o { Some(x) => x, None => 0 } }",
+                "fn f() { match o { ::std::option::Option::Some(x) => x, Option::None => 0 } }",
+            ),
+        ];
+        for (plain, reworded) in pairs {
+            assert_eq!(spelled(plain), spelled(reworded), "{reworded}");
+        }
+    }
+
+    /// Code that does something else stays different.
+    #[test]
+    fn different_programs_stay_different() {
+        assert_ne!(spelled("fn f() { a + b }"), spelled("fn f() { a - b }"));
+        assert_ne!(
+            spelled("fn f() { a.dot(b) }"),
+            spelled("fn f() { a.cross(b) }")
+        );
+        assert_ne!(
+            spelled("fn f() -> Option<f32> { None }"),
+            spelled("fn f() -> Vec<f32> { None }")
+        );
+    }
+
+    /// A file too deep to parse safely, or not a Rust file, is kept as
+    /// written rather than refused: the tokens still compare.
+    #[test]
+    fn what_cannot_be_parsed_is_kept_as_it_is() {
+        let deep = format!("const _: () = {}{};", "(".repeat(200), ")".repeat(200));
+        let stream = TokenStream::from_str(&deep).expect("Rust tokens");
+        assert_eq!(canonical(stream.clone()).to_string(), stream.to_string());
+        let loose = TokenStream::from_str("let x = 1;").expect("Rust tokens");
+        assert_eq!(canonical(loose.clone()).to_string(), loose.to_string());
+        // Just under the limit, on a thread of the usual 2 MiB.
+        let nested = format!(
+            "fn f() {{ {}1{} }}",
+            "(".repeat(PARSED_NESTING - 2),
+            ")".repeat(PARSED_NESTING - 2)
+        );
+        let spelled = std::thread::Builder::new()
+            .stack_size(2 << 20)
+            .spawn(move || spelled(&nested))
+            .expect("a thread")
+            .join()
+            .expect("no overflow");
+        assert_eq!(spelled, self::spelled("fn f() { 1 }"));
+    }
+}
