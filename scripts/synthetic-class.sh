@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A synthetic class for `raylab grade`, and what grading it costs.
 #
-# Makes CLASS_DIR with STUDENTS folders of 640x480 hand-ins, one of four
+# Makes CLASS_DIR with STUDENTS folders of hand-ins at the lessons' sizes
+# (what `raylab render --chapter N` writes), one of four
 # kinds in turn: every chapter right; every odd chapter wrong (the previous
 # chapter's image handed in for it); chapters 4 on missing; and hostile
 # (the right images, plus a FIFO, a symbolic link out of the folder, a
@@ -38,8 +39,7 @@ renders="$class/../$(basename "$class")-renders"
 rm -rf "$renders"
 mkdir -p "$renders"
 for chapter in $(seq 1 $chapters); do
-    "$raylab" render --chapter "$chapter" --width 640 --height 480 \
-        -o "$renders/chapter-$chapter.png" >/dev/null 2>&1
+    "$raylab" render --chapter "$chapter" -o "$renders/chapter-$chapter.png" >/dev/null 2>&1
 done
 # A 116-byte-header PNG that declares 16384x2441: chapter 1's image with
 # its IHDR size (and CRC) rewritten.

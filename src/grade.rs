@@ -3,13 +3,15 @@
 //!
 //! Students hand in one PNG per chapter named `chapter-N.png` (N a chapter
 //! of the course, lower case, no leading zero), rendered from the chapter's
-//! built-in scene with its default settings, at any size from
-//! [`MIN_SIDE`] a side to [`MAX_HAND_IN_PIXELS`]. Each is compared (see
+//! built-in scene with its default settings, at the lesson's size, at
+//! the size of an `--against` image, or small (at most [`SMALL_PIXELS`],
+//! at least [`MIN_SIDE`] a side): see [`References::graded_size`]. Each
+//! is compared (see
 //! [`crate::diff`]) with a reference of the same size, never one rendered by
 //! code that can be the student's (see [`References`]): an `--against`
 //! folder's `chapter-N.png` of that size if one is given, else the reference
 //! image shipped inside raylab ([`crate::chapters::ChapterInfo::reference_png`],
-//! 160x120), else the built-in scene rendered at the student's size by
+//! 160x120), else the built-in scene rendered at the hand-in's size by
 //! raylab's reference chapters, once they are shown to reproduce the shipped
 //! images bit for bit. Anything else in the folder is listed as ignored,
 //! never fatal.
@@ -147,9 +149,22 @@ pub enum GradeError {
     #[error(
         "too large to grade: {width}x{height} is more than {MAX_HAND_IN_PIXELS} pixels \
          (1920x1080); its reference would be rendered at that size. Hand in the default \
-         640x480 of `raylab render --chapter N`"
+         size of `raylab render --chapter N`"
     )]
     TooLarge { width: u32, height: u32 },
+    #[error(
+        "not graded at {width}x{height}: references are made at the lesson's size, \
+         {}x{} for chapter {chapter} (what `raylab render --chapter {chapter}` writes), at \
+         the size of an --against image, or at up to {SMALL_PIXELS} pixels in all \
+         ({REFERENCE_WIDTH}x{REFERENCE_HEIGHT}); render the chapter again at one of those",
+        lesson.0, lesson.1
+    )]
+    NotAGradedSize {
+        chapter: u8,
+        width: u32,
+        height: u32,
+        lesson: (u32, u32),
+    },
     #[error(transparent)]
     Scene(#[from] crate::SceneError),
     #[error(transparent)]
@@ -361,6 +376,13 @@ pub const MIN_SIDE: u32 = 16;
 /// can declare 16384x2441 pixels, 40 million, and cost minutes for one file.
 pub const MAX_HAND_IN_PIXELS: u64 = 1920 * 1080;
 
+/// The most pixels of a hand-in whose reference is rendered at any size:
+/// the shipped reference's. Beside it only the lesson's size (one render
+/// per chapter for a whole class) and an `--against` image's are graded,
+/// so a class that hands in a different size each costs at most one small
+/// render per hand-in, never one at a size a student chose.
+pub const SMALL_PIXELS: u64 = REFERENCE_WIDTH as u64 * REFERENCE_HEIGHT as u64;
+
 /// The width and height a PNG declares, read from its header alone.
 fn declared_size(bytes: &[u8]) -> Result<(u32, u32), GradeError> {
     let mut header = png::Decoder::new(std::io::Cursor::new(bytes));
@@ -395,6 +417,7 @@ fn grade_chapter<R: Chapters>(
     if width < MIN_SIDE || height < MIN_SIDE {
         return Err(GradeError::TooSmall { width, height });
     }
+    references.graded_size(chapter, width, height)?;
     let student = Image::decode_png(&bytes)?;
     let (reference, reference_source) =
         references.reference(chapter, student.width, student.height)?;
@@ -440,6 +463,9 @@ pub struct References<R: Chapters = crate::Reference> {
     /// The references rendered so far, by chapter and size, most recent
     /// last: a class hands in a few sizes, each rendered once.
     rendered: Vec<RenderedReference>,
+    /// Per chapter asked so far: the lesson's size, and the size of the
+    /// `against` folder's image, if it has a readable one.
+    sizes: Vec<(u8, (u32, u32), Option<(u32, u32)>)>,
     chapters: std::marker::PhantomData<R>,
 }
 
@@ -461,8 +487,48 @@ impl<R: Chapters> References<R> {
             against: against.map(Path::to_path_buf),
             checked: Vec::new(),
             rendered: Vec::new(),
+            sizes: Vec::new(),
             chapters: std::marker::PhantomData,
         }
+    }
+
+    /// Whether a hand-in of chapter `chapter` at `width` x `height` is
+    /// graded: at the lesson's size (its built-in scene's), at the size of
+    /// the `against` folder's image, or at up to [`SMALL_PIXELS`] pixels.
+    /// Any other size would have its reference rendered at a size the
+    /// student chose, as large and as many as a class hands in.
+    pub fn graded_size(&mut self, chapter: u8, width: u32, height: u32) -> Result<(), GradeError> {
+        if u64::from(width) * u64::from(height) <= SMALL_PIXELS {
+            return Ok(());
+        }
+        let (lesson, against) = match self.sizes.iter().find(|(c, _, _)| *c == chapter) {
+            Some((_, lesson, against)) => (*lesson, *against),
+            None => {
+                let scene = crate::builtin::scene(chapter)?;
+                let lesson = (scene.render.width, scene.render.height);
+                let against = self.against.as_ref().and_then(|folder| {
+                    let bytes = crate::input::read_bounded(
+                        &folder.join(format!("chapter-{chapter}.png")),
+                        crate::input::MAX_PNG_FILE_BYTES,
+                        "PNG",
+                        crate::input::Links::Refuse,
+                    )
+                    .ok()?;
+                    declared_size(&bytes).ok()
+                });
+                self.sizes.push((chapter, lesson, against));
+                (lesson, against)
+            }
+        };
+        if (width, height) == lesson || Some((width, height)) == against {
+            return Ok(());
+        }
+        Err(GradeError::NotAGradedSize {
+            chapter,
+            width,
+            height,
+            lesson,
+        })
     }
 
     /// The reference for chapter `chapter` at `width` x `height`, and where

@@ -20,8 +20,9 @@ use crate::grade::code::MAX_TIMEOUT_SECONDS;
 /// a chapter's number as `raylab chapters` lists them, lower case, no
 /// leading zero), each rendered from the
 /// chapter's built-in scene with default settings (`raylab render
-/// --chapter N`, any --width/--height from 16 up to 1920x1080 pixels in
-/// all: a reference is rendered at the hand-in's size). A class: DIR holds one
+/// --chapter N`, at its size, or at a small --width/--height: from 16 a
+/// side up to 160x120 pixels in all, a reference is rendered at the
+/// hand-in's size; an --against image's size is graded too). A class: DIR holds one
 /// folder per student, each like the above (DIR is a class when none of its
 /// entries is named chapter-N.png and one is a folder).
 ///

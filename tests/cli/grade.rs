@@ -260,6 +260,41 @@ fn a_tiny_hand_in_is_not_graded() {
 }
 
 #[test]
+fn a_hand_in_at_a_size_of_its_own_is_not_graded() {
+    // Its reference would be rendered at the size the student chose: a
+    // class handing in a size each would cost a render each. A small size,
+    // the lesson's and an --against image's are graded.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    let odd = render(1, 200, 150, |_| {});
+    save(&class.join("chapter-1.png"), &odd);
+    save(&class.join("chapter-2.png"), &render(2, 150, 120, |_| {}));
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    assert!(
+        md.contains(&format!("1 compared, {} missing, 1 unreadable", LAST - 2)),
+        "{md}"
+    );
+    assert!(
+        md.contains("not graded at 200x150: references are made at the lesson's size, 640x480"),
+        "{md}"
+    );
+    assert!(md.contains("raylab render --chapter 1"), "{md}");
+    // The instructor's own image of that size is the reference.
+    let against = dir.path().join("mine");
+    std::fs::create_dir(&against).expect("mkdir");
+    save(&against.join("chapter-1.png"), &odd);
+    let out = raylab(&["grade", "class", "--against", "mine"], dir.path());
+    let md = stdout(&out);
+    assert!(
+        md.contains(&format!("2 compared, {} missing, 0 unreadable", LAST - 2)),
+        "{md}"
+    );
+}
+
+#[test]
 fn errors_exit_2_and_write_nothing() {
     let dir = tempfile::tempdir().expect("temp dir");
     std::fs::create_dir(dir.path().join("class")).expect("mkdir");
