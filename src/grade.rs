@@ -463,10 +463,18 @@ pub struct References<R: Chapters = crate::Reference> {
     /// The references rendered so far, by chapter and size, most recent
     /// last: a class hands in a few sizes, each rendered once.
     rendered: Vec<RenderedReference>,
-    /// Per chapter asked so far: the lesson's size, and the size of the
-    /// `against` folder's image, if it has a readable one.
-    sizes: Vec<(u8, (u32, u32), Option<(u32, u32)>)>,
+    /// Per chapter asked so far, the sizes its hand-ins are graded at.
+    sizes: Vec<GradedSizes>,
     chapters: std::marker::PhantomData<R>,
+}
+
+/// The sizes above [`SMALL_PIXELS`] a chapter's hand-ins are graded at.
+struct GradedSizes {
+    chapter: u8,
+    /// The built-in scene's.
+    lesson: (u32, u32),
+    /// The `against` folder's image's, if it has a readable one.
+    against: Option<(u32, u32)>,
 }
 
 /// A reference rendered at a hand-in's size, kept for the next hand-in of
@@ -501,8 +509,8 @@ impl<R: Chapters> References<R> {
         if u64::from(width) * u64::from(height) <= SMALL_PIXELS {
             return Ok(());
         }
-        let (lesson, against) = match self.sizes.iter().find(|(c, _, _)| *c == chapter) {
-            Some((_, lesson, against)) => (*lesson, *against),
+        let (lesson, against) = match self.sizes.iter().find(|sizes| sizes.chapter == chapter) {
+            Some(sizes) => (sizes.lesson, sizes.against),
             None => {
                 let scene = crate::builtin::scene(chapter)?;
                 let lesson = (scene.render.width, scene.render.height);
@@ -516,7 +524,11 @@ impl<R: Chapters> References<R> {
                     .ok()?;
                     declared_size(&bytes).ok()
                 });
-                self.sizes.push((chapter, lesson, against));
+                self.sizes.push(GradedSizes {
+                    chapter,
+                    lesson,
+                    against,
+                });
                 (lesson, against)
             }
         };
