@@ -309,27 +309,42 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
     // the code did; but no verdict of such code counts. A build that failed
     // or ran out of time has no verdict to discount, and says so itself.
     if !not_counted.is_empty() {
-        if !matches!(run.status, CodeStatus::BuildError | CodeStatus::TimedOut) {
-            run.status = CodeStatus::Error;
-        }
-        run.chapters_passed = 0;
-        for chapter in &mut run.chapters {
-            chapter.passes = false;
-        }
-        // Last in both outputs: the report keeps their ends, stderr's last.
-        let reason = format!(
-            "not counted: {}. A workspace's code is its own files, laid out as `raylab new` \
-             lays them out, and all of its src/ is compared with other students' and with \
-             raylab's answer key.",
-            not_counted.join("; ")
-        );
-        run.stdout = format!("{}\n{reason}", run.stdout);
-        run.stderr = format!("{}\n{reason}", run.stderr);
-        if run.status == CodeStatus::Error {
-            run.reason = Some(format!("not counted: {}", not_counted.join("; ")));
-        }
+        discount(&mut run, &not_counted);
     }
     Ok(run)
+}
+
+/// Takes back every point of `run`, whose code is not all the student's
+/// (`not_counted` says why): its chapters and its hidden scenes. It ran
+/// all the same (inside the sandbox), so that the report shows what the
+/// code did.
+fn discount(run: &mut CodeRun, not_counted: &[String]) {
+    if !matches!(run.status, CodeStatus::BuildError | CodeStatus::TimedOut) {
+        run.status = CodeStatus::Error;
+    }
+    run.chapters_passed = 0;
+    for chapter in &mut run.chapters {
+        chapter.passes = false;
+    }
+    // A hidden scene rendered by code that is not the student's (a chapter
+    // file that includes raylab's own by `#[path]`) passes as readily.
+    for scene in &mut run.scenes {
+        scene.passed = false;
+        scene.metrics = None;
+        scene.detail = "not counted: the run is not counted (its reason says why)".into();
+    }
+    // Last in both outputs: the report keeps their ends, stderr's last.
+    let reason = format!(
+        "not counted: {}. A workspace's code is its own files, laid out as `raylab new` \
+         lays them out, and all of its src/ is compared with other students' and with \
+         raylab's answer key.",
+        not_counted.join("; ")
+    );
+    run.stdout = format!("{}\n{reason}", run.stdout);
+    run.stderr = format!("{}\n{reason}", run.stderr);
+    if run.status == CodeStatus::Error {
+        run.reason = Some(format!("not counted: {}", not_counted.join("; ")));
+    }
 }
 
 /// The snapshot's `src/` for the similarity report, in the order of the
@@ -839,6 +854,45 @@ mod tests {
         let (reason, line) = limits_text(CodeStatus::Fail, &both).expect("limits");
         assert_eq!(reason, "stopped by the memory limit and the process limit");
         assert!(line.contains("; and by the process limit"), "{line}");
+    }
+
+    /// A run whose code is not all the student's keeps no point: not a
+    /// chapter's, and not a hidden scene's, which code including raylab's
+    /// own chapters by `#[path]` renders as well as the answer key does.
+    #[test]
+    fn a_run_not_counted_keeps_no_point_of_a_hidden_scene() {
+        let mut run = CodeRun {
+            status: CodeStatus::Pass,
+            exit_code: Some(0),
+            stdout: String::new(),
+            stderr: String::new(),
+            timeout: Duration::from_secs(60),
+            chapters_passed: 1,
+            scenes: vec![super::super::hidden::SceneOutcome {
+                name: "secret.toml".into(),
+                passed: true,
+                metrics: None,
+                detail: "passes".into(),
+            }],
+            fresh: None,
+            sources: Vec::new(),
+            limits: Vec::new(),
+            reason: None,
+            chapters: vec![ChapterScore {
+                chapter: 1,
+                passes: true,
+            }],
+        };
+        assert_eq!(crate::grade::lms::gradescope_results(&run, 1).score, 2.0);
+        discount(
+            &mut run,
+            &["src/chapters/ch01_plane.rs includes a file by #[path]".into()],
+        );
+        let results = crate::grade::lms::gradescope_results(&run, 1);
+        assert_eq!(results.score, 0.0);
+        assert!(results.tests[1].output.starts_with("not counted"));
+        assert_eq!(run.status, CodeStatus::Error);
+        assert!(!run.scenes[0].passed);
     }
 
     #[test]
