@@ -55,8 +55,9 @@ pub mod judge;
 pub(crate) mod judge;
 // Only the command line's `serve` calls it, and the page has no command line.
 #[cfg(not(target_arch = "wasm32"))]
-pub(crate) mod no_programs;
+mod decoded_budget;
 #[cfg(not(target_arch = "wasm32"))]
+pub(crate) mod no_programs;
 pub mod own_binary;
 mod panics;
 #[cfg(not(feature = "student"))]

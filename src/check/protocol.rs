@@ -38,6 +38,11 @@ pub const SOURCE: &str = env!("RAYLAB_SOURCE");
 /// largest case's samples a few megabytes.
 pub const MAX_FRAME: usize = 64 << 20;
 
+/// The most memory the elements of a frame's collections may decode to
+/// (see [`super::decoded_budget`]): an image of [`MAX_FRAME`] bytes takes
+/// as much, a frame of empty names would take 24 times as much.
+pub const MAX_DECODED: usize = 2 * MAX_FRAME;
+
 /// Who is speaking: the first message each way.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Hello {
@@ -270,13 +275,25 @@ pub fn read_frame<T: for<'de> Deserialize<'de>>(
     })?;
     // A frame is one message, whole: bytes left after it mean a frame
     // whose length was not its own (a reply written over another).
-    match postcard::take_from_bytes(&bytes) {
-        Ok((message, [])) => Ok(message),
-        Ok((_, rest)) => Err(ProtocolError::Garbled(format!(
+    let budget = super::decoded_budget::Budget::new(MAX_DECODED);
+    let garbled = |error: postcard::Error| {
+        ProtocolError::Garbled(if budget.spent() {
+            format!(
+                "a message that would decode to more memory than the {MAX_DECODED} bytes a reply may take"
+            )
+        } else {
+            error.to_string()
+        })
+    };
+    let mut decoder = postcard::Deserializer::from_bytes(&bytes);
+    let message = T::deserialize(super::decoded_budget::Charged::new(&mut decoder, &budget))
+        .map_err(garbled)?;
+    match decoder.finalize().map_err(garbled)? {
+        [] => Ok(message),
+        rest => Err(ProtocolError::Garbled(format!(
             "{} bytes after the message in its frame",
             rest.len()
         ))),
-        Err(error) => Err(ProtocolError::Garbled(error.to_string())),
     }
 }
 
@@ -302,6 +319,53 @@ mod tests {
         );
         let read: Result<Hello, _> = read_frame(&mut one.as_slice());
         assert!(read.is_ok(), "{read:?}");
+    }
+
+    /// A frame of empty names is a byte a name on the wire and 24 in
+    /// memory: it is refused once its names would decode to more than
+    /// [`MAX_DECODED`], before they are made.
+    #[test]
+    fn a_frame_that_decodes_to_more_memory_than_its_bytes_is_refused() {
+        let frame = |names: usize| {
+            let mut varint = Vec::new();
+            let mut left = names;
+            loop {
+                let byte = (left & 0x7f) as u8;
+                left >>= 7;
+                if left == 0 {
+                    varint.push(byte);
+                    break;
+                }
+                varint.push(byte | 0x80);
+            }
+            // Reply::Answer { answer: Answered::Error(""), used: [""; names], escaped: [] }
+            let mut body = vec![1u8, 4, 0];
+            body.extend(varint);
+            body.resize(body.len() + names, 0);
+            body.push(0);
+            let mut wire = (body.len() as u32).to_le_bytes().to_vec();
+            wire.extend(body);
+            wire
+        };
+        let few: Reply = read_frame(&mut frame(3).as_slice()).expect("three names");
+        assert!(matches!(few, Reply::Answer { ref used, .. } if used.len() == 3));
+        let names = MAX_DECODED / std::mem::size_of::<String>() + 1;
+        assert!(names < MAX_FRAME);
+        let read: Result<Reply, _> = read_frame(&mut frame(names).as_slice());
+        assert!(
+            matches!(read, Err(ProtocolError::Garbled(ref why)) if why.contains("more memory")),
+            "{read:?}"
+        );
+        // An image as large as a frame holds is within the budget.
+        let pixels = Reply::Answer {
+            answer: Answered::Pixels(vec![Vec3::ONE; (MAX_FRAME - 64) / 12]),
+            used: Vec::new(),
+            escaped: Vec::new(),
+        };
+        let mut wire = Vec::new();
+        write_frame(&mut wire, &pixels).expect("fits a frame");
+        let read: Result<Reply, _> = read_frame(&mut wire.as_slice());
+        assert!(read.is_ok(), "{:?}", read.err());
     }
 
     #[test]
