@@ -471,7 +471,7 @@ fn build(
     Ok(Built {
         exit: waited.exit,
         timed_out: waited.timed_out,
-        over_disk: waited.over_disk || sandboxed.is_some_and(Run::over_disk_limit),
+        over_disk: waited.over_disk || sandboxed.is_some_and(|run| run.over_disk_limit(None)),
         stderr,
         binary: built_binary(&stdout, workspace),
         compiled: compiled_crates(&stdout, workspace),
@@ -616,7 +616,7 @@ fn wait_within(child: &mut Child, timeout: Duration, sandboxed: Option<&Run>) ->
             && Instant::now() >= next_measure
         {
             let started = Instant::now();
-            if run.over_disk_limit() {
+            if run.over_disk_limit(Some(child.id())) {
                 kill_group(child);
                 return Waited {
                     exit: child.wait().ok(),

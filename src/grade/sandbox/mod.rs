@@ -32,6 +32,7 @@
 //! each file are resource limits of each process.
 
 mod cgroups;
+mod held;
 mod view;
 mod workdir;
 
@@ -159,8 +160,9 @@ impl std::fmt::Display for LimitReached {
             LimitReached::Disk { bytes } => write!(
                 out,
                 "the disk limit: the run wrote more than {} (its target/, its copy of the \
-                 workspace and its temporary files together); it was stopped, and its \
-                 target/ removed",
+                 workspace, its temporary files and the files it deleted but kept open, \
+                 together), or more than a million files; it was stopped, and its target/ \
+                 removed",
                 bytes_text(*bytes)
             ),
             LimitReached::Processes { count } => write!(
@@ -809,9 +811,18 @@ impl Run {
         }
     }
 
-    /// Whether the run has written more than its disk limit (measured now).
-    pub fn over_disk_limit(&self) -> bool {
-        let written = self.folder.on_disk().saturating_sub(self.baseline);
+    /// Whether the run has written more than its disk limit (measured now):
+    /// in its folder, and, while `root` (the run's first process) runs, in
+    /// files its processes deleted but hold open.
+    pub fn over_disk_limit(&self, root: Option<u32>) -> bool {
+        let held = root.map_or(0, |root| {
+            held::deleted_but_held(&held::processes(&self.cgroups.folders(), Some(root)))
+        });
+        let written = self
+            .folder
+            .on_disk()
+            .saturating_sub(self.baseline)
+            .saturating_add(held);
         if written > self.sandbox.limits.disk_bytes {
             self.over_disk.store(true, Ordering::Relaxed);
         }
@@ -827,7 +838,7 @@ impl Run {
                 bytes: limits.memory_bytes,
             });
         }
-        if self.over_disk_limit() {
+        if self.over_disk_limit(None) {
             reached.push(LimitReached::Disk {
                 bytes: limits.disk_bytes,
             });

@@ -1,0 +1,157 @@
+//! The disk a run's processes hold in files they deleted but keep open.
+//!
+//! A file removed while a process has it open (or mapped) leaves its
+//! folder but not the disk: its blocks stay taken until the last process
+//! lets go. A walk of the run's folder ([`super::workdir`]) cannot see it,
+//! so the run's processes are asked instead: each entry of
+//! `/proc/PID/fd` and `/proc/PID/map_files` that names a deleted file is
+//! measured through that entry (which reaches the file itself), each file
+//! once.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::os::unix::fs::MetadataExt;
+use std::path::Path;
+
+/// The processes of the run: those of its cgroups where it has any (every
+/// process it starts joins them), else `root` and its descendants.
+pub fn processes(cgroups: &[&Path], root: Option<u32>) -> Vec<u32> {
+    let mut pids: BTreeSet<u32> = cgroups
+        .iter()
+        .filter_map(|folder| std::fs::read_to_string(folder.join("cgroup.procs")).ok())
+        .flat_map(|text| {
+            text.lines()
+                .filter_map(|line| line.trim().parse().ok())
+                .collect::<Vec<u32>>()
+        })
+        .collect();
+    if pids.is_empty() {
+        if let Some(root) = root {
+            pids = descendants(root);
+        }
+    }
+    pids.into_iter().collect()
+}
+
+/// `root` and every process below it, from each process's parent in
+/// `/proc/PID/stat`. (A process that leaves the tree by a double fork is
+/// adopted by the run's own first process, bubblewrap's, inside its pid
+/// namespace: still below `root`.)
+fn descendants(root: u32) -> BTreeSet<u32> {
+    let mut parents: Vec<(u32, u32)> = Vec::new();
+    if let Ok(entries) = std::fs::read_dir("/proc") {
+        for entry in entries.flatten() {
+            let Some(pid) = entry
+                .file_name()
+                .to_str()
+                .and_then(|name| name.parse().ok())
+            else {
+                continue;
+            };
+            let Ok(stat) = std::fs::read_to_string(entry.path().join("stat")) else {
+                continue;
+            };
+            // The name in brackets may hold spaces and brackets: the
+            // fields after the last ')' are the state, then the parent.
+            let parent = stat
+                .rsplit_once(')')
+                .and_then(|(_, rest)| rest.split_whitespace().nth(1))
+                .and_then(|field| field.parse().ok());
+            if let Some(parent) = parent {
+                parents.push((pid, parent));
+            }
+        }
+    }
+    let mut found = BTreeSet::from([root]);
+    loop {
+        let before = found.len();
+        for (pid, parent) in &parents {
+            if found.contains(parent) {
+                found.insert(*pid);
+            }
+        }
+        if found.len() == before {
+            return found;
+        }
+    }
+}
+
+/// The bytes on disk of the deleted files `pids` hold open or mapped,
+/// each file counted once.
+pub fn deleted_but_held(pids: &[u32]) -> u64 {
+    held_files(pids)
+        .values()
+        .fold(0u64, |total, bytes| total.saturating_add(*bytes))
+}
+
+/// The deleted files `pids` hold, by device and inode, with their bytes
+/// on disk.
+fn held_files(pids: &[u32]) -> BTreeMap<(u64, u64), u64> {
+    let mut held = BTreeMap::new();
+    for pid in pids {
+        for table in ["fd", "map_files"] {
+            let folder = Path::new("/proc").join(pid.to_string()).join(table);
+            let Ok(entries) = std::fs::read_dir(&folder) else {
+                continue;
+            };
+            for entry in entries.flatten() {
+                let path = entry.path();
+                let deleted = std::fs::read_link(&path)
+                    .is_ok_and(|target| target.to_string_lossy().ends_with(" (deleted)"));
+                if !deleted {
+                    continue;
+                }
+                let Ok(file) = std::fs::metadata(&path) else {
+                    continue;
+                };
+                if file.is_file() {
+                    held.insert((file.dev(), file.ino()), file.blocks().saturating_mul(512));
+                }
+            }
+        }
+    }
+    held
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    /// A file this process deleted but keeps open is counted, once, by
+    /// its blocks on disk; once closed it is not.
+    #[test]
+    fn a_deleted_file_kept_open_still_counts() {
+        let folder = tempfile::tempdir().expect("temp dir");
+        let path = folder.path().join("big");
+        let mut file = std::fs::File::create(&path).expect("create");
+        file.write_all(&vec![7u8; 4 << 20]).expect("write");
+        file.sync_all().expect("sync");
+        let again = std::fs::File::open(&path).expect("open again");
+        let id = {
+            let meta = file.metadata().expect("stat");
+            (meta.dev(), meta.ino())
+        };
+        let me = std::process::id();
+        assert!(!held_files(&[me]).contains_key(&id), "not deleted yet");
+        std::fs::remove_file(&path).expect("remove");
+        // Open twice, listed once.
+        let bytes = held_files(&[me]).get(&id).copied();
+        assert!(bytes.is_some_and(|bytes| bytes >= 4 << 20), "{bytes:?}");
+        assert!(deleted_but_held(&[me]) >= 4 << 20);
+        drop((file, again));
+        assert!(!held_files(&[me]).contains_key(&id), "closed");
+    }
+
+    #[test]
+    fn a_process_is_among_the_descendants_of_its_parent() {
+        let mut child = std::process::Command::new("sleep")
+            .arg("30")
+            .spawn()
+            .expect("sleep");
+        let found = processes(&[], Some(std::process::id()));
+        let _ = child.kill();
+        let _ = child.wait();
+        assert!(found.contains(&child.id()), "{found:?}");
+        assert!(found.contains(&std::process::id()));
+    }
+}
