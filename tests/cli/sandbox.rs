@@ -284,6 +284,8 @@ fn probe() -> &'static Probe {
         std::fs::create_dir_all(&web_target).expect("mkdir web/target");
         let page_build = web_target.join(format!("probe-{}.txt", std::process::id()));
         std::fs::write(&page_build, &marker).expect("write");
+        // raylab's history: a scene committed there would be read by git.
+        let history = Path::new(env!("CARGO_MANIFEST_DIR")).join(".git/HEAD");
         let secrets: Vec<String> = [
             Path::new("/etc/shadow"),
             &page_build,
@@ -291,6 +293,7 @@ fn probe() -> &'static Probe {
             &reference,
             &credentials,
             &ssh,
+            &history,
         ]
         .iter()
         .map(|path| literal(&path.display().to_string()))

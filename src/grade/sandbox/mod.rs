@@ -11,7 +11,7 @@
 //! Each student's run ([`Run`]) sees only what a build needs (`view`):
 //! the system's programs and libraries, the toolchain, cargo's cache of
 //! crates, raylab's checkout without its builds (`target/`,
-//! `web/target/`), and a copy of the workspace with the workspace's
+//! `web/target/`) or its history (`.git/`), and a copy of the workspace with the workspace's
 //! `target/` (`workdir`); not the
 //! grader's binary, home, environment or outputs, the instructor's hidden
 //! scenes, other workspaces, `/etc/shadow`, `/run` or `/tmp`. It has no
@@ -485,7 +485,7 @@ impl Sandbox {
 
     /// The view every sandbox starts from: the system, the toolchain,
     /// cargo's cache of crates, raylab's checkout without its builds
-    /// (`target/`, `web/target/`);
+    /// (`target/`, `web/target/`) or its history (`.git/`);
     /// then `then`'s mounts, and the hidden paths covered, the workspace's
     /// neighbours too (the other workspaces of a class).
     fn view(&self, then: Option<(&Path, Vec<Mount>)>) -> View {
@@ -503,8 +503,10 @@ impl Sandbox {
             view.show(raylab);
             // Its builds: raylab's reference chapters compiled without
             // `student` (the browser page's WebAssembly among them), which
-            // report nothing when they run.
-            for built in ["target", "web/target"] {
+            // report nothing when they run. And its history, which a build
+            // does not need: a hidden scene committed there, or a remote's
+            // credentials in its config, would be read through `git`.
+            for built in ["target", "web/target", ".git"] {
                 view.hide(&raylab.join(built));
             }
         }

@@ -5,7 +5,7 @@
 //! (`/usr` and the folders merged into it), the few files of `/etc` a
 //! compiler and a linker read, the Rust toolchain, cargo's cache of
 //! crates, raylab's own checkout (the workspace's path dependency, but not
-//! its `target/`, where the grader's binary is) and the workspace: that is
+//! its `target/`, where the grader's binary is, nor its `.git/`) and the workspace: that is
 //! all. Any of those that would show something the student must not see
 //! (the grader's binary, the instructor's hidden scenes or reports, the
 //! other workspaces of the class, cargo's credentials) has it covered by
