@@ -33,6 +33,7 @@
 
 mod cgroups;
 mod held;
+mod syscalls;
 mod view;
 mod workdir;
 
@@ -572,6 +573,20 @@ impl Sandbox {
             options.extend([OsString::from("--setenv"), name.clone(), value.clone()]);
         }
         options.extend([OsString::from("--chdir"), folder.into()]);
+        let filter = syscalls::filter_file().map_err(|why| SandboxError::Unusable {
+            bwrap: self.bwrap.clone(),
+            why: format!("cannot make its seccomp program: {why}"),
+        })?;
+        #[cfg(unix)]
+        let filter_fd = filter.as_ref().map(|file| {
+            use std::os::fd::AsRawFd;
+            file.as_raw_fd()
+        });
+        #[cfg(not(unix))]
+        let filter_fd: Option<i32> = None;
+        if let Some(fd) = filter_fd {
+            options.extend([OsString::from("--seccomp"), fd.to_string().into()]);
+        }
         let file = options_file(&options).map_err(|error| SandboxError::Unusable {
             bwrap: self.bwrap.clone(),
             why: format!("cannot write its options to a temporary file: {error}"),
@@ -594,17 +609,20 @@ impl Sandbox {
             command.args(user.words());
         }
         command.arg(program).args(args);
-        self.limit(&mut command, fd, cgroups);
+        let kept: Vec<i32> = std::iter::once(fd).chain(filter_fd).collect();
+        self.limit(&mut command, kept, cgroups);
         Ok(Sandboxed {
             command,
             _options: file,
+            _filter: filter,
         })
     }
 
-    /// Has `command`, between fork and exec, keep the options' file `fd`
-    /// open, join `cgroups` and set the limits the cgroups do not hold.
+    /// Has `command`, between fork and exec, keep the files `kept` (the
+    /// options', the seccomp program's) open, join `cgroups` and set the
+    /// limits the cgroups do not hold.
     #[cfg_attr(not(unix), allow(unused_variables))]
-    fn limit(&self, command: &mut Command, fd: i32, cgroups: Option<&RunCgroups>) {
+    fn limit(&self, command: &mut Command, kept: Vec<i32>, cgroups: Option<&RunCgroups>) {
         #[cfg(unix)]
         {
             use std::os::unix::process::CommandExt;
@@ -619,8 +637,10 @@ impl Sandbox {
             // spawn.
             unsafe {
                 command.pre_exec(move || {
-                    if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
-                        return Err(std::io::Error::last_os_error());
+                    for &fd in &kept {
+                        if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
+                            return Err(std::io::Error::last_os_error());
+                        }
                     }
                     for &procs in &joins {
                         // "0" moves the writing process: bwrap, and so
@@ -862,18 +882,19 @@ impl Drop for Run {
     }
 }
 
-/// A sandboxed command, and the file of its options, which must stay open
-/// until it is spawned.
+/// A sandboxed command, and the files of its options and of its seccomp
+/// program, which must stay open until it is spawned.
 #[derive(Debug)]
 pub struct Sandboxed {
     pub command: Command,
     _options: std::fs::File,
+    _filter: Option<std::fs::File>,
 }
 
 impl Sandboxed {
     /// The command, and what must live until it is spawned.
     pub fn into_parts(self) -> (Command, Box<dyn std::any::Any + Send>) {
-        (self.command, Box::new(self._options))
+        (self.command, Box::new((self._options, self._filter)))
     }
 }
 
