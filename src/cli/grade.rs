@@ -239,6 +239,9 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         outputs.push(("--gradebook", gradebook));
     }
     check_outputs_spare_hand_ins(args, class, against, &outputs)?;
+    if args.code {
+        check_outputs_spare_code(args, &folders_in(&args.folder)?, &outputs)?;
+    }
     if class {
         let skip: Vec<&Path> = outputs.iter().map(|(_, path)| *path).collect();
         let csv = csv
@@ -247,6 +250,50 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
         return grade_class(args, against, &skip, &report, &csv);
     }
     grade_one_student(args, against, &report, csv.as_deref())
+}
+
+/// Refuses, `--force` or not, an output that would replace an input of
+/// the code's grading: a `--scene` file (or one in a `--scene` folder), or
+/// anything inside a workspace graded (a chapter's source, its
+/// `Cargo.toml`). `workspaces` are the folders graded with `--code`.
+fn check_outputs_spare_code(
+    args: &GradeArgs,
+    workspaces: &[PathBuf],
+    outputs: &[(&str, &Path)],
+) -> Result<()> {
+    let mut scenes = Vec::new();
+    for scene in &args.scenes {
+        if scene.is_dir() {
+            scenes.extend(files_in(scene)?);
+        } else {
+            scenes.push(scene.clone());
+        }
+    }
+    let scenes: Vec<&Path> = scenes.iter().map(PathBuf::as_path).collect();
+    crate::output::check_outputs(&scenes, outputs, args.force)?;
+    for &(option, path) in outputs {
+        let folder = match path.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent,
+            _ => Path::new("."),
+        };
+        let Ok(folder) = folder.canonicalize() else {
+            continue;
+        };
+        for workspace in workspaces {
+            if workspace
+                .canonicalize()
+                .is_ok_and(|workspace| folder.starts_with(workspace))
+            {
+                bail!(
+                    "{option} {}: that is inside the workspace {}, which is graded: an \
+                     output there could replace the student's code; write it elsewhere",
+                    path.display(),
+                    workspace.display()
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Refuses outputs that would replace a hand-in (or a reference): anything
@@ -403,7 +450,11 @@ fn grade_for_gradescope(args: &GradeArgs, results: &Path) -> Result<i32> {
             args.folder.display()
         );
     }
-    crate::output::check_outputs(&[], &[("--gradescope", results)], args.force)?;
+    check_outputs_spare_code(
+        args,
+        std::slice::from_ref(&args.folder),
+        &[("--gradescope", results)],
+    )?;
     crate::output::check_replaceable_text(
         "--gradescope",
         results,
@@ -443,7 +494,11 @@ fn grade_one_of_class(
     name: &std::ffi::OsStr,
     result: &Path,
 ) -> Result<i32> {
-    crate::output::check_outputs(&[], &[("--result", result)], args.force)?;
+    if args.code {
+        check_outputs_spare_code(args, &folders_in(&args.folder)?, &[("--result", result)])?;
+    } else {
+        crate::output::check_outputs(&[], &[("--result", result)], args.force)?;
+    }
     crate::output::check_replaceable_text(
         "--result",
         result,

@@ -1870,6 +1870,74 @@ fn code_mode_without_bubblewrap_refuses_unless_told() {
 
 /// `--against` the folder being graded would compare each hand-in with
 /// itself: refused.
+/// Pass 11 of issue 41, finding 6: with --force, `grade --code` wrote its
+/// report over a student's source, its CSV over the hidden scene and a
+/// result file over a workspace's Cargo.toml. Each is an input, refused
+/// with or without --force, and left as it was.
+#[test]
+fn code_mode_outputs_never_replace_a_workspace_or_a_scene() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let amy = fake_workspace(&class, "amy", "fn main() {}\n");
+    let scene = dir.path().join("scene.toml");
+    std::fs::write(&scene, "background = [0, 0, 0]\n").expect("write");
+    let source = amy.join("src/main.rs");
+    let kept = |path: &Path| std::fs::read(path).expect("read");
+    let (source_before, manifest_before, scene_before) =
+        (kept(&source), kept(&amy.join("Cargo.toml")), kept(&scene));
+    let attempts: [&[&str]; 4] = [
+        &[
+            "grade",
+            "class",
+            "--code",
+            "--report",
+            "class/amy/src/main.rs",
+            "--force",
+        ],
+        &[
+            "grade",
+            "class",
+            "--code",
+            "--csv",
+            "scene.toml",
+            "--scene",
+            "scene.toml",
+            "--force",
+        ],
+        &[
+            "grade",
+            "class",
+            "--code",
+            "--student",
+            "amy",
+            "--result",
+            "class/amy/Cargo.toml",
+            "--force",
+        ],
+        &[
+            "grade",
+            "class/amy",
+            "--code",
+            "--gradescope",
+            "class/amy/results.json",
+            "--force",
+        ],
+    ];
+    for args in attempts {
+        let out = raylab(args, dir.path());
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        let said = stderr(&out);
+        assert!(
+            said.contains("inside the workspace") || said.contains("input"),
+            "{args:?}: {said}"
+        );
+    }
+    assert_eq!(kept(&source), source_before);
+    assert_eq!(kept(&amy.join("Cargo.toml")), manifest_before);
+    assert_eq!(kept(&scene), scene_before);
+    assert!(!amy.join("results.json").exists());
+}
+
 #[test]
 fn against_the_graded_folder_is_refused() {
     let dir = tempfile::tempdir().expect("temp dir");
