@@ -26,24 +26,78 @@ use quote::ToTokens;
 use syn::visit_mut::{self, VisitMut};
 use syn::{Expr, Pat, Stmt};
 
-/// How deep a file's brackets may nest for it to be parsed: `syn`'s
-/// parser and the visitor recurse several frames per level, and a
-/// grading thread's stack is 2 MiB. Course code nests about a dozen deep;
-/// a deeper file is fingerprinted as it is written.
+/// How deep a file's brackets may nest for it to be parsed. Course code
+/// nests about a dozen deep; a deeper file is fingerprinted as written.
 pub const PARSED_NESTING: usize = 48;
 
-/// The canonical tokens of `stream`, or `stream` itself when it is not a
-/// Rust file `syn` can parse or nests deeper than [`PARSED_NESTING`].
-pub fn canonical(stream: TokenStream) -> TokenStream {
-    if super::similarity::nesting(&stream) > PARSED_NESTING {
-        return stream;
+/// The most tokens of a file that is parsed: `syn`'s parser, the visitor
+/// and the syntax tree's drop recurse once or more per level of the tree,
+/// and a level can be a token or three (`- - - x`, `Vec<Vec<T>>`), not a
+/// bracket. A chapter file of the course holds up to about 8,000.
+pub const PARSED_TOKENS: usize = 16_000;
+
+/// The stack the parse runs on. 16,000 levels of the deepest shapes the
+/// parser recurses through (nested generics, prefix operators, closures,
+/// `else if`) took less, unoptimised (`canonical`'s test builds them).
+/// Only what a file's depth needs is touched.
+const PARSER_STACK: usize = 1 << 30;
+
+/// `source`'s tokens spelled one way and cut by `flatten`, on a thread
+/// with a stack as deep as the parse can need; `None` when the file is
+/// not parsed (deeper than [`PARSED_NESTING`], longer than
+/// [`PARSED_TOKENS`], not a file `syn` parses, or no thread to spare),
+/// for the caller to cut the tokens as written.
+pub fn in_one_spelling<T: Send + 'static>(
+    source: &str,
+    stream: &TokenStream,
+    flatten: fn(TokenStream) -> T,
+) -> Option<T> {
+    if super::similarity::nesting(stream) > PARSED_NESTING || count(stream) > PARSED_TOKENS {
+        return None;
     }
-    let Ok(mut file) = syn::parse2::<syn::File>(stream.clone()) else {
-        return stream;
-    };
+    // Tokens are not `Send`: the thread reads the text again.
+    let source = source.to_owned();
+    std::thread::Builder::new()
+        .name("similarity parse".into())
+        .stack_size(PARSER_STACK)
+        .spawn(move || {
+            let stream = source.parse::<TokenStream>().ok()?;
+            parsed(stream).map(flatten)
+        })
+        .ok()?
+        .join()
+        .ok()
+        .flatten()
+}
+
+/// How many tokens `stream` holds, brackets and all, counted without
+/// recursion.
+fn count(stream: &TokenStream) -> usize {
+    let mut total = 0;
+    let mut pending = vec![stream.clone()];
+    while let Some(stream) = pending.pop() {
+        for tree in stream {
+            total += 1;
+            if let proc_macro2::TokenTree::Group(group) = tree {
+                pending.push(group.stream());
+            }
+        }
+    }
+    total
+}
+
+/// The canonical tokens of `stream`, or `stream` itself when it is not a
+/// Rust file `syn` can parse. (On a small stack, only for small files:
+/// see [`in_one_spelling`].)
+pub fn canonical(stream: TokenStream) -> TokenStream {
+    parsed(stream.clone()).unwrap_or(stream)
+}
+
+fn parsed(stream: TokenStream) -> Option<TokenStream> {
+    let mut file = syn::parse2::<syn::File>(stream).ok()?;
     file.attrs.clear();
     OneSpelling.visit_file_mut(&mut file);
-    file.into_token_stream()
+    Some(file.into_token_stream())
 }
 
 struct OneSpelling;
@@ -266,27 +320,58 @@ mod tests {
         );
     }
 
-    /// A file too deep to parse safely, or not a Rust file, is kept as
-    /// written rather than refused: the tokens still compare.
+    /// A file too deep or too long to parse safely, or not a Rust file,
+    /// is left to be cut as written.
     #[test]
     fn what_cannot_be_parsed_is_kept_as_it_is() {
+        let cut = |source: &str| {
+            let stream = TokenStream::from_str(source).expect("Rust tokens");
+            in_one_spelling(source, &stream, |stream| stream.to_string())
+        };
         let deep = format!("const _: () = {}{};", "(".repeat(200), ")".repeat(200));
-        let stream = TokenStream::from_str(&deep).expect("Rust tokens");
-        assert_eq!(canonical(stream.clone()).to_string(), stream.to_string());
-        let loose = TokenStream::from_str("let x = 1;").expect("Rust tokens");
-        assert_eq!(canonical(loose.clone()).to_string(), loose.to_string());
-        // Just under the limit, on a thread of the usual 2 MiB.
-        let nested = format!(
-            "fn f() {{ {}1{} }}",
-            "(".repeat(PARSED_NESTING - 2),
-            ")".repeat(PARSED_NESTING - 2)
-        );
-        let spelled = std::thread::Builder::new()
-            .stack_size(2 << 20)
-            .spawn(move || spelled(&nested))
-            .expect("a thread")
-            .join()
-            .expect("no overflow");
-        assert_eq!(spelled, self::spelled("fn f() { 1 }"));
+        assert_eq!(cut(&deep), None);
+        assert_eq!(cut("let x = 1;"), None);
+        let long = format!("fn f() {{ x{} }}", " + x".repeat(PARSED_TOKENS / 2));
+        assert_eq!(cut(&long), None);
+        assert_eq!(cut("fn f() { (1) }"), Some(spelled("fn f() { 1 }")));
+    }
+
+    /// The deepest shapes the parser recurses through, each as deep as
+    /// [`PARSED_TOKENS`] allows, parse on the thread's stack (an overflow
+    /// would abort the grader, not fail a test).
+    #[test]
+    fn the_deepest_files_parsed_fit_the_parsers_stack() {
+        let levels = PARSED_TOKENS - 10;
+        let shapes = [
+            format!("fn f() {{ {}x }}", "- ".repeat(levels)),
+            format!("fn f() {{ {}x }}", "|| ".repeat(levels / 2)),
+            format!("fn f() {{ {}x }}", "& ".repeat(levels)),
+            format!("fn f() {{ {}x }}", "return ".repeat(levels)),
+            format!(
+                "fn f() -> {}T{} {{}}",
+                "Vec<".repeat(levels / 3),
+                ">".repeat(levels / 3)
+            ),
+            format!(
+                "fn f() {{ if a {{}}{} }}",
+                " else if a {}".repeat(levels / 4)
+            ),
+            format!("fn f() {{ x{} }}", ".m()".repeat(levels / 3)),
+            format!("fn f() {{ x{} }}", " as f32".repeat(levels / 2)),
+            format!("fn f() -> {}T {{}}", "& ".repeat(levels)),
+            format!("fn f() {{ let {}x = y; }}", "& ".repeat(levels)),
+            format!(
+                "fn f() -> {}T{} {{}}",
+                "Box<dyn Fn() -> ".repeat(levels / 8),
+                ">".repeat(levels / 8)
+            ),
+            format!("fn f() {{ {}x }}", "* ".repeat(levels)),
+        ];
+        for source in shapes {
+            let stream = TokenStream::from_str(&source).expect("Rust tokens");
+            assert!(count(&stream) <= PARSED_TOKENS, "{}", count(&stream));
+            let kept = in_one_spelling(&source, &stream, |stream| stream.into_iter().count());
+            assert!(kept.is_some(), "{}", &source[..40]);
+        }
     }
 }

@@ -81,8 +81,16 @@ pub fn tokens(source: &str) -> Result<Vec<(u64, usize)>, NotRust> {
             "brackets nested more than {MAX_NESTING} deep"
         )));
     }
-    let mut out = Vec::new();
-    flatten(super::canonical::canonical(stream), &mut out);
+    let mut out = super::canonical::in_one_spelling(source, &stream, |stream| {
+        let mut out = Vec::new();
+        flatten(stream, &mut out);
+        out
+    })
+    .unwrap_or_else(|| {
+        let mut out = Vec::new();
+        flatten(stream, &mut out);
+        out
+    });
     // A token the canonical form made (the `.` of a method call written
     // as a path's) has no line of its own: it takes its neighbour's.
     let mut last = 1;
