@@ -184,7 +184,27 @@ fn hash(bytes: &[u8]) -> u64 {
 
 /// The winnowed fingerprints of `source`.
 pub fn fingerprints(source: &str) -> Result<Fingerprints, NotRust> {
-    let tokens = tokens(source)?;
+    Ok(winnowed(&tokens(source)?))
+}
+
+/// The winnowed fingerprints of several files read one after the other,
+/// each given with the line its first line is counted as; each file is
+/// cut (and spelled one way) alone, and one that is not Rust is left out.
+pub fn fingerprints_of_files(files: &[(usize, &str)]) -> Fingerprints {
+    let mut all = Vec::new();
+    for (first_line, text) in files {
+        if let Ok(tokens) = tokens(text) {
+            all.extend(
+                tokens
+                    .into_iter()
+                    .map(|(token, line)| (token, line + first_line - 1)),
+            );
+        }
+    }
+    winnowed(&all)
+}
+
+fn winnowed(tokens: &[(u64, usize)]) -> Fingerprints {
     let grams: Vec<(u64, usize)> = tokens
         .windows(K)
         .map(|gram| {
@@ -194,7 +214,7 @@ pub fn fingerprints(source: &str) -> Result<Fingerprints, NotRust> {
         .collect();
     let mut lines = BTreeMap::new();
     if grams.is_empty() {
-        return Ok(Fingerprints { lines });
+        return Fingerprints { lines };
     }
     let window = WINDOW.min(grams.len());
     for start in 0..=grams.len() - window {
@@ -208,7 +228,7 @@ pub fn fingerprints(source: &str) -> Result<Fingerprints, NotRust> {
             lines.entry(hash).or_insert(line);
         }
     }
-    Ok(Fingerprints { lines })
+    Fingerprints { lines }
 }
 
 impl Fingerprints {

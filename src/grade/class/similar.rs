@@ -21,6 +21,8 @@ pub(super) fn similar_code(
     students: &[Student],
 ) -> Result<Vec<crate::grade::similarity::SimilarPair>, GradeError> {
     use crate::grade::similarity::{ALL_OF_SRC, Fingerprints, Submission, fingerprints};
+    // All of src/ is fingerprinted file by file (each spelled one way
+    // alone: two files together are not one Rust file), in one sequence.
     let raylab = Path::new(env!("CARGO_MANIFEST_DIR"));
     let skeleton = crate::workspace::files("student", raylab, false);
     let answers = crate::workspace::files("student", raylab, true);
@@ -37,10 +39,7 @@ pub(super) fn similar_code(
                 .unwrap_or_default();
             (info.number, prints)
         })
-        .chain(std::iter::once((
-            ALL_OF_SRC,
-            fingerprints(&skeleton_src.text).unwrap_or_default(),
-        )))
+        .chain(std::iter::once((ALL_OF_SRC, skeleton_src.fingerprints())))
         .collect();
     let skeleton_of = |chapter: u8| {
         base.iter()
@@ -60,9 +59,14 @@ pub(super) fn similar_code(
             let files = crate::chapters::CHAPTERS
                 .iter()
                 .filter_map(|info| Some((info.number, src.file(&chapter_path(info))?.to_string())))
-                .chain(std::iter::once((ALL_OF_SRC, src.text.clone())))
                 .collect();
-            Submission::new(name, files, &skeleton_of)
+            let mut submission = Submission::new(name, files, &skeleton_of);
+            submission.files.push((
+                ALL_OF_SRC,
+                src.text.clone(),
+                src.fingerprints().without(&skeleton_of(ALL_OF_SRC)),
+            ));
+            submission
         })
         .collect();
     let mut pairs = crate::grade::similarity::similar_pairs(&submissions);
@@ -120,6 +124,18 @@ impl Src {
             text,
             starts,
         }
+    }
+
+    /// The fingerprints of all the files, one after the other, each at
+    /// its line of `text`.
+    fn fingerprints(&self) -> crate::grade::similarity::Fingerprints {
+        let files: Vec<(usize, &str)> = self
+            .files
+            .iter()
+            .zip(&self.starts)
+            .map(|((_, body), (_, start))| (*start, body.as_str()))
+            .collect();
+        crate::grade::similarity::fingerprints_of_files(&files)
     }
 
     fn file(&self, path: &str) -> Option<&str> {
@@ -257,5 +273,26 @@ mod tests {
             );
         }
         assert!(compared >= 10, "only {compared} chapters compared");
+        // All of src/, each file reworded, against all of the key's.
+        let reworded_all: Vec<(String, String)> = answers
+            .0
+            .iter()
+            .map(|(path, text)| {
+                let copy = match (path.ends_with(".rs"), TokenStream::from_str(text)) {
+                    (true, Ok(stream)) => reworded(stream).to_string(),
+                    _ => text.clone(),
+                };
+                (path.clone(), copy)
+            })
+            .collect();
+        let base = super::Src::of(&skeleton.0).fingerprints();
+        let key = super::Src::of(&answers.0).fingerprints().without(&base);
+        let copy = super::Src::of(&reworded_all).fingerprints().without(&base);
+        let found = compare(&key, &copy).expect("enough to compare");
+        assert!(
+            found.similarity >= REPORTED,
+            "all of src/: {:.2} alike",
+            found.similarity
+        );
     }
 }
