@@ -13,6 +13,7 @@
 //! - `Type::function(a, b)` is `a.function(b)`;
 //! - a `let` binding or closure argument loses its type and its `mut`;
 //! - a last `return e;` is `e`; `Point { x: x }` is `Point { x }`;
+//! - an empty statement (`;;`) is dropped;
 //! - attributes are dropped (the tokeniser drops comments already).
 //!
 //! The canonical form is never compiled or shown: it only needs to be the
@@ -193,6 +194,11 @@ impl VisitMut for OneSpelling {
     }
 
     fn visit_block_mut(&mut self, block: &mut syn::Block) {
+        // An empty statement (`;;`) is nothing: syn keeps each as an empty
+        // expression with its `;`.
+        block.stmts.retain(|statement| {
+            !matches!(statement, Stmt::Expr(Expr::Verbatim(tokens), Some(_)) if tokens.is_empty())
+        });
         if let Some(Stmt::Expr(Expr::Return(last), Some(_))) = block.stmts.last() {
             if let Some(value) = &last.expr {
                 let value = (**value).clone();
@@ -296,6 +302,10 @@ mod tests {
                 "fn f() { xs.map(|x: f32| -> f32 { x + 1.0 }) }",
             ),
             ("fn f() { }", "#[inline] #[allow(unused)] fn f() { }"),
+            (
+                "fn f() { let a = 1; g(a); a }",
+                "fn f() { let a = 1;; g(a);;; a }",
+            ),
             (
                 "fn f() { match o { Some(x) => x, None => 0 } }",
                 "fn f() { match o { ::std::option::Option::Some(x) => x, Option::None => 0 } }",
