@@ -542,6 +542,14 @@ fn grade_one_of_class(
 fn code_sandbox(args: &GradeArgs, outputs: &[&Path]) -> Result<crate::grade::sandbox::Sandbox> {
     let mut hidden = args.scenes.clone();
     hidden.extend(args.against.clone());
+    // What a folder's entries lead to, too: a scene in a --scene folder
+    // may be a link to a file elsewhere, which the sandbox hides where it
+    // is (the sandbox resolves each path it hides).
+    for folder in args.scenes.iter().chain(&args.against) {
+        if let Ok(entries) = std::fs::read_dir(folder) {
+            hidden.extend(entries.flatten().map(|entry| entry.path()));
+        }
+    }
     hidden.extend(outputs.iter().map(|path| path.to_path_buf()));
     Ok(
         crate::grade::sandbox::Sandbox::find(crate::grade::sandbox::Limits::DEFAULT)?

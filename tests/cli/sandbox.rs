@@ -306,6 +306,13 @@ fn probe() -> &'static Probe {
         std::fs::write(&page_build, &marker).expect("write");
         // raylab's history: a scene committed there would be read by git.
         let history = Path::new(env!("CARGO_MANIFEST_DIR")).join(".git/HEAD");
+        // A scene given by a link in a --scene folder, to a file in a
+        // folder the run sees (cargo's registry here).
+        let linked_scene = cargo_home.join("registry/linked-scene.toml");
+        std::fs::copy(&scene, &linked_scene).expect("copy");
+        let scene_links = private.join("scenes-by-link");
+        std::fs::create_dir(&scene_links).expect("mkdir");
+        std::os::unix::fs::symlink(&linked_scene, scene_links.join("linked.toml")).expect("link");
         let secrets: Vec<String> = [
             Path::new("/etc/shadow"),
             &page_build,
@@ -314,6 +321,7 @@ fn probe() -> &'static Probe {
             &credentials,
             &ssh,
             &history,
+            &linked_scene,
         ]
         .iter()
         .map(|path| literal(&path.display().to_string()))
@@ -350,6 +358,8 @@ fn probe() -> &'static Probe {
                 result.to_str().expect("UTF-8 path"),
                 "--scene",
                 scene.to_str().expect("UTF-8 path"),
+                "--scene",
+                scene_links.to_str().expect("UTF-8 path"),
             ],
             root,
         );
