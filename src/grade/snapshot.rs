@@ -16,6 +16,12 @@ use std::path::{Path, PathBuf};
 /// The most Rust files a workspace may hold.
 pub const MAX_RUST_FILES: usize = 1000;
 
+/// The most entries (files, folders, links; `target/` and `.git/` aside)
+/// of a workspace that is graded: beyond, the snapshot is incomplete and
+/// the workspace is not copied, and reading more would cost the grader
+/// memory (1.2 million empty files held 494 MB).
+pub const MAX_ENTRIES: usize = 100_000;
+
 /// The largest source file read, in bytes.
 pub const MAX_SOURCE_BYTES: u64 = crate::input::MAX_SCENE_BYTES;
 
@@ -51,14 +57,25 @@ pub struct Snapshot {
 impl Snapshot {
     /// Reads `workspace` (see [`Snapshot`]).
     pub fn take(workspace: &Path) -> Snapshot {
+        Snapshot::take_within(workspace, MAX_ENTRIES)
+    }
+
+    /// [`Snapshot::take`], incomplete past `most_entries`.
+    fn take_within(workspace: &Path, most_entries: usize) -> Snapshot {
         let mut snapshot = Snapshot::default();
         let mut folders = vec![PathBuf::new()];
         let (mut rust_files, mut bytes) = (0usize, 0u64);
-        while let Some(folder) = folders.pop() {
+        'walk: while let Some(folder) = folders.pop() {
             let Ok(entries) = std::fs::read_dir(workspace.join(&folder)) else {
                 continue;
             };
             for entry in entries.flatten() {
+                if snapshot.entries.len() >= most_entries {
+                    snapshot.incomplete = Some(format!(
+                        "the workspace holds more than {most_entries} files and folders"
+                    ));
+                    break 'walk;
+                }
                 let relative = folder.join(entry.file_name());
                 let Ok(kind) = entry.file_type() else {
                     continue;
@@ -187,6 +204,28 @@ fn read_by_the_build(relative: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A workspace of more entries than are graded is read no further
+    /// (its snapshot, and so its run, is incomplete), whatever it holds.
+    #[test]
+    fn a_workspace_of_too_many_files_is_read_no_further() {
+        let workspace = tempfile::tempdir().expect("a folder");
+        std::fs::create_dir(workspace.path().join("junk")).expect("mkdir");
+        for index in 0..30 {
+            std::fs::write(workspace.path().join(format!("junk/{index}")), "").expect("write");
+        }
+        let whole = Snapshot::take_within(workspace.path(), 100);
+        assert_eq!(whole.incomplete, None);
+        let cut = Snapshot::take_within(workspace.path(), 20);
+        assert!(
+            cut.incomplete
+                .as_deref()
+                .is_some_and(|why| why.contains("more than 20 files")),
+            "{:?}",
+            cut.incomplete
+        );
+        assert_eq!(cut.entries.len(), 20);
+    }
 
     #[test]
     fn a_change_to_the_sources_is_found_and_others_are_not() {

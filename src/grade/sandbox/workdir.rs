@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use super::SandboxError;
 
 /// The most files (and folders) a workspace's copy may hold.
-const MAX_ENTRIES: u64 = 100_000;
+const MAX_ENTRIES: u64 = crate::grade::snapshot::MAX_ENTRIES as u64;
 
 /// The least a file or folder counts for on disk: its inode and block.
 const LEAST_ON_DISK: u64 = 4096;
@@ -234,16 +234,18 @@ fn give(tree: &Path, uid: u32, gid: u32) -> Result<(), SandboxError> {
 /// but the kernel sets (a file rewritten and dated back has a new one).
 /// `None` when `tree` cannot be read.
 pub(super) fn tree_state(tree: &Path) -> Option<u64> {
-    state_of(tree, None)
+    state_of(tree, None, MOST_ENTRIES_WALKED)
 }
 
-/// [`tree_state`] of a workspace's sources: all of it but its `target/`.
+/// [`tree_state`] of a workspace's sources: all of it but its `target/`;
+/// `None` past the entries a workspace may hold.
 pub(super) fn sources_state(workspace: &Path) -> Option<u64> {
-    state_of(workspace, Some("target"))
+    state_of(workspace, Some("target"), MAX_ENTRIES)
 }
 
-/// [`tree_state`], leaving out the top-level entry named `skipped`.
-fn state_of(tree: &Path, skipped: Option<&str>) -> Option<u64> {
+/// [`tree_state`], leaving out the top-level entry named `skipped`;
+/// `None` past `most` entries.
+fn state_of(tree: &Path, skipped: Option<&str>, most: u64) -> Option<u64> {
     use std::hash::{Hash, Hasher};
     #[cfg(unix)]
     use std::os::unix::fs::MetadataExt;
@@ -265,6 +267,9 @@ fn state_of(tree: &Path, skipped: Option<&str>) -> Option<u64> {
             }
             let relative = entry.path().strip_prefix(tree).ok()?.to_path_buf();
             entries.push((relative, meta));
+            if entries.len() as u64 > most {
+                return None;
+            }
         }
     }
     entries.sort_by(|a, b| a.0.cmp(&b.0));
