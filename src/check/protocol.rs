@@ -38,9 +38,10 @@ pub const SOURCE: &str = env!("RAYLAB_SOURCE");
 /// largest case's samples a few megabytes.
 pub const MAX_FRAME: usize = 64 << 20;
 
-/// The most memory the elements of a frame's collections may decode to
-/// (see [`super::decoded_budget`]): an image of [`MAX_FRAME`] bytes takes
-/// as much, a frame of empty names would take 24 times as much.
+/// The most memory the elements of a frame's collections may decode to,
+/// each charged its size in memory as it is decoded: an image of
+/// [`MAX_FRAME`] bytes takes as much, a frame of empty names would take 24
+/// times as much.
 pub const MAX_DECODED: usize = 2 * MAX_FRAME;
 
 /// Who is speaking: the first message each way.
