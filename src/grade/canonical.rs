@@ -1,5 +1,5 @@
 //! One spelling for Rust code that says the same thing, before it is
-//! fingerprinted ([`crate::grade::similarity`]).
+//! fingerprinted for the similarity report.
 //!
 //! Fingerprints are runs of tokens, so a copy reworded a token at a time
 //! (`(2.0)` for `2.0`, `let x: _ =` for `let x =`, `Option::Some(` for
@@ -53,7 +53,8 @@ pub fn in_one_spelling<T: Send + 'static>(
     stream: &TokenStream,
     flatten: fn(TokenStream) -> T,
 ) -> Option<T> {
-    if super::similarity::nesting(stream) > PARSED_NESTING || count(stream) > PARSED_TOKENS {
+    let (tokens, depth) = size(stream);
+    if depth > PARSED_NESTING || tokens > PARSED_TOKENS {
         return None;
     }
     // Tokens are not `Send`: the thread reads the text again.
@@ -71,20 +72,21 @@ pub fn in_one_spelling<T: Send + 'static>(
         .flatten()
 }
 
-/// How many tokens `stream` holds, brackets and all, counted without
-/// recursion.
-fn count(stream: &TokenStream) -> usize {
-    let mut total = 0;
-    let mut pending = vec![stream.clone()];
-    while let Some(stream) = pending.pop() {
+/// How many tokens `stream` holds, brackets and all, and how deep its
+/// brackets nest, counted without recursion.
+fn size(stream: &TokenStream) -> (usize, usize) {
+    let (mut total, mut deepest) = (0, 0);
+    let mut pending = vec![(stream.clone(), 0)];
+    while let Some((stream, depth)) = pending.pop() {
+        deepest = deepest.max(depth);
         for tree in stream {
             total += 1;
             if let proc_macro2::TokenTree::Group(group) = tree {
-                pending.push(group.stream());
+                pending.push((group.stream(), depth + 1));
             }
         }
     }
-    total
+    (total, deepest)
 }
 
 /// The canonical tokens of `stream`, or `stream` itself when it is not a
@@ -379,7 +381,7 @@ mod tests {
         ];
         for source in shapes {
             let stream = TokenStream::from_str(&source).expect("Rust tokens");
-            assert!(count(&stream) <= PARSED_TOKENS, "{}", count(&stream));
+            assert!(size(&stream).0 <= PARSED_TOKENS, "{:?}", size(&stream));
             let kept = in_one_spelling(&source, &stream, |stream| stream.into_iter().count());
             assert!(kept.is_some(), "{}", &source[..40]);
         }
