@@ -45,6 +45,7 @@ pub(crate) mod cases;
 pub mod catalog;
 #[cfg(feature = "student")]
 pub(crate) mod catalog;
+mod decoded_budget;
 #[cfg(not(feature = "student"))]
 pub mod exact;
 #[cfg(feature = "student")]
@@ -54,8 +55,6 @@ pub mod judge;
 #[cfg(feature = "student")]
 pub(crate) mod judge;
 // Only the command line's `serve` calls it, and the page has no command line.
-#[cfg(not(target_arch = "wasm32"))]
-mod decoded_budget;
 #[cfg(not(target_arch = "wasm32"))]
 pub(crate) mod no_programs;
 pub mod own_binary;
