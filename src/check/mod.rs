@@ -78,6 +78,8 @@ pub(crate) mod remote;
 pub mod sampled;
 #[cfg(feature = "student")]
 pub(crate) mod sampled;
+#[cfg(not(target_arch = "wasm32"))]
+pub(crate) mod seccomp;
 #[cfg(not(feature = "student"))]
 pub mod serve;
 #[cfg(feature = "student")]

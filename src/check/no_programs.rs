@@ -25,26 +25,9 @@ pub fn forbid_starting_programs() -> Result<(), NoProgramsError> {
         any(target_arch = "x86_64", target_arch = "aarch64")
     ))]
     {
-        use seccompiler::{BpfProgram, SeccompAction, SeccompFilter, TargetArch};
-        let arch = if cfg!(target_arch = "x86_64") {
-            TargetArch::x86_64
-        } else {
-            TargetArch::aarch64
-        };
-        let rules = [libc::SYS_execve, libc::SYS_execveat]
-            .into_iter()
-            .map(|call| (call, Vec::new()))
-            .collect();
-        let filter = SeccompFilter::new(
-            rules,
-            SeccompAction::Allow,
-            SeccompAction::Errno(libc::EPERM as u32),
-            arch,
-        )
-        .map_err(|error| NoProgramsError(error.to_string()))?;
-        let program: BpfProgram = filter
-            .try_into()
-            .map_err(|error: seccompiler::BackendError| NoProgramsError(error.to_string()))?;
+        use super::seccomp::{Call, compile};
+        let program =
+            compile(&[Call::EXECVE, Call::EXECVEAT], libc::EPERM).map_err(NoProgramsError)?;
         seccompiler::apply_filter_all_threads(&program)
             .map_err(|error| NoProgramsError(error.to_string()))?;
     }

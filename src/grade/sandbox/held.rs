@@ -6,7 +6,9 @@
 //! so the run's processes are asked instead: each entry of
 //! `/proc/PID/fd` and `/proc/PID/map_files` that names a deleted file is
 //! measured through that entry (which reaches the file itself), each file
-//! once.
+//! once. A file can also be held where `/proc` does not show it (a
+//! message in flight on a Unix socket): what the run's processes have
+//! written ([`written`]) counts those too.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::os::unix::fs::MetadataExt;
@@ -127,6 +129,29 @@ fn held_files(pids: &[u32], most: usize) -> Option<BTreeMap<(u64, u64), u64>> {
     Some(held)
 }
 
+/// The bytes `pids` have written to the storage of files, each process
+/// with the processes it has waited for (`write_bytes` of
+/// `/proc/PID/io`, counted as pages are first dirtied).
+///
+/// Every file the run fills is in it, wherever the file ends up: in the
+/// run's folder, deleted but open, or deleted and held by no process at
+/// all but by a message in flight on a Unix socket (`SCM_RIGHTS`), whose
+/// blocks stay taken while the socket lives and which `/proc` does not
+/// show. Pages written again after they reached the disk count again, and
+/// a file deleted before it reached the disk still counts
+/// (`cancelled_write_bytes` is not taken off: a run could earn that credit
+/// by deleting its copy of the workspace, which it did not write).
+pub fn written(pids: &[u32]) -> u64 {
+    pids.iter()
+        .filter_map(|pid| std::fs::read_to_string(format!("/proc/{pid}/io")).ok())
+        .filter_map(|io| {
+            io.lines()
+                .find_map(|line| line.strip_prefix("write_bytes:"))
+                .and_then(|bytes| bytes.trim().parse::<u64>().ok())
+        })
+        .fold(0u64, u64::saturating_add)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,6 +186,27 @@ mod tests {
         assert_eq!(held(1), None);
         drop((file, again));
         assert!(!held(1000).expect("few").contains_key(&id), "closed");
+    }
+
+    /// What a child wrote counts for the process that waited for it: a
+    /// file it keeps, and one it deleted before the disk saw it.
+    #[test]
+    fn what_a_child_wrote_counts_whether_kept_or_deleted() {
+        // Not in /tmp, which may be a tmpfs: memory, with no storage to
+        // write to and nothing counted.
+        let folder = tempfile::tempdir_in(env!("CARGO_MANIFEST_DIR")).expect("temp dir");
+        let me = std::process::id();
+        let before = written(&[me]);
+        let script = "dd if=/dev/zero of=kept bs=1M count=8 conv=fsync status=none \
+                      && dd if=/dev/zero of=gone bs=1M count=8 status=none && rm gone";
+        let status = std::process::Command::new("sh")
+            .args(["-c", script])
+            .current_dir(folder.path())
+            .status()
+            .expect("sh runs");
+        assert!(status.success());
+        let after = written(&[me]);
+        assert!(after >= before + (16 << 20), "{before} then {after}");
     }
 
     #[test]

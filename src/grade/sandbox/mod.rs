@@ -61,8 +61,9 @@ pub struct Limits {
     pub file_bytes: u64,
     /// What the run may add on disk, all its files together: the build's
     /// output in `target/`, its copy of the workspace, its temporary
-    /// files. A workspace's own files (outside `target/` and `.git/`) may
-    /// not be more than this either.
+    /// files; or what its processes write to files, if more (which holds
+    /// deleted files no process lists). A workspace's own files (outside
+    /// `target/` and `.git/`) may not be more than this either.
     pub disk_bytes: u64,
     /// Processes (and threads) of the run at once, where a `pids` cgroup
     /// can be made; else of the user the run's processes are (a resource
@@ -162,8 +163,8 @@ impl std::fmt::Display for LimitReached {
                 out,
                 "the disk limit: the run wrote more than {} (its target/, its copy of the \
                  workspace, its temporary files and the files it deleted but kept open, \
-                 together), or more than a million files; it was stopped, and its target/ \
-                 removed",
+                 together, or all its processes wrote to files), or more than a million \
+                 files; it was stopped, and its target/ removed",
                 bytes_text(*bytes)
             ),
             LimitReached::Processes { count } => write!(
@@ -835,16 +836,23 @@ impl Run {
 
     /// Whether the run has written more than its disk limit (measured now):
     /// in its folder, and, while `root` (the run's first process) runs, in
-    /// files its processes deleted but hold open.
+    /// files its processes deleted but hold open, or all its living
+    /// processes have written, whichever is more (a deleted file held by a
+    /// message in flight on a Unix socket is only in the last).
     pub fn over_disk_limit(&self, root: Option<u32>) -> bool {
-        let held = root.map_or(0, |root| {
-            held::deleted_but_held(&held::processes(&self.cgroups.folders(), Some(root)))
+        let (held, written_by_processes) = root.map_or((0, 0), |root| {
+            let processes = held::processes(&self.cgroups.folders(), Some(root));
+            (
+                held::deleted_but_held(&processes),
+                held::written(&processes),
+            )
         });
         let written = self
             .folder
             .on_disk()
             .saturating_sub(self.baseline)
-            .saturating_add(held);
+            .saturating_add(held)
+            .max(written_by_processes);
         if written > self.sandbox.limits.disk_bytes {
             self.over_disk.store(true, Ordering::Relaxed);
         }

@@ -1,13 +1,14 @@
 //! The system calls no process of a run may make, as a seccomp program
 //! bubblewrap installs before it starts the run's first program
-//! (`--seccomp FD`), for the build and the answers alike.
+//! (`--seccomp FD`), for the build and the answers alike. Each fails with
+//! `ENOSYS`, as if the kernel had no such call, which is how programs that
+//! could use one are written to cope; no compiler, linker or answer needs
+//! any of them.
 //!
 //! The kernel's keyrings (`add_key`, `keyctl`, `request_key`) are kept
 //! per user, not per namespace: every run is the same user (`nobody` when
 //! the grader is root), so a key one run added was read by the next, the
-//! next student's included, and outlived the grading. No compiler, linker
-//! or answer needs them; each fails as if the kernel had none (`ENOSYS`),
-//! which is how programs that could use one are written to cope.
+//! next student's included, and outlived the grading.
 
 /// A file holding the compiled program (`struct sock_filter` after
 /// `struct sock_filter`, as bubblewrap reads them), at its start; `None`
@@ -18,27 +19,12 @@ pub(super) fn filter_file() -> Result<Option<std::fs::File>, String> {
         any(target_arch = "x86_64", target_arch = "aarch64")
     ))]
     {
-        use seccompiler::{BpfProgram, SeccompAction, SeccompFilter, TargetArch};
+        use crate::check::seccomp::{Call, compile};
         use std::io::{Seek, Write};
-        let arch = if cfg!(target_arch = "x86_64") {
-            TargetArch::x86_64
-        } else {
-            TargetArch::aarch64
-        };
-        let rules = [libc::SYS_add_key, libc::SYS_keyctl, libc::SYS_request_key]
-            .into_iter()
-            .map(|call| (call, Vec::new()))
-            .collect();
-        let filter = SeccompFilter::new(
-            rules,
-            SeccompAction::Allow,
-            SeccompAction::Errno(libc::ENOSYS as u32),
-            arch,
-        )
-        .map_err(|error| error.to_string())?;
-        let program: BpfProgram = filter
-            .try_into()
-            .map_err(|error: seccompiler::BackendError| error.to_string())?;
+        let program = compile(
+            &[Call::ADD_KEY, Call::KEYCTL, Call::REQUEST_KEY],
+            libc::ENOSYS,
+        )?;
         let mut bytes = Vec::with_capacity(program.len() * 8);
         for instruction in &program {
             bytes.extend_from_slice(&instruction.code.to_ne_bytes());
