@@ -49,6 +49,8 @@ impl Call {
     pub(crate) const ADD_KEY: Call = Call::common(libc::SYS_add_key);
     pub(crate) const KEYCTL: Call = Call::common(libc::SYS_keyctl);
     pub(crate) const REQUEST_KEY: Call = Call::common(libc::SYS_request_key);
+    pub(crate) const FALLOCATE: Call = Call::common(libc::SYS_fallocate);
+    pub(crate) const IO_URING_SETUP: Call = Call::common(libc::SYS_io_uring_setup);
 
     /// Every number the call is reached by on this machine.
     pub(crate) fn numbers(self) -> impl Iterator<Item = i64> {

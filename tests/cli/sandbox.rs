@@ -201,6 +201,52 @@ fn main() {
         }
     }
 
+    // Disk taken without a page written (fallocate, or an io_uring's
+    // operation, which no seccomp program sees) is out of what the run's
+    // processes wrote, which the disk limit counts.
+    {
+        unsafe extern "C" {
+            fn syscall(number: std::ffi::c_long, ...) -> std::ffi::c_long;
+            fn fallocate(fd: i32, mode: i32, offset: i64, length: i64) -> i32;
+        }
+        use std::os::fd::AsRawFd;
+        let out = std::env::var("OUT_DIR").unwrap();
+        let path = format!("{out}/reserved");
+        if let Ok(file) = std::fs::File::create(&path) {
+            // FALLOC_FL_KEEP_SIZE
+            if unsafe { fallocate(file.as_raw_fd(), 1, 0, 64 << 20) } == 0 {
+                say("hold", "reserved 64 MiB with fallocate, writing no page".into());
+            }
+            let _ = std::fs::remove_file(&path);
+        }
+        let mut parameters = [0u8; 120];
+        let ring = unsafe { syscall(425, 8 as std::ffi::c_long, parameters.as_mut_ptr()) };
+        if ring >= 0 {
+            say("hold", format!("made io_uring {ring}, whose operations pass no seccomp program"));
+        }
+    }
+
+    // Descriptors the grader was started with (a shell's `exec 7< file`),
+    // if they reached the run: a folder or a file of the instructor's.
+    for entry in std::fs::read_dir("/proc/self/fd").into_iter().flatten().flatten() {
+        let path = entry.path();
+        let Ok(meta) = std::fs::metadata(&path) else { continue };
+        let files: Vec<std::path::PathBuf> = if meta.is_dir() {
+            std::fs::read_dir(&path).into_iter().flatten().flatten().map(|entry| entry.path()).collect()
+        } else {
+            vec![path.clone()]
+        };
+        for file in files {
+            // Regular files only: a pipe (cargo's jobserver) would block.
+            if !std::fs::metadata(&file).is_ok_and(|meta| meta.is_file()) {
+                continue;
+            }
+            if std::fs::read_to_string(&file).is_ok_and(|text| text.contains(MARKER)) {
+                say("read", format!("read {} through descriptor {}", file.display(), path.display()));
+            }
+        }
+    }
+
     let report = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/probe-report.txt");
     let mut text = found.join("\n");
     text.push_str("\nPROBE DONE\n");
@@ -370,7 +416,31 @@ fn probe() -> &'static Probe {
             .env("PATH", std::env::join_paths(folders).expect("a PATH"))
             .env("RAYLAB_PROBE_SECRET", &marker)
             .env("CARGO_HOME", &cargo_home);
+        // Started with two descriptors open, as from a shell's `exec 61<
+        // private/` and `exec 62< hidden-scene.toml`.
+        let inherited = [
+            std::fs::File::open(&private).expect("open the folder"),
+            std::fs::File::open(&scene).expect("open the scene"),
+        ];
+        {
+            use std::os::fd::AsRawFd;
+            use std::os::unix::process::CommandExt;
+            let fds = inherited.each_ref().map(AsRawFd::as_raw_fd);
+            // SAFETY: dup2 is async-signal-safe and touches only
+            // descriptors; the files stay open until the grader ends.
+            unsafe {
+                command.pre_exec(move || {
+                    for (fd, number) in fds.into_iter().zip([61, 62]) {
+                        if libc::dup2(fd, number) != number {
+                            return Err(std::io::Error::last_os_error());
+                        }
+                    }
+                    Ok(())
+                });
+            }
+        }
         let out = common::output_or_blocked(command);
+        drop(inherited);
         let _ = std::fs::remove_file(&page_build);
         let report =
             std::fs::read_to_string(workspace.join("target/probe-report.txt")).unwrap_or_default();
@@ -450,14 +520,30 @@ fn the_graders_binary_path_and_environment_are_out_of_reach() {
 /// Finding 4 of issue 41: with the whole file system readable, the
 /// student's code read the grader's home, cargo's credentials, the
 /// hidden scenes and reference images, other students' workspaces and
-/// `/etc/shadow`, and connected to the host's Unix sockets. The sandbox
-/// shows the toolchain and the workspace, and none of those.
+/// `/etc/shadow`, and connected to the host's Unix sockets; pass 13,
+/// finding 6: it read the hidden scene through a descriptor the grader was
+/// started with. The sandbox shows the toolchain and the workspace, and
+/// none of those.
 #[test]
 fn the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace() {
     if !bubblewrap_or_skip("the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace") {
         return;
     }
     let escaped = escapes_of(probe(), "read");
+    assert!(escaped.is_empty(), "{}", escaped.join("\n"));
+}
+
+/// Pass 13 of issue 41, finding 1: `fallocate` took 5 GiB of disk and
+/// wrote no page, so what the run's processes wrote did not count it; the
+/// deleted file, sent over a Unix socket and closed, held it out of
+/// sight. In the run, `fallocate` fails as on a file system without it,
+/// and no io_uring (whose operations pass no seccomp program) can be made.
+#[test]
+fn no_disk_is_taken_without_a_page_written() {
+    if !bubblewrap_or_skip("no_disk_is_taken_without_a_page_written") {
+        return;
+    }
+    let escaped = escapes_of(probe(), "hold");
     assert!(escaped.is_empty(), "{}", escaped.join("\n"));
 }
 

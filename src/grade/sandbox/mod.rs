@@ -574,19 +574,22 @@ impl Sandbox {
             options.extend([OsString::from("--setenv"), name.clone(), value.clone()]);
         }
         options.extend([OsString::from("--chdir"), folder.into()]);
-        let filter = syscalls::filter_file().map_err(|why| SandboxError::Unusable {
+        let filters = syscalls::filter_files().map_err(|why| SandboxError::Unusable {
             bwrap: self.bwrap.clone(),
-            why: format!("cannot make its seccomp program: {why}"),
+            why: format!("cannot make its seccomp programs: {why}"),
         })?;
         #[cfg(unix)]
-        let filter_fd = filter.as_ref().map(|file| {
-            use std::os::fd::AsRawFd;
-            file.as_raw_fd()
-        });
+        let filter_fds: Vec<i32> = filters
+            .iter()
+            .map(|file| {
+                use std::os::fd::AsRawFd;
+                file.as_raw_fd()
+            })
+            .collect();
         #[cfg(not(unix))]
-        let filter_fd: Option<i32> = None;
-        if let Some(fd) = filter_fd {
-            options.extend([OsString::from("--seccomp"), fd.to_string().into()]);
+        let filter_fds: Vec<i32> = Vec::new();
+        for fd in &filter_fds {
+            options.extend([OsString::from("--add-seccomp-fd"), fd.to_string().into()]);
         }
         let file = options_file(&options).map_err(|error| SandboxError::Unusable {
             bwrap: self.bwrap.clone(),
@@ -610,12 +613,12 @@ impl Sandbox {
             command.args(user.words());
         }
         command.arg(program).args(args);
-        let kept: Vec<i32> = std::iter::once(fd).chain(filter_fd).collect();
+        let kept: Vec<i32> = std::iter::once(fd).chain(filter_fds).collect();
         self.limit(&mut command, kept, cgroups);
         Ok(Sandboxed {
             command,
             _options: file,
-            _filter: filter,
+            _filters: filters,
         })
     }
 
@@ -638,6 +641,10 @@ impl Sandbox {
             // spawn.
             unsafe {
                 command.pre_exec(move || {
+                    // Whatever the grader was started with stays out of
+                    // the run: a shell's `exec 7< secret`, a harness's
+                    // log. Every descriptor closes at exec, but those kept.
+                    close_on_exec_from_3()?;
                     for &fd in &kept {
                         if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
                             return Err(std::io::Error::last_os_error());
@@ -674,6 +681,44 @@ impl Sandbox {
             }
         }
     }
+}
+
+/// Marks every descriptor from 3 on to close at exec: run between fork
+/// and exec, so only async-signal-safe calls.
+#[cfg(unix)]
+fn close_on_exec_from_3() -> std::io::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: close_range only changes the flags of this process's
+        // descriptors.
+        let marked = unsafe {
+            libc::syscall(
+                libc::SYS_close_range,
+                3u32,
+                u32::MAX,
+                libc::CLOSE_RANGE_CLOEXEC,
+            )
+        };
+        if marked == 0 {
+            return Ok(());
+        }
+    }
+    // Kernels before 5.11, and other systems: one descriptor at a time,
+    // up to the process's limit.
+    let mut limit = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit writes only `limit`.
+    if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) } != 0 {
+        return Err(std::io::Error::last_os_error());
+    }
+    let most = i32::try_from(limit.rlim_cur.min(1 << 20)).unwrap_or(1 << 20);
+    for fd in 3..most {
+        // SAFETY: on a descriptor that is not open, fcntl fails, harmless.
+        unsafe { libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC) };
+    }
+    Ok(())
 }
 
 /// A temporary file holding `options` separated by NUL bytes, read from
@@ -896,13 +941,13 @@ impl Drop for Run {
 pub struct Sandboxed {
     pub command: Command,
     _options: std::fs::File,
-    _filter: Option<std::fs::File>,
+    _filters: Vec<std::fs::File>,
 }
 
 impl Sandboxed {
     /// The command, and what must live until it is spawned.
     pub fn into_parts(self) -> (Command, Box<dyn std::any::Any + Send>) {
-        (self.command, Box::new((self._options, self._filter)))
+        (self.command, Box::new((self._options, self._filters)))
     }
 }
 
