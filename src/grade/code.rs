@@ -185,6 +185,16 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         .sandbox
         .map(|sandbox| sandbox.start(workspace).map(Arc::new))
         .transpose()?;
+    // The copy is read after the snapshot: a student who can write the
+    // hand-in while it is graded could swap other files in between (and
+    // back once the build started). What is built must be what was
+    // snapshotted.
+    if let Some(change) = sandboxed
+        .as_ref()
+        .and_then(|run| copied_otherwise(&snapshot, run))
+    {
+        not_counted.push(change);
+    }
     let workspace = sandboxed
         .as_ref()
         .map_or(workspace.as_path(), |run| run.workspace());
@@ -402,6 +412,17 @@ struct Built {
 /// `cargo build --profile P --offline` in `workspace` (inside the run's
 /// sandbox if there is one), killed with all it started past the job's
 /// time limit, or past the run's disk limit.
+/// How the sources of `run`'s copy of the workspace differ from
+/// `snapshot`, in words, or `None`.
+fn copied_otherwise(snapshot: &Snapshot, run: &Run) -> Option<String> {
+    snapshot.changed(run.copy()).map(|change| {
+        format!(
+            "the workspace changed between the reading of its sources and their copy for the \
+             build ({change}): what was built is not what was read"
+        )
+    })
+}
+
 fn build(
     workspace: &Path,
     job: &CodeJob,
@@ -830,6 +851,41 @@ pub fn last_lines(text: &str, lines: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Pass 13 of issue 41, finding 4: the answer key swapped into the
+    /// hand-in after its sources were read and before they were copied
+    /// (and swapped back once the build started) was built, judged and
+    /// passed, while the snapshot compared and checked held the skeleton.
+    /// A copy whose sources are not the snapshot's is named.
+    #[test]
+    fn sources_swapped_between_their_reading_and_their_copy_are_named() {
+        let Ok(sandbox) = Sandbox::find(super::super::sandbox::Limits::DEFAULT) else {
+            eprintln!("skipped: no working bubblewrap here");
+            return;
+        };
+        let folder = tempfile::tempdir().expect("temp dir");
+        let workspace = folder.path().join("ann");
+        std::fs::create_dir_all(workspace.join("src")).expect("mkdir");
+        std::fs::write(workspace.join("Cargo.toml"), "[package]\nname = \"ann\"\n").expect("write");
+        let lib = workspace.join("src/lib.rs");
+        std::fs::write(&lib, "pub fn answer() { todo!() }\n").expect("write");
+        let snapshot = Snapshot::take(&workspace);
+        std::fs::write(&lib, "pub fn answer() { the_key() }\n").expect("write");
+        let run = sandbox.start(&workspace).expect("a run");
+        // Swapped back: the hand-in is the snapshot again, its copy is not.
+        std::fs::write(&lib, "pub fn answer() { todo!() }\n").expect("write");
+        assert_eq!(snapshot.changed(&workspace), None);
+        let change = copied_otherwise(&snapshot, &run);
+        assert!(
+            change
+                .as_deref()
+                .is_some_and(|change| change.contains("src/lib.rs changed")),
+            "{change:?}"
+        );
+        drop(run);
+        let run = sandbox.start(&workspace).expect("a run");
+        assert_eq!(copied_otherwise(&Snapshot::take(&workspace), &run), None);
+    }
 
     #[test]
     fn a_limit_reached_stops_only_a_run_that_did_not_pass() {

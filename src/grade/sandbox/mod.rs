@@ -763,6 +763,12 @@ impl Run {
         &self.workspace
     }
 
+    /// The copy of the workspace the build reads, where the grader sees it
+    /// (the run sees it at [`Run::workspace`]).
+    pub fn copy(&self) -> &Path {
+        &self.folder.copy
+    }
+
     /// The run's cgroups.
     pub fn cgroups(&self) -> &RunCgroups {
         &self.cgroups

@@ -184,7 +184,10 @@ fn copy_tree(
         if kind.is_dir() {
             copy_tree(&source, &dest, false, budget, counted)?;
         } else if kind.is_file() {
-            std::fs::copy(&source, &dest).map_err(failed("copy", &source))?;
+            let room = budget.saturating_sub(counted.bytes - meta.len());
+            if !copy_file(&source, &dest, room).map_err(failed("copy", &source))? {
+                continue;
+            }
             // Cargo takes a source newer than its last build for a change:
             // the copy keeps the times, so that an unchanged workspace is
             // not built again.
@@ -201,6 +204,52 @@ fn copy_tree(
         }
     }
     Ok(())
+}
+
+/// Copies the regular file `source` to `dest` (new), with its
+/// permissions, at most `most` bytes of it: `false`, copying nothing, when
+/// `source` is no longer a regular file. The entry was a file when its
+/// folder was read, but a student who can write the hand-in while it is
+/// graded could have put a link there since (to `/etc/shadow`, which root
+/// would copy and give to the run's user) or a FIFO (whose open would
+/// wait for ever): it is opened without following a link nor waiting,
+/// and what was opened is what is checked.
+fn copy_file(source: &Path, dest: &Path, most: u64) -> std::io::Result<bool> {
+    use std::io::Read;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    let mut file = match options.open(source) {
+        Ok(file) => file,
+        // A link now (ELOOP), or gone: not copied.
+        Err(error) if is_a_link(&error) || error.kind() == std::io::ErrorKind::NotFound => {
+            return Ok(false);
+        }
+        Err(error) => return Err(error),
+    };
+    let opened = file.metadata()?;
+    if !opened.is_file() {
+        return Ok(false);
+    }
+    let mut copy = std::fs::File::create_new(dest)?;
+    std::io::copy(&mut (&mut file).take(most), &mut copy)?;
+    copy.set_permissions(opened.permissions())?;
+    Ok(true)
+}
+
+/// Whether opening failed because the path is a link (`O_NOFOLLOW`).
+fn is_a_link(error: &std::io::Error) -> bool {
+    #[cfg(unix)]
+    return error.raw_os_error() == Some(libc::ELOOP);
+    #[cfg(not(unix))]
+    return {
+        let _ = error;
+        false
+    };
 }
 
 /// Gives `tree` and all it holds to `uid`:`gid`, links themselves and
@@ -403,6 +452,33 @@ fn remove_tree(tree: &Path) {
 #[cfg(all(test, unix))]
 mod tests {
     use super::*;
+
+    /// An entry that became a link or a FIFO after its folder was read is
+    /// not followed nor waited on; a file is copied, capped.
+    #[cfg(unix)]
+    #[test]
+    fn a_file_swapped_for_a_link_or_a_fifo_is_not_copied() {
+        let folder = tempfile::tempdir().expect("temp dir");
+        let (file, link, fifo) = (
+            folder.path().join("file"),
+            folder.path().join("link"),
+            folder.path().join("fifo"),
+        );
+        std::fs::write(&file, "0123456789").expect("write");
+        std::os::unix::fs::symlink(&file, &link).expect("link");
+        let status = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .expect("mkfifo");
+        assert!(status.success());
+        let dest = |name: &str| folder.path().join(format!("copy-of-{name}"));
+        assert!(!copy_file(&link, &dest("link"), 100).expect("no error"));
+        assert!(!dest("link").exists());
+        assert!(!copy_file(&fifo, &dest("fifo"), 100).expect("no error"));
+        assert!(!dest("fifo").exists());
+        assert!(copy_file(&file, &dest("file"), 4).expect("copied"));
+        assert_eq!(std::fs::read(dest("file")).expect("read"), b"0123");
+    }
 
     /// Folders nested past the longest path the system takes, made one
     /// inside the other by file descriptor, as a build script can: a walk
