@@ -551,6 +551,23 @@ fn code_sandbox(args: &GradeArgs, outputs: &[&Path]) -> Result<crate::grade::san
         }
     }
     hidden.extend(outputs.iter().map(|path| path.to_path_buf()));
+    // And the folders they go in: the other jobs of a class write their
+    // results beside this job's (each holding its student's sources), some
+    // after this run has started.
+    hidden.extend(
+        outputs
+            .iter()
+            .filter_map(|path| path.parent())
+            .map(|folder| {
+                if folder.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    folder
+                }
+            })
+            .filter(|folder| folder.parent().is_some() || folder.is_relative())
+            .map(Path::to_path_buf),
+    );
     Ok(
         crate::grade::sandbox::Sandbox::find(crate::grade::sandbox::Limits::DEFAULT)?
             .hiding(hidden)

@@ -229,6 +229,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         reason: None,
         chapters: Vec::new(),
     };
+    let mut limits_before_scenes = None;
     if built.timed_out {
         run.status = CodeStatus::TimedOut;
         run.exit_code = None;
@@ -274,6 +275,11 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         // Hidden scenes only for a binary that answered.
         if !job.scenes.is_empty() && !matches!(run.status, CodeStatus::TimedOut | CodeStatus::Error)
         {
+            // A limit reached while a hidden scene renders would tell of
+            // the scene (code that starts 600 threads on meeting one
+            // radius): the report says only the limits reached before,
+            // and a scene is passed or failed, nothing more.
+            limits_before_scenes = sandboxed.as_ref().map(|run| run.limits_reached());
             // What the process writes while it renders a hidden scene
             // could tell the scene: it goes to a buffer of its own, never
             // shown.
@@ -297,7 +303,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         run.reason = first_compiler_error(&run.stderr);
     }
     if let Some(sandboxed) = &sandboxed {
-        run.limits = sandboxed.limits_reached();
+        run.limits = limits_before_scenes.unwrap_or_else(|| sandboxed.limits_reached());
     }
     if let Some((reason, line)) = limits_text(run.status, &run.limits) {
         run.reason = Some(reason);
