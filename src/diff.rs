@@ -90,6 +90,17 @@ pub enum DiffError {
     NotExr,
     #[error("corrupted OpenEXR: {0}")]
     CorruptedExr(exr::error::Error),
+    /// More layers or channels than raylab reads: every one is decoded in
+    /// memory, at four bytes a pixel each.
+    #[error(
+        "an OpenEXR file of {count} {what}: raylab reads at most {most} (R, G, B and a few \
+         more), as each is decoded in memory"
+    )]
+    ExrTooWide {
+        what: &'static str,
+        count: usize,
+        most: usize,
+    },
     /// A channel's value that no error can be measured against.
     #[error(
         "pixel x={x}, y={y} has {channel} = {value}: raylab compares finite linear values only"

@@ -29,6 +29,11 @@ pub const RELATIVE_FLOOR: f64 = 0.01;
 pub const MAX_EXR_FILE_BYTES: u64 =
     16 * crate::input::MAX_IMAGE_PIXELS + 16 * crate::input::MAX_IMAGE_PIXELS / 16;
 
+/// The most layers, and channels in a layer, of an OpenEXR file read:
+/// raylab writes one layer of R, G and B; the decoder holds every channel
+/// of a layer in memory (a 1 MB file of 1,000 channels took 2 GB).
+pub const MAX_EXR_CHANNELS: usize = 16;
+
 /// A linear RGB image: 3 finite `f32`s a pixel, row by row from the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearImage {
@@ -67,7 +72,18 @@ impl LinearImage {
         }
         let meta = exr::meta::MetaData::read_from_buffered(bytes, false)
             .map_err(DiffError::CorruptedExr)?;
+        let too_wide = |what, count| DiffError::ExrTooWide {
+            what,
+            count,
+            most: MAX_EXR_CHANNELS,
+        };
+        if meta.headers.len() > MAX_EXR_CHANNELS {
+            return Err(too_wide("layers", meta.headers.len()));
+        }
         for header in &meta.headers {
+            if header.channels.list.len() > MAX_EXR_CHANNELS {
+                return Err(too_wide("channels", header.channels.list.len()));
+            }
             let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
             crate::input::check_image_size(
                 side(header.layer_size.width()),
@@ -358,6 +374,37 @@ mod tests {
                 .to_string();
             assert!(text.starts_with("corrupted OpenEXR"), "at {length}: {text}");
         }
+    }
+
+    /// Pass 13 of issue 41, finding 9: a 1 MB pair of files with 1,000
+    /// extra channels each took 2 GB to compare. A layer of more channels
+    /// than raylab reads is refused before a pixel is decoded.
+    #[test]
+    fn an_exr_of_many_channels_is_refused_before_it_is_decoded() {
+        use exr::prelude::*;
+        let exr_of = |count: usize| {
+            let channels: Vec<AnyChannel<FlatSamples>> = (0..count)
+                .map(|index| {
+                    AnyChannel::new(
+                        format!("channel{index:04}").as_str(),
+                        FlatSamples::F32(vec![0.5; 4]),
+                    )
+                })
+                .collect();
+            let image = Image::from_channels((2, 2), AnyChannels::sort(channels.into()));
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            image.write().to_buffered(&mut bytes).expect("writes");
+            bytes.into_inner()
+        };
+        let text = LinearImage::decode_exr(&exr_of(MAX_EXR_CHANNELS + 1))
+            .unwrap_err()
+            .to_string();
+        assert!(text.contains("17 channels"), "{text}");
+        // At the most, the file is read (and found to have no R, G and B).
+        let text = LinearImage::decode_exr(&exr_of(MAX_EXR_CHANNELS))
+            .unwrap_err()
+            .to_string();
+        assert!(!text.contains("channels:"), "{text}");
     }
 
     #[test]
