@@ -13,8 +13,8 @@
 //! image shipped inside raylab ([`crate::chapters::ChapterInfo::reference_png`],
 //! 160x120), else the built-in scene rendered at the hand-in's size by
 //! raylab's reference chapters, once they are shown to reproduce the shipped
-//! images bit for bit. Anything else in the folder is listed as ignored,
-//! never fatal.
+//! images bit for bit. Anything else in the folder is listed as ignored
+//! (the first 50 by name, then how many more), never fatal.
 //!
 //! [`class`] grades a folder of students (one subfolder each), and their
 //! workspaces' `check` with `--code`.
@@ -77,6 +77,46 @@ pub struct Unreadable {
 pub struct Ignored {
     pub name: String,
     pub reason: String,
+}
+
+/// The most ignored entries of a folder listed one by one: a hand-in of
+/// 300,000 empty files made a report of 15 MB naming each.
+const MOST_IGNORED_LISTED: usize = 50;
+
+/// A folder's ignored entries as they are found: the first
+/// [`MOST_IGNORED_LISTED`] by name, and how many more there were.
+#[derive(Default)]
+struct IgnoredList {
+    kept: std::collections::BTreeMap<String, String>,
+    more: usize,
+}
+
+impl IgnoredList {
+    fn add(&mut self, ignored: Ignored) {
+        self.kept.insert(ignored.name, ignored.reason);
+        if self.kept.len() > MOST_IGNORED_LISTED {
+            self.kept.pop_last();
+            self.more += 1;
+        }
+    }
+
+    /// The entries kept, sorted by name, then one line for the rest.
+    fn into_list(self) -> Vec<Ignored> {
+        let more = self.more;
+        let mut list: Vec<Ignored> = self
+            .kept
+            .into_iter()
+            .map(|(name, reason)| Ignored { name, reason })
+            .collect();
+        if more > 0 {
+            list.push(Ignored {
+                name: format!("{more} more"),
+                reason: "entries that are not a chapter's image either, not listed one by one"
+                    .into(),
+            });
+        }
+        list
+    }
 }
 
 /// The outcome of grading one folder.
@@ -292,7 +332,7 @@ pub fn grade_with<R: Chapters>(
     let skip = skip.and_then(|path| path.canonicalize().ok());
     // A chapter's file, and why it is refused unread, if it is.
     let mut found: Vec<(u8, PathBuf, Option<String>)> = Vec::new();
-    let mut ignored = Vec::new();
+    let mut ignored = IgnoredList::default();
     for entry in entries {
         let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
@@ -308,12 +348,12 @@ pub fn grade_with<R: Chapters>(
             let reason = SYMBOLIC_LINK_REFUSED.to_string();
             match chapter_of(&name) {
                 Ok(chapter) => found.push((chapter, path, Some(reason))),
-                Err(_) => ignored.push(Ignored { name, reason }),
+                Err(_) => ignored.add(Ignored { name, reason }),
             }
             continue;
         }
         if kind.is_dir() {
-            ignored.push(Ignored {
+            ignored.add(Ignored {
                 name,
                 reason: "a folder".into(),
             });
@@ -321,14 +361,14 @@ pub fn grade_with<R: Chapters>(
         }
         match chapter_of(&entry.file_name().to_string_lossy()) {
             Ok(chapter) => found.push((chapter, path, None)),
-            Err(reason) => ignored.push(Ignored {
+            Err(reason) => ignored.add(Ignored {
                 name,
                 reason: reason.to_string(),
             }),
         }
     }
     found.sort();
-    ignored.sort_by(|a, b| a.name.cmp(&b.name));
+    let ignored = ignored.into_list();
     let mut grade = Grade {
         folder: folder.to_path_buf(),
         criteria,
@@ -1098,6 +1138,26 @@ mod tests {
                 .to_string()
                 .contains("no chapter 99")
         );
+    }
+
+    /// Pass 13 of issue 41, finding 8: every ignored entry was listed.
+    /// The first 50 by name are, then a count of the rest.
+    #[test]
+    fn a_folder_of_many_other_files_lists_the_first_and_counts_the_rest() {
+        let mut list = IgnoredList::default();
+        for index in (0..300).rev() {
+            list.add(Ignored {
+                name: format!("junk-{index:03}"),
+                reason: "not a chapter".into(),
+            });
+        }
+        let listed = list.into_list();
+        assert_eq!(listed.len(), MOST_IGNORED_LISTED + 1);
+        assert_eq!(listed[0].name, "junk-000");
+        assert_eq!(listed[MOST_IGNORED_LISTED - 1].name, "junk-049");
+        assert_eq!(listed[MOST_IGNORED_LISTED].name, "250 more");
+        let few = IgnoredList::default();
+        assert!(few.into_list().is_empty());
     }
 
     #[test]
