@@ -180,6 +180,11 @@ extern "C" fn on_signal(
     info: *mut libc::siginfo_t,
     _context: *mut libc::c_void,
 ) {
+    if !is_fault(signal) && COMMITTING.load(Ordering::SeqCst) {
+        // Held until the set of outputs is renamed (`while_committing`).
+        let _ = PENDING.compare_exchange(0, signal, Ordering::SeqCst, Ordering::SeqCst);
+        return;
+    }
     remove_live_files();
     if signal == libc::SIGPIPE {
         // A closed pipe ends a command-line tool quietly, by the signal
@@ -317,6 +322,59 @@ pub fn install_signal_handlers() {
             libc::sigemptyset(&mut action.sa_mask);
             libc::sigaction(signal, &action, std::ptr::null_mut());
         }
+    }
+}
+
+/// Whether a set of outputs is being renamed into place now.
+static COMMITTING: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// A signal that arrived while a set of outputs was renamed, handled once
+/// the set is complete; 0 for none.
+#[cfg(unix)]
+static PENDING: AtomicI32 = AtomicI32::new(0);
+
+/// Runs `renames` (the renames of a set of outputs written together) with
+/// signals held: a signal that would end the process waits until every
+/// rename is done, so that an interruption leaves all the old files or all
+/// the new ones, never some of each. The renames take microseconds; a
+/// fault is never held.
+pub fn while_committing<T>(renames: impl FnOnce() -> T) -> T {
+    COMMITTING.store(true, Ordering::SeqCst);
+    let done = renames();
+    COMMITTING.store(false, Ordering::SeqCst);
+    #[cfg(unix)]
+    {
+        let signal = PENDING.swap(0, Ordering::SeqCst);
+        if signal != 0 {
+            remove_live_files();
+            if signal == libc::SIGPIPE {
+                end_by(signal);
+            }
+            // SAFETY: `_exit` ends the process at once, as the handler
+            // would have.
+            unsafe { libc::_exit(128 + signal) }
+        }
+    }
+    done
+}
+
+/// Test hook, for the CLI tests only: with
+/// `RAYLAB_TEST_PAUSE_BETWEEN_RENAMES` set, a command stops after the first
+/// rename of a set of outputs, says so on stderr and waits (at most a
+/// minute, or until a signal is held) so that a test can send it a signal
+/// at exactly that moment. Not a user feature.
+pub fn test_pause_between_renames() {
+    if std::env::var_os("RAYLAB_TEST_PAUSE_BETWEEN_RENAMES").is_none() {
+        return;
+    }
+    eprintln!("raylab test hook: first output renamed, pausing");
+    let start = std::time::Instant::now();
+    while start.elapsed() < std::time::Duration::from_secs(60) {
+        #[cfg(unix)]
+        if PENDING.load(Ordering::SeqCst) != 0 {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }
 

@@ -657,10 +657,7 @@ pub fn write_files(files: &[(&Path, &[u8])]) -> Result<(), OutputError> {
         staged.push(stage(path, |file| file.write_all(bytes))?);
     }
     crate::cleanup::test_pause_before_rename();
-    for file in staged {
-        file.commit()?;
-    }
-    Ok(())
+    commit_all(staged)
 }
 
 /// A file's contents, written by a function (for [`write_streams`]).
@@ -674,10 +671,22 @@ pub fn write_streams(files: Vec<(&Path, Writer<'_>)>) -> Result<(), OutputError>
         staged.push(stage(path, write)?);
     }
     crate::cleanup::test_pause_before_rename();
-    for file in staged {
-        file.commit()?;
-    }
-    Ok(())
+    commit_all(staged)
+}
+
+/// Renames every staged file over its output, holding the signals that
+/// would end the process until all are done (see
+/// [`crate::cleanup::while_committing`]).
+fn commit_all(staged: Vec<Staged>) -> Result<(), OutputError> {
+    crate::cleanup::while_committing(|| {
+        for (index, file) in staged.into_iter().enumerate() {
+            if index == 1 {
+                crate::cleanup::test_pause_between_renames();
+            }
+            file.commit()?;
+        }
+        Ok(())
+    })
 }
 
 /// A complete temporary file waiting to be renamed over `path`. Dropping it

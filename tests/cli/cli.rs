@@ -1217,6 +1217,70 @@ fn a_signal_during_a_write_removes_the_temporary_files() {
     }
 }
 
+/// Pass 13 of issue 41, finding 3: a signal between the renames of a set
+/// of outputs left the new first file beside the old second one (a
+/// report of this run beside the CSV of the last). The signal waits for
+/// the set: both outputs are the new ones, no temporary file is left,
+/// and the exit status is still 128 + the signal. The test-only hook
+/// RAYLAB_TEST_PAUSE_BETWEEN_RENAMES stops raylab after the first rename.
+#[cfg(unix)]
+#[test]
+fn a_signal_between_the_renames_of_a_set_waits_for_the_whole_set() {
+    use std::io::BufRead;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let render = |chapter: &str| {
+        [
+            "render",
+            "-c",
+            chapter,
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "-o",
+            "out.png",
+            "--stats-json",
+            "stats.json",
+        ]
+        .map(String::from)
+    };
+    let old_args = render("2");
+    let old_args: Vec<&str> = old_args.iter().map(String::as_str).collect();
+    assert!(raylab(&old_args, dir.path()).status.success());
+    let read = |name: &str| std::fs::read(dir.path().join(name)).expect("an output");
+    let (old_image, old_stats) = (read("out.png"), read("stats.json"));
+    let new_args = render("5");
+    let new_args: Vec<&str> = new_args.iter().map(String::as_str).collect();
+    let mut command = common::command(&new_args, dir.path());
+    command
+        .env("RAYLAB_TEST_PAUSE_BETWEEN_RENAMES", "1")
+        .stderr(std::process::Stdio::piped());
+    {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: signal is async-signal-safe; nothing else runs here.
+        unsafe {
+            command.pre_exec(|| {
+                libc::signal(libc::SIGTERM, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+    }
+    let mut child = command.spawn().expect("spawn");
+    let mut lines = std::io::BufReader::new(child.stderr.take().expect("stderr")).lines();
+    let line = lines.next().expect("a line").expect("text");
+    assert!(line.contains("first output renamed"), "{line}");
+    // SAFETY: signalling our own child.
+    assert_eq!(
+        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) },
+        0
+    );
+    let exit = child.wait().expect("wait");
+    assert_eq!(exit.code(), Some(128 + libc::SIGTERM));
+    assert_eq!(common::temporary_files(dir.path()), Vec::<String>::new());
+    assert!(read("out.png") != old_image, "the image is the new one");
+    assert!(read("stats.json") != old_stats, "and so are the stats");
+}
+
 /// Every signal whose default action ends the process, not only the ones
 /// a shell sends: timers (SIGVTALRM, SIGPROF), a debugger's or a seccomp
 /// filter's (SIGTRAP, SIGSYS), a fault sent by `kill` (SIGSEGV, SIGBUS,
