@@ -32,6 +32,7 @@
 //! each file are resource limits of each process.
 
 mod cgroups;
+mod descriptors;
 mod held;
 mod syscalls;
 mod view;
@@ -591,7 +592,7 @@ impl Sandbox {
         for fd in &filter_fds {
             options.extend([OsString::from("--add-seccomp-fd"), fd.to_string().into()]);
         }
-        let file = options_file(&options).map_err(|error| SandboxError::Unusable {
+        let file = descriptors::options_file(&options).map_err(|error| SandboxError::Unusable {
             bwrap: self.bwrap.clone(),
             why: format!("cannot write its options to a temporary file: {error}"),
         })?;
@@ -644,7 +645,7 @@ impl Sandbox {
                     // Whatever the grader was started with stays out of
                     // the run: a shell's `exec 7< secret`, a harness's
                     // log. Every descriptor closes at exec, but those kept.
-                    close_on_exec_from_3()?;
+                    descriptors::close_on_exec_from_3()?;
                     for &fd in &kept {
                         if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
                             return Err(std::io::Error::last_os_error());
@@ -681,60 +682,6 @@ impl Sandbox {
             }
         }
     }
-}
-
-/// Marks every descriptor from 3 on to close at exec: run between fork
-/// and exec, so only async-signal-safe calls.
-#[cfg(unix)]
-fn close_on_exec_from_3() -> std::io::Result<()> {
-    #[cfg(target_os = "linux")]
-    {
-        // SAFETY: close_range only changes the flags of this process's
-        // descriptors.
-        let marked = unsafe {
-            libc::syscall(
-                libc::SYS_close_range,
-                3u32,
-                u32::MAX,
-                libc::CLOSE_RANGE_CLOEXEC,
-            )
-        };
-        if marked == 0 {
-            return Ok(());
-        }
-    }
-    // Kernels before 5.11, and other systems: one descriptor at a time,
-    // up to the process's limit.
-    let mut limit = libc::rlimit {
-        rlim_cur: 0,
-        rlim_max: 0,
-    };
-    // SAFETY: getrlimit writes only `limit`.
-    if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut limit) } != 0 {
-        return Err(std::io::Error::last_os_error());
-    }
-    let most = i32::try_from(limit.rlim_cur.min(1 << 20)).unwrap_or(1 << 20);
-    for fd in 3..most {
-        // SAFETY: on a descriptor that is not open, fcntl fails, harmless.
-        unsafe { libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC) };
-    }
-    Ok(())
-}
-
-/// A temporary file holding `options` separated by NUL bytes, read from
-/// its start, for bubblewrap's `--args`.
-fn options_file(options: &[OsString]) -> std::io::Result<std::fs::File> {
-    use std::io::{Seek, Write};
-    let mut bytes = Vec::new();
-    for option in options {
-        bytes.extend_from_slice(option.as_encoded_bytes());
-        bytes.push(0);
-    }
-    let mut file = tempfile::tempfile()?;
-    file.write_all(&bytes)?;
-    file.rewind()?;
-    // A copy numbered 3 or more: the child's standard streams take 0 to 2.
-    file.try_clone()
 }
 
 /// One student's run: its folder (the copy of the workspace, the
