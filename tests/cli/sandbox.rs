@@ -474,6 +474,16 @@ fn probe() -> &'static Probe {
     })
 }
 
+/// Fails `test` on every line of the probe's report of `kind` (skipped
+/// where bubblewrap does not work).
+fn assert_the_probe_found_no(test: &str, kind: &str) {
+    if !bubblewrap_or_skip(test) {
+        return;
+    }
+    let escaped = escapes_of(probe(), kind);
+    assert!(escaped.is_empty(), "{}", escaped.join("\n"));
+}
+
 /// The lines of the probe's report of `kind`, once the probe is known to
 /// have run to its end.
 fn escapes_of(probe: &Probe, kind: &str) -> Vec<String> {
@@ -524,11 +534,10 @@ fn as_root_the_students_code_has_no_privilege() {
 /// nowhere to be seen.
 #[test]
 fn the_graders_binary_path_and_environment_are_out_of_reach() {
-    if !bubblewrap_or_skip("the_graders_binary_path_and_environment_are_out_of_reach") {
-        return;
-    }
-    let escaped = escapes_of(probe(), "grader");
-    assert!(escaped.is_empty(), "{}", escaped.join("\n"));
+    assert_the_probe_found_no(
+        "the_graders_binary_path_and_environment_are_out_of_reach",
+        "grader",
+    );
 }
 
 /// Finding 4 of issue 41: with the whole file system readable, the
@@ -540,11 +549,10 @@ fn the_graders_binary_path_and_environment_are_out_of_reach() {
 /// none of those.
 #[test]
 fn the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace() {
-    if !bubblewrap_or_skip("the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace") {
-        return;
-    }
-    let escaped = escapes_of(probe(), "read");
-    assert!(escaped.is_empty(), "{}", escaped.join("\n"));
+    assert_the_probe_found_no(
+        "the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace",
+        "read",
+    );
 }
 
 /// Pass 13 of issue 41, finding 1: `fallocate` took 5 GiB of disk and
@@ -554,11 +562,7 @@ fn the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace() {
 /// and no io_uring (whose operations pass no seccomp program) can be made.
 #[test]
 fn no_disk_is_taken_without_a_page_written() {
-    if !bubblewrap_or_skip("no_disk_is_taken_without_a_page_written") {
-        return;
-    }
-    let escaped = escapes_of(probe(), "hold");
-    assert!(escaped.is_empty(), "{}", escaped.join("\n"));
+    assert_the_probe_found_no("no_disk_is_taken_without_a_page_written", "hold");
 }
 
 /// Runs `workspace`'s build and check in a sandbox of `limits`, judging
