@@ -98,6 +98,70 @@ pub fn visible_name(name: &std::ffi::OsStr) -> String {
     out
 }
 
+/// The names of a list, each shown as [`visible_name`] shows it, but
+/// where two would still look alike, both spelled out: every character
+/// that is not printable ASCII written as an escape ([`spelled_out`]).
+/// Names look alike when they share a skeleton, as Unicode's
+/// confusable detection defines it (UTS #39: `jos\u{e9}` and
+/// `jose\u{301}`, the Latin `alice` and one with a Cyrillic `\u{430}`,
+/// `a\u{a0}b` and `a b` share one), with runs of spaces counted as one
+/// and the spaces at either end dropped (an HTML page shows `alice ` as
+/// `alice`). Printable ASCII is left as it is: two names made of it
+/// differ visibly, even where a skeleton equates `rn` and `m`.
+pub fn told_apart(names: &[&std::ffi::OsStr]) -> Vec<String> {
+    let key = |name: &std::ffi::OsStr| -> String {
+        let skeleton: String =
+            unicode_security::confusable_detection::skeleton(&name.to_string_lossy()).collect();
+        skeleton.split_whitespace().collect::<Vec<_>>().join(" ")
+    };
+    let keys: Vec<String> = names.iter().map(|name| key(name)).collect();
+    let mut count = std::collections::HashMap::<&str, usize>::new();
+    for key in &keys {
+        *count.entry(key.as_str()).or_default() += 1;
+    }
+    names
+        .iter()
+        .zip(&keys)
+        .map(|(name, key)| {
+            if count[key.as_str()] > 1 {
+                spelled_out(name)
+            } else {
+                visible_name(name)
+            }
+        })
+        .collect()
+}
+
+/// `name` in printable ASCII alone: each other character written as a
+/// Rust-style escape (`\u{e9}`, a space `\u{20}`), each byte that is not
+/// UTF-8 as `\xNN`, and a backslash doubled, so that no two names are
+/// spelled alike and none can be confused with another's spelling.
+pub fn spelled_out(name: &std::ffi::OsStr) -> String {
+    fn spell(valid: &str, out: &mut String) {
+        for c in valid.chars() {
+            match c {
+                '\\' => out.push_str("\\\\"),
+                '!'..='~' => out.push(c),
+                _ => out.extend(c.escape_unicode()),
+            }
+        }
+    }
+    let mut out = String::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt;
+        for chunk in name.as_bytes().utf8_chunks() {
+            spell(chunk.valid(), &mut out);
+            for byte in chunk.invalid() {
+                out.push_str(&format!("\\x{byte:02x}"));
+            }
+        }
+    }
+    #[cfg(not(unix))]
+    spell(&name.to_string_lossy(), &mut out);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,6 +225,61 @@ mod tests {
             let text = format!("a{visible}b");
             assert_eq!(terminal_safe(&text), text);
         }
+    }
+
+    /// Names that differ only in how a character is composed, in a
+    /// look-alike letter of another script, or in spaces that show alike,
+    /// are spelled out; names alone in looking as they do are not.
+    #[test]
+    fn names_that_would_look_alike_are_spelled_out() {
+        let names = [
+            "jos\u{e9}",
+            "jose\u{301}",
+            "alice",
+            "\u{430}lice",
+            "alice ",
+            "bob",
+            "ali ce",
+            "ali\u{a0}ce",
+            "ali\u{3000}ce",
+            "ali\u{2800}ce",
+            "ali  ce",
+            "zo\u{eb}",
+            "rn",
+            "m",
+        ];
+        let os: Vec<&std::ffi::OsStr> = names.iter().map(std::ffi::OsStr::new).collect();
+        let shown = told_apart(&os);
+        assert_eq!(
+            shown,
+            [
+                "jos\\u{e9}",
+                "jose\\u{301}",
+                "alice",
+                "\\u{430}lice",
+                "alice\\u{20}",
+                "bob",
+                "ali\\u{20}ce",
+                "ali\\u{a0}ce",
+                "ali\\u{3000}ce",
+                "ali\\u{2800}ce",
+                "ali\\u{20}\\u{20}ce",
+                // Alone: shown as it is, accent and all.
+                "zo\u{eb}",
+                "rn",
+                "m",
+            ]
+        );
+        let mut distinct = shown.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(distinct.len(), shown.len());
+        // A spelling is never another name's plain form.
+        assert_ne!(
+            spelled_out(std::ffi::OsStr::new("jos\u{e9}")),
+            visible_name(std::ffi::OsStr::new(r"jos\u{e9}"))
+        );
+        assert_eq!(spelled_out(std::ffi::OsStr::new(r"a\b")), r"a\\b");
     }
 
     #[test]

@@ -767,6 +767,66 @@ fn names_that_differ_by_invisible_characters_look_different() {
     assert_eq!(rows, students.len(), "{md}");
 }
 
+/// Students' folders whose names would look alike though every character
+/// shows (`jos\u{e9}` composed and decomposed, `alice` with a Cyrillic
+/// `\u{430}`, a trailing space, non-breaking, ideographic and braille
+/// blank spaces) are spelled out in the summary, the CSV and the HTML, and
+/// one student's job finds its student by the folder's own name.
+#[test]
+fn names_that_would_look_alike_are_spelled_out() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let class = dir.path().join("class");
+    let students = [
+        ("jos\u{e9}", "jos\\u{e9}"),
+        ("jose\u{301}", "jose\\u{301}"),
+        ("alice", "alice"),
+        ("\u{430}lice", "\\u{430}lice"),
+        ("alice ", "alice\\u{20}"),
+        ("bo b", "bo\\u{20}b"),
+        ("bo\u{a0}b", "bo\\u{a0}b"),
+        ("bo\u{3000}b", "bo\\u{3000}b"),
+        ("bo\u{2800}b", "bo\\u{2800}b"),
+    ];
+    for (student, _) in &students {
+        std::fs::create_dir_all(class.join(student)).expect("mkdir");
+    }
+    let out = raylab(&["grade", "class"], dir.path());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let md = stdout(&out);
+    let csv = std::fs::read_to_string(class.join("grades.csv")).expect("CSV written");
+    let html = std::fs::read_to_string(class.join("report.html")).expect("report");
+    for (_, shown) in &students {
+        // Markdown doubles a backslash to show it.
+        let row = format!("| {} |", shown.replace('\\', "\\\\"));
+        assert!(md.contains(&row), "{row} in {md}");
+        assert!(
+            csv.lines().any(|line| line.starts_with(shown)),
+            "{shown} in {csv}"
+        );
+        assert!(html.contains(shown), "{shown} in the HTML");
+    }
+    for (name, _) in &students[..2] {
+        assert!(!md.contains(name), "{name:?} written as it is: {md}");
+    }
+    let out = raylab(
+        &[
+            "grade",
+            "class",
+            "--student",
+            "alice ",
+            "--result",
+            "alice.json",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let result: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("alice.json")).expect("result written"),
+    )
+    .expect("a result is JSON");
+    assert_eq!(result["student"]["name"], "alice\\u{20}", "{result}");
+}
+
 /// Runs raylab as [`raylab`] does, but where the tests run as root (CI),
 /// without the capabilities that let root read any folder (util-linux's
 /// `setpriv` drops them from the bounding set), so that a `chmod 000`

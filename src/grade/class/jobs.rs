@@ -165,7 +165,11 @@ pub fn grade_student<R: Chapters>(
     let shown = crate::text::visible_name(name);
     let mut student = students
         .into_iter()
-        .find(|student| student.name == shown || name.to_str() == Some(student.name.as_str()))
+        .find(|student| {
+            student.folder.file_name() == Some(name)
+                || student.name == shown
+                || name.to_str() == Some(student.name.as_str())
+        })
         .ok_or_else(|| GradeError::NoSuchStudent {
             name: shown,
             folder: folder.to_path_buf(),

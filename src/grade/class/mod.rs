@@ -87,13 +87,21 @@ fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignor
     let skip: Vec<PathBuf> = skip.iter().filter_map(|p| p.canonicalize().ok()).collect();
     let mut students = Vec::new();
     let mut ignored = Vec::new();
+    let mut entries = Vec::new();
     for entry in read_folder(folder)? {
         let entry = entry.map_err(folder_error(folder))?;
-        let path = entry.path();
-        let name = crate::text::visible_name(&entry.file_name());
-        if path.canonicalize().is_ok_and(|p| skip.contains(&p)) {
+        if entry.path().canonicalize().is_ok_and(|p| skip.contains(&p)) {
             continue;
         }
+        entries.push(entry);
+    }
+    // Names that would look alike in the report are spelled out, so that
+    // an instructor never reads two students' rows as one student's.
+    let raw_names: Vec<std::ffi::OsString> = entries.iter().map(|e| e.file_name()).collect();
+    let raw_names: Vec<&std::ffi::OsStr> = raw_names.iter().map(|n| n.as_os_str()).collect();
+    let shown_names = crate::text::told_apart(&raw_names);
+    for (entry, name) in entries.into_iter().zip(shown_names) {
+        let path = entry.path();
         let kind = entry.file_type().map_err(folder_error(folder))?;
         if kind.is_symlink() {
             // A link could lead to another student's folder, or anywhere:
