@@ -1863,7 +1863,12 @@ fn the_grader_judges_real_workspaces_itself() {
     // result or in what grade printed.
     for shown in [answer.to_string(), printed] {
         assert!(!shown.contains("0.6171"), "{shown}");
+        // It met that radius and started threads up to the process limit:
+        // the limits reported are those reached before the hidden scenes.
+        assert!(!shown.contains("process limit"), "{shown}");
     }
+    let limits = &answer["student"]["outcome"]["Code"]["limits"];
+    assert_eq!(limits, &serde_json::json!([]), "{answer}");
     let (cheat, _) = grade_built("student-cheat", &hidden);
     let scenes = &cheat["student"]["outcome"]["Code"]["scenes"];
     assert_eq!(scenes[0]["passed"], false, "{scenes}");

@@ -82,7 +82,10 @@ pub(crate) fn workspaces() -> &'static Workspaces {
         std::fs::write(&glue, text).expect("write the glue");
         // The answer key's chapter 2 tells each new radius it meets on
         // stderr (which never counts): a hidden scene's, if anything the
-        // process writes while rendering it came back to the student.
+        // process writes while rendering it came back to the student. On
+        // meeting the hidden scene's radius it starts threads until the
+        // run's process limit refuses one: the limits the report states
+        // must not tell of it.
         let answer_glue = answer.join("src/chapters/mod.rs");
         let sphere = "        ch02_sphere::intersect_sphere(sphere, ray, t_min, t_max)";
         let text = read(&answer_glue);
@@ -90,7 +93,12 @@ pub(crate) fn workspaces() -> &'static Workspaces {
         let told = "        static TOLD: std::sync::Mutex<Vec<u32>> = std::sync::Mutex::new(Vec::new());\n        \
              if let Ok(mut told) = TOLD.lock()\n            && !told.contains(&sphere.radius().to_bits())\n        {\n            \
              told.push(sphere.radius().to_bits());\n            \
-             eprintln!(\"a sphere of radius {}\", sphere.radius());\n        }\n";
+             eprintln!(\"a sphere of radius {}\", sphere.radius());\n            \
+             if (sphere.radius() * 1e4).round() == 6171.0 {\n                \
+             for _ in 0..2000 {\n                    \
+             let sleeper = std::thread::Builder::new().stack_size(64 << 10);\n                    \
+             if sleeper.spawn(|| std::thread::sleep(std::time::Duration::from_secs(1))).is_err() {\n                        \
+             break;\n                    }\n                }\n            }\n        }\n";
         std::fs::write(&answer_glue, text.replace(sphere, &format!("{told}{sphere}")))
             .expect("write the answer's glue");
         // raylab's own chapters run by the workspace's own main, from
