@@ -39,18 +39,18 @@ pub enum DiffError {
     #[error("corrupted PNG: {0}")]
     CorruptedHeader(png::DecodingError),
     #[error("corrupted PNG: {0}")]
-    Corrupted(image::ImageError),
+    Corrupted(png::DecodingError),
+    /// The decoder expanded the pixels to a layout it should not have: a
+    /// PNG whose header and data disagree.
+    #[error("corrupted PNG: its pixels do not decode to the colour type its header declares")]
+    Undecodable,
     /// The decoder's own guard, worded as the limit it is.
     #[error(
         "{width}x{height} pixels: decoding needs more memory than raylab's image size \
-         limit allows ({} bytes): {limit}",
+         limit allows ({} bytes)",
         2 * crate::input::MAX_DECODED_BYTES
     )]
-    DecodeLimit {
-        width: u32,
-        height: u32,
-        limit: image::error::LimitError,
-    },
+    DecodeLimit { width: u32, height: u32 },
     /// The PNG at `path` does not decode.
     #[error("{}: {error}", path.display())]
     InFile {
@@ -224,32 +224,68 @@ impl Image {
         if !bytes.starts_with(&PNG_SIGNATURE) {
             return Err(DiffError::NotPng);
         }
-        let mut header = png::Decoder::new(std::io::Cursor::new(bytes));
-        let info = header
+        // A second guard inside the decoder; the size check below is the
+        // one that speaks, so any limit hit here is worded as a limit too.
+        let limits = png::Limits {
+            bytes: usize::try_from(2 * crate::input::MAX_DECODED_BYTES).unwrap_or(usize::MAX),
+        };
+        let mut decoder = png::Decoder::new_with_limits(std::io::Cursor::new(bytes), limits);
+        // raylab reads the pixels alone. A colour profile (iCCP) or a
+        // compressed text (zTXt, iTXt) of a few kilobytes can inflate to
+        // hundreds of megabytes: they are skipped unread.
+        decoder.set_ignore_iccp_chunk(true);
+        decoder.set_ignore_text_chunk(true);
+        let info = decoder
             .read_header_info()
             .map_err(DiffError::CorruptedHeader)?;
         let (width, height) = (info.width, info.height);
         crate::input::check_image_size(width, height)?;
-        // A second guard inside the decoder; the check above is the one
-        // that speaks, so any limit hit here is worded as a limit too.
-        let limits = {
-            let mut limits = image::Limits::default();
-            limits.max_image_width = Some(crate::input::MAX_IMAGE_SIDE);
-            limits.max_image_height = Some(crate::input::MAX_IMAGE_SIDE);
-            limits.max_alloc = Some(2 * crate::input::MAX_DECODED_BYTES);
-            limits
+        let limit = |error| match error {
+            png::DecodingError::LimitsExceeded => DiffError::DecodeLimit { width, height },
+            other => DiffError::Corrupted(other),
         };
-        let decoded =
-            image::codecs::png::PngDecoder::with_limits(std::io::Cursor::new(bytes), limits)
-                .and_then(image::DynamicImage::from_decoder)
-                .map_err(|error| match error {
-                    image::ImageError::Limits(limit) => DiffError::DecodeLimit {
-                        width,
-                        height,
-                        limit,
-                    },
-                    other => DiffError::Corrupted(other),
-                })?;
+        // Palettes and low bit depths expanded: what is left is grey or
+        // RGB, with or without alpha, in 8 or 16 bits.
+        decoder.set_transformations(png::Transformations::EXPAND);
+        let mut reader = decoder.read_info().map_err(limit)?;
+        let too_large = DiffError::DecodeLimit { width, height };
+        let size = reader.output_buffer_size().ok_or(too_large)?;
+        let mut pixels = Vec::new();
+        pixels
+            .try_reserve_exact(size)
+            .map_err(|_| DiffError::DecodeLimit { width, height })?;
+        pixels.resize(size, 0);
+        let frame = reader.next_frame(&mut pixels).map_err(limit)?;
+        pixels.truncate(frame.buffer_size());
+        // 16-bit samples become 8-bit ones as `image` converts them
+        // (rounded to nearest), below.
+        let wide = |bytes: Vec<u8>| -> Vec<u16> {
+            bytes
+                .chunks_exact(2)
+                .map(|pair| u16::from_be_bytes([pair[0], pair[1]]))
+                .collect()
+        };
+        // `None` where the samples' count is not the size's.
+        macro_rules! image_of {
+            ($pixel:ident, $samples:expr) => {
+                image::ImageBuffer::<image::$pixel<_>, _>::from_raw(width, height, $samples)
+                    .map(image::DynamicImage::from)
+            };
+        }
+        use png::{BitDepth::Eight, BitDepth::Sixteen, ColorType};
+        let decoded = match reader.output_color_type() {
+            (ColorType::Grayscale, Eight) => image_of!(Luma, pixels),
+            (ColorType::GrayscaleAlpha, Eight) => image_of!(LumaA, pixels),
+            (ColorType::Rgb, Eight) => image_of!(Rgb, pixels),
+            (ColorType::Rgba, Eight) => image_of!(Rgba, pixels),
+            (ColorType::Grayscale, Sixteen) => image_of!(Luma, wide(pixels)),
+            (ColorType::GrayscaleAlpha, Sixteen) => image_of!(LumaA, wide(pixels)),
+            (ColorType::Rgb, Sixteen) => image_of!(Rgb, wide(pixels)),
+            (ColorType::Rgba, Sixteen) => image_of!(Rgba, wide(pixels)),
+            // EXPAND leaves no palette and no depth under 8 bits.
+            _ => None,
+        }
+        .ok_or(DiffError::Undecodable)?;
         // `into_rgb8` keeps an RGB8 buffer as it is instead of copying it.
         let rgb = decoded.into_rgb8();
         Ok(Image {
@@ -730,6 +766,51 @@ pub fn write_heatmap(image: &Image, path: &Path) -> Result<(), OutputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every colour type and depth a PNG may have decodes to the RGB that
+    /// `image`'s own PNG reader gives (palettes expanded, grey spread to
+    /// three channels, alpha dropped, 16 bits rounded to 8).
+    #[test]
+    fn every_png_layout_decodes_as_image_decodes_it() {
+        let (width, height) = (5u32, 3u32);
+        let samples = |channels: usize, depth: usize| -> Vec<u8> {
+            (0..width as usize * height as usize * channels * depth)
+                .map(|i| (i * 37 % 251) as u8)
+                .collect()
+        };
+        let layouts = [
+            (png::ColorType::Grayscale, png::BitDepth::Eight, 1, 1),
+            (png::ColorType::Grayscale, png::BitDepth::Sixteen, 1, 2),
+            (png::ColorType::GrayscaleAlpha, png::BitDepth::Eight, 2, 1),
+            (png::ColorType::Rgb, png::BitDepth::Eight, 3, 1),
+            (png::ColorType::Rgb, png::BitDepth::Sixteen, 3, 2),
+            (png::ColorType::Rgba, png::BitDepth::Sixteen, 4, 2),
+            (png::ColorType::Indexed, png::BitDepth::Eight, 1, 1),
+        ];
+        for (color, depth, channels, bytes) in layouts {
+            let mut file = Vec::new();
+            let mut encoder = png::Encoder::new(&mut file, width, height);
+            encoder.set_color(color);
+            encoder.set_depth(depth);
+            let mut data = samples(channels, bytes);
+            if color == png::ColorType::Indexed {
+                encoder.set_palette(
+                    (0..=255u8)
+                        .flat_map(|i| [i, 255 - i, i / 2])
+                        .collect::<Vec<_>>(),
+                );
+                data.iter_mut().for_each(|index| *index %= 200);
+            }
+            let mut writer = encoder.write_header().expect("header");
+            writer.write_image_data(&data).expect("pixels");
+            writer.finish().expect("end");
+            let ours = Image::decode_png(&file).expect("decodes");
+            let theirs = image::load_from_memory(&file)
+                .expect("image decodes")
+                .into_rgb8();
+            assert_eq!(ours.rgb, theirs.into_raw(), "{color:?} {depth:?}");
+        }
+    }
 
     fn flat(width: u32, height: u32, value: u8) -> Image {
         Image {

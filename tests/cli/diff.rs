@@ -423,6 +423,46 @@ fn a_png_over_the_size_limit_is_refused_before_decoding() {
     }
 }
 
+/// Pass 13 of issue 41, finding 10: a colour profile (iCCP) of 5 MB that
+/// inflates to 700 MB made `diff` hold 0.6 GB while decoding a 64x48 PNG.
+/// raylab reads no profile: under an address-space limit of 512 MiB, far
+/// below what inflating it takes, the PNG is diffed like any other.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_colour_profile_that_inflates_to_hundreds_of_megabytes_is_not_read() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rgb = render(2, |_| {});
+    let plain = save(dir.path(), "plain.png", &rgb.rgb);
+    let mut profile = b"bomb\0\0".to_vec();
+    profile.extend(common::zeros_deflated(1 + 258 * 2_713_000));
+    let png = std::fs::read(&plain).expect("read");
+    std::fs::write(
+        dir.path().join("profiled.png"),
+        common::with_chunk(&png, *b"iCCP", &profile),
+    )
+    .expect("write");
+    let mut command = common::command(&["diff", "plain.png", "profiled.png"], dir.path());
+    // SAFETY: setrlimit only, which is async-signal-safe, in the child
+    // before it runs raylab.
+    unsafe {
+        command.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: 512 << 20,
+                rlim_max: 512 << 20,
+            };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        });
+    }
+    let out = command.output().expect("runs");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("PASS"), "{}", stdout(&out));
+}
+
 /// A FIFO would block `diff` forever, `/dev/zero` (or a link to it) would be
 /// read until memory ran out: only regular files are read.
 #[cfg(unix)]

@@ -658,7 +658,7 @@ fn a_class_survives_hostile_folders_and_names() {
     ihdr.extend(16384u32.to_be_bytes());
     ihdr.extend(2441u32.to_be_bytes());
     ihdr.extend(&bytes[24..29]);
-    let crc = crc32(&ihdr);
+    let crc = common::crc32(&ihdr);
     bytes[12..29].copy_from_slice(&ihdr);
     bytes[29..33].copy_from_slice(&crc.to_be_bytes());
     std::fs::write(class.join("alice/chapter-2.png"), &bytes).expect("write");
@@ -843,22 +843,6 @@ fn as_without_read_override(args: &[&str], dir: &Path) -> std::process::Output {
         .current_dir(dir)
         .output()
         .expect("setpriv (util-linux) runs raylab")
-}
-
-/// CRC-32 of a PNG chunk's type and data (ISO 3309, as PNG uses it).
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = 0xffff_ffffu32;
-    for &byte in bytes {
-        crc ^= u32::from(byte);
-        for _ in 0..8 {
-            crc = if crc & 1 == 1 {
-                (crc >> 1) ^ 0xedb8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
 }
 
 /// A class graded as one job per student (with GNU parallel where it is

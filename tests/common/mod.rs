@@ -143,8 +143,79 @@ pub fn png_declaring(width: u32, height: u32) -> Vec<u8> {
     bytes
 }
 
+/// `png` (a whole PNG file) with a chunk of `kind` holding `data` added
+/// right after its header chunk.
+pub fn with_chunk(png: &[u8], kind: [u8; 4], data: &[u8]) -> Vec<u8> {
+    // The signature (8 bytes), then IHDR: length, type, 13 bytes, CRC.
+    let after_header = 8 + 4 + 4 + 13 + 4;
+    let mut bytes = png[..after_header].to_vec();
+    bytes.extend((data.len() as u32).to_be_bytes());
+    let mut body = kind.to_vec();
+    body.extend(data);
+    bytes.extend(&body);
+    bytes.extend(crc32(&body).to_be_bytes());
+    bytes.extend(&png[after_header..]);
+    bytes
+}
+
+/// A zlib stream that inflates to `length` zero bytes (`length` one more
+/// than a multiple of 258), about 13 bits for each 258 bytes: one block of
+/// deflate's fixed Huffman codes, a literal zero and then copies of 258
+/// bytes at distance 1 (RFC 1951, 3.2.6).
+pub fn zeros_deflated(length: u64) -> Vec<u8> {
+    assert_eq!((length - 1) % 258, 0, "{length} is not 1 + 258 k");
+    let mut bits = BitWriter::default();
+    bits.push(1, 1); // the last block
+    bits.push(1, 2); // fixed Huffman codes
+    let code = |bits: &mut BitWriter, code: u32, width: u32| {
+        // Huffman codes go most significant bit first.
+        for bit in (0..width).rev() {
+            bits.push((code >> bit) & 1, 1);
+        }
+    };
+    code(&mut bits, 0x30, 8); // literal 0
+    for _ in 0..(length - 1) / 258 {
+        code(&mut bits, 0xc5, 8); // length 258 (symbol 285)
+        code(&mut bits, 0, 5); // distance 1
+    }
+    code(&mut bits, 0, 7); // end of block (symbol 256)
+    let mut stream = vec![0x78, 0x01];
+    stream.extend(bits.finish());
+    // Adler-32 of zeros: a stays 1, b adds it once a byte.
+    let adler = (((length % 65_521) as u32) << 16) | 1;
+    stream.extend(adler.to_be_bytes());
+    stream
+}
+
+/// Bits packed least significant first, as deflate packs them.
+#[derive(Default)]
+struct BitWriter {
+    bytes: Vec<u8>,
+    filled: u32,
+}
+
+impl BitWriter {
+    fn push(&mut self, value: u32, width: u32) {
+        for bit in 0..width {
+            if self.filled % 8 == 0 {
+                self.bytes.push(0);
+            }
+            if (value >> bit) & 1 == 1 {
+                if let Some(last) = self.bytes.last_mut() {
+                    *last |= 1 << (self.filled % 8);
+                }
+            }
+            self.filled += 1;
+        }
+    }
+
+    fn finish(self) -> Vec<u8> {
+        self.bytes
+    }
+}
+
 /// CRC-32 (IEEE), as PNG chunks use.
-fn crc32(bytes: &[u8]) -> u32 {
+pub fn crc32(bytes: &[u8]) -> u32 {
     let mut crc = !0u32;
     for &byte in bytes {
         crc ^= u32::from(byte);
