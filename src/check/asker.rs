@@ -43,4 +43,9 @@ pub enum Ended {
 pub trait Asker {
     /// The reply to `request`, asked during `step`.
     fn ask(&mut self, request: &Request, step: &Step) -> Result<Reply, Ended>;
+
+    /// From now on, past `deadline` a question ends as
+    /// [`Ended::TimedOut`] (and the next one starts afresh). An asker
+    /// with no time limit of its own ignores it.
+    fn set_deadline(&mut self, _deadline: Option<std::time::Instant>) {}
 }

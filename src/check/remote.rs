@@ -303,6 +303,10 @@ impl Asker for Remote {
         }
         self.exchange(request, step, None)
     }
+
+    fn set_deadline(&mut self, deadline: Option<Instant>) {
+        self.deadline = deadline;
+    }
 }
 
 /// The message for a binary built from another raylab.

@@ -286,7 +286,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
             let mut unshown = Remote::new(Arc::clone(&spawn))
                 .with_deadline(Some(deadline))
                 .with_stderr_buffer(Arc::new(std::sync::Mutex::new(Vec::new())));
-            run.scenes = super::hidden::grade_scenes(job.scenes, &mut unshown);
+            run.scenes = super::hidden::grade_scenes(job.scenes, &mut unshown, Some(deadline));
         }
         let students = remote().stderr();
         if !students.trim().is_empty() {

@@ -116,75 +116,90 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
     Ok(texts)
 }
 
-/// Why a hidden scene's outcome says no more.
-const WITHHELD: &str = "how is not shown: the scene is hidden";
+/// What a student reads of a hidden scene that failed, however it failed:
+/// which way it failed (a wrong image, none, a crash, raylab's own
+/// answers, the time it took) is the student's code's choice, and would
+/// tell of the scene more than the one bit pass or fail.
+fn failed_detail(chapter: u8) -> String {
+    format!(
+        "not rendered as raylab's reference chapters render the scene at chapter {chapter} \
+         (how it failed is not shown: the scene is hidden)"
+    )
+}
 
 /// Renders each of `scenes` with the student's chapters, asked through
 /// `asker` (the workspace's binary answering as `serve`), and compares the
-/// image with the scene's reference.
-pub fn grade_scenes(scenes: &[HiddenScene], asker: &mut dyn Asker) -> Vec<SceneOutcome> {
+/// image with the scene's reference. Before `deadline`, each scene has its
+/// share of the time left: one that never ends fails alone.
+pub fn grade_scenes(
+    scenes: &[HiddenScene],
+    asker: &mut dyn Asker,
+    deadline: Option<std::time::Instant>,
+) -> Vec<SceneOutcome> {
+    let count = scenes.len();
     scenes
         .iter()
-        .map(|scene| {
-            let failed = |detail: String| SceneOutcome {
+        .enumerate()
+        .map(|(index, scene)| {
+            if let Some(deadline) = deadline {
+                let now = std::time::Instant::now();
+                let left = deadline.saturating_duration_since(now);
+                let scenes_left = u32::try_from(count - index).unwrap_or(u32::MAX);
+                asker.set_deadline(Some(now + left / scenes_left));
+            }
+            let passed = renders_as_reference(scene, asker);
+            SceneOutcome {
                 name: scene.name.clone(),
-                passed: false,
+                passed,
                 metrics: None,
-                detail,
-            };
-            let step = Step {
-                chapter: scene.chapter,
-                function: "render".into(),
-                case: format!("the hidden scene {}", scene.name),
-            };
-            let request = Request::Render {
-                scene: scene.text.clone(),
-                chapter: scene.chapter,
-                view: scene.view,
-            };
-            let image = match asker.ask(&request, &step) {
-                // Reported whatever came of them: in a student's build an
-                // answer of raylab's reports, then panics.
-                Ok(Reply::Answer { used, escaped, .. })
-                    if !used.is_empty() || !escaped.is_empty() =>
-                {
-                    return failed(
-                        "the render ran raylab's own answers instead of the student's".into(),
-                    );
-                }
-                Ok(Reply::Answer {
-                    answer: Answered::Rgb { width, height, rgb },
-                    ..
-                }) => Image { width, height, rgb },
-                // Whatever else the student's process sends or does (a
-                // panic, an error, another answer, an exit of its
-                // choosing, a reply the judge refuses) is one failure,
-                // told apart by nothing it chose.
-                Ok(_) | Err(Ended::Died(_) | Ended::Refused(_)) => {
-                    return failed(format!("no image came back ({WITHHELD})"));
-                }
-                Err(Ended::TimedOut) => return failed("timed out".into()),
-            };
-            match compare(
-                &image,
-                &scene.reference,
-                Criteria::default(),
-                ("student", "reference"),
-            ) {
-                Ok(comparison) => SceneOutcome {
-                    name: scene.name.clone(),
-                    passed: comparison.passes(),
-                    metrics: None,
-                    detail: format!(
-                        "compared with raylab's reference chapters on the scene at chapter {} \
+                detail: if passed {
+                    format!(
+                        "rendered as raylab's reference chapters render the scene at chapter {} \
                          (by how much is not shown: the scene is hidden)",
                         scene.chapter
-                    ),
+                    )
+                } else {
+                    failed_detail(scene.chapter)
                 },
-                Err(_) => failed(format!("the image is not the scene's ({WITHHELD})")),
             }
         })
         .collect()
+}
+
+/// Whether the student's render of `scene`, asked through `asker`, is the
+/// reference's by [`Criteria::default`]. Whatever else the student's
+/// process sends or does (a panic, an error, another answer, an exit of
+/// its choosing, a reply the judge refuses, no reply in time, an answer of
+/// raylab's) is a failure, told apart by nothing.
+fn renders_as_reference(scene: &HiddenScene, asker: &mut dyn Asker) -> bool {
+    let step = Step {
+        chapter: scene.chapter,
+        function: "render".into(),
+        case: format!("the hidden scene {}", scene.name),
+    };
+    let request = Request::Render {
+        scene: scene.text.clone(),
+        chapter: scene.chapter,
+        view: scene.view,
+    };
+    let image = match asker.ask(&request, &step) {
+        // In a student's build an answer of raylab's reports, then panics.
+        Ok(Reply::Answer { used, escaped, .. }) if !used.is_empty() || !escaped.is_empty() => {
+            return false;
+        }
+        Ok(Reply::Answer {
+            answer: Answered::Rgb { width, height, rgb },
+            ..
+        }) => Image { width, height, rgb },
+        Ok(_) | Err(_) => return false,
+    };
+    compare(
+        &image,
+        &scene.reference,
+        Criteria::default(),
+        ("student", "reference"),
+    )
+    .is_ok_and(|comparison| comparison.passes())
 }
 
 #[cfg(test)]
@@ -233,13 +248,10 @@ mod tests {
             |scene| Answered::Error(scene.to_string()),
         ];
         for leak in leaks {
-            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Leaking(leak));
+            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Leaking(leak), None);
             let shown = format!("{outcomes:?}");
             assert!(!shown.contains("secret_position"), "{shown}");
             assert!(outcomes.iter().all(|outcome| !outcome.passed), "{shown}");
-            // Answers reported, then a panic (a student's build has no
-            // answer of raylab's to run): named as answers, not as a panic.
-            assert!(shown.contains("raylab's own answers"), "{shown}");
         }
         // An image, but with raylab's answers reported: their names are the
         // student's text too.
@@ -250,10 +262,12 @@ mod tests {
                 height: 1,
                 rgb: vec![0; 3],
             }),
+            None,
         );
         let shown = format!("{ran:?}");
         assert!(!shown.contains("secret_position"), "{shown}");
-        assert!(shown.contains("raylab's own answers"), "{shown}");
+        // The right image, but made with raylab's answers: a failure.
+        assert!(!ran[0].passed, "{shown}");
     }
 
     /// Answers every render with a fixed outcome, whatever the scene.
@@ -273,8 +287,10 @@ mod tests {
     }
 
     /// What the student's process chooses (its exit status, its image's
-    /// size, where its image differs) comes back as nothing but a failure:
-    /// each was a way to write a hidden scene's numbers into the report.
+    /// size, where its image differs, a crash, raylab's own answers, the
+    /// time it takes) comes back as nothing but a failure, each worded as
+    /// the others: each was a way to write a hidden scene's numbers into
+    /// the report, or to tell it a bit more than pass or fail.
     #[test]
     fn nothing_the_process_chooses_comes_back_but_pass_or_fail() {
         let scene = HiddenScene {
@@ -288,8 +304,27 @@ mod tests {
                 rgb: vec![10; 6],
             },
         };
-        let choices: [fn() -> Result<Reply, Ended>; 5] = [
+        let choices: [fn() -> Result<Reply, Ended>; 8] = [
             || Err(Ended::Died("exited with status 49".into())),
+            || Err(Ended::TimedOut),
+            || {
+                Ok(Reply::Answer {
+                    answer: Answered::Rgb {
+                        width: 2,
+                        height: 1,
+                        rgb: vec![10; 6],
+                    },
+                    used: vec!["nearest_hit".into()],
+                    escaped: Vec::new(),
+                })
+            },
+            || {
+                answered(Answered::Panicked(Panic {
+                    message: "stack overflow".into(),
+                    location: None,
+                    file: None,
+                }))
+            },
             || Err(Ended::Refused("a reply of 4949 bytes".into())),
             || answered(Answered::Error("49".into())),
             || {
@@ -308,15 +343,19 @@ mod tests {
                 })
             },
         ];
+        let mut details = Vec::new();
         for choice in choices {
-            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Fixed(choice));
+            let outcomes = grade_scenes(std::slice::from_ref(&scene), &mut Fixed(choice), None);
             let shown = format!("{outcomes:?}");
             assert!(!shown.contains("49"), "{shown}");
             assert!(
                 outcomes.iter().all(|o| !o.passed && o.metrics.is_none()),
                 "{shown}"
             );
+            details.push(outcomes[0].detail.clone());
         }
+        details.dedup();
+        assert_eq!(details.len(), 1, "{details:#?}");
         let same = grade_scenes(
             std::slice::from_ref(&scene),
             &mut Fixed(|| {
@@ -326,8 +365,71 @@ mod tests {
                     rgb: vec![10; 6],
                 })
             }),
+            None,
         );
         assert!(same[0].passed && same[0].metrics.is_none(), "{same:?}");
+    }
+
+    /// Answers a scene whose text is `loop` only once its deadline has
+    /// passed (as a process that never ends, killed at its deadline), and
+    /// every other with the scene's reference.
+    struct LoopsOnOne {
+        reference: Image,
+        deadline: Option<std::time::Instant>,
+    }
+    impl Asker for LoopsOnOne {
+        fn ask(&mut self, request: &Request, _: &Step) -> Result<Reply, Ended> {
+            let Request::Render { scene, .. } = request else {
+                return Err(Ended::Refused("not a render".into()));
+            };
+            let Some(deadline) = self.deadline else {
+                return Err(Ended::Refused("no deadline".into()));
+            };
+            if scene == "loop" || std::time::Instant::now() >= deadline {
+                std::thread::sleep(deadline.saturating_duration_since(std::time::Instant::now()));
+                return Err(Ended::TimedOut);
+            }
+            answered(Answered::Rgb {
+                width: self.reference.width,
+                height: self.reference.height,
+                rgb: self.reference.rgb.clone(),
+            })
+        }
+
+        fn set_deadline(&mut self, deadline: Option<std::time::Instant>) {
+            self.deadline = deadline;
+        }
+    }
+
+    /// A scene that never ends fails alone: each scene has its share of the
+    /// time left, and the scenes after it still pass.
+    #[test]
+    fn a_scene_that_never_ends_fails_alone() {
+        let reference = Image {
+            width: 1,
+            height: 1,
+            rgb: vec![7; 3],
+        };
+        let scene = |name: &str, text: &str| HiddenScene {
+            name: name.into(),
+            text: text.into(),
+            chapter: 4,
+            view: None,
+            reference: reference.clone(),
+        };
+        let scenes = [
+            scene("a.toml", "loop"),
+            scene("b.toml", ""),
+            scene("c.toml", ""),
+        ];
+        let mut asker = LoopsOnOne {
+            reference: reference.clone(),
+            deadline: None,
+        };
+        let deadline = std::time::Instant::now() + std::time::Duration::from_millis(600);
+        let outcomes = grade_scenes(&scenes, &mut asker, Some(deadline));
+        let passed: Vec<bool> = outcomes.iter().map(|outcome| outcome.passed).collect();
+        assert_eq!(passed, [false, true, true], "{outcomes:?}");
     }
 
     /// Under `--fresh` a hidden scene is seen from a turned camera: its
@@ -359,12 +461,12 @@ mod tests {
             }
         }
         let rendered_in_advance = plain[0].reference.clone();
-        let without = grade_scenes(&plain, &mut Replay(rendered_in_advance.clone()));
+        let without = grade_scenes(&plain, &mut Replay(rendered_in_advance.clone()), None);
         assert!(without[0].passed, "{without:?}");
-        let with = grade_scenes(&turned, &mut Replay(rendered_in_advance));
+        let with = grade_scenes(&turned, &mut Replay(rendered_in_advance), None);
         assert!(!with[0].passed, "{with:?}");
         // The turned view's own render passes.
-        let honest = grade_scenes(&turned, &mut Replay(turned[0].reference.clone()));
+        let honest = grade_scenes(&turned, &mut Replay(turned[0].reference.clone()), None);
         assert!(honest[0].passed, "{honest:?}");
     }
 }

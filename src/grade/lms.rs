@@ -131,25 +131,67 @@ fn chapter_block(text: &str, chapter: u8) -> Option<String> {
 pub const GRADEBOOK_HEADER: &str = crate::output::markers::GRADEBOOK_CSV;
 
 /// The gradebook of a graded class: one row per student, named by their
-/// folder, a column per chapter (1 when it passes, else 0) and the total.
+/// folder, a column per chapter (1 when it passes, else 0), then with
+/// `grade --code --scene` a column per hidden scene (1 when it passes),
+/// and the total: a point each, as in Gradescope's results.
 pub fn gradebook_csv(class: &Class) -> String {
+    let scenes = hidden_scenes(class);
     let mut csv = String::from(GRADEBOOK_HEADER);
     for chapter in 1..=LAST_CHAPTER {
         let _ = write!(csv, ",raylab chapter {chapter}");
     }
-    let _ = writeln!(csv, ",raylab total ({LAST_CHAPTER})");
+    for scene in &scenes {
+        let _ = write!(
+            csv,
+            ",{}",
+            csv_field(&format!("raylab hidden scene {scene}"))
+        );
+    }
+    let most = usize::from(LAST_CHAPTER) + scenes.len();
+    let _ = writeln!(csv, ",raylab total ({most})");
     for student in &class.students {
         let name = csv_field(&student.name);
         let _ = write!(csv, "{name},,,{name},");
         let mut total = 0;
-        for chapter in 1..=LAST_CHAPTER {
-            let passes = chapter_passes(student, chapter);
+        let points = (1..=LAST_CHAPTER)
+            .map(|chapter| chapter_passes(student, chapter))
+            .chain(scenes.iter().map(|scene| scene_passes(student, scene)));
+        for passes in points {
             total += usize::from(passes);
             let _ = write!(csv, ",{}", u8::from(passes));
         }
         let _ = writeln!(csv, ",{total}");
     }
     csv
+}
+
+/// The names of the hidden scenes the class's code was graded on, in the
+/// order they were rendered (every student whose code answered met the
+/// same ones; one whose build failed met none).
+fn hidden_scenes(class: &Class) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for student in &class.students {
+        if let Outcome::Code(run) = &student.outcome {
+            for scene in &run.scenes {
+                if !names.contains(&scene.name) {
+                    names.push(scene.name.clone());
+                }
+            }
+        }
+    }
+    names
+}
+
+/// Whether `student`'s code rendered the hidden scene `name` as the
+/// reference does: a student who never rendered it gets no point.
+fn scene_passes(student: &Student, name: &str) -> bool {
+    match &student.outcome {
+        Outcome::Code(run) => run
+            .scenes
+            .iter()
+            .any(|scene| scene.name == name && scene.passed),
+        Outcome::Renders(_) | Outcome::Refused(_) => false,
+    }
 }
 
 /// Whether `student`'s `chapter` passes: their render of it, or their
@@ -209,6 +251,68 @@ mod tests {
         assert_eq!(results.tests[1].score, 0.0);
         assert!(results.tests[1].output.contains("3 of 9 pass"));
         assert!(results.tests[2].output.starts_with("no verdict"));
+    }
+
+    /// With hidden scenes, the gradebook has a column per scene, a point
+    /// each as in Gradescope's results: a student who fails them does not
+    /// get the marks of one who passes them.
+    #[test]
+    fn each_hidden_scene_is_a_point_of_the_gradebook() {
+        let scene = |name: &str, passed: bool| crate::grade::hidden::SceneOutcome {
+            name: name.into(),
+            passed,
+            metrics: None,
+            detail: String::new(),
+        };
+        let student = |name: &str, scenes| Student {
+            name: name.into(),
+            folder: std::path::PathBuf::from(name),
+            outcome: Outcome::Code(Box::new(CodeRun {
+                status: CodeStatus::Fail,
+                exit_code: Some(0),
+                stdout: String::new(),
+                stderr: String::new(),
+                timeout: std::time::Duration::from_secs(60),
+                chapters_passed: 1,
+                scenes,
+                fresh: None,
+                sources: Vec::new(),
+                limits: Vec::new(),
+                reason: None,
+                chapters: vec![ChapterScore {
+                    chapter: 1,
+                    passes: true,
+                }],
+            })),
+        };
+        let class = Class {
+            folder: std::path::PathBuf::from("class"),
+            criteria: crate::diff::Criteria::default(),
+            students: vec![
+                student("ann", vec![scene("a.toml", true), scene("b.toml", true)]),
+                student("bob", vec![scene("a.toml", true), scene("b.toml", false)]),
+                student("cy", Vec::new()),
+            ],
+            ignored: Vec::new(),
+            similar: Vec::new(),
+        };
+        let csv = gradebook_csv(&class);
+        let rows: Vec<Vec<&str>> = csv.lines().map(|line| line.split(',').collect()).collect();
+        let chapters = usize::from(LAST_CHAPTER);
+        let header = &rows[0][5 + chapters..];
+        let total = format!("raylab total ({})", chapters + 2);
+        assert_eq!(
+            header,
+            [
+                "raylab hidden scene a.toml",
+                "raylab hidden scene b.toml",
+                &total
+            ]
+        );
+        let points = |row: &Vec<&str>| row[5 + chapters..].join(",");
+        assert_eq!(points(&rows[1]), "1,1,3", "{csv}");
+        assert_eq!(points(&rows[2]), "1,0,2", "{csv}");
+        assert_eq!(points(&rows[3]), "0,0,1", "{csv}");
     }
 
     /// What Gradescope shows is text the student's code wrote, for a build
