@@ -612,6 +612,7 @@ fn grade_options(
         args.scene_chapter,
     );
     options.sandboxed = Some(!args.no_sandbox);
+    options.trusted_targets = Some(args.trust_targets && !args.no_sandbox);
     Ok(options)
 }
 

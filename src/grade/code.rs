@@ -82,6 +82,11 @@ pub struct CodeRun {
     /// The seed of the fresh inputs the check drew (`--fresh`).
     #[serde(default)]
     pub fresh: Option<u64>,
+    /// Whether the build went on from the workspace's `target/` as it was
+    /// (`--trust-targets`), which a binary built from other sources
+    /// passes: the report says so.
+    #[serde(default)]
+    pub trusted_target: bool,
     /// The Rust files of the workspace's `src/` as they were before the
     /// build (path, text), at most [`MAX_COMPARED_BYTES`] of them: what
     /// the similarity report compares.
@@ -224,6 +229,7 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
         chapters_passed: 0,
         scenes: Vec::new(),
         fresh: job.fresh,
+        trusted_target: job.sandbox.is_some_and(Sandbox::trusts_targets),
         sources: compared_sources(&snapshot),
         limits: Vec::new(),
         reason: None,
@@ -937,6 +943,7 @@ mod tests {
                 detail: "passes".into(),
             }],
             fresh: None,
+            trusted_target: false,
             sources: Vec::new(),
             limits: Vec::new(),
             reason: None,

@@ -18,7 +18,7 @@
 use std::path::{Path, PathBuf};
 
 use super::GradeError;
-use crate::check::judge::{Asker, Ended, Step};
+use crate::check::judge::{Asker, Step};
 use crate::check::protocol::{Answered, Reply, Request, View};
 use crate::diff::{Criteria, Image, Metrics, compare};
 
@@ -206,6 +206,7 @@ fn renders_as_reference(scene: &HiddenScene, asker: &mut dyn Asker) -> bool {
 mod tests {
     use super::*;
     use crate::check::Panic;
+    use crate::check::judge::Ended;
 
     /// Answers every render with what `reply` makes of the scene's text.
     struct Leaking(fn(&str) -> Answered);

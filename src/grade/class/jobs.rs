@@ -37,6 +37,10 @@ pub struct GradeOptions {
     pub sandboxed: Option<bool>,
     /// The cargo profile the workspaces were built with (with `--code`).
     pub profile: Option<String>,
+    /// Whether the workspaces' `target/` folders were built on as they
+    /// were (`--trust-targets`, with `--code`).
+    #[serde(default)]
+    pub trusted_targets: Option<bool>,
     /// The hidden scenes (`--scene`), each by name with the CRC-32 of its
     /// text, and the chapter that renders them.
     pub scenes: Vec<(String, u32)>,
@@ -75,6 +79,7 @@ impl GradeOptions {
             timeout_seconds: None,
             sandboxed: None,
             profile: None,
+            trusted_targets: None,
             scenes: Vec::new(),
             scene_chapter: None,
         })
@@ -96,6 +101,7 @@ impl GradeOptions {
             timeout_seconds: Some(job.timeout.as_secs()),
             sandboxed: Some(job.sandbox.is_some()),
             profile: Some(job.profile.name().to_string()),
+            trusted_targets: Some(job.sandbox.is_some_and(|sandbox| sandbox.trusts_targets())),
             scenes: scene_files
                 .iter()
                 .map(|(_, name, text)| (name.clone(), crc32fast::hash(text.as_bytes())))
@@ -121,6 +127,10 @@ impl GradeOptions {
         check(self.timeout_seconds == other.timeout_seconds, "--timeout");
         check(self.sandboxed == other.sandboxed, "--no-sandbox");
         check(self.profile == other.profile, "--build-profile");
+        check(
+            self.trusted_targets == other.trusted_targets,
+            "--trust-targets",
+        );
         check(self.scenes == other.scenes, "--scene");
         check(self.scene_chapter == other.scene_chapter, "--scene-chapter");
         differ

@@ -349,11 +349,17 @@ impl Student {
     /// What a `--code` run printed that the report shows: the check's
     /// summary table (the end of its output), or the compiler's errors.
     pub(crate) fn code_summary(run: &CodeRun) -> String {
-        let summary = Student::code_lines(run);
-        match run.fresh {
-            Some(seed) => format!("(checkpoints with fresh inputs too, seed {seed})\n{summary}"),
-            None => summary,
+        let mut summary = Student::code_lines(run);
+        if let Some(seed) = run.fresh {
+            summary = format!("(checkpoints with fresh inputs too, seed {seed})\n{summary}");
         }
+        if run.trusted_target {
+            summary = format!(
+                "(built on the workspace's target/ as it was, --trust-targets: a binary built \
+                 from other sources would pass)\n{summary}"
+            );
+        }
+        summary
     }
 
     /// [`Student::code_summary`] but for the seed's line.
@@ -434,6 +440,7 @@ mod tests {
             chapters_passed: 0,
             scenes: Vec::new(),
             fresh: None,
+            trusted_target: false,
             sources: Vec::new(),
             limits: Vec::new(),
             reason: None,
@@ -500,6 +507,40 @@ mod tests {
         assert!(summary.ends_with("5        FAIL"), "{summary}");
         assert!(summary.lines().count() <= SUMMARY_LINES + 1, "{summary}");
         assert_eq!(verdict_summary(&summary), summary);
+    }
+
+    /// A run built on the workspace's `target/` as it was says so in the
+    /// report, and jobs graded with and without `--trust-targets` do not
+    /// merge: a binary built from other sources passes under it.
+    #[test]
+    fn trusting_the_workspaces_targets_is_said_and_never_merged_silently() {
+        let trusted = CodeRun {
+            trusted_target: true,
+            ..code_run(CodeStatus::Pass, "chapter 1: Plane - pass\n", "")
+        };
+        assert!(
+            Student::code_summary(&trusted)
+                .starts_with("(built on the workspace's target/ as it was, --trust-targets"),
+            "{}",
+            Student::code_summary(&trusted)
+        );
+        let plain = code_run(CodeStatus::Pass, "chapter 1: Plane - pass\n", "");
+        assert!(!Student::code_summary(&plain).contains("--trust-targets"));
+        let job = super::super::code::CodeJob {
+            timeout: std::time::Duration::from_secs(60),
+            sandbox: None,
+            fresh: None,
+            chapter: None,
+            profile: super::super::code::BuildProfile::Dev,
+            scenes: &[],
+        };
+        let options = GradeOptions::code(&job, &[], 14);
+        let trusting = GradeOptions {
+            trusted_targets: Some(true),
+            ..options.clone()
+        };
+        assert_eq!(options.differences(&trusting), ["--trust-targets"]);
+        assert!(options.differences(&options).is_empty());
     }
 
     /// A failing student's verdict says how many chapters pass.

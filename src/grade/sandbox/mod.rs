@@ -427,6 +427,12 @@ impl Sandbox {
         self
     }
 
+    /// Whether the runs build on each workspace's `target/` as it is
+    /// ([`Sandbox::trusting_targets`]).
+    pub fn trusts_targets(&self) -> bool {
+        self.trust_targets
+    }
+
     /// The cargo the runs build with.
     pub fn cargo(&self) -> &Path {
         &self.toolchain.cargo
