@@ -183,12 +183,17 @@ impl SdfSpec {
         })
     }
 
-    /// How many levels the spec has, counted without recursing deeper
-    /// than the tree may be (a hostile file's depth costs nothing).
+    /// How many levels the tree of the spec has, counted without
+    /// recursing deeper than the tree may be (a hostile file's depth costs
+    /// nothing). A smooth union of n shapes is n - 1 levels of pairwise
+    /// blends ([`SdfSpec::tree`]), so that one of 15,000 shapes is refused
+    /// here, not built into a chain that overflows the stack.
     pub(super) fn depth_within(&self, limit: usize) -> Option<usize> {
-        if limit == 0 {
-            return None;
-        }
+        let levels = match self {
+            SdfSpec::SmoothUnion { shapes, .. } => shapes.len().saturating_sub(1).max(1),
+            _ => 1,
+        };
+        let limit = limit.checked_sub(levels)?;
         let children: Vec<&SdfSpec> = match self {
             SdfSpec::Sphere { .. }
             | SdfSpec::Box { .. }
@@ -205,8 +210,8 @@ impl SdfSpec {
         };
         let mut deepest = 0;
         for child in children {
-            deepest = deepest.max(child.depth_within(limit - 1)?);
+            deepest = deepest.max(child.depth_within(limit)?);
         }
-        Some(deepest + 1)
+        Some(deepest + levels)
     }
 }

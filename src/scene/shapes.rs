@@ -213,10 +213,14 @@ impl ObjectSpec {
                      shape per object"
                 ));
             }
-            // Smooth unions of n shapes become n - 1 nodes, so the spec's
-            // own depth is checked before the tree is built.
+            // Smooth unions of n shapes become n - 1 levels, so the
+            // spec's own depth is checked before the tree is built.
             if spec.depth_within(MAX_IMPLICIT_DEPTH).is_none() {
-                return Err(format!("{label}: implicit: {}", ImplicitError::TooDeep));
+                return Err(format!(
+                    "{label}: implicit: {} (a smooth_union of n shapes is n - 1 levels: it \
+                     blends them pairwise, in order)",
+                    ImplicitError::TooDeep
+                ));
             }
             let tree = spec
                 .tree()

@@ -277,6 +277,15 @@ fn implicit_trees_are_refused_with_the_node_and_the_field_named() {
             ),
             &["object 2", "deeper than 16 levels"],
         ),
+        // Blended pairwise in order: 20,000 shapes would be a chain 19,999
+        // levels deep, which overflowed the stack when its box was found.
+        (
+            format!(
+                "implicit = {{ smooth_union = {{ blend = 0.1, shapes = [ {} ] }} }}",
+                vec![sphere; 20_000].join(", ")
+            ),
+            &["object 2", "deeper than 16 levels"],
+        ),
     ] {
         assert_names(&refused(&with(&object)), needles);
     }
