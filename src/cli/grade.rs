@@ -181,6 +181,62 @@ fn parse_timeout(text: &str) -> Result<u64, String> {
     )
 }
 
+/// A reference image of `against` that is one of the hand-ins in
+/// `graded` (a student's folder, or a class of them) as the file system
+/// identifies files (device and inode): a bind mount of a student's
+/// folder, or a hard link to a hand-in, has a path of its own.
+fn hand_in_among_references(against: &Path, graded: &Path) -> Option<PathBuf> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let identity = |path: &Path| {
+            std::fs::symlink_metadata(path)
+                .ok()
+                .filter(std::fs::Metadata::is_file)
+                .map(|meta| (meta.dev(), meta.ino()))
+        };
+        let pngs = |folder: &Path| -> Vec<PathBuf> {
+            std::fs::read_dir(folder)
+                .into_iter()
+                .flatten()
+                .flatten()
+                .map(|entry| entry.path())
+                .filter(|path| path.extension().is_some_and(|ext| ext == "png"))
+                .collect()
+        };
+        let references: Vec<((u64, u64), PathBuf)> = pngs(against)
+            .into_iter()
+            .filter_map(|path| identity(&path).map(|id| (id, path)))
+            .collect();
+        if references.is_empty() {
+            return None;
+        }
+        // The hand-ins: the folder's own PNGs, and its students' (never
+        // through a link: those are refused when graded).
+        let mut folders = vec![graded.to_path_buf()];
+        for entry in std::fs::read_dir(graded).into_iter().flatten().flatten() {
+            if entry.file_type().is_ok_and(|kind| kind.is_dir()) {
+                folders.push(entry.path());
+            }
+        }
+        for folder in folders {
+            for hand_in in pngs(&folder) {
+                if let Some(id) = identity(&hand_in)
+                    && let Some((_, reference)) = references.iter().find(|(r, _)| *r == id)
+                {
+                    return Some(reference.clone());
+                }
+            }
+        }
+        None
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (against, graded);
+        None
+    }
+}
+
 pub fn grade(args: &GradeArgs) -> Result<i32> {
     if !args.folder.is_dir() {
         bail!("{}: not a folder", args.folder.display());
@@ -203,7 +259,18 @@ pub fn grade(args: &GradeArgs) -> Result<i32> {
                 folder.display()
             )
         }
-        Some(folder) => Some(folder),
+        Some(folder) => {
+            if let Some(shared) = hand_in_among_references(folder, &args.folder) {
+                bail!(
+                    "--against {}: {} is a hand-in of the folder being graded (the same file, \
+                     through a bind mount or a hard link): it would be compared with itself; \
+                     give a folder of your own references",
+                    folder.display(),
+                    shared.display()
+                )
+            }
+            Some(folder)
+        }
         None => None,
     };
     if let Some(results) = &args.gradescope {

@@ -1918,8 +1918,6 @@ fn code_mode_without_bubblewrap_refuses_unless_told() {
     );
 }
 
-/// `--against` the folder being graded would compare each hand-in with
-/// itself: refused.
 /// Pass 11 of issue 41, finding 6: with --force, `grade --code` wrote its
 /// report over a student's source, its CSV over the hidden scene and a
 /// result file over a workspace's Cargo.toml. Each is an input, refused
@@ -1988,6 +1986,10 @@ fn code_mode_outputs_never_replace_a_workspace_or_a_scene() {
     assert!(!amy.join("results.json").exists());
 }
 
+/// `--against` the folder being graded would compare each hand-in with
+/// itself: refused, by its path, and (pass 14 of issue 41) where its
+/// reference is a hand-in by another path: a hard link to a student's
+/// PNG, as a bind mount of the student's folder would be.
 #[test]
 fn against_the_graded_folder_is_refused() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -2002,6 +2004,25 @@ fn against_the_graded_folder_is_refused() {
         stderr(&out)
     );
     assert!(!folder.join("report.html").exists());
+    let references = dir.path().join("references");
+    std::fs::create_dir(&references).expect("mkdir");
+    std::fs::hard_link(
+        folder.join("chapter-1.png"),
+        references.join("chapter-1.png"),
+    )
+    .expect("a hard link");
+    let class = dir.path().join("class");
+    std::fs::create_dir(&class).expect("mkdir");
+    std::fs::rename(&folder, class.join("alice")).expect("move");
+    for graded in ["class", "class/alice"] {
+        let out = raylab(&["grade", graded, "--against", "references"], dir.path());
+        assert_eq!(out.status.code(), Some(2), "{graded}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains("references/chapter-1.png is a hand-in"),
+            "{}",
+            stderr(&out)
+        );
+    }
 }
 
 /// Checks `results` against Gradescope's autograder specification: the
