@@ -333,6 +333,9 @@ pub fn grade_with<R: Chapters>(
     // A chapter's file, and why it is refused unread, if it is.
     let mut found: Vec<(u8, PathBuf, Option<String>)> = Vec::new();
     let mut ignored = IgnoredList::default();
+    let chapter_looks: Vec<String> = (1..=LAST_CHAPTER)
+        .map(|chapter| crate::text::look(&format!("chapter-{chapter}.png")))
+        .collect();
     for entry in entries {
         let entry = entry.map_err(folder_error(folder))?;
         let path = entry.path();
@@ -359,9 +362,25 @@ pub fn grade_with<R: Chapters>(
             });
             continue;
         }
-        match chapter_of(&entry.file_name().to_string_lossy()) {
-            Ok(chapter) => found.push((chapter, path, None)),
-            Err(reason) => ignored.add(Ignored {
+        let raw = entry.file_name();
+        let raw = raw.to_string_lossy();
+        let look = crate::text::look(&raw);
+        let looks_like = (1..=LAST_CHAPTER)
+            .zip(&chapter_looks)
+            .find(|(_, chapter_look)| **chapter_look == look)
+            .map(|(chapter, _)| chapter)
+            .ok_or(());
+        match (chapter_of(&raw), looks_like) {
+            (Ok(chapter), _) => found.push((chapter, path, None)),
+            // `chapter\u{2010}3.png` (a Unicode hyphen) shows as the name
+            // it is not: spelled out, and said so.
+            (Err(_), Ok(chapter)) => ignored.add(Ignored {
+                name: crate::text::spelled_out(&entry.file_name()),
+                reason: format!(
+                    "looks like chapter-{chapter}.png, but is spelled with other characters"
+                ),
+            }),
+            (Err(reason), Err(_)) => ignored.add(Ignored {
                 name,
                 reason: reason.to_string(),
             }),
@@ -1158,6 +1177,41 @@ mod tests {
         assert_eq!(listed[MOST_IGNORED_LISTED].name, "250 more");
         let few = IgnoredList::default();
         assert!(few.into_list().is_empty());
+    }
+
+    /// A file named with a look-alike of the hyphen or of a letter shows
+    /// as the chapter's name it is not: it is spelled out in the list of
+    /// ignored files, and said to look like that chapter's.
+    #[test]
+    fn a_name_that_looks_like_a_chapters_is_spelled_out() {
+        let folder = tempfile::tempdir().expect("a folder");
+        for name in ["chapter\u{2010}3.png", "ch\u{430}pter-12.png", "notes.txt"] {
+            std::fs::write(folder.path().join(name), b"x").expect("write");
+        }
+        let grade = grade(folder.path(), None, Criteria::default(), None).expect("graded");
+        let listed: Vec<(&str, &str)> = grade
+            .ignored
+            .iter()
+            .map(|ignored| (ignored.name.as_str(), ignored.reason.as_str()))
+            .collect();
+        let looks = |chapter: u8| {
+            format!("looks like chapter-{chapter}.png, but is spelled with other characters")
+        };
+        assert!(
+            listed.contains(&("chapter\\u{2010}3.png", looks(3).as_str())),
+            "{listed:?}"
+        );
+        assert!(
+            listed.contains(&("ch\\u{430}pter-12.png", looks(12).as_str())),
+            "{listed:?}"
+        );
+        assert!(
+            listed
+                .iter()
+                .any(|(name, reason)| *name == "notes.txt" && !reason.starts_with("looks")),
+            "{listed:?}"
+        );
+        assert_eq!(grade.missing.len(), usize::from(LAST_CHAPTER));
     }
 
     #[test]

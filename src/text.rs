@@ -109,12 +109,10 @@ pub fn visible_name(name: &std::ffi::OsStr) -> String {
 /// `alice`). Printable ASCII is left as it is: two names made of it
 /// differ visibly, even where a skeleton equates `rn` and `m`.
 pub fn told_apart(names: &[&std::ffi::OsStr]) -> Vec<String> {
-    let key = |name: &std::ffi::OsStr| -> String {
-        let skeleton: String =
-            unicode_security::confusable_detection::skeleton(&name.to_string_lossy()).collect();
-        skeleton.split_whitespace().collect::<Vec<_>>().join(" ")
-    };
-    let keys: Vec<String> = names.iter().map(|name| key(name)).collect();
+    let keys: Vec<String> = names
+        .iter()
+        .map(|name| look(&name.to_string_lossy()))
+        .collect();
     let mut count = std::collections::HashMap::<&str, usize>::new();
     for key in &keys {
         *count.entry(key.as_str()).or_default() += 1;
@@ -130,6 +128,15 @@ pub fn told_apart(names: &[&std::ffi::OsStr]) -> Vec<String> {
             }
         })
         .collect()
+}
+
+/// How `text` looks: its confusable skeleton (UTS #39, which maps
+/// look-alike characters to one and decomposes accents), with runs of
+/// spaces counted as one and the spaces at either end dropped. Two texts
+/// of one look may be told apart by no one reading them.
+pub fn look(text: &str) -> String {
+    let skeleton: String = unicode_security::confusable_detection::skeleton(text).collect();
+    skeleton.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// `name` in printable ASCII alone: each other character written as a
