@@ -51,6 +51,9 @@ impl Call {
     pub(crate) const REQUEST_KEY: Call = Call::common(libc::SYS_request_key);
     pub(crate) const FALLOCATE: Call = Call::common(libc::SYS_fallocate);
     pub(crate) const IO_URING_SETUP: Call = Call::common(libc::SYS_io_uring_setup);
+    pub(crate) const UNSHARE: Call = Call::common(libc::SYS_unshare);
+    pub(crate) const CLONE: Call = Call::common(libc::SYS_clone);
+    pub(crate) const CLONE3: Call = Call::common(libc::SYS_clone3);
 
     /// Every number the call is reached by on this machine.
     pub(crate) fn numbers(self) -> impl Iterator<Item = i64> {
@@ -72,17 +75,46 @@ const fn x32_number(_: i64) -> Option<i64> {
 /// calling through another architecture's table, and lets every other
 /// call through.
 pub(crate) fn compile(refused: &[Call], errno: i32) -> Result<BpfProgram, String> {
+    compile_flagged(refused, &[], errno)
+}
+
+/// [`compile`], also failing each call of `flagged` whose first argument
+/// has any bit of its mask set (`clone` asking for a new namespace).
+pub(crate) fn compile_flagged(
+    refused: &[Call],
+    flagged: &[(Call, u64)],
+    errno: i32,
+) -> Result<BpfProgram, String> {
+    use seccompiler::{SeccompCmpArgLen, SeccompCmpOp, SeccompCondition, SeccompRule};
     let arch = if cfg!(target_arch = "x86_64") {
         TargetArch::x86_64
     } else {
         TargetArch::aarch64
     };
     // A call with no rule is refused whatever its arguments.
-    let rules = refused
+    let mut rules: std::collections::BTreeMap<i64, Vec<SeccompRule>> = refused
         .iter()
         .flat_map(|call| call.numbers())
         .map(|number| (number, Vec::new()))
         .collect();
+    for (call, mask) in flagged {
+        for number in call.numbers() {
+            // One rule per bit: a rule matches when its argument, masked,
+            // equals the value, so "any bit set" is one rule per bit.
+            let mut bit_rules = Vec::new();
+            for bit in (0..64).map(|bit| 1u64 << bit).filter(|bit| mask & bit != 0) {
+                let condition = SeccompCondition::new(
+                    0,
+                    SeccompCmpArgLen::Qword,
+                    SeccompCmpOp::MaskedEq(bit),
+                    bit,
+                )
+                .map_err(|error| error.to_string())?;
+                bit_rules.push(SeccompRule::new(vec![condition]).map_err(|e| e.to_string())?);
+            }
+            rules.insert(number, bit_rules);
+        }
+    }
     let errno = u32::try_from(errno).map_err(|_| format!("{errno} is not an errno"))?;
     let filter = SeccompFilter::new(
         rules,
@@ -158,6 +190,36 @@ mod tests {
         } else {
             183 | 0x8000_0000 | 0x4000_0000
         }
+    }
+
+    /// `clone` is refused only with one of the flagged bits in its first
+    /// argument: a thread or a process starts, a namespace does not.
+    #[test]
+    fn a_flagged_call_is_refused_only_with_a_flag_set() {
+        let refused = libc::SECCOMP_RET_ERRNO | libc::EPERM as u32;
+        let mask = (libc::CLONE_NEWUSER | libc::CLONE_NEWNS) as u64;
+        let program = compile_flagged(&[Call::UNSHARE], &[(Call::CLONE, mask)], libc::EPERM)
+            .expect("it compiles");
+        let arch = native_arch();
+        let with_flags = |flags: i32| [flags as u64, 0, 0, 0, 0, 0];
+        let thread = libc::CLONE_VM | libc::CLONE_FS | libc::CLONE_FILES | libc::CLONE_THREAD;
+        for number in Call::CLONE.numbers() {
+            assert_eq!(verdict(&program, arch, number, with_flags(thread)), ALLOW);
+            assert_eq!(
+                verdict(&program, arch, number, with_flags(libc::SIGCHLD)),
+                ALLOW
+            );
+            for flags in [libc::CLONE_NEWUSER, libc::CLONE_NEWNS | libc::SIGCHLD] {
+                assert_eq!(verdict(&program, arch, number, with_flags(flags)), refused);
+            }
+        }
+        for number in Call::UNSHARE.numbers() {
+            assert_eq!(verdict(&program, arch, number, with_flags(0)), refused);
+        }
+        assert_eq!(
+            verdict(&program, arch, libc::SYS_getpid, with_flags(0)),
+            ALLOW
+        );
     }
 
     #[test]

@@ -226,6 +226,47 @@ fn main() {
         }
     }
 
+    // A namespace of its own: in a new user namespace the run's user has
+    // every capability over what it then creates (mounts, cgroups,
+    // network devices), a way into the kernel's privileged paths.
+    {
+        unsafe extern "C" {
+            fn unshare(flags: i32) -> i32;
+            fn syscall(number: std::ffi::c_long, ...) -> std::ffi::c_long;
+        }
+        // CLONE_NEWUSER
+        if unsafe { unshare(0x1000_0000) } == 0 {
+            say("namespace", "made a user namespace of its own with unshare".into());
+        }
+        // clone(CLONE_NEWUSER | SIGCHLD): the child, if any, exits at once.
+        let clone: std::ffi::c_long = if cfg!(target_arch = "aarch64") { 220 } else { 56 };
+        let child = unsafe { syscall(clone, (0x1000_0000 | 17) as std::ffi::c_long, 0, 0, 0, 0) };
+        if child == 0 {
+            unsafe extern "C" {
+                fn _exit(status: i32) -> !;
+            }
+            unsafe { _exit(0) };
+        }
+        if child > 0 {
+            say("namespace", format!("started process {child} in a user namespace of its own"));
+        }
+        // clone3 with CLONE_NEWUSER in its arguments, which no seccomp
+        // program reads: refused whole.
+        let mut arguments = [0u64; 11];
+        arguments[0] = 0x1000_0000;
+        arguments[4] = 17;
+        let child = unsafe { syscall(435, arguments.as_mut_ptr(), 88 as std::ffi::c_long) };
+        if child == 0 {
+            unsafe extern "C" {
+                fn _exit(status: i32) -> !;
+            }
+            unsafe { _exit(0) };
+        }
+        if child > 0 {
+            say("namespace", format!("started process {child} in a user namespace with clone3"));
+        }
+    }
+
     // Descriptors the grader was started with (a shell's `exec 7< file`),
     // if they reached the run: a folder or a file of the instructor's.
     for entry in std::fs::read_dir("/proc/self/fd").into_iter().flatten().flatten() {
@@ -553,6 +594,16 @@ fn the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace() {
         "the_sandbox_shows_nothing_but_the_toolchain_and_the_workspace",
         "read",
     );
+}
+
+/// Pass 14 of issue 41: the student's code made a user namespace of its
+/// own (`unshare -U -r`), where it holds every capability over new
+/// mounts, cgroups and network devices. The sandbox's own mounts and
+/// limits held, but each such capability is a path into the kernel's
+/// privileged code: no process of a run makes a namespace.
+#[test]
+fn no_process_of_a_run_makes_a_namespace() {
+    assert_the_probe_found_no("no_process_of_a_run_makes_a_namespace", "namespace");
 }
 
 /// Pass 13 of issue 41, finding 1: `fallocate` took 5 GiB of disk and

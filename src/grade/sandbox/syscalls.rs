@@ -17,6 +17,14 @@
 //! - `io_uring_setup` (`ENOSYS`): a ring's operations (an `fallocate`
 //!   among them) pass no seccomp program, and its registered files are
 //!   held where `/proc` does not list them.
+//! - New namespaces (`unshare`, and `clone` with a `CLONE_NEW*` flag:
+//!   `EPERM`, as without the privilege; `clone3`, whose flags sit in
+//!   memory no seccomp program reads: `ENOSYS`, which glibc answers by
+//!   calling `clone`). In a user namespace of its own, code with no
+//!   privilege gets every capability over new mounts, cgroups and
+//!   network devices: the mounts and limits of the sandbox held, but
+//!   each is a way into the parts of the kernel where privilege bugs are
+//!   found, and nothing a build or an answer does needs one.
 
 /// Files holding the compiled programs (`struct sock_filter` after
 /// `struct sock_filter`, as bubblewrap reads them), each at its start:
@@ -28,8 +36,15 @@ pub(super) fn filter_files() -> Result<Vec<std::fs::File>, String> {
         any(target_arch = "x86_64", target_arch = "aarch64")
     ))]
     {
-        use crate::check::seccomp::{Call, compile};
+        use crate::check::seccomp::{Call, compile, compile_flagged};
         use std::io::{Seek, Write};
+        let new_namespace = (libc::CLONE_NEWNS
+            | libc::CLONE_NEWCGROUP
+            | libc::CLONE_NEWUTS
+            | libc::CLONE_NEWIPC
+            | libc::CLONE_NEWUSER
+            | libc::CLONE_NEWPID
+            | libc::CLONE_NEWNET) as u64;
         let programs = [
             compile(
                 &[
@@ -37,10 +52,16 @@ pub(super) fn filter_files() -> Result<Vec<std::fs::File>, String> {
                     Call::KEYCTL,
                     Call::REQUEST_KEY,
                     Call::IO_URING_SETUP,
+                    Call::CLONE3,
                 ],
                 libc::ENOSYS,
             )?,
             compile(&[Call::FALLOCATE], libc::EOPNOTSUPP)?,
+            compile_flagged(
+                &[Call::UNSHARE],
+                &[(Call::CLONE, new_namespace)],
+                libc::EPERM,
+            )?,
         ];
         programs
             .iter()
