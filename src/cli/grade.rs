@@ -189,9 +189,15 @@ fn hand_in_among_references(against: &Path, graded: &Path) -> Option<PathBuf> {
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt;
-        let identity = |path: &Path| {
-            std::fs::symlink_metadata(path)
-                .ok()
+        // A reference is read through a symbolic link (`Links::Follow`):
+        // it is the file the link leads to. A hand-in that is a link is
+        // refused when graded: the file itself.
+        let identity = |path: &Path, links: crate::input::Links| {
+            let meta = match links {
+                crate::input::Links::Follow => std::fs::metadata(path),
+                crate::input::Links::Refuse => std::fs::symlink_metadata(path),
+            };
+            meta.ok()
                 .filter(std::fs::Metadata::is_file)
                 .map(|meta| (meta.dev(), meta.ino()))
         };
@@ -206,7 +212,7 @@ fn hand_in_among_references(against: &Path, graded: &Path) -> Option<PathBuf> {
         };
         let references: Vec<((u64, u64), PathBuf)> = pngs(against)
             .into_iter()
-            .filter_map(|path| identity(&path).map(|id| (id, path)))
+            .filter_map(|path| identity(&path, crate::input::Links::Follow).map(|id| (id, path)))
             .collect();
         if references.is_empty() {
             return None;
@@ -221,7 +227,7 @@ fn hand_in_among_references(against: &Path, graded: &Path) -> Option<PathBuf> {
         }
         for folder in folders {
             for hand_in in pngs(&folder) {
-                if let Some(id) = identity(&hand_in)
+                if let Some(id) = identity(&hand_in, crate::input::Links::Refuse)
                     && let Some((_, reference)) = references.iter().find(|(r, _)| *r == id)
                 {
                     return Some(reference.clone());

@@ -2014,11 +2014,26 @@ fn against_the_graded_folder_is_refused() {
     let class = dir.path().join("class");
     std::fs::create_dir(&class).expect("mkdir");
     std::fs::rename(&folder, class.join("alice")).expect("move");
-    for graded in ["class", "class/alice"] {
-        let out = raylab(&["grade", graded, "--against", "references"], dir.path());
+    // And through a symbolic link (pass 15), which a reference is read
+    // through.
+    let linked = dir.path().join("linked");
+    std::fs::create_dir(&linked).expect("mkdir");
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(
+        class.join("alice/chapter-1.png"),
+        linked.join("chapter-1.png"),
+    )
+    .expect("a link");
+    for (graded, references) in [
+        ("class", "references"),
+        ("class/alice", "references"),
+        ("class", "linked"),
+        ("class/alice", "linked"),
+    ] {
+        let out = raylab(&["grade", graded, "--against", references], dir.path());
         assert_eq!(out.status.code(), Some(2), "{graded}: {}", stderr(&out));
         assert!(
-            stderr(&out).contains("references/chapter-1.png is a hand-in"),
+            stderr(&out).contains(&format!("{references}/chapter-1.png is a hand-in")),
             "{}",
             stderr(&out)
         );
