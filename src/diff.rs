@@ -101,6 +101,13 @@ pub enum DiffError {
         count: usize,
         most: usize,
     },
+    /// Headers longer than raylab reads: every attribute is held in
+    /// memory, many times its size.
+    #[error(
+        "an OpenEXR file with headers of more than {most} bytes: raylab reads smaller ones, \
+         as every attribute is held in memory"
+    )]
+    ExrHeaderTooLarge { most: usize },
     /// A channel's value that no error can be measured against.
     #[error(
         "pixel x={x}, y={y} has {channel} = {value}: raylab compares finite linear values only"

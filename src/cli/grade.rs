@@ -483,7 +483,8 @@ fn grade_class(
         .seek(std::io::SeekFrom::Start(0))
         .context("cannot read back the report's temporary file")?;
     let table = graded.csv();
-    let gradebook = crate::grade::lms::gradebook_csv(&graded);
+    let assigned = args.chapter.unwrap_or(crate::chapters::LAST_CHAPTER);
+    let gradebook = crate::grade::lms::gradebook_csv(&graded, assigned);
     let mut streams: Vec<(&Path, crate::output::Writer)> = vec![
         (
             report,

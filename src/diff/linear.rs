@@ -34,6 +34,75 @@ pub const MAX_EXR_FILE_BYTES: u64 =
 /// of a layer in memory (a 1 MB file of 1,000 channels took 2 GB).
 pub const MAX_EXR_CHANNELS: usize = 16;
 
+/// The most attributes, in all its headers, of an OpenEXR file read:
+/// raylab writes about ten; the decoder holds every one in memory at a
+/// hundred times its size (a 40 MB file of small attributes took 4.9 GB
+/// and 46 s before its layers could be counted).
+pub const MAX_EXR_ATTRIBUTES: usize = 1024;
+
+/// The most bytes of headers an OpenEXR file read may have: a list of a
+/// million empty strings (4 MB) took 137 MB to decode. Room for a
+/// preview image of 1024x1024.
+pub const MAX_EXR_HEADER_BYTES: usize = 4 << 20;
+
+/// How far the headers of `bytes` (an OpenEXR file, magic number and
+/// version first) reach, read without keeping any attribute: their
+/// attributes counted up to `most + 1`, and the offset they end at (or
+/// had reached past [`MAX_EXR_HEADER_BYTES`]). Each attribute is a name
+/// and a type name, each ended by a zero byte, a 4-byte little-endian
+/// size and that many bytes; a header ends with an empty name, and a
+/// multi-part file's headers end with an empty header. Where the headers
+/// are not well formed the scan stops there, and the decoder says what is
+/// wrong.
+fn exr_headers_extent(bytes: &[u8], most: usize) -> (usize, usize) {
+    const MULTIPART: u32 = 0x1000;
+    let Some(version) = bytes.get(4..8).and_then(|word| word.try_into().ok()) else {
+        return (0, bytes.len());
+    };
+    let multipart = u32::from_le_bytes(version) & MULTIPART != 0;
+    let mut at = 8;
+    let mut count = 0;
+    let text_end = |from: usize| {
+        bytes
+            .get(from..)
+            .and_then(|rest| rest.iter().take(256).position(|&byte| byte == 0))
+            .map(|length| from + length)
+    };
+    loop {
+        // An empty name ends a header; in a multi-part file, an empty
+        // header (a second zero byte at once) ends them all.
+        match bytes.get(at) {
+            None => return (count, at),
+            Some(0) => {
+                at += 1;
+                if !multipart || bytes.get(at) == Some(&0) {
+                    return (count, at);
+                }
+                continue;
+            }
+            Some(_) => {}
+        }
+        let Some(name_end) = text_end(at) else {
+            return (count, at);
+        };
+        let Some(type_end) = text_end(name_end + 1) else {
+            return (count, at);
+        };
+        let Some(size) = bytes
+            .get(type_end + 1..type_end + 5)
+            .and_then(|word| word.try_into().ok())
+            .map(u32::from_le_bytes)
+        else {
+            return (count, at);
+        };
+        count += 1;
+        at = type_end + 5 + size as usize;
+        if count > most || at > MAX_EXR_HEADER_BYTES {
+            return (count, at);
+        }
+    }
+}
+
 /// A linear RGB image: 3 finite `f32`s a pixel, row by row from the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearImage {
@@ -69,6 +138,19 @@ impl LinearImage {
         use exr::prelude::ReadLayers;
         if !bytes.starts_with(&crate::output::EXR_MAGIC) {
             return Err(DiffError::NotExr);
+        }
+        let (attributes, headers_end) = exr_headers_extent(bytes, MAX_EXR_ATTRIBUTES);
+        if attributes > MAX_EXR_ATTRIBUTES {
+            return Err(DiffError::ExrTooWide {
+                what: "header attributes or more",
+                count: attributes,
+                most: MAX_EXR_ATTRIBUTES,
+            });
+        }
+        if headers_end > MAX_EXR_HEADER_BYTES {
+            return Err(DiffError::ExrHeaderTooLarge {
+                most: MAX_EXR_HEADER_BYTES,
+            });
         }
         let meta = exr::meta::MetaData::read_from_buffered(bytes, false)
             .map_err(DiffError::CorruptedExr)?;
@@ -405,6 +487,50 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(!text.contains("channels:"), "{text}");
+    }
+
+    /// Pass 15 of issue 41: a file of many small header attributes took
+    /// 4.9 GB and 46 s to be found corrupted. Past the most raylab reads,
+    /// it is refused before the decoder reads the header; the count reads
+    /// raylab's own files right.
+    #[test]
+    fn an_exr_of_many_header_attributes_is_refused_before_it_is_decoded() {
+        let exr = crate::output::encode_exr(2, 2, &[0.5; 12]).expect("encodes");
+        let (own, _) = exr_headers_extent(&exr, MAX_EXR_ATTRIBUTES);
+        assert!((5..=20).contains(&own), "{own} attributes");
+        let with_extra = |extra: usize| {
+            let mut bytes = exr[..8].to_vec();
+            for index in 0..extra {
+                bytes.extend(format!("a{index}\0int\0").as_bytes());
+                bytes.extend(4u32.to_le_bytes());
+                bytes.extend(7i32.to_le_bytes());
+            }
+            bytes.extend(&exr[8..]);
+            bytes
+        };
+        let over = with_extra(MAX_EXR_ATTRIBUTES + 1 - own);
+        assert_eq!(
+            exr_headers_extent(&over, MAX_EXR_ATTRIBUTES).0,
+            MAX_EXR_ATTRIBUTES + 1
+        );
+        let text = LinearImage::decode_exr(&over).unwrap_err().to_string();
+        assert!(text.contains("header attributes"), "{text}");
+        // At the most, the decoder reads it (and finds its offsets moved).
+        let at_most = with_extra(MAX_EXR_ATTRIBUTES - own);
+        assert_eq!(
+            exr_headers_extent(&at_most, MAX_EXR_ATTRIBUTES).0,
+            MAX_EXR_ATTRIBUTES
+        );
+        let text = LinearImage::decode_exr(&at_most).unwrap_err().to_string();
+        assert!(!text.contains("header attributes"), "{text}");
+        // A list of a million empty strings: one attribute of 4 MB.
+        let mut long = exr[..8].to_vec();
+        long.extend(b"names\0stringvector\0");
+        long.extend((4u32 << 20).to_le_bytes());
+        long.extend(vec![0u8; 4 << 20]);
+        long.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&long).unwrap_err().to_string();
+        assert!(text.contains("headers of more than"), "{text}");
     }
 
     #[test]

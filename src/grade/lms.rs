@@ -131,13 +131,15 @@ fn chapter_block(text: &str, chapter: u8) -> Option<String> {
 pub const GRADEBOOK_HEADER: &str = crate::output::markers::GRADEBOOK_CSV;
 
 /// The gradebook of a graded class: one row per student, named by their
-/// folder, a column per chapter (1 when it passes, else 0), then with
-/// `grade --code --scene` a column per hidden scene (1 when it passes),
-/// and the total: a point each, as in Gradescope's results.
-pub fn gradebook_csv(class: &Class) -> String {
+/// folder, a column per chapter of 1 to `assigned` (`--chapter`; 1 when it
+/// passes, else 0), then with `grade --code --scene` a column per hidden
+/// scene (1 when it passes), and the total: a point each, as in
+/// Gradescope's results.
+pub fn gradebook_csv(class: &Class, assigned: u8) -> String {
+    let assigned = assigned.min(LAST_CHAPTER);
     let scenes = hidden_scenes(class);
     let mut csv = String::from(GRADEBOOK_HEADER);
-    for chapter in 1..=LAST_CHAPTER {
+    for chapter in 1..=assigned {
         let _ = write!(csv, ",raylab chapter {chapter}");
     }
     for scene in &scenes {
@@ -147,13 +149,13 @@ pub fn gradebook_csv(class: &Class) -> String {
             csv_field(&format!("raylab hidden scene {scene}"))
         );
     }
-    let most = usize::from(LAST_CHAPTER) + scenes.len();
+    let most = usize::from(assigned) + scenes.len();
     let _ = writeln!(csv, ",raylab total ({most})");
     for student in &class.students {
         let name = csv_field(&student.name);
         let _ = write!(csv, "{name},,,{name},");
         let mut total = 0;
-        let points = (1..=LAST_CHAPTER)
+        let points = (1..=assigned)
             .map(|chapter| chapter_passes(student, chapter))
             .chain(scenes.iter().map(|scene| scene_passes(student, scene)));
         for passes in points {
@@ -298,9 +300,12 @@ mod tests {
             ignored: Vec::new(),
             similar: Vec::new(),
         };
-        let csv = gradebook_csv(&class);
+        // Graded on chapters 1 to 3 (`--chapter 3`): no column for the
+        // chapters not assigned, which would post zeros.
+        let csv = gradebook_csv(&class, 3);
         let rows: Vec<Vec<&str>> = csv.lines().map(|line| line.split(',').collect()).collect();
-        let chapters = usize::from(LAST_CHAPTER);
+        let chapters = 3;
+        assert_eq!(rows[0][5 + chapters - 1], "raylab chapter 3", "{csv}");
         let header = &rows[0][5 + chapters..];
         let total = format!("raylab total ({})", chapters + 2);
         assert_eq!(
