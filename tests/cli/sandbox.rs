@@ -233,38 +233,30 @@ fn main() {
         unsafe extern "C" {
             fn unshare(flags: i32) -> i32;
             fn syscall(number: std::ffi::c_long, ...) -> std::ffi::c_long;
+            fn _exit(status: i32) -> !;
         }
         // CLONE_NEWUSER
         if unsafe { unshare(0x1000_0000) } == 0 {
             say("namespace", "made a user namespace of its own with unshare".into());
         }
-        // clone(CLONE_NEWUSER | SIGCHLD): the child, if any, exits at once.
-        let clone: std::ffi::c_long = if cfg!(target_arch = "aarch64") { 220 } else { 56 };
-        let child = unsafe { syscall(clone, (0x1000_0000 | 17) as std::ffi::c_long, 0, 0, 0, 0) };
-        if child == 0 {
-            unsafe extern "C" {
-                fn _exit(status: i32) -> !;
+        // A child, if one was started, exits at once; its parent says how.
+        let mut started = |child: std::ffi::c_long, how: &str| {
+            if child == 0 {
+                unsafe { _exit(0) };
             }
-            unsafe { _exit(0) };
-        }
-        if child > 0 {
-            say("namespace", format!("started process {child} in a user namespace of its own"));
-        }
+            if child > 0 {
+                say("namespace", format!("started process {child} in a user namespace {how}"));
+            }
+        };
+        // clone(CLONE_NEWUSER | SIGCHLD)
+        let clone: std::ffi::c_long = if cfg!(target_arch = "aarch64") { 220 } else { 56 };
+        started(unsafe { syscall(clone, (0x1000_0000 | 17) as std::ffi::c_long, 0, 0, 0, 0) }, "with clone");
         // clone3 with CLONE_NEWUSER in its arguments, which no seccomp
         // program reads: refused whole.
         let mut arguments = [0u64; 11];
         arguments[0] = 0x1000_0000;
         arguments[4] = 17;
-        let child = unsafe { syscall(435, arguments.as_mut_ptr(), 88 as std::ffi::c_long) };
-        if child == 0 {
-            unsafe extern "C" {
-                fn _exit(status: i32) -> !;
-            }
-            unsafe { _exit(0) };
-        }
-        if child > 0 {
-            say("namespace", format!("started process {child} in a user namespace with clone3"));
-        }
+        started(unsafe { syscall(435, arguments.as_mut_ptr(), 88 as std::ffi::c_long) }, "with clone3");
     }
 
     // Descriptors the grader was started with (a shell's `exec 7< file`),
