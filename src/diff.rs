@@ -108,6 +108,13 @@ pub enum DiffError {
          as every attribute is held in memory"
     )]
     ExrHeaderTooLarge { most: usize },
+    /// OpenEXR headers the scan cannot read to their end as the decoder
+    /// would: refused before the decoder reads on past them.
+    #[error(
+        "corrupted OpenEXR headers: at byte {at}, {why}; raylab refuses them before decoding \
+         (the decoder would read on unbounded)"
+    )]
+    ExrHeaderUnreadable { at: usize, why: &'static str },
     /// A channel's value that no error can be measured against.
     #[error(
         "pixel x={x}, y={y} has {channel} = {value}: raylab compares finite linear values only"

@@ -48,57 +48,76 @@ pub const MAX_EXR_HEADER_BYTES: usize = 4 << 20;
 /// How far the headers of `bytes` (an OpenEXR file, magic number and
 /// version first) reach, read without keeping any attribute: their
 /// attributes counted up to `most + 1`, and the offset they end at (or
-/// had reached past [`MAX_EXR_HEADER_BYTES`]). Each attribute is a name
-/// and a type name, each ended by a zero byte, a 4-byte little-endian
-/// size and that many bytes; a header ends with an empty name, and a
-/// multi-part file's headers end with an empty header. Where the headers
-/// are not well formed the scan stops there, and the decoder says what is
-/// wrong.
-fn exr_headers_extent(bytes: &[u8], most: usize) -> (usize, usize) {
+/// had reached past [`MAX_EXR_HEADER_BYTES`]); or, where the scan cannot
+/// read them to their end as the decoder would, the offset and why.
+///
+/// Each attribute is a name and a type name, each ended by a zero byte, a
+/// 4-byte little-endian size and that many bytes; a header ends with an
+/// empty name, and a multi-part file's headers end with an empty header.
+/// The decoder takes a text's first byte whatever it is and reads on to a
+/// zero byte, up to 32 bytes (256 with the long-names flag): the scan
+/// follows the same rules, and refuses what the decoder would read
+/// differently from a well-formed file (an empty type name, whose zero the
+/// decoder takes as its first byte) rather than stop early and leave the
+/// rest to the decoder unbounded.
+fn exr_headers_extent(bytes: &[u8], most: usize) -> Result<(usize, usize), (usize, &'static str)> {
+    const LONG_NAMES: u32 = 0x400;
     const MULTIPART: u32 = 0x1000;
     let Some(version) = bytes.get(4..8).and_then(|word| word.try_into().ok()) else {
-        return (0, bytes.len());
+        return Err((bytes.len(), "the file ends before its version"));
     };
-    let multipart = u32::from_le_bytes(version) & MULTIPART != 0;
+    let version = u32::from_le_bytes(version);
+    let multipart = version & MULTIPART != 0;
+    let longest = if version & LONG_NAMES != 0 { 256 } else { 32 };
     let mut at = 8;
     let mut count = 0;
-    let text_end = |from: usize| {
-        bytes
-            .get(from..)
-            .and_then(|rest| rest.iter().take(256).position(|&byte| byte == 0))
-            .map(|length| from + length)
+    // A text starting at `from`: the offset just past its ending zero.
+    let text = |from: usize, what: &'static str| -> Result<usize, (usize, &'static str)> {
+        match bytes.get(from) {
+            None => return Err((from, "the file ends inside its headers")),
+            Some(0) => return Err((from, what)),
+            Some(_) => {}
+        }
+        let rest = bytes.get(from + 1..).unwrap_or_default();
+        match rest.iter().take(longest).position(|&byte| byte == 0) {
+            Some(length) => Ok(from + 1 + length + 1),
+            None if rest.len() < longest => Err((from, "the file ends inside its headers")),
+            None => Err((
+                from,
+                "an attribute's name or type is longer than the decoder reads",
+            )),
+        }
     };
     loop {
         // An empty name ends a header; in a multi-part file, an empty
         // header (a second zero byte at once) ends them all.
         match bytes.get(at) {
-            None => return (count, at),
+            None => return Err((at, "the file ends inside its headers")),
             Some(0) => {
                 at += 1;
                 if !multipart || bytes.get(at) == Some(&0) {
-                    return (count, at);
+                    return Ok((count, at));
                 }
                 continue;
             }
             Some(_) => {}
         }
-        let Some(name_end) = text_end(at) else {
-            return (count, at);
-        };
-        let Some(type_end) = text_end(name_end + 1) else {
-            return (count, at);
-        };
+        let type_at = text(at, "an attribute's name is empty")?;
+        let size_at = text(type_at, "an attribute's type name is empty")?;
         let Some(size) = bytes
-            .get(type_end + 1..type_end + 5)
+            .get(size_at..size_at + 4)
             .and_then(|word| word.try_into().ok())
-            .map(u32::from_le_bytes)
+            .map(i32::from_le_bytes)
         else {
-            return (count, at);
+            return Err((size_at, "the file ends inside its headers"));
+        };
+        let Ok(size) = usize::try_from(size) else {
+            return Err((size_at, "an attribute's size is negative"));
         };
         count += 1;
-        at = type_end + 5 + size as usize;
+        at = size_at + 4 + size;
         if count > most || at > MAX_EXR_HEADER_BYTES {
-            return (count, at);
+            return Ok((count, at));
         }
     }
 }
@@ -139,7 +158,8 @@ impl LinearImage {
         if !bytes.starts_with(&crate::output::EXR_MAGIC) {
             return Err(DiffError::NotExr);
         }
-        let (attributes, headers_end) = exr_headers_extent(bytes, MAX_EXR_ATTRIBUTES);
+        let (attributes, headers_end) = exr_headers_extent(bytes, MAX_EXR_ATTRIBUTES)
+            .map_err(|(at, why)| DiffError::ExrHeaderUnreadable { at, why })?;
         if attributes > MAX_EXR_ATTRIBUTES {
             return Err(DiffError::ExrTooWide {
                 what: "header attributes or more",
@@ -496,7 +516,7 @@ mod tests {
     #[test]
     fn an_exr_of_many_header_attributes_is_refused_before_it_is_decoded() {
         let exr = crate::output::encode_exr(2, 2, &[0.5; 12]).expect("encodes");
-        let (own, _) = exr_headers_extent(&exr, MAX_EXR_ATTRIBUTES);
+        let (own, _) = exr_headers_extent(&exr, MAX_EXR_ATTRIBUTES).expect("raylab's own file");
         assert!((5..=20).contains(&own), "{own} attributes");
         let with_extra = |extra: usize| {
             let mut bytes = exr[..8].to_vec();
@@ -510,16 +530,16 @@ mod tests {
         };
         let over = with_extra(MAX_EXR_ATTRIBUTES + 1 - own);
         assert_eq!(
-            exr_headers_extent(&over, MAX_EXR_ATTRIBUTES).0,
-            MAX_EXR_ATTRIBUTES + 1
+            exr_headers_extent(&over, MAX_EXR_ATTRIBUTES).map(|(count, _)| count),
+            Ok(MAX_EXR_ATTRIBUTES + 1)
         );
         let text = LinearImage::decode_exr(&over).unwrap_err().to_string();
         assert!(text.contains("header attributes"), "{text}");
         // At the most, the decoder reads it (and finds its offsets moved).
         let at_most = with_extra(MAX_EXR_ATTRIBUTES - own);
         assert_eq!(
-            exr_headers_extent(&at_most, MAX_EXR_ATTRIBUTES).0,
-            MAX_EXR_ATTRIBUTES
+            exr_headers_extent(&at_most, MAX_EXR_ATTRIBUTES).map(|(count, _)| count),
+            Ok(MAX_EXR_ATTRIBUTES)
         );
         let text = LinearImage::decode_exr(&at_most).unwrap_err().to_string();
         assert!(!text.contains("header attributes"), "{text}");
@@ -531,6 +551,71 @@ mod tests {
         long.extend(&exr[8..]);
         let text = LinearImage::decode_exr(&long).unwrap_err().to_string();
         assert!(text.contains("headers of more than"), "{text}");
+    }
+
+    /// Pass 16 of issue 41: two ways to put the scan out of step with the
+    /// decoder, so that it stopped early and the decoder read on through a
+    /// million attributes (a 40 MB file took 4.9 GB). The scan now reads
+    /// texts as the decoder does, and refuses what it cannot read to the end.
+    #[test]
+    fn headers_the_scan_would_read_apart_from_the_decoder_are_refused() {
+        let exr = crate::output::encode_exr(2, 2, &[0.5; 12]).expect("encodes");
+        let attributes = |bytes: &mut Vec<u8>, count: usize| {
+            for index in 0..count {
+                bytes.extend(format!("a{index}\0int\0").as_bytes());
+                bytes.extend(4u32.to_le_bytes());
+                bytes.extend(7i32.to_le_bytes());
+            }
+        };
+        // A type name whose first byte is zero: the decoder takes that zero
+        // as the name's first byte and reads on to the next.
+        let mut empty_type = exr[..8].to_vec();
+        empty_type.extend(b"x\0\0");
+        empty_type.extend(16u32.to_le_bytes());
+        attributes(&mut empty_type, 2 * MAX_EXR_ATTRIBUTES);
+        empty_type.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&empty_type)
+            .unwrap_err()
+            .to_string();
+        assert!(text.contains("type name is empty"), "{text}");
+        // Long names (version bit 10): a name of 256 bytes is the decoder's
+        // longest, and counted like any other.
+        let mut long_name = exr[..8].to_vec();
+        long_name[5] |= 0x04;
+        long_name.extend([b'n'; 256]);
+        long_name.extend(b"\0int\0");
+        long_name.extend(4u32.to_le_bytes());
+        long_name.extend(7i32.to_le_bytes());
+        attributes(&mut long_name, 2 * MAX_EXR_ATTRIBUTES);
+        long_name.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&long_name).unwrap_err().to_string();
+        assert!(text.contains("header attributes"), "{text}");
+        // One byte longer is past what the decoder reads: refused.
+        let mut longer = exr[..8].to_vec();
+        longer[5] |= 0x04;
+        longer.extend([b'n'; 257]);
+        longer.extend(b"\0int\0");
+        longer.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&longer).unwrap_err().to_string();
+        assert!(text.contains("longer than the decoder reads"), "{text}");
+        // Without the flag, the decoder reads names of 32 bytes at most.
+        let mut short_names = exr[..8].to_vec();
+        short_names.extend([b'n'; 33]);
+        short_names.extend(b"\0int\0");
+        short_names.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&short_names)
+            .unwrap_err()
+            .to_string();
+        assert!(text.contains("longer than the decoder reads"), "{text}");
+        // A file that ends inside its headers, and a negative size.
+        let text = LinearImage::decode_exr(&exr[..20]).unwrap_err().to_string();
+        assert!(text.contains("ends inside its headers"), "{text}");
+        let mut negative = exr[..8].to_vec();
+        negative.extend(b"a\0int\0");
+        negative.extend((-4i32).to_le_bytes());
+        negative.extend(&exr[8..]);
+        let text = LinearImage::decode_exr(&negative).unwrap_err().to_string();
+        assert!(text.contains("size is negative"), "{text}");
     }
 
     #[test]
