@@ -96,8 +96,9 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
             files.push(path.clone());
         }
     }
+    let names = distinct_names(&files)?;
     let mut texts = Vec::new();
-    for file in files {
+    for (file, name) in files.into_iter().zip(names) {
         let text = crate::input::read_scene_text(&file)?;
         if !crate::Scene::obj_files(&text, Path::new("")).is_empty() {
             return Err(GradeError::HiddenScene {
@@ -107,13 +108,59 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
                     .into(),
             });
         }
-        let name = file
-            .file_name()
-            .map(crate::text::visible_name)
-            .unwrap_or_else(|| file.display().to_string());
         texts.push((file, name, text));
     }
     Ok(texts)
+}
+
+/// A name for each of `files` in the report, the gradebook's columns and
+/// the merge, each told apart from the others: the file's name, or as
+/// many of its folders before it as it takes (`week1/scene.toml` beside
+/// `week2/scene.toml`), because scenes are scored by name and two of one
+/// name would count as one. A file given twice is refused.
+fn distinct_names(files: &[PathBuf]) -> Result<Vec<String>, GradeError> {
+    let mut paths = Vec::new();
+    for file in files {
+        let whole = std::fs::canonicalize(file).unwrap_or_else(|_| file.clone());
+        if let Some(index) = paths.iter().position(|(seen, _)| *seen == whole) {
+            return Err(GradeError::HiddenScene {
+                file: file.clone(),
+                why: format!("it is the scene {} again", files[index].display()),
+            });
+        }
+        // Its components from the file's name back to the root.
+        let components: Vec<String> = whole
+            .components()
+            .rev()
+            .filter_map(|component| match component {
+                std::path::Component::Normal(part) => Some(crate::text::visible_name(part)),
+                _ => None,
+            })
+            .collect();
+        paths.push((whole, components));
+    }
+    let name = |components: &[String], kept: usize| {
+        let mut parts: Vec<&str> = components.iter().take(kept).map(String::as_str).collect();
+        parts.reverse();
+        parts.join("/")
+    };
+    let mut kept = vec![1; paths.len()];
+    loop {
+        let names: Vec<String> = (paths.iter().zip(&kept))
+            .map(|((_, components), &kept)| name(components, kept))
+            .collect();
+        let mut grew = false;
+        for (index, own) in names.iter().enumerate() {
+            let shared = names.iter().filter(|other| *other == own).count() > 1;
+            if shared && kept[index] < paths[index].1.len() {
+                kept[index] += 1;
+                grew = true;
+            }
+        }
+        if !grew {
+            return Ok(names);
+        }
+    }
 }
 
 /// What a student reads of a hidden scene that failed, however it failed:
@@ -404,6 +451,52 @@ mod tests {
 
     /// A scene that never ends fails alone: each scene has its share of the
     /// time left, and the scenes after it still pass.
+    /// Pass 16 of issue 41: two hidden scenes of one file name were one
+    /// column of the gradebook, worth the point if either passed.
+    #[test]
+    fn scenes_of_one_file_name_are_told_apart_and_a_scene_given_twice_is_refused() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let scene = crate::builtin::scene_text(1).expect("chapter 1's scene");
+        for week in ["week1", "week2", "other/week1"] {
+            std::fs::create_dir_all(dir.path().join(week)).expect("a folder");
+            std::fs::write(dir.path().join(week).join("scene.toml"), scene).expect("written");
+        }
+        std::fs::write(dir.path().join("alone.toml"), scene).expect("written");
+        let files = ["week1", "week2", "other/week1", "."].map(|folder| {
+            dir.path().join(folder).join(if folder == "." {
+                "alone.toml"
+            } else {
+                "scene.toml"
+            })
+        });
+        let names: Vec<String> = texts(&files)
+            .expect("read")
+            .into_iter()
+            .map(|(_, name, _)| name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                format!(
+                    "{}/week1/scene.toml",
+                    dir.path()
+                        .file_name()
+                        .and_then(|name| name.to_str())
+                        .unwrap_or_default()
+                ),
+                "week2/scene.toml".to_string(),
+                "other/week1/scene.toml".to_string(),
+                "alone.toml".to_string(),
+            ]
+        );
+        let twice = [
+            files[1].clone(),
+            dir.path().join("week2/../week2/scene.toml"),
+        ];
+        let error = texts(&twice).unwrap_err().to_string();
+        assert!(error.contains("again"), "{error}");
+    }
+
     #[test]
     fn a_scene_that_never_ends_fails_alone() {
         let reference = Image {
