@@ -293,6 +293,12 @@ pub fn run_check(workspace: &Path, job: &CodeJob) -> Result<CodeRun, super::Grad
                 .with_deadline(Some(deadline))
                 .with_stderr_buffer(Arc::new(std::sync::Mutex::new(Vec::new())));
             run.scenes = super::hidden::grade_scenes(job.scenes, &mut unshown, Some(deadline));
+            // A student passes only when the check and every scene pass:
+            // one status says so to everything that reads it (the exit
+            // status, the report's and the CSV's overall row, Gradescope's).
+            if run.status == CodeStatus::Pass && run.scenes.iter().any(|scene| !scene.passed) {
+                run.status = CodeStatus::Fail;
+            }
         }
         let students = remote().stderr();
         if !students.trim().is_empty() {

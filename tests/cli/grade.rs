@@ -1856,6 +1856,35 @@ fn the_grader_judges_real_workspaces_itself() {
     let (cheat, _) = grade_built("student-cheat", &hidden);
     let scenes = &cheat["student"]["outcome"]["Code"]["scenes"];
     assert_eq!(scenes[0]["passed"], false, "{scenes}");
+    // Its chapter 1 passes, its hidden scene fails: the student does not
+    // pass (pass 16 of issue 41: the status said pass, and Gradescope's
+    // run exited 0 and wrote "pass"), wherever the status is read.
+    let (status, verdicts) = code_status(&cheat);
+    assert!(verdicts.contains("chapter 1: Plane - pass"), "{verdicts}");
+    assert_eq!(status, "Fail", "{verdicts}");
+    let results = gradescope.path().join("hidden.json");
+    let mut args = vec![
+        "grade".to_string(),
+        built_class().join("student-cheat").display().to_string(),
+        "--code".into(),
+        "--build-profile".into(),
+        "dev".into(),
+        "--gradescope".into(),
+        results.display().to_string(),
+        "--trust-targets".into(),
+    ];
+    args.extend(hidden.iter().map(|arg| arg.to_string()));
+    args.extend(
+        sandbox_or_skip("the_grader_judges_real_workspaces_itself")
+            .into_iter()
+            .map(String::from),
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = raylab(&args, built_class());
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&results).expect("results.json");
+    let results: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    assert_eq!(results["extra_data"]["status"], "fail", "{results}");
     // Failed, worded as every failure is: how is the student's choice.
     assert!(
         scenes[0]["detail"]
