@@ -88,13 +88,13 @@ const MOST_IGNORED_LISTED: usize = 50;
 /// A folder's ignored entries as they are found: the first
 /// [`MOST_IGNORED_LISTED`] by name, and how many more there were.
 #[derive(Default)]
-struct IgnoredList {
+pub(crate) struct IgnoredList {
     kept: std::collections::BTreeMap<String, String>,
     more: usize,
 }
 
 impl IgnoredList {
-    fn add(&mut self, ignored: Ignored) {
+    pub(crate) fn add(&mut self, ignored: Ignored) {
         self.kept.insert(ignored.name, ignored.reason);
         if self.kept.len() > MOST_IGNORED_LISTED {
             self.kept.pop_last();
@@ -102,8 +102,9 @@ impl IgnoredList {
         }
     }
 
-    /// The entries kept, sorted by name, then one line for the rest.
-    fn into_list(self) -> Vec<Ignored> {
+    /// The entries kept, sorted by name, then one line for the rest, which
+    /// are `rest`.
+    pub(crate) fn into_list(self, rest: &str) -> Vec<Ignored> {
         let more = self.more;
         let mut list: Vec<Ignored> = self
             .kept
@@ -113,8 +114,7 @@ impl IgnoredList {
         if more > 0 {
             list.push(Ignored {
                 name: format!("{more} more"),
-                reason: "entries that are not a chapter's image either, not listed one by one"
-                    .into(),
+                reason: format!("{rest} either, not listed one by one"),
             });
         }
         list
@@ -389,7 +389,7 @@ pub fn grade_with<R: Chapters>(
         }
     }
     found.sort();
-    let ignored = ignored.into_list();
+    let ignored = ignored.into_list("entries that are not a chapter's image");
     let mut grade = Grade {
         folder: folder.to_path_buf(),
         criteria,
@@ -936,13 +936,13 @@ mod tests {
                 reason: "not a chapter".into(),
             });
         }
-        let listed = list.into_list();
+        let listed = list.into_list("entries that are not a chapter's image");
         assert_eq!(listed.len(), MOST_IGNORED_LISTED + 1);
         assert_eq!(listed[0].name, "junk-000");
         assert_eq!(listed[MOST_IGNORED_LISTED - 1].name, "junk-049");
         assert_eq!(listed[MOST_IGNORED_LISTED].name, "250 more");
         let few = IgnoredList::default();
-        assert!(few.into_list().is_empty());
+        assert!(few.into_list("").is_empty());
     }
 
     /// A file named with a look-alike of the hyphen or of a letter shows

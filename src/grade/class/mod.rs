@@ -55,6 +55,9 @@ pub struct Class {
     pub similar: Vec<super::similarity::SimilarPair>,
 }
 
+/// Why a file of the class folder is not graded.
+const NOT_A_STUDENT: &str = "not a student's folder";
+
 /// Why a symbolic link in the class folder is not graded.
 pub const LINKED_STUDENT_REFUSED: &str = "a symbolic link; a student's folder must be \
      a real folder inside the class folder (links are never followed)";
@@ -86,7 +89,9 @@ fn read_folder(folder: &Path) -> Result<std::fs::ReadDir, GradeError> {
 fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignored>), GradeError> {
     let skip: Vec<PathBuf> = skip.iter().filter_map(|p| p.canonicalize().ok()).collect();
     let mut students = Vec::new();
-    let mut ignored = Vec::new();
+    // Listed by name up to a point, then counted: a class folder of
+    // 300,000 other files made a report of 17 MB naming each.
+    let mut ignored = super::IgnoredList::default();
     let mut entries = Vec::new();
     for entry in read_folder(folder)? {
         let entry = entry.map_err(folder_error(folder))?;
@@ -118,15 +123,17 @@ fn students_in(folder: &Path, skip: &[&Path]) -> Result<(Vec<Student>, Vec<Ignor
                 outcome: Outcome::Refused(String::new()),
             });
         } else {
-            ignored.push(Ignored {
+            ignored.add(Ignored {
                 name,
-                reason: "not a student's folder".into(),
+                reason: NOT_A_STUDENT.into(),
             });
         }
     }
     students.sort_by(|a, b| a.name.cmp(&b.name));
-    ignored.sort_by(|a, b| a.name.cmp(&b.name));
-    Ok((students, ignored))
+    Ok((
+        students,
+        ignored.into_list("entries that are not a student's folder"),
+    ))
 }
 
 /// Grades every student's renders in `folder` (see [`super::grade_with`]),
@@ -428,6 +435,23 @@ impl Class {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Pass 16 of issue 41: 300,000 files beside the students made a
+    /// report of 17 MB naming each. The first are named, the rest counted.
+    #[test]
+    fn a_class_folder_of_many_other_files_names_the_first_and_counts_the_rest() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        std::fs::create_dir(dir.path().join("amy")).expect("a student");
+        for index in 0..120 {
+            std::fs::write(dir.path().join(format!("junk-{index:03}")), "").expect("a file");
+        }
+        let (students, ignored) = students_in(dir.path(), &[]).expect("read");
+        assert_eq!(students.len(), 1);
+        assert_eq!(ignored.len(), 51, "{ignored:?}");
+        assert_eq!(ignored[0].name, "junk-000");
+        assert_eq!(ignored[0].reason, NOT_A_STUDENT);
+        assert_eq!(ignored[50].name, "70 more");
+    }
 
     /// A run of `status` that printed `stdout` and `stderr`, nothing else.
     fn code_run(status: CodeStatus, stdout: &str, stderr: &str) -> CodeRun {
