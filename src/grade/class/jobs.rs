@@ -172,18 +172,10 @@ pub fn grade_student<R: Chapters>(
     skip: &[&Path],
 ) -> Result<StudentResult, GradeError> {
     let (students, _) = students_in(folder, skip)?;
-    let shown = crate::text::visible_name(name);
-    let mut student = students
-        .into_iter()
-        .find(|student| {
-            student.folder.file_name() == Some(name)
-                || student.name == shown
-                || name.to_str() == Some(student.name.as_str())
-        })
-        .ok_or_else(|| GradeError::NoSuchStudent {
-            name: shown,
-            folder: folder.to_path_buf(),
-        })?;
+    let mut student = named(students, name).ok_or_else(|| GradeError::NoSuchStudent {
+        name: crate::text::visible_name(name),
+        folder: folder.to_path_buf(),
+    })?;
     match job {
         Job::Renders(references) => grade_renders_of(&mut student, references, options.criteria),
         Job::Code(job) => run_code_of(&mut student, &job, &mut |_| {})?,
@@ -199,6 +191,22 @@ pub fn grade_student<R: Chapters>(
         student,
         section,
     })
+}
+
+/// The student of `students` that `name` (a `--student` argument) names:
+/// the one the report shows by that name, else the one whose folder is
+/// named so, else the one the report shows as it would show `name`. The
+/// report's names are told apart and escape their backslashes, so the
+/// name a student is shown by picks that student, even where another's
+/// folder is literally named like it (a folder named `ali\u{20}ce` beside
+/// `ali ce`, shown spelled out as `ali\u{20}ce`).
+fn named(students: Vec<Student>, name: &std::ffi::OsStr) -> Option<Student> {
+    let shown = crate::text::visible_name(name);
+    let position = (students.iter())
+        .position(|student| name.to_str() == Some(student.name.as_str()))
+        .or_else(|| (students.iter()).position(|student| student.folder.file_name() == Some(name)))
+        .or_else(|| students.iter().position(|student| student.name == shown))?;
+    students.into_iter().nth(position)
 }
 
 /// The class in `folder` from its jobs' `results`: every student of the
@@ -274,4 +282,44 @@ pub fn merge(
         ignored,
         similar,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Pass 16 of issue 41: `--student` given the name the report shows
+    /// for `ali ce` (spelled out beside `ali` NBSP `ce`) graded the folder
+    /// literally named `ali\u{20}ce` instead.
+    #[test]
+    fn a_student_is_found_by_the_name_the_report_shows() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let literal = r"ali\u{20}ce";
+        for folder in ["ali ce", "ali\u{a0}ce", literal, "bob"] {
+            std::fs::create_dir(dir.path().join(folder)).expect("a student");
+        }
+        let found = |name: &str| {
+            let (students, _) = students_in(dir.path(), &[]).expect("read");
+            let shown: Vec<String> = students
+                .iter()
+                .map(|student| student.name.clone())
+                .collect();
+            let folder = named(students, std::ffi::OsStr::new(name)).and_then(|student| {
+                let name = student.folder.file_name()?.to_str()?;
+                Some(name.to_string())
+            });
+            (folder, shown)
+        };
+        // As the report shows `ali ce`: that student.
+        let (folder, shown) = found(r"ali\u{20}ce");
+        assert!(shown.contains(&r"ali\\u{20}ce".to_string()), "{shown:?}");
+        assert_eq!(folder.as_deref(), Some("ali ce"), "{shown:?}");
+        // The literal folder, by the name the report shows it by.
+        assert_eq!(found(r"ali\\u{20}ce").0.as_deref(), Some(literal));
+        assert_eq!(found(r"ali\u{a0}ce").0.as_deref(), Some("ali\u{a0}ce"));
+        // By a folder's own name, where no shown name is that.
+        assert_eq!(found("ali ce").0.as_deref(), Some("ali ce"));
+        assert_eq!(found("bob").0.as_deref(), Some("bob"));
+        assert_eq!(found("carol").0, None);
+    }
 }
