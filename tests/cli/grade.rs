@@ -1860,7 +1860,10 @@ fn the_grader_judges_real_workspaces_itself() {
     // pass (pass 16 of issue 41: the status said pass, and Gradescope's
     // run exited 0 and wrote "pass"), wherever the status is read.
     let (status, verdicts) = code_status(&cheat);
-    assert!(verdicts.contains("chapter 1: Ray-plane intersection - pass"), "{verdicts}");
+    assert!(
+        verdicts.contains("chapter 1: Ray-plane intersection - pass"),
+        "{verdicts}"
+    );
     assert_eq!(status, "Fail", "{verdicts}");
     let results = gradescope.path().join("hidden.json");
     let mut args = vec![
