@@ -108,6 +108,13 @@ pub enum DiffError {
          as every attribute is held in memory"
     )]
     ExrHeaderTooLarge { most: usize },
+    /// An OpenEXR block (a tile, a run of scan lines) larger decoded than
+    /// raylab decodes at once.
+    #[error(
+        "an OpenEXR file whose blocks (tiles or runs of scan lines) decode to {bytes} bytes \
+         each: raylab reads blocks of at most {most} bytes, as each is decoded whole in memory"
+    )]
+    ExrBlockTooLarge { bytes: u64, most: u64 },
     /// OpenEXR headers the scan cannot read to their end as the decoder
     /// would: refused before the decoder reads on past them.
     #[error(

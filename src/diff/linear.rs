@@ -45,6 +45,29 @@ pub const MAX_EXR_ATTRIBUTES: usize = 1024;
 /// preview image of 1024x1024.
 pub const MAX_EXR_HEADER_BYTES: usize = 4 << 20;
 
+/// The most bytes one block of an OpenEXR file (a tile, or a run of scan
+/// lines) may hold decoded: the decoder inflates a whole block, every
+/// channel, at once, and a tile may be the whole image (a 2.5 MB file of
+/// one tile took 6 GB). Tiles of 64 x 64 of 16 channels take 256 KB;
+/// raylab's own files, runs of 16 lines of 3, 192 bytes a pixel of width.
+pub const MAX_EXR_BLOCK_BYTES: u64 = 64 << 20;
+
+/// What one block of `header`'s layer holds decoded, at most: a tile's
+/// pixels, or a run of scan lines as long as its compression reads at
+/// once, times the bytes of a pixel of every channel. Worked out in `u64`
+/// without overflow, whatever sizes the file declares.
+fn exr_block_bytes(header: &exr::meta::header::Header) -> u64 {
+    let pixels = match header.blocks {
+        exr::meta::BlockDescription::Tiles(tiles) => {
+            (tiles.tile_size.width() as u64).saturating_mul(tiles.tile_size.height() as u64)
+        }
+        exr::meta::BlockDescription::ScanLines => (header.compression.scan_lines_per_block()
+            as u64)
+            .saturating_mul(header.layer_size.width() as u64),
+    };
+    pixels.saturating_mul(header.channels.bytes_per_pixel as u64)
+}
+
 /// How far the headers of `bytes` (an OpenEXR file, magic number and
 /// version first) reach, read without keeping any attribute: their
 /// attributes counted up to `most + 1`, and the offset they end at (or
@@ -185,6 +208,13 @@ impl LinearImage {
         for header in &meta.headers {
             if header.channels.list.len() > MAX_EXR_CHANNELS {
                 return Err(too_wide("channels", header.channels.list.len()));
+            }
+            let block_bytes = exr_block_bytes(header);
+            if block_bytes > MAX_EXR_BLOCK_BYTES {
+                return Err(DiffError::ExrBlockTooLarge {
+                    bytes: block_bytes,
+                    most: MAX_EXR_BLOCK_BYTES,
+                });
             }
             let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
             crate::input::check_image_size(
@@ -616,6 +646,46 @@ mod tests {
         negative.extend(&exr[8..]);
         let text = LinearImage::decode_exr(&negative).unwrap_err().to_string();
         assert!(text.contains("size is negative"), "{text}");
+    }
+
+    /// Pass 17 of issue 41: a tiled file of one tile the size of the
+    /// image, 16 channels of zeros compressed to 2.5 MB, took 6 GB to
+    /// decode (and aborted under a cap). A block larger decoded than raylab
+    /// reads at once is refused before any is decoded.
+    #[test]
+    fn an_exr_block_larger_than_raylab_decodes_at_once_is_refused() {
+        use exr::prelude::*;
+        let tiled = |width: usize, height: usize, tile: (usize, usize)| {
+            let channels =
+                SpecificChannels::rgba(|_: Vec2<usize>| (0.0f32, 0.0f32, 0.0f32, 0.0f32));
+            let encoding = Encoding {
+                compression: Compression::ZIP16,
+                blocks: Blocks::Tiles(Vec2(tile.0, tile.1)),
+                line_order: LineOrder::Increasing,
+            };
+            let layer = Layer::new(
+                (width, height),
+                LayerAttributes::named("tiles"),
+                encoding,
+                channels,
+            );
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            Image::from_layer(layer)
+                .write()
+                .to_buffered(&mut bytes)
+                .expect("encodes");
+            bytes.into_inner()
+        };
+        // RGBA in f32, 16 bytes a pixel: a tile of 2100 x 2048 is past 64 MiB.
+        let one_tile = tiled(2100, 2048, (2100, 2048));
+        let text = LinearImage::decode_exr(&one_tile).unwrap_err().to_string();
+        assert!(
+            text.contains("blocks (tiles or runs of scan lines)"),
+            "{text}"
+        );
+        // The same image in tiles of 64 x 64 is read.
+        let small_tiles = tiled(2100, 2048, (64, 64));
+        assert!(LinearImage::decode_exr(&small_tiles).is_ok());
     }
 
     #[test]
