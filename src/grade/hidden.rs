@@ -87,9 +87,19 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
                 .map(|entry| entry.path())
                 .filter(|file| {
                     file.extension()
-                        .is_some_and(|extension| extension == "toml")
+                        .is_some_and(|extension| extension.eq_ignore_ascii_case("toml"))
                 })
                 .collect();
+            // A folder that gives no scene would grade as if no scene were
+            // asked for: every student would pass what was meant to test them.
+            if inside.is_empty() {
+                return Err(GradeError::HiddenScene {
+                    file: path.clone(),
+                    why: "the folder holds no .toml file (the scenes of its subfolders are not \
+                          read: give each subfolder its own --scene)"
+                        .into(),
+                });
+            }
             inside.sort();
             files.extend(inside);
         } else {
@@ -113,6 +123,19 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
     Ok(texts)
 }
 
+/// What tells a file from every other: its device and inode where there
+/// are, else its canonical path.
+fn file_identity(path: &Path) -> (u64, u64, PathBuf) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(metadata) = std::fs::metadata(path) {
+            return (metadata.dev(), metadata.ino(), PathBuf::new());
+        }
+    }
+    (0, 0, path.to_path_buf())
+}
+
 /// A name for each of `files` in the report, the gradebook's columns and
 /// the merge, each told apart from the others: the file's name, or as
 /// many of its folders before it as it takes (`week1/scene.toml` beside
@@ -120,12 +143,20 @@ pub fn texts(paths: &[PathBuf]) -> Result<Vec<(PathBuf, String, String)>, GradeE
 /// name would count as one. A file given twice is refused.
 fn distinct_names(files: &[PathBuf]) -> Result<Vec<String>, GradeError> {
     let mut paths = Vec::new();
+    let mut identities = Vec::new();
     for file in files {
         let whole = std::fs::canonicalize(file).unwrap_or_else(|_| file.clone());
-        if let Some(index) = paths.iter().position(|(seen, _)| *seen == whole) {
+        // The file itself, whatever path reaches it: a hard link too.
+        let identity = file_identity(&whole);
+        let again = identities.iter().position(|seen| *seen == identity);
+        identities.push(identity);
+        if let Some(index) = again {
             return Err(GradeError::HiddenScene {
                 file: file.clone(),
-                why: format!("it is the scene {} again", files[index].display()),
+                why: format!(
+                    "it is the scene {} again (the same file)",
+                    files[index].display()
+                ),
             });
         }
         // Its components from the file's name back to the root.
@@ -492,6 +523,37 @@ mod tests {
         let twice = [
             files[1].clone(),
             dir.path().join("week2/../week2/scene.toml"),
+        ];
+        let error = texts(&twice).unwrap_err().to_string();
+        assert!(error.contains("again"), "{error}");
+    }
+
+    /// Pass 17 of issue 41: a `--scene` folder whose scenes were in
+    /// subfolders (or named `.TOML`, or none) gave no scene, and every
+    /// student passed; a hard link to a scene counted it twice.
+    #[test]
+    fn a_scene_folder_that_gives_no_scene_and_a_hard_link_are_refused() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let scene = crate::builtin::scene_text(1).expect("chapter 1's scene");
+        let hidden = dir.path().join("hidden");
+        std::fs::create_dir_all(hidden.join("week1")).expect("a folder");
+        std::fs::write(hidden.join("week1/scene.toml"), scene).expect("written");
+        let error = texts(std::slice::from_ref(&hidden))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("holds no .toml file"), "{error}");
+        std::fs::write(hidden.join("Week2.TOML"), scene).expect("written");
+        let read = texts(std::slice::from_ref(&hidden)).expect("read");
+        assert_eq!(read.len(), 1);
+        assert_eq!(read[0].1, "Week2.TOML");
+        std::fs::hard_link(
+            hidden.join("week1/scene.toml"),
+            dir.path().join("linked.toml"),
+        )
+        .expect("a hard link");
+        let twice = [
+            hidden.join("week1/scene.toml"),
+            dir.path().join("linked.toml"),
         ];
         let error = texts(&twice).unwrap_err().to_string();
         assert!(error.contains("again"), "{error}");
