@@ -150,9 +150,10 @@ pub struct GradeArgs {
     /// meshes are fine).
     #[arg(long = "scene", value_name = "FILE", requires = "code")]
     pub scenes: Vec<PathBuf>,
-    /// The chapter whose stage renders the --scene files.
-    #[arg(long, value_name = "N", default_value_t = crate::chapters::LAST_CHAPTER, value_parser = crate::chapters::parse_chapter)]
-    pub scene_chapter: u8,
+    /// The chapter whose stage renders the --scene files [default: the
+    /// --chapter graded up to, else the last chapter].
+    #[arg(long, value_name = "N", value_parser = crate::chapters::parse_chapter)]
+    pub scene_chapter: Option<u8>,
     /// Replace a --report, --csv or --result file that raylab did not write,
     /// or a read-only one.
     #[arg(long)]
@@ -163,6 +164,18 @@ pub struct GradeArgs {
     pub merge: Option<PathBuf>,
     #[command(flatten)]
     pub criteria: CriteriaArgs,
+}
+
+impl GradeArgs {
+    /// The chapter whose stage renders the hidden scenes: `--scene-chapter`,
+    /// else the chapter graded up to, because a class graded on chapters 1
+    /// to 6 has written no chapter past them (the last chapter's stage
+    /// would fail every student's scenes).
+    fn scene_chapter(&self) -> u8 {
+        (self.scene_chapter)
+            .or(self.chapter)
+            .unwrap_or(crate::chapters::LAST_CHAPTER)
+    }
 }
 
 fn parse_profile(text: &str) -> Result<crate::grade::code::BuildProfile, String> {
@@ -452,7 +465,7 @@ fn grade_class(
                 &code_job(
                     args,
                     sandbox.as_ref(),
-                    &crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?,
+                    &crate::grade::hidden::load(&args.scenes, args.scene_chapter(), args.fresh)?,
                 ),
                 skip,
                 &mut |student| {
@@ -540,7 +553,7 @@ fn grade_for_gradescope(args: &GradeArgs, results: &Path) -> Result<i32> {
     } else {
         Some(code_sandbox(args, &[results])?)
     };
-    let scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?;
+    let scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter(), args.fresh)?;
     let run =
         crate::grade::code::run_check(&args.folder, &code_job(args, sandbox.as_ref(), &scenes))?;
     let up_to = args.chapter.unwrap_or(crate::chapters::LAST_CHAPTER);
@@ -588,7 +601,7 @@ fn grade_one_of_class(
         } else {
             Some(code_sandbox(args, &[result])?)
         };
-        scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter, args.fresh)?;
+        scenes = crate::grade::hidden::load(&args.scenes, args.scene_chapter(), args.fresh)?;
         crate::grade::class::Job::Code(code_job(args, sandbox.as_ref(), &scenes))
     } else {
         crate::grade::class::Job::Renders(&mut references)
@@ -683,7 +696,7 @@ fn grade_options(
     let mut options = crate::grade::class::GradeOptions::code(
         &job,
         &crate::grade::hidden::texts(&args.scenes)?,
-        args.scene_chapter,
+        args.scene_chapter(),
     );
     options.sandboxed = Some(!args.no_sandbox);
     options.trusted_targets = Some(args.trust_targets && !args.no_sandbox);
@@ -785,4 +798,29 @@ fn files_in(folder: &Path) -> Result<Vec<PathBuf>> {
         }
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    fn scene_chapter(args: &[&str]) -> u8 {
+        let cli = super::super::Cli::try_parse_from(args).expect("parses");
+        match cli.command {
+            super::super::Command::Grade(grade) => grade.scene_chapter(),
+            _ => unreachable!("a grade command"),
+        }
+    }
+
+    /// Pass 17 of issue 41: with `--chapter 6` the hidden scenes rendered
+    /// at the last chapter's stage, which a class graded on chapters 1 to
+    /// 6 has not written: every student failed them.
+    #[test]
+    fn hidden_scenes_render_at_the_chapter_graded_up_to() {
+        let base = ["raylab", "grade", "class", "--code", "--scene", "s.toml"];
+        let with = |extra: &[&'static str]| scene_chapter(&[&base[..], extra].concat());
+        assert_eq!(with(&["--chapter", "6"]), 6);
+        assert_eq!(with(&["--chapter", "6", "--scene-chapter", "4"]), 4);
+        assert_eq!(with(&[]), crate::chapters::LAST_CHAPTER);
+    }
 }
