@@ -83,7 +83,7 @@ pub struct Ignored {
 
 /// The most ignored entries of a folder listed one by one: a hand-in of
 /// 300,000 empty files made a report of 15 MB naming each.
-const MOST_IGNORED_LISTED: usize = 50;
+pub(crate) const MOST_IGNORED_LISTED: usize = 50;
 
 /// A folder's ignored entries as they are found: the first
 /// [`MOST_IGNORED_LISTED`] by name, and how many more there were.
