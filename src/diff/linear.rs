@@ -209,6 +209,11 @@ impl LinearImage {
             if header.channels.list.len() > MAX_EXR_CHANNELS {
                 return Err(too_wide("channels", header.channels.list.len()));
             }
+            let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
+            crate::input::check_image_size(
+                side(header.layer_size.width()),
+                side(header.layer_size.height()),
+            )?;
             let block_bytes = exr_block_bytes(header);
             if block_bytes > MAX_EXR_BLOCK_BYTES {
                 return Err(DiffError::ExrBlockTooLarge {
@@ -216,11 +221,6 @@ impl LinearImage {
                     most: MAX_EXR_BLOCK_BYTES,
                 });
             }
-            let side = |length: usize| u32::try_from(length).unwrap_or(u32::MAX);
-            crate::input::check_image_size(
-                side(header.layer_size.width()),
-                side(header.layer_size.height()),
-            )?;
         }
         let read = exr::prelude::read()
             .no_deep_data()
