@@ -1687,6 +1687,38 @@ fn grade_built(student: &str, extra: &[&str]) -> (serde_json::Value, String) {
     (value, format!("{}{}", stdout(&out), stderr(&out)))
 }
 
+/// `grade --code` of one built workspace of the test's class as
+/// Gradescope's autograder runs it, with `extra` arguments: its exit
+/// status, its `results.json`, and what it printed.
+fn gradescope_built(student: &str, extra: &[&str]) -> (Option<i32>, serde_json::Value, String) {
+    let gradescope = tempfile::tempdir().expect("temp dir");
+    let results = gradescope.path().join("results.json");
+    let workspace = built_class().join(student);
+    let mut args = vec![
+        "grade",
+        workspace.to_str().expect("UTF-8 path"),
+        "--code",
+        "--build-profile",
+        "dev",
+        "--gradescope",
+        results.to_str().expect("UTF-8 path"),
+        // The test's own build, as in `grade_built`: a fresh build here
+        // would compile every dependency again, in the sandbox.
+        "--trust-targets",
+    ];
+    args.extend(extra);
+    args.extend(sandbox_or_skip("the_grader_judges_real_workspaces_itself"));
+    let out = raylab(&args, built_class());
+    let text = std::fs::read_to_string(&results)
+        .unwrap_or_else(|error| panic!("no results.json ({error}): {}", stderr(&out)));
+    let value: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    (
+        out.status.code(),
+        value,
+        format!("{}{}", stdout(&out), stderr(&out)),
+    )
+}
+
 /// Replies to chapter 5's `phong_terms` checkpoints, each the reference's
 /// answer to the first of them, framed as the judge reads them: what a
 /// chapter would write to the judge's pipe if it could reach it.
@@ -1728,32 +1760,8 @@ fn the_grader_judges_real_workspaces_itself() {
     assert!(verdicts.contains("chapter 3: Nearest hit"), "{verdicts}");
 
     // The same run as Gradescope's autograder runs it: a point per chapter.
-    let gradescope = tempfile::tempdir().expect("temp dir");
-    let results = gradescope.path().join("results.json");
-    let mut args = vec![
-        "grade".to_string(),
-        built_class().join("student-answer").display().to_string(),
-        "--code".into(),
-        "--build-profile".into(),
-        "dev".into(),
-        "--chapter".into(),
-        "3".into(),
-        "--gradescope".into(),
-        results.display().to_string(),
-        // The test's own build, as in `grade_built`: a fresh build here
-        // would compile every dependency again, in the sandbox.
-        "--trust-targets".into(),
-    ];
-    args.extend(
-        sandbox_or_skip("the_grader_judges_real_workspaces_itself")
-            .into_iter()
-            .map(String::from),
-    );
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let out = raylab(&args, built_class());
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    let text = std::fs::read_to_string(&results).expect("results.json");
-    let results: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let (code, results, said) = gradescope_built("student-answer", &["--chapter", "3"]);
+    assert_eq!(code, Some(0), "{said}");
     assert_eq!(assert_gradescope_results(&results, 3), 3.0, "{results}");
 
     let (todo, text) = grade_built("student-todo", &["--chapter", "2"]);
@@ -1865,28 +1873,8 @@ fn the_grader_judges_real_workspaces_itself() {
         "{verdicts}"
     );
     assert_eq!(status, "Fail", "{verdicts}");
-    let results = gradescope.path().join("hidden.json");
-    let mut args = vec![
-        "grade".to_string(),
-        built_class().join("student-cheat").display().to_string(),
-        "--code".into(),
-        "--build-profile".into(),
-        "dev".into(),
-        "--gradescope".into(),
-        results.display().to_string(),
-        "--trust-targets".into(),
-    ];
-    args.extend(hidden.iter().map(|arg| arg.to_string()));
-    args.extend(
-        sandbox_or_skip("the_grader_judges_real_workspaces_itself")
-            .into_iter()
-            .map(String::from),
-    );
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let out = raylab(&args, built_class());
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    let text = std::fs::read_to_string(&results).expect("results.json");
-    let results: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let (code, results, said) = gradescope_built("student-cheat", &hidden);
+    assert_eq!(code, Some(1), "{said}");
     assert_eq!(results["extra_data"]["status"], "fail", "{results}");
     // Failed, worded as every failure is: how is the student's choice.
     assert!(
