@@ -2211,6 +2211,81 @@ fn a_class_gets_a_gradebook_that_canvas_and_moodle_import() {
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
 }
 
+/// A submission's links are never written through, nor followed, by
+/// `run_autograder` (which runs before any sandbox, as Gradescope's root):
+/// a `main.rs` that links to a file of the grader's leaves that file alone
+/// and is replaced by the template's; a `lib.rs` that links to nothing
+/// stays a link (the run is then not counted); a `src` that links to a
+/// folder of the grader's brings none of its files in.
+#[cfg(unix)]
+#[test]
+fn the_autograder_writes_through_no_link_of_a_submission() {
+    use std::os::unix::fs::{PermissionsExt, symlink};
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path().join("autograder");
+    let template = root.join("template/submission/src");
+    std::fs::create_dir_all(&template).expect("mkdir");
+    std::fs::write(template.join("main.rs"), "fn main() {}\n").expect("write");
+    std::fs::write(template.join("lib.rs"), "pub struct Mine;\n").expect("write");
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).expect("mkdir");
+    let stub = bin.join("raylab");
+    std::fs::write(&stub, "#!/bin/sh\nexit 0\n").expect("write");
+    std::fs::set_permissions(&stub, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    let grader = dir.path().join("grader");
+    std::fs::create_dir(&grader).expect("mkdir");
+    let precious = grader.join("precious.txt");
+    std::fs::write(&precious, "the grader's own\n").expect("write");
+    let script =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/gradescope/run_autograder");
+    let run = || {
+        let out = std::process::Command::new("bash")
+            .arg(&script)
+            .env("AUTOGRADER_ROOT", &root)
+            .env("HOME", dir.path())
+            .env(
+                "PATH",
+                format!(
+                    "{}:{}",
+                    bin.display(),
+                    std::env::var("PATH").unwrap_or_default()
+                ),
+            )
+            .output()
+            .expect("bash runs");
+        assert!(out.status.success(), "{}", stderr(&out));
+    };
+    let submitted = root.join("submission/src");
+    std::fs::create_dir_all(&submitted).expect("mkdir");
+    symlink(&precious, submitted.join("main.rs")).expect("link");
+    run();
+    assert_eq!(
+        std::fs::read_to_string(&precious).expect("read"),
+        "the grader's own\n"
+    );
+    let graded = root.join("work/submission/src");
+    let main_rs = graded.join("main.rs");
+    assert!(!main_rs.is_symlink(), "main.rs is the template's file");
+    assert_eq!(
+        std::fs::read_to_string(&main_rs).expect("read"),
+        "fn main() {}\n"
+    );
+    symlink(grader.join("nothing.rs"), submitted.join("lib.rs")).expect("link");
+    run();
+    assert!(
+        !grader.join("nothing.rs").exists(),
+        "written through lib.rs"
+    );
+    assert!(graded.join("lib.rs").is_symlink(), "lib.rs is left a link");
+    std::fs::remove_dir_all(&submitted).expect("rm");
+    symlink(&grader, &submitted).expect("link");
+    run();
+    assert!(
+        !graded.join("precious.txt").exists(),
+        "a linked src brought the grader's files in"
+    );
+}
+
 /// Gradescope's `run_autograder` grades each submission under a fresh
 /// seed of its own and with the zip's hidden scenes, and passes its
 /// settings on: run with a `raylab` that writes down its arguments.
