@@ -115,6 +115,14 @@ pub enum DiffError {
          each: raylab reads blocks of at most {most} bytes, as each is decoded whole in memory"
     )]
     ExrBlockTooLarge { bytes: u64, most: u64 },
+    /// An OpenEXR compression whose decoder may take memory far past the
+    /// block's size.
+    #[error(
+        "an OpenEXR file of {compression}: raylab reads OpenEXR without \
+         compression or with ZIP, PIZ, PXR24 or B44, as this one's decoder can take memory \
+         far past the image's size; save it with one of those"
+    )]
+    ExrCompressionNotRead { compression: String },
     /// OpenEXR headers the scan cannot read to their end as the decoder
     /// would: refused before the decoder reads on past them.
     #[error(

@@ -68,6 +68,25 @@ fn exr_block_bytes(header: &exr::meta::header::Header) -> u64 {
     pixels.saturating_mul(header.channels.bytes_per_pixel as u64)
 }
 
+/// Whether raylab decodes OpenEXR blocks compressed with `compression`.
+/// Not RLE, whose decoder reads on while its runs have not landed exactly
+/// on the block's size (a 50 MB file took 6.4 GB), nor DWAA and DWAB, whose
+/// decoder sizes its buffers by counts the block itself declares (a file of
+/// 431 bytes asked for 4 EiB). The others decode within the block's size.
+fn exr_compression_read(compression: exr::compression::Compression) -> bool {
+    use exr::compression::Compression;
+    matches!(
+        compression,
+        Compression::Uncompressed
+            | Compression::ZIP1
+            | Compression::ZIP16
+            | Compression::PIZ
+            | Compression::PXR24
+            | Compression::B44
+            | Compression::B44A
+    )
+}
+
 /// How far the headers of `bytes` (an OpenEXR file, magic number and
 /// version first) reach, read without keeping any attribute: their
 /// attributes counted up to `most + 1`, and the offset they end at (or
@@ -214,6 +233,11 @@ impl LinearImage {
                 side(header.layer_size.width()),
                 side(header.layer_size.height()),
             )?;
+            if !exr_compression_read(header.compression) {
+                return Err(DiffError::ExrCompressionNotRead {
+                    compression: header.compression.to_string(),
+                });
+            }
             let block_bytes = exr_block_bytes(header);
             if block_bytes > MAX_EXR_BLOCK_BYTES {
                 return Err(DiffError::ExrBlockTooLarge {
@@ -686,6 +710,49 @@ mod tests {
         // The same image in tiles of 64 x 64 is read.
         let small_tiles = tiled(2100, 2048, (64, 64));
         assert!(LinearImage::decode_exr(&small_tiles).is_ok());
+    }
+
+    #[test]
+    fn an_exr_compression_whose_decoder_runs_past_its_block_is_refused() {
+        use exr::prelude::*;
+        let encoded = |compression: Compression| {
+            let channels = SpecificChannels::rgb(|_: Vec2<usize>| (0.25f32, 0.5f32, 1.0f32));
+            let encoding = Encoding {
+                compression,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            };
+            let layer = Layer::new((64, 64), LayerAttributes::named("rgb"), encoding, channels);
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            Image::from_layer(layer)
+                .write()
+                .to_buffered(&mut bytes)
+                .expect("encodes");
+            bytes.into_inner()
+        };
+        for compression in [
+            Compression::RLE,
+            Compression::DWAA(None),
+            Compression::DWAB(None),
+        ] {
+            let text = match LinearImage::decode_exr(&encoded(compression)) {
+                Ok(_) => panic!("{compression}: decoded"),
+                Err(error) => error.to_string(),
+            };
+            assert!(text.contains("OpenEXR file of"), "{compression}: {text}");
+        }
+        for compression in [
+            Compression::Uncompressed,
+            Compression::ZIP1,
+            Compression::ZIP16,
+            Compression::PIZ,
+            Compression::PXR24,
+            Compression::B44,
+        ] {
+            if let Err(error) = LinearImage::decode_exr(&encoded(compression)) {
+                panic!("{compression}: {error}");
+            }
+        }
     }
 
     #[test]
